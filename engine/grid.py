@@ -1,0 +1,73 @@
+"""Regular surface grid of rectangular boundary elements over the potential contact zone.
+
+Convention used everywhere in the package: a surface field is a float array of shape
+``(n_x, n_y)`` indexed ``[i, j]`` at the element centre ``(x[i], y[j])`` ("ij" indexing,
+axis 0 is x, axis 1 is y). Lengths in mm; the grid is centred on the punch axis.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .validation import require_positive
+
+
+@dataclass(frozen=True)
+class Grid:
+    n_x: int
+    n_y: int
+    half_width_x: float
+    half_width_y: float
+
+    def __post_init__(self) -> None:
+        for name in ("n_x", "n_y"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 2:
+                raise ValueError(f"{name} must be an integer >= 2, got {value!r}")
+            object.__setattr__(self, name, int(value))
+        for name in ("half_width_x", "half_width_y"):
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+
+    @classmethod
+    def square(cls, n: int, half_width: float) -> Grid:
+        """``n × n`` elements over the square ``[-half_width, half_width]²`` (mm)."""
+        return cls(n, n, half_width, half_width)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.n_x, self.n_y)
+
+    @property
+    def dx(self) -> float:
+        return 2.0 * self.half_width_x / self.n_x
+
+    @property
+    def dy(self) -> float:
+        return 2.0 * self.half_width_y / self.n_y
+
+    @property
+    def element_area(self) -> float:
+        """ΔA = Δx·Δy in mm²."""
+        return self.dx * self.dy
+
+    @cached_property
+    def x(self) -> np.ndarray:
+        """Element-centre x coordinates, shape (n_x,), mm."""
+        return -self.half_width_x + self.dx * (np.arange(self.n_x) + 0.5)
+
+    @cached_property
+    def y(self) -> np.ndarray:
+        """Element-centre y coordinates, shape (n_y,), mm."""
+        return -self.half_width_y + self.dy * (np.arange(self.n_y) + 0.5)
+
+    def coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """Element centres ``(X, Y)``, each of shape ``(n_x, n_y)``, mm."""
+        return np.meshgrid(self.x, self.y, indexing="ij")
+
+    def radius(self) -> np.ndarray:
+        """Distance of each element centre from the punch axis, shape ``(n_x, n_y)``, mm."""
+        X, Y = self.coordinates()
+        return np.hypot(X, Y)

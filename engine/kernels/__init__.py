@@ -1,0 +1,1 @@
+"""Numerical kernels: influence coefficients and FFT convolution operators (no MPI, no files)."""

@@ -1,0 +1,1 @@
+"""Output layer: HDF5 results file and the pandas summary."""

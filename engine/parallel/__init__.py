@@ -1,0 +1,1 @@
+"""Parallel layer: who runs which case (receives a communicator, never COMM_WORLD)."""

@@ -1,0 +1,1 @@
+"""Analytic reference solutions, usable by users and tests to validate the solvers."""

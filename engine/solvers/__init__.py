@@ -1,0 +1,1 @@
+"""Contact, wear and subsurface-stress solvers (no MPI, no files)."""

@@ -1,0 +1,1 @@
+"""Study layer: TOML study file -> validated configuration -> plan of cases -> case runner."""
