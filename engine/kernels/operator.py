@@ -1,0 +1,146 @@
+"""The influence operator u = A p applied by zero-padded FFT convolution (DC-FFT).
+
+Liu, Wang & Liu (2000); Liu & Wang (2002): the Toeplitz convolution of an ``(n_x, n_y)``
+traction field with the ``(2n_x − 1, 2n_y − 1)`` kernel of ``SurfaceInfluence`` equals the
+first ``(n_x, n_y)`` block of a circular convolution of size ``(2n_x, 2n_y)`` once the field
+is zero-padded and the kernel wrapped (non-periodic, no aliasing). pyfftw plans are built once
+per operator and batch size and reused for every application.
+
+Fields are in real space, shape ``(n_x, n_y)``; tractions in MPa, displacements in mm.
+``applications`` counts calls (one call = one operator application, whatever the number of
+traction components involved).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pyfftw
+
+from ..grid import Grid
+from ..material import MaterialPair
+from .influence import SurfaceInfluence
+
+# Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
+_BLOCKS = {
+    (0, 0): ("xx", 1.0),
+    (0, 1): ("xy", 1.0),
+    (0, 2): ("zx", -1.0),
+    (1, 0): ("xy", 1.0),
+    (1, 1): ("yy", 1.0),
+    (1, 2): ("zy", -1.0),
+    (2, 0): ("zx", 1.0),
+    (2, 1): ("zy", 1.0),
+    (2, 2): ("zz", 1.0),
+}
+
+
+def wrap_kernel(kernel: np.ndarray, padded_shape: tuple[int, int]) -> np.ndarray:
+    """Place a ``(2n_x − 1, 2n_y − 1)`` offset kernel in a circulant array of ``padded_shape``."""
+    nx = (kernel.shape[0] + 1) // 2
+    ny = (kernel.shape[1] + 1) // 2
+    wrapped = np.zeros(padded_shape)
+    ix = np.arange(-(nx - 1), nx) % padded_shape[0]
+    iy = np.arange(-(ny - 1), ny) % padded_shape[1]
+    wrapped[np.ix_(ix, iy)] = kernel
+    return wrapped
+
+
+class _BatchedRealFFT:
+    """Forward and inverse real 2-D FFTs of ``batch`` fields with reusable pyfftw plans."""
+
+    def __init__(self, batch: int, padded_shape: tuple[int, int], threads: int, effort: str):
+        shape = (batch, *padded_shape)
+        self.real = pyfftw.empty_aligned(shape, dtype="float64")
+        self.spectrum = pyfftw.empty_aligned(
+            (batch, padded_shape[0], padded_shape[1] // 2 + 1), dtype="complex128"
+        )
+        flags = (effort, "FFTW_DESTROY_INPUT")
+        self.forward = pyfftw.FFTW(
+            self.real, self.spectrum, axes=(1, 2), threads=threads, flags=flags
+        )
+        self.inverse = pyfftw.FFTW(
+            self.spectrum, self.real, axes=(1, 2), direction="FFTW_BACKWARD",
+            threads=threads, flags=flags,
+        )
+        self.real[...] = 0.0
+
+
+class HalfSpaceOperator:
+    """Relative surface displacements of two half-spaces from surface tractions.
+
+    ``apply(p_x, p_y, p_n) -> (u_x, u_y, u_n)`` for the full 3×3 block of Eq. (4);
+    ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
+    """
+
+    def __init__(
+        self,
+        grid: Grid,
+        material: MaterialPair,
+        *,
+        threads: int = 1,
+        planner_effort: str = "FFTW_MEASURE",
+    ):
+        self.grid = grid
+        self.material = material
+        self.threads = threads
+        self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
+        self.influence = SurfaceInfluence.build(grid, material)
+        self._effort = planner_effort
+        self._ffts: dict[int, _BatchedRealFFT] = {}
+        spectra = {}
+        transform = self._fft(1)
+        for key, kernel in self.influence.kernels.items():
+            transform.real[0] = wrap_kernel(kernel, self.padded_shape)
+            transform.forward()
+            # The inverse transform of pyfftw is normalised; fold nothing into the kernel.
+            spectra[key] = transform.spectrum[0].copy()
+        transform.real[...] = 0.0
+        self._spectra = spectra
+        self._full = np.empty((3, 3, *spectra["zz"].shape), dtype=complex)
+        for (a, b), (key, sign) in _BLOCKS.items():
+            self._full[a, b] = sign * spectra[key]
+        self.applications = 0
+
+    def _fft(self, batch: int) -> _BatchedRealFFT:
+        if batch not in self._ffts:
+            self._ffts[batch] = _BatchedRealFFT(
+                batch, self.padded_shape, self.threads, self._effort
+            )
+        return self._ffts[batch]
+
+    def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:
+        """Apply a (rows × columns) block of kernel spectra to ``fields`` (columns)."""
+        nx, ny = self.grid.shape
+        columns = len(fields)
+        fft = self._fft(columns)
+        fft.real[:, nx:, :] = 0.0
+        fft.real[:, :nx, ny:] = 0.0
+        for index, field in enumerate(fields):
+            fft.real[index, :nx, :ny] = field
+        fft.forward()
+        transformed = np.einsum("abij,bij->aij", block, fft.spectrum)
+        rows = block.shape[0]
+        out_fft = self._fft(rows)
+        out_fft.spectrum[...] = transformed
+        out_fft.inverse()
+        self.applications += 1
+        return out_fft.real[:, :nx, :ny].copy()
+
+    def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
+        """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
+        u = self._convolve(self._full, [p_x, p_y, p_n])
+        return u[0], u[1], u[2]
+
+    def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
+        """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
+        return self._convolve(self._full[2:, 2:], [p_n])[0]
+
+    def symbol_bound(self) -> float:
+        """An upper bound of the largest eigenvalue of A (mm/MPa): max over frequencies of
+        the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric)."""
+        symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
+        hermitian = 0.5 * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
+        return float(np.linalg.eigvalsh(hermitian).max())
+
+    def normal_symbol_bound(self) -> float:
+        return float(np.abs(self._spectra["zz"]).max())
