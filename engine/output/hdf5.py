@@ -1,0 +1,270 @@
+"""Results file: one HDF5 file per study, written through one writer with a strategy per situation.
+
+Layout (``format = "fretting-engine-results/1"``)::
+
+    /                       attrs: format, engine_version, command_line, study_name,
+                                   study_toml (resolved study, defaults filled in), study_json,
+                                   study_fingerprint, source (study file)
+    /grid/x, /grid/y        element-centre coordinates (mm)
+    /cases/<case_id>/       attrs: case_id, index, mu1, mu2, wear1, wear2, beta (degree),
+                                   parameter_units (JSON), status, message, traceback,
+                                   rank, runtime_s, summary (JSON row of the summary table)
+        history/<name>      per simulated cycle (cyclic) or per load increment (static)
+        fields/cycle_NNNNNNN/<name>   surface fields at peak load of a recorded cycle
+        fields/final/<name>           surface fields at peak load of the last cycle
+        subsurface/cycle_NNNNNNN/ and subsurface/final/
+                            x, y, z (mm), von_mises and sigma_<ij> (MPa) in the x–z plane
+    every dataset carries ``units`` and ``description`` attributes.
+
+Every case group is created from the plan when the file is prepared (status ``pending``), so
+the structure is known before any computation — the shape a collective (mpio) strategy needs,
+where structural calls must be identical on all ranks.
+
+Completion flag and kill safety: a case's datasets are written first, then its attributes, and
+its ``status`` attribute last, followed by a flush. A group whose status is not ``completed``
+(or ``failed``) is incomplete and is emptied and recomputed on resume. The signal handlers of
+the CLI only set a flag, so SIGTERM/SIGUSR1/SIGINT never interrupt a write; the file is
+consistent after every flush.
+
+Strategies
+----------
+:class:`SingleWriter` (default): rank 0 owns the file; workers send their outcomes to it.
+A collective strategy (parallel h5py, ``driver="mpio"``) will implement the same interface.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+from typing import Any, Protocol
+
+import h5py
+import numpy as np
+
+from engine.study.case import COMPLETED, CaseOutcome
+from engine.study.plan import Case, Plan
+
+from .summary import pending_row, summary_frame, write_summary_csv
+
+__all__ = [
+    "FORMAT",
+    "StudyMetadata",
+    "ResultsWriter",
+    "SingleWriter",
+    "ResultsMismatch",
+    "read_root_metadata",
+    "remove_outputs",
+]
+
+FORMAT = "fretting-engine-results/1"
+_PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
+
+
+class ResultsMismatch(ValueError):
+    """The existing results file belongs to another study; resuming it would mix results."""
+
+
+class StudyMetadata:
+    """What goes to the root of the file: resolved study, version, command line, grid."""
+
+    def __init__(
+        self,
+        *,
+        name: str,
+        source: str,
+        study_toml: str,
+        study_json: str,
+        fingerprint: str,
+        command_line: str,
+        version: str,
+        grid_x: np.ndarray,
+        grid_y: np.ndarray,
+    ) -> None:
+        self.attrs = {
+            "format": FORMAT,
+            "engine_version": version,
+            "command_line": command_line,
+            "study_name": name,
+            "source": source,
+            "study_toml": study_toml,
+            "study_json": study_json,
+            "study_fingerprint": fingerprint,
+        }
+        self.grid_x = np.asarray(grid_x, dtype=float)
+        self.grid_y = np.asarray(grid_y, dtype=float)
+
+    @property
+    def fingerprint(self) -> str:
+        return self.attrs["study_fingerprint"]
+
+
+class ResultsWriter(Protocol):
+    """Interface of every writer strategy."""
+
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool) -> set[str]:
+        """Create or reopen the file; return the ids of completed cases (skipped on resume)."""
+
+    def write(self, outcome: CaseOutcome) -> None:
+        """Store one case atomically (datasets, attributes, status last, flush)."""
+
+    def close(self) -> None: ...
+
+
+def read_root_metadata(path: str | Path) -> dict[str, Any]:
+    with h5py.File(path, "r") as file:
+        return dict(file.attrs)
+
+
+def check_resumable(path: Path, metadata: StudyMetadata) -> None:
+    """Raise :class:`ResultsMismatch` when ``path`` exists and holds another study (read-only)."""
+    if not path.exists():
+        return
+    try:
+        attrs = read_root_metadata(path)
+    except OSError as error:
+        raise ResultsMismatch(
+            f"{path}: existing file is not readable HDF5 ({error}); use --fresh to start over"
+        ) from None
+    if attrs.get("format") != FORMAT:
+        raise ResultsMismatch(
+            f"{path}: existing file is not a results file of this engine; "
+            "use --fresh to overwrite it or choose another [study] output"
+        )
+    if attrs.get("study_fingerprint") != metadata.fingerprint:
+        raise ResultsMismatch(
+            f"{path}: existing results were computed with different material, punch, mesh, "
+            "loading, subsurface or solver settings; use --fresh to start over or choose "
+            "another [study] output"
+        )
+
+
+def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
+    """--fresh: delete the results file, its summary and the checkpoints of a previous run."""
+    output.unlink(missing_ok=True)
+    output.with_suffix(".csv").unlink(missing_ok=True)
+    if checkpoint_dir.exists():
+        shutil.rmtree(checkpoint_dir)
+
+
+class SingleWriter:
+    """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
+
+    The summary CSV beside the file is rewritten (atomically) after every case, so it is always
+    in step with the HDF5 file.
+    """
+
+    def __init__(self, path: str | Path, summary_path: str | Path | None = None) -> None:
+        self.path = Path(path)
+        self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
+        self._file: h5py.File | None = None
+        self._rows: dict[str, dict[str, Any]] = {}
+        self._order: list[str] = []
+
+    # ------------------------------------------------------------------ lifecycle
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
+        if fresh or not self.path.exists():
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._file = h5py.File(self.path, "w")
+        else:
+            check_resumable(self.path, metadata)
+            self._file = h5py.File(self.path, "a")
+        file = self._file
+        file.attrs.update(metadata.attrs)
+        grid = file.require_group("grid")
+        for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
+            if name not in grid:
+                dataset = grid.create_dataset(name, data=values)
+                dataset.attrs["units"] = "mm"
+                dataset.attrs["description"] = f"element-centre {name} coordinates"
+        cases = file.require_group("cases")
+        completed = set()
+        for case in plan:
+            group = cases.get(case.case_id)
+            status = group.attrs.get("status", "") if group is not None else ""
+            if status == COMPLETED:
+                completed.add(case.case_id)
+                self._rows[case.case_id] = json.loads(group.attrs["summary"])
+                continue
+            self._reset_group(cases, case)
+            self._rows[case.case_id] = pending_row(case.parameters())
+        self._order = list(plan.case_ids)
+        file.flush()
+        self._write_summary()
+        return completed
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.flush()
+            self._file.close()
+            self._file = None
+
+    def __enter__(self) -> SingleWriter:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ writing
+    def write(self, outcome: CaseOutcome) -> None:
+        """Write one case: clear its group, datasets, attributes, then status, then flush."""
+        if self._file is None:
+            raise RuntimeError("prepare() the writer before writing")
+        cases = self._file["cases"]
+        group = self._reset_group(cases, outcome.case)
+        for path, record in outcome.datasets.items():
+            dataset = group.create_dataset(path, data=np.asarray(record.data))
+            dataset.attrs["units"] = record.units
+            dataset.attrs["description"] = record.description
+        row = dict(outcome.row)
+        group.attrs.update(_attribute_safe(outcome.attrs))
+        group.attrs["message"] = outcome.message
+        group.attrs["traceback"] = outcome.traceback
+        group.attrs["rank"] = outcome.rank
+        group.attrs["runtime_s"] = outcome.runtime_s
+        group.attrs["summary"] = json.dumps(_json_safe(row))
+        self._file.flush()
+        group.attrs["status"] = outcome.status  # the completion flag, written last
+        self._file.flush()
+        self._rows[outcome.case_id] = row
+        self._write_summary()
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _reset_group(cases: h5py.Group, case: Case) -> h5py.Group:
+        """Empty (or create) the group of ``case`` and give it its parameters, status pending."""
+        if case.case_id in cases:
+            del cases[case.case_id]
+        group = cases.create_group(case.case_id)
+        group.attrs["status"] = "pending"
+        group.attrs.update(case.parameters())
+        group.attrs["parameter_units"] = json.dumps(_PARAMETER_UNITS)
+        group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
+        return group
+
+    def rows(self) -> list[dict[str, Any]]:
+        return [self._rows[case_id] for case_id in self._order]
+
+    def _write_summary(self) -> None:
+        write_summary_csv(summary_frame(self.rows()), self.summary_path)
+
+
+def _json_safe(row: dict[str, Any]) -> dict[str, Any]:
+    """NaN is not JSON: store it as null (pandas reads it back as NaN)."""
+    safe = {}
+    for key, value in row.items():
+        if isinstance(value, np.generic):
+            value = value.item()
+        if isinstance(value, float) and value != value:
+            value = None
+        safe[key] = value
+    return safe
+
+
+def _attribute_safe(attrs: dict[str, Any]) -> dict[str, Any]:
+    safe = {}
+    for key, value in attrs.items():
+        if isinstance(value, dict):
+            value = json.dumps(_json_safe(value))
+        safe[key] = value
+    return safe

@@ -1,0 +1,372 @@
+"""Case runner: one case of the plan -> solver objects -> run -> :class:`CaseOutcome`.
+
+The runner knows the solvers and the study configuration, nothing of MPI or HDF5. Whatever
+happens inside a case — an exception, a solve that does not converge, a stop request — comes
+back as a :class:`CaseOutcome` with a status, so one bad case never stops the study:
+
+- ``completed``: summary row, datasets (with units) and attributes are filled in;
+- ``failed``: ``message`` and ``traceback`` say why (non-convergence is a failure, never
+  reported as converged);
+- ``interrupted``: ``should_stop`` returned True; the cyclic state was saved to the case's
+  checkpoint (``<output>.checkpoints/<case_id>.npz``) and the next run resumes from it.
+
+Subsurface stresses (paper Section 5, Eq. 16, von Mises Eq. 21) are evaluated in the x–z
+plane through the punch axis, at the final state and at every recorded cycle. ``vm_max`` is
+the maximum over the whole plane; ``vm_sub_max`` the maximum over the layers strictly below
+the surface layer, i.e. ``z >= depths[1]`` (the surface layer itself carries the edge
+singularity of the flat punch, Eq. 17, whose value depends on the element size).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+import traceback as traceback_module
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .config import StudyConfig
+from .plan import Case
+
+__all__ = ["DatasetRecord", "CaseOutcome", "CaseRunner", "InjectedFailure"]
+
+COMPLETED, FAILED, INTERRUPTED = "completed", "failed", "interrupted"
+
+_FIELD_UNITS = {
+    "wear": "mm",
+    "pressure": "MPa",
+    "traction_x": "MPa",
+    "traction_y": "MPa",
+    "slip_x": "mm",
+    "slip_y": "mm",
+    "status": "1",
+}
+_FIELD_DESCRIPTIONS = {
+    "wear": "accumulated wear depth, shape (n_x, n_y), ij indexing",
+    "pressure": "normal contact pressure, positive in compression, shape (n_x, n_y)",
+    "traction_x": "tangential traction x, shape (n_x, n_y)",
+    "traction_y": "tangential traction y, shape (n_x, n_y)",
+    "slip_x": "slip increment x of the last load step, shape (n_x, n_y)",
+    "slip_y": "slip increment y of the last load step, shape (n_x, n_y)",
+    "status": "contact status: 0 no contact, 1 stick, 2 slip",
+}
+_HISTORY_UNITS = {
+    "cycle": "1",
+    "max_wear_depth": "mm",
+    "wear_volume": "mm^3",
+    "peak_pressure": "MPa",
+    "stick_area": "mm^2",
+    "slip_area": "mm^2",
+    "approach": "mm",
+    "load": "N",
+}
+
+
+class InjectedFailure(RuntimeError):
+    """Raised on purpose for cases listed in ``[testing] fail_cases``."""
+
+
+@dataclass
+class DatasetRecord:
+    """An array with its units (UDUNITS-style string, "1" = dimensionless) and a description."""
+
+    data: np.ndarray
+    units: str
+    description: str = ""
+
+
+@dataclass
+class CaseOutcome:
+    """What a case produced. Picklable: workers send it to the writing rank."""
+
+    case: Case
+    status: str
+    row: dict[str, Any] = field(default_factory=dict)
+    datasets: dict[str, DatasetRecord] = field(default_factory=dict)
+    attrs: dict[str, Any] = field(default_factory=dict)
+    message: str = ""
+    traceback: str = ""
+    runtime_s: float = 0.0
+    rank: int = -1
+
+    @property
+    def case_id(self) -> str:
+        return self.case.case_id
+
+
+class CaseRunner:
+    """Callable ``runner(case, should_stop) -> CaseOutcome`` for one study configuration."""
+
+    def __init__(self, config: StudyConfig) -> None:
+        self.config = config
+        self.checkpoint_dir = config.study.checkpoint_dir
+
+    # ---------------------------------------------------------------- public entry point
+    def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
+        should_stop = should_stop or (lambda: False)
+        start = time.perf_counter()
+        previous = self._load_progress(case)
+        try:
+            if case.case_id in self.config.testing.fail_cases:
+                raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
+            if self.config.is_cyclic:
+                outcome = self._run_cyclic(case, should_stop, previous)
+            else:
+                outcome = self._run_static(case)
+        except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
+            outcome = CaseOutcome(
+                case,
+                FAILED,
+                message=f"{type(error).__name__}: {error}",
+                traceback=traceback_module.format_exc(),
+            )
+        outcome.runtime_s = previous.get("runtime_s", 0.0) + time.perf_counter() - start
+        if outcome.status == INTERRUPTED:
+            self._save_progress(
+                case,
+                {**previous, "runtime_s": outcome.runtime_s, **outcome.attrs.get("progress", {})},
+            )
+        else:
+            self._remove_checkpoint(case)
+        if outcome.status != COMPLETED:
+            outcome.row = self._parameters_row(case, outcome.status)
+        outcome.row["runtime_s"] = outcome.runtime_s
+        outcome.row["status"] = outcome.status
+        outcome.attrs.pop("progress", None)
+        return outcome
+
+    # ---------------------------------------------------------------- solver objects
+    def _solver(self, case: Case):
+        from engine.geometry import FlatPunch
+        from engine.grid import Grid
+        from engine.material import MaterialPair
+        from engine.solvers.contact import ContactSolver
+        from engine.solvers.friction import FrictionLaw
+
+        cfg = self.config
+        material = MaterialPair(
+            cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
+        )
+        grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
+        punch = FlatPunch(cfg.punch.radius)
+        punch.check_grid(grid)
+        friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
+        options: dict[str, Any] = {"tol": cfg.solver.tol, "threads": cfg.solver.threads}
+        if cfg.solver.maxiter is not None:
+            options["maxiter"] = cfg.solver.maxiter
+        return ContactSolver(grid, material, punch, friction, **options), grid, material
+
+    def _subsurface(self, grid, material):
+        from engine.solvers.subsurface import SubsurfaceStress, depth_layers
+
+        cfg = self.config
+        depths = np.asarray(
+            depth_layers(cfg.subsurface.depth * cfg.punch.radius, cfg.subsurface.layers),
+            dtype=float,
+        )
+        return SubsurfaceStress(grid, material.nu_A, depths), depths
+
+    # ---------------------------------------------------------------- static
+    def _run_static(self, case: Case) -> CaseOutcome:
+        from engine.solvers.static import static_analysis
+
+        cfg = self.config
+        solver, grid, material = self._solver(case)
+        result = static_analysis(solver, cfg.loading.load, cfg.loading.steps)
+        if not result.converged:
+            return CaseOutcome(
+                case, FAILED, message=f"static analysis did not converge: {result.message}"
+            )
+        datasets = {
+            "history/load": DatasetRecord(np.asarray(result.loads), "N", "load per increment"),
+            "history/approach": DatasetRecord(
+                np.asarray(result.approaches), "mm", "rigid approach per increment"
+            ),
+        }
+        datasets.update(self._final_fields(result.final))
+        stress, depths = self._subsurface(grid, material)
+        row = self._final_row(case, result.final, stress, depths, datasets, "final")
+        row.update(
+            cycles=0,
+            max_wear_depth=0.0,
+            wear_volume=0.0,
+            load_steps=int(len(result.loads)),
+            matvecs=int(result.matvecs),
+        )
+        return CaseOutcome(
+            case,
+            COMPLETED,
+            row=row,
+            datasets=datasets,
+            attrs={"iterations": int(result.iterations)},
+        )
+
+    # ---------------------------------------------------------------- cyclic
+    def _run_cyclic(self, case: Case, should_stop, previous: dict) -> CaseOutcome:
+        from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
+        from engine.solvers.friction import WearLaw
+
+        cfg = self.config
+        solver, grid, material = self._solver(case)
+        wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+        options: dict[str, Any] = {}
+        if cfg.loading.max_wear_fraction is not None:
+            options["max_wear_fraction"] = cfg.loading.max_wear_fraction
+        settings = CyclicSettings(
+            cfg.loading.load,
+            cfg.loading.steps,
+            cfg.loading.cycles,
+            record=cfg.loading.record,
+            **options,
+        )
+        analysis = CyclicAnalysis(solver, wear_law, settings)
+        checkpoint = self._checkpoint_path(case)
+        state = CyclicState.load(checkpoint) if checkpoint.exists() else None
+        result = analysis.run(state=state, should_stop=should_stop)
+        if not result.completed:
+            checkpoint.parent.mkdir(parents=True, exist_ok=True)
+            temporary = checkpoint.with_name(f".{checkpoint.stem}.tmp.npz")
+            result.state.save(temporary)
+            os.replace(temporary, checkpoint)
+            progress = {
+                "matvecs": previous.get("matvecs", 0) + int(result.matvecs),
+                "load_steps": previous.get("load_steps", 0) + int(result.load_steps),
+            }
+            return CaseOutcome(
+                case,
+                INTERRUPTED,
+                message=f"stopped; state saved to {checkpoint}",
+                attrs={"progress": progress},
+            )
+        final = result.final
+        converged = getattr(result, "converged", final.converged)
+        if not converged:
+            message = getattr(result, "message", "") or final.message
+            return CaseOutcome(case, FAILED, message=f"cyclic analysis did not converge: {message}")
+
+        datasets: dict[str, DatasetRecord] = {}
+        for key, values in result.history.items():
+            datasets[f"history/{key}"] = DatasetRecord(
+                np.asarray(values), _HISTORY_UNITS.get(key, ""), f"{key} per simulated cycle"
+            )
+        stress, depths = self._subsurface(grid, material)
+        for cycle in sorted(result.records):
+            fields = result.records[cycle]
+            group = f"cycle_{cycle:07d}"
+            for name, values in fields.items():
+                datasets[f"fields/{group}/{name}"] = DatasetRecord(
+                    np.asarray(values),
+                    _FIELD_UNITS.get(name, ""),
+                    _FIELD_DESCRIPTIONS.get(name, name) + f", peak load of cycle {cycle}",
+                )
+            plane = stress.plane(
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+            )
+            datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
+        datasets.update(self._final_fields(final))
+        history = result.history
+        row = self._final_row(case, final, stress, depths, datasets, "final")
+        row.update(
+            cycles=int(history["cycle"][-1])
+            if len(history.get("cycle", []))
+            else cfg.loading.cycles,
+            max_wear_depth=float(history["max_wear_depth"][-1]),
+            wear_volume=float(history["wear_volume"][-1]),
+            load_steps=previous.get("load_steps", 0) + int(result.load_steps),
+            matvecs=previous.get("matvecs", 0) + int(result.matvecs),
+        )
+        return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
+    # ---------------------------------------------------------------- shared pieces
+    def _final_fields(self, final) -> dict[str, DatasetRecord]:
+        datasets = {}
+        for name in ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status"):
+            datasets[f"fields/final/{name}"] = DatasetRecord(
+                np.asarray(getattr(final, name)),
+                _FIELD_UNITS[name],
+                _FIELD_DESCRIPTIONS[name] + ", peak load of the last simulated cycle",
+            )
+        return datasets
+
+    @staticmethod
+    def _plane_datasets(plane, prefix: str) -> dict[str, DatasetRecord]:
+        datasets = {
+            f"{prefix}/x": DatasetRecord(np.asarray(plane.x), "mm", "x coordinates of the plane"),
+            f"{prefix}/y": DatasetRecord(np.asarray(plane.y), "mm", "y coordinates of the plane"),
+            f"{prefix}/z": DatasetRecord(
+                np.asarray(plane.z), "mm", "depth below the surface (into the half-space)"
+            ),
+            f"{prefix}/von_mises": DatasetRecord(
+                np.asarray(plane.von_mises), "MPa", "von Mises stress, Eq. (21)"
+            ),
+        }
+        for name, values in plane.components.items():
+            datasets[f"{prefix}/sigma_{name}"] = DatasetRecord(
+                np.asarray(values), "MPa", f"stress component {name}, compression negative"
+            )
+        return datasets
+
+    def _final_row(self, case, final, stress, depths, datasets, group) -> dict[str, Any]:
+        from engine.reference.flat_punch import mean_pressure
+
+        cfg = self.config
+        plane = stress.plane(final.pressure, final.traction_x, final.traction_y, angle=0.0)
+        datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
+        peak = plane.peak()
+        below_surface = float(depths[1]) if len(depths) > 1 else float(depths[0])
+        sub_peak = plane.peak(min_depth=below_surface)
+        status = np.asarray(final.status)
+        contact = int(np.count_nonzero(status > 0))
+        stick = int(np.count_nonzero(status == 1))
+        row = self._parameters_row(case, COMPLETED)
+        row.update(
+            load=float(final.load),
+            approach=float(final.approach),
+            p0=float(mean_pressure(cfg.loading.load, cfg.punch.radius)),
+            vm_max=float(peak.value),
+            vm_max_x=float(peak.x),
+            vm_max_y=float(peak.y),
+            vm_max_z=float(peak.z),
+            vm_sub_max=float(sub_peak.value),
+            vm_sub_max_x=float(sub_peak.x),
+            vm_sub_max_y=float(sub_peak.y),
+            vm_sub_max_z=float(sub_peak.z),
+            stick_fraction=stick / contact if contact else math.nan,
+        )
+        return row
+
+    @staticmethod
+    def _parameters_row(case: Case, status: str) -> dict[str, Any]:
+        from engine.output.summary import pending_row
+
+        return pending_row(case.parameters(), status)
+
+    # ---------------------------------------------------------------- checkpoints
+    def _checkpoint_path(self, case: Case) -> Path:
+        return self.checkpoint_dir / f"{case.case_id}.npz"
+
+    def _progress_path(self, case: Case) -> Path:
+        return self.checkpoint_dir / f"{case.case_id}.json"
+
+    def _load_progress(self, case: Case) -> dict:
+        path = self._progress_path(case)
+        if path.exists() and self._checkpoint_path(case).exists():
+            return json.loads(path.read_text())
+        return {}
+
+    def _save_progress(self, case: Case, progress: dict) -> None:
+        path = self._progress_path(case)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary = path.with_name(f".{path.name}.tmp")
+        temporary.write_text(json.dumps(progress))
+        os.replace(temporary, path)
+
+    def _remove_checkpoint(self, case: Case) -> None:
+        for path in (self._checkpoint_path(case), self._progress_path(case)):
+            path.unlink(missing_ok=True)

@@ -1,0 +1,493 @@
+"""Study file (TOML) -> frozen, validated configuration.
+
+The study file is parsed once with :mod:`tomllib` and checked once; every later layer receives
+the frozen :class:`StudyConfig` and never looks at the TOML again. Every error is a
+:class:`StudyConfigError` whose message names the file, the key and the offending value, e.g.::
+
+    studies/demo.toml: [loading] load = -750: must be > 0 (N)
+
+Units are those of the paper (Juliá & Rodríguez-Tembleque 2023, Section 7): mm, N, MPa,
+wear coefficients in 1/MPa, angles in degrees.
+
+Sections and keys (``*`` = required; defaults in brackets):
+
+``[study]``       name*, output* (path of the .h5 file, relative to the working directory;
+                  the summary is written beside it as .csv)
+``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
+``[punch]``       radius*                                                                mm
+``[mesh]``        n* (elements per side), half_width [1.05·radius]                       mm
+``[loading]``     kind* ("static" | "cyclic"), load* (N), steps [10] (increments per half
+                  cycle; for static: load increments), cycles* (cyclic only), record
+                  [[cycles]] (cycles at which fields and stresses are stored; cyclic only),
+                  max_wear_fraction [solver default] (cycle-jump control, cyclic only)
+``[subsurface]``  depth [1.5] (in punch radii), layers [16]
+``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
+                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
+                  Each is a list (a single number is accepted); every combination is a case.
+``[solver]``      tol [1e-8], maxiter [solver default], threads [1] (FFT threads per rank)
+``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "StudyConfigError",
+    "StudyConfig",
+    "StudyInfo",
+    "MaterialConfig",
+    "PunchConfig",
+    "MeshConfig",
+    "LoadingConfig",
+    "SubsurfaceConfig",
+    "SweepConfig",
+    "SolverConfig",
+    "TestingConfig",
+    "load_study",
+    "parse_study",
+    "PROPORTIONAL",
+]
+
+PROPORTIONAL = "proportional"
+
+
+class StudyConfigError(ValueError):
+    """Bad study file: carries the file, the dotted key and the value it refers to."""
+
+    def __init__(self, source: str, key: str, value: Any, problem: str) -> None:
+        self.source = source
+        self.key = key
+        self.value = value
+        self.problem = problem
+        section, _, name = key.partition(".")
+        where = f"[{section}] {name}" if name else f"[{section}]"
+        shown = "" if value is _MISSING else f" = {value!r}"
+        super().__init__(f"{source}: {where}{shown}: {problem}")
+
+
+_MISSING = object()
+
+
+@dataclass(frozen=True)
+class StudyInfo:
+    name: str
+    output: Path
+
+    @property
+    def summary_path(self) -> Path:
+        return self.output.with_suffix(".csv")
+
+    @property
+    def checkpoint_dir(self) -> Path:
+        return self.output.with_name(self.output.name + ".checkpoints")
+
+
+@dataclass(frozen=True)
+class MaterialConfig:
+    E_A: float
+    nu_A: float
+    E_B: float
+    nu_B: float
+
+
+@dataclass(frozen=True)
+class PunchConfig:
+    radius: float
+
+
+@dataclass(frozen=True)
+class MeshConfig:
+    n: int
+    half_width: float
+
+
+@dataclass(frozen=True)
+class LoadingConfig:
+    kind: str
+    load: float
+    steps: int
+    cycles: int
+    record: tuple[int, ...]
+    max_wear_fraction: float | None
+
+
+@dataclass(frozen=True)
+class SubsurfaceConfig:
+    depth: float
+    layers: int
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    mu1: tuple[float, ...]
+    mu2: tuple[float, ...] | None
+    wear1: tuple[float, ...]
+    wear2: tuple[float, ...] | str | None
+    beta: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class SolverConfig:
+    tol: float
+    maxiter: int | None
+    threads: int
+
+
+@dataclass(frozen=True)
+class TestingConfig:
+    fail_cases: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """The whole study, validated. ``source`` is the study file it came from."""
+
+    source: str
+    study: StudyInfo
+    material: MaterialConfig
+    punch: PunchConfig
+    mesh: MeshConfig
+    loading: LoadingConfig
+    subsurface: SubsurfaceConfig
+    sweep: SweepConfig
+    solver: SolverConfig
+    testing: TestingConfig
+
+    @property
+    def is_cyclic(self) -> bool:
+        return self.loading.kind == "cyclic"
+
+    def resolved(self) -> dict[str, dict[str, Any]]:
+        """The configuration with every default filled in, as plain TOML-able data."""
+        out: dict[str, dict[str, Any]] = {}
+        for field in dataclasses.fields(self):
+            if field.name == "source":
+                continue
+            section = {}
+            for key, value in dataclasses.asdict(getattr(self, field.name)).items():
+                if value is None:
+                    continue  # TOML has no null: an absent key means "solver default"
+                if isinstance(value, Path):
+                    value = str(value)
+                if isinstance(value, tuple):
+                    value = list(value)
+                section[key] = value
+            out[field.name] = section
+        return out
+
+    def to_toml(self) -> str:
+        """Resolved study as TOML text (stored in the results file)."""
+        return dump_toml(self.resolved())
+
+    def to_json(self) -> str:
+        return json.dumps(self.resolved(), sort_keys=True)
+
+    def fingerprint(self) -> str:
+        """Everything that changes the result of a case (not the output path, not testing).
+
+        A results file made with a different fingerprint cannot be resumed.
+        """
+        resolved = self.resolved()
+        resolved.pop("study")
+        resolved.pop("testing")
+        resolved.pop("sweep")
+        resolved["solver"].pop("threads", None)
+        return json.dumps(resolved, sort_keys=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Parsing helpers: each takes the section dict, the key and the source for error messages.
+
+
+class _Section:
+    """Reads keys of one TOML table and remembers which ones were used."""
+
+    def __init__(self, source: str, name: str, table: Any) -> None:
+        if not isinstance(table, dict):
+            raise StudyConfigError(source, name, table, "must be a table ([section])")
+        self.source, self.name, self.table = source, name, table
+
+    def error(self, key: str, value: Any, problem: str) -> StudyConfigError:
+        return StudyConfigError(self.source, f"{self.name}.{key}", value, problem)
+
+    def raw(self, key: str, default: Any = _MISSING) -> Any:
+        if key in self.table:
+            return self.table[key]
+        if default is _MISSING:
+            raise self.error(key, _MISSING, "required key is missing")
+        return default
+
+    def check_known(self, keys: set[str]) -> None:
+        for key in self.table:
+            if key not in keys:
+                raise self.error(
+                    key, self.table[key], f"unknown key (known: {', '.join(sorted(keys))})"
+                )
+
+    def number(
+        self,
+        key: str,
+        default: Any = _MISSING,
+        *,
+        minimum: float | None = None,
+        strict: bool = False,
+        unit: str = "",
+    ) -> float:
+        value = self.raw(key, default)
+        return self._check_number(key, value, minimum=minimum, strict=strict, unit=unit)
+
+    def _check_number(
+        self, key: str, value: Any, *, minimum: float | None, strict: bool, unit: str
+    ) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, value, "must be a number")
+        if not math.isfinite(value):
+            raise self.error(key, value, "must be finite")
+        suffix = f" ({unit})" if unit else ""
+        if minimum is not None:
+            if strict and not value > minimum:
+                raise self.error(key, value, f"must be > {minimum:g}{suffix}")
+            if not strict and not value >= minimum:
+                raise self.error(key, value, f"must be >= {minimum:g}{suffix}")
+        return float(value)
+
+    def integer(self, key: str, default: Any = _MISSING, *, minimum: int) -> int:
+        value = self.raw(key, default)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, value, "must be an integer")
+        if value < minimum:
+            raise self.error(key, value, f"must be >= {minimum}")
+        return int(value)
+
+    def string(self, key: str, default: Any = _MISSING) -> str:
+        value = self.raw(key, default)
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(key, value, "must be a non-empty string")
+        return value
+
+    def poisson(self, key: str) -> float:
+        value = self.number(key)
+        if not -1.0 < value < 0.5:
+            raise self.error(key, self.table[key], "Poisson ratio must lie in (-1, 0.5)")
+        return value
+
+    def number_list(
+        self, key: str, default: Any = _MISSING, *, minimum: float | None = None, unit: str = ""
+    ) -> tuple[float, ...]:
+        value = self.raw(key, default)
+        values = value if isinstance(value, list) else [value]
+        if not values:
+            raise self.error(key, value, "must list at least one value")
+        numbers = []
+        for item in values:
+            if isinstance(item, list):
+                raise self.error(key, value, "must be a flat list of numbers")
+            numbers.append(self._check_number(key, item, minimum=minimum, strict=False, unit=unit))
+        if len(set(numbers)) != len(numbers):
+            raise self.error(key, value, "values must not repeat")
+        return tuple(numbers)
+
+
+# --------------------------------------------------------------------------------------------
+
+_SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
+_SECTIONS_OPTIONAL = ("subsurface", "solver", "testing")
+
+
+def load_study(path: str | Path) -> StudyConfig:
+    """Read and validate the study file ``path``; raises :class:`StudyConfigError`."""
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise StudyConfigError(source, "study", _MISSING, "study file not found") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise StudyConfigError(source, "study", _MISSING, f"cannot read: {error}") from None
+    return parse_study(text, source=source)
+
+
+def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
+    """Validate study TOML ``text``; ``source`` names the file in error messages."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise StudyConfigError(source, "study", _MISSING, f"malformed TOML: {error}") from None
+
+    for name in data:
+        if name not in _SECTIONS_REQUIRED + _SECTIONS_OPTIONAL:
+            raise StudyConfigError(
+                source,
+                name,
+                _MISSING,
+                "unknown section (known: "
+                + ", ".join(f"[{s}]" for s in _SECTIONS_REQUIRED + _SECTIONS_OPTIONAL)
+                + ")",
+            )
+    for name in _SECTIONS_REQUIRED:
+        if name not in data:
+            raise StudyConfigError(source, name, _MISSING, "required section is missing")
+
+    def section(name: str) -> _Section:
+        return _Section(source, name, data.get(name, {}))
+
+    study = _parse_study_info(section("study"))
+    material = _parse_material(section("material"))
+    punch = _parse_punch(section("punch"))
+    mesh = _parse_mesh(section("mesh"), punch)
+    loading = _parse_loading(section("loading"))
+    subsurface = _parse_subsurface(section("subsurface"))
+    sweep = _parse_sweep(section("sweep"), loading)
+    solver = _parse_solver(section("solver"))
+    testing = _parse_testing(section("testing"))
+    return StudyConfig(
+        source, study, material, punch, mesh, loading, subsurface, sweep, solver, testing
+    )
+
+
+def _parse_study_info(s: _Section) -> StudyInfo:
+    s.check_known({"name", "output"})
+    name = s.string("name")
+    output = s.string("output")
+    if not output.endswith((".h5", ".hdf5")):
+        raise s.error("output", output, "must be a path ending in .h5 or .hdf5")
+    return StudyInfo(name=name, output=Path(output))
+
+
+def _parse_material(s: _Section) -> MaterialConfig:
+    s.check_known({"E_A", "nu_A", "E_B", "nu_B"})
+    return MaterialConfig(
+        E_A=s.number("E_A", minimum=0.0, strict=True, unit="MPa"),
+        nu_A=s.poisson("nu_A"),
+        E_B=s.number("E_B", minimum=0.0, strict=True, unit="MPa"),
+        nu_B=s.poisson("nu_B"),
+    )
+
+
+def _parse_punch(s: _Section) -> PunchConfig:
+    s.check_known({"radius"})
+    return PunchConfig(radius=s.number("radius", minimum=0.0, strict=True, unit="mm"))
+
+
+def _parse_mesh(s: _Section, punch: PunchConfig) -> MeshConfig:
+    s.check_known({"n", "half_width"})
+    n = s.integer("n", minimum=8)
+    half_width = s.number("half_width", 1.05 * punch.radius, minimum=punch.radius, unit="mm")
+    if n * punch.radius / half_width < 4:
+        raise s.error("n", n, "fewer than 4 elements across the punch; increase n")
+    return MeshConfig(n=n, half_width=half_width)
+
+
+def _parse_loading(s: _Section) -> LoadingConfig:
+    kind = s.string("kind")
+    if kind not in ("static", "cyclic"):
+        raise s.error("kind", kind, 'must be "static" or "cyclic"')
+    if kind == "static":
+        s.check_known({"kind", "load", "steps"})
+    else:
+        s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
+    load = s.number("load", minimum=0.0, strict=True, unit="N")
+    steps = s.integer("steps", 10, minimum=1)
+    if kind == "static":
+        return LoadingConfig(kind, load, steps, 0, (), None)
+    cycles = s.integer("cycles", minimum=1)
+    record_raw = s.raw("record", [cycles])
+    record_list = record_raw if isinstance(record_raw, list) else [record_raw]
+    record = []
+    for item in record_list:
+        if isinstance(item, bool) or not isinstance(item, int):
+            raise s.error("record", record_raw, "must be a list of integer cycle numbers")
+        if not 1 <= item <= cycles:
+            raise s.error(
+                "record", record_raw, f"cycle {item} is outside 1..cycles (cycles = {cycles})"
+            )
+        record.append(item)
+    if len(set(record)) != len(record):
+        raise s.error("record", record_raw, "cycles must not repeat")
+    max_wear_fraction = None
+    if "max_wear_fraction" in s.table:
+        max_wear_fraction = s.number("max_wear_fraction", minimum=0.0, strict=True)
+    return LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
+
+
+def _parse_subsurface(s: _Section) -> SubsurfaceConfig:
+    s.check_known({"depth", "layers"})
+    return SubsurfaceConfig(
+        depth=s.number("depth", 1.5, minimum=0.0, strict=True, unit="punch radii"),
+        layers=s.integer("layers", 16, minimum=2),
+    )
+
+
+def _parse_sweep(s: _Section, loading: LoadingConfig) -> SweepConfig:
+    s.check_known({"mu1", "mu2", "wear1", "wear2", "beta"})
+    mu1 = s.number_list("mu1", minimum=0.0)
+    mu2 = s.number_list("mu2", minimum=0.0) if "mu2" in s.table else None
+    wear_default = [0.0] if loading.kind == "static" else _MISSING
+    wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
+    wear2: tuple[float, ...] | str | None = None
+    if "wear2" in s.table:
+        if s.table["wear2"] == PROPORTIONAL:
+            if any(mu == 0.0 for mu in mu1):
+                raise s.error("wear2", PROPORTIONAL, "needs every mu1 > 0 (wear1·mu2/mu1)")
+            wear2 = PROPORTIONAL
+        elif isinstance(s.table["wear2"], str):
+            raise s.error(
+                "wear2", s.table["wear2"], f'must be a list of numbers or "{PROPORTIONAL}"'
+            )
+        else:
+            wear2 = s.number_list("wear2", minimum=0.0, unit="1/MPa")
+    beta = s.number_list("beta", [0.0], unit="degrees")
+    for value in beta:
+        if not -360.0 <= value <= 360.0:
+            raise s.error("beta", s.table["beta"], "angles must lie in [-360, 360] degrees")
+    return SweepConfig(mu1=mu1, mu2=mu2, wear1=wear1, wear2=wear2, beta=beta)
+
+
+def _parse_solver(s: _Section) -> SolverConfig:
+    s.check_known({"tol", "maxiter", "threads"})
+    tol = s.number("tol", 1e-8, minimum=0.0, strict=True)
+    maxiter = s.integer("maxiter", minimum=1) if "maxiter" in s.table else None
+    threads = s.integer("threads", 1, minimum=1)
+    return SolverConfig(tol=tol, maxiter=maxiter, threads=threads)
+
+
+def _parse_testing(s: _Section) -> TestingConfig:
+    s.check_known({"fail_cases"})
+    raw = s.raw("fail_cases", [])
+    if not isinstance(raw, list) or not all(isinstance(item, str) for item in raw):
+        raise s.error("fail_cases", raw, "must be a list of case ids (strings)")
+    return TestingConfig(fail_cases=tuple(raw))
+
+
+# --------------------------------------------------------------------------------------------
+# A minimal TOML writer for the resolved study (tomllib reads only).
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, str):
+        return json.dumps(value)  # JSON string escapes are valid TOML basic strings
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(item) for item in value) + "]"
+    raise TypeError(f"cannot write {value!r} as TOML")
+
+
+def dump_toml(data: dict[str, dict[str, Any]]) -> str:
+    lines = []
+    for section, table in data.items():
+        lines.append(f"[{section}]")
+        lines.extend(f"{key} = {_toml_value(value)}" for key, value in table.items())
+        lines.append("")
+    return "\n".join(lines)
