@@ -1,0 +1,10 @@
+"""``python -m engine STUDY.toml`` — see :mod:`engine.cli`.
+
+mpiexec -n 2 python -m engine studies/demo.toml
+"""
+
+import sys
+
+from engine.cli import main
+
+sys.exit(main(prog="python -m engine"))

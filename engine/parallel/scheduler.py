@@ -1,0 +1,245 @@
+"""Dynamic master–worker scheduling of cases over a communicator; rank 0 computes too.
+
+Who runs which case is decided at run time: a rank that finishes a case receives the next one,
+so slow cases (low friction slips more, Section 7.2) never leave the other ranks idle. The plan
+is handed out most-expensive-first (see ``Plan.dispatch_order``) to shorten the tail.
+
+How rank 0 computes and dispatches at the same time
+---------------------------------------------------
+On rank 0 the *main thread* is the dispatcher and a *helper thread* computes cases. Every MPI
+call is made by the main thread (MPI initialised with ``MPI_THREAD_FUNNELED`` is enough), and
+the helper thread talks to the dispatcher through two ``queue.Queue`` objects only. Why this way
+round:
+
+- the dispatcher answers workers within ~10 ms even while rank 0 is in a long solve, so no
+  worker waits for rank 0 to reach a "poll point" (a static case has none);
+- Python runs signal handlers in the main thread; the dispatcher loop sleeps in short slices,
+  so a SIGTERM is seen at once and stop requests go out immediately;
+- no rank ever sits in a blocking ``MPI_Recv`` (MPICH busy-polls inside it, which would steal
+  the core of the computing thread): every wait is ``Iprobe`` + short sleep;
+- the numerical work (NumPy/pyFFTW) releases the GIL, so the dispatcher costs almost nothing.
+
+Workers (ranks > 0) compute in their main thread. Their ``should_stop`` checks the local stop
+event (set by a signal handler) and probes for a ``stop`` message from rank 0.
+
+Protocol (pickled tuples; one tag per direction so messages stay in order):
+worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
+before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
+
+Stopping (SIGTERM/SIGUSR1 or an interrupted case anywhere): rank 0 hands out no more cases,
+sends ``stop`` to the busy workers, waits for their (interrupted) outcomes, and tells every
+worker to exit. An exception escaping ``run_case`` propagates to the caller; the entry point
+aborts the communicator so no rank is left waiting (see ``engine.cli``).
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+import time
+import traceback
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["Scheduler", "SchedulerReport"]
+
+TAG_TO_MASTER = 71
+TAG_TO_WORKER = 72
+INTERRUPTED = "interrupted"
+
+
+@dataclass
+class SchedulerReport:
+    """What happened on this rank (rank 0 also knows the whole study)."""
+
+    rank: int
+    size: int
+    stopped: bool = False
+    statuses: dict[str, str] = field(default_factory=dict)  # rank 0 only: case_id -> status
+    not_started: list[str] = field(default_factory=list)  # rank 0 only
+    cases_per_rank: dict[int, int] = field(default_factory=dict)  # rank 0 only
+    wall_time_s: float = 0.0
+
+
+class _LocalWorker(threading.Thread):
+    """Rank 0's computing thread: takes cases from ``inbox``, puts outcomes in ``outbox``."""
+
+    def __init__(self, run_case, should_stop, rank: int) -> None:
+        super().__init__(name="engine-local-worker", daemon=True)
+        self.run_case, self.should_stop, self.rank = run_case, should_stop, rank
+        self.inbox: queue.Queue = queue.Queue()
+        self.outbox: queue.Queue = queue.Queue()
+
+    def run(self) -> None:
+        while (case := self.inbox.get()) is not None:
+            if self.should_stop():
+                self.outbox.put(("returned", case))
+                continue
+            try:
+                outcome = self.run_case(case, self.should_stop)
+                outcome.rank = self.rank
+                self.outbox.put(("result", outcome))
+            except BaseException as error:  # noqa: BLE001 - re-raised by the dispatcher
+                self.outbox.put(("error", (error, traceback.format_exc())))
+                return
+
+
+class Scheduler:
+    """Run cases over ``comm`` with ``run_case(case, should_stop) -> outcome``.
+
+    ``outcome`` needs a ``status`` (``"interrupted"`` means stopped early) and a writable
+    ``rank``; cases need a ``case_id``. ``stop_event`` is set by the caller (e.g. a signal
+    handler) to stop handing out cases and interrupt the running ones.
+    """
+
+    def __init__(
+        self,
+        comm,
+        run_case: Callable[[Any, Callable[[], bool]], Any],
+        *,
+        stop_event: threading.Event | None = None,
+        poll_interval: float = 0.01,
+    ) -> None:
+        self.comm = comm
+        self.run_case = run_case
+        self.stop_event = stop_event or threading.Event()
+        self.poll_interval = poll_interval
+        self.rank = comm.Get_rank()
+        self.size = comm.Get_size()
+
+    def run(
+        self, cases: Iterable[Any] | None = None, on_outcome: Callable[[Any], None] | None = None
+    ) -> SchedulerReport:
+        """Rank 0: pass the cases (dispatch order) and the outcome handler; others: nothing."""
+        start = time.perf_counter()
+        if self.rank == 0:
+            report = self._dispatch(list(cases or []), on_outcome or (lambda outcome: None))
+        else:
+            report = self._work()
+        report.wall_time_s = time.perf_counter() - start
+        return report
+
+    # ------------------------------------------------------------------ rank 0
+    def _dispatch(self, cases: list[Any], on_outcome: Callable[[Any], None]) -> SchedulerReport:
+        from mpi4py import MPI
+
+        report = SchedulerReport(self.rank, self.size)
+        pending = deque(cases)
+        busy: dict[int, Any] = {}
+        workers_alive = set(range(1, self.size))
+        stop_sent: set[int] = set()
+        local = _LocalWorker(self.run_case, self.stop_event.is_set, self.rank)
+        local.start()
+        local_alive = True
+
+        def next_case():
+            if self.stop_event.is_set() or not pending:
+                return None
+            return pending.popleft()
+
+        def finish(rank: int, kind: str, payload: Any) -> None:
+            case = busy.pop(rank)
+            if kind == "returned":
+                pending.appendleft(case)
+                return
+            if payload.status == INTERRUPTED:
+                self.stop_event.set()
+            report.statuses[case.case_id] = payload.status
+            report.cases_per_rank[rank] = report.cases_per_rank.get(rank, 0) + 1
+            on_outcome(payload)
+
+        def feed_local() -> None:
+            nonlocal local_alive
+            case = next_case()
+            if case is None:
+                local.inbox.put(None)
+                local_alive = False
+            else:
+                busy[self.rank] = case
+                local.inbox.put(case)
+
+        feed_local()
+        status = MPI.Status()
+        while local_alive or self.rank in busy or workers_alive:
+            progressed = False
+            if self.stop_event.is_set():
+                for rank in [r for r in busy if r != self.rank and r not in stop_sent]:
+                    self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
+                    stop_sent.add(rank)
+            try:
+                kind, payload = local.outbox.get_nowait()
+            except queue.Empty:
+                pass
+            else:
+                progressed = True
+                if kind == "error":
+                    error, text = payload
+                    raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
+                finish(self.rank, kind, payload)
+                feed_local()
+            while workers_alive and self.comm.Iprobe(
+                source=MPI.ANY_SOURCE, tag=TAG_TO_MASTER, status=status
+            ):
+                progressed = True
+                source = status.Get_source()
+                kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
+                if kind in ("result", "returned"):
+                    finish(source, kind, payload)
+                stop_sent.discard(source)
+                case = next_case()
+                if case is None:
+                    self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
+                    workers_alive.discard(source)
+                else:
+                    busy[source] = case
+                    self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
+            if not progressed:
+                time.sleep(self.poll_interval)
+        local.join()
+        report.stopped = self.stop_event.is_set()
+        report.not_started = [case.case_id for case in pending]
+        return report
+
+    # ------------------------------------------------------------------ ranks > 0
+    def _work(self) -> SchedulerReport:
+        report = SchedulerReport(self.rank, self.size)
+        message: tuple[str, Any] = ("ready", None)
+        while True:
+            self.comm.send(message, dest=0, tag=TAG_TO_MASTER)
+            kind, case = self._receive_instruction()
+            if kind == "exit":
+                break
+            if self.stop_event.is_set():
+                message = ("returned", case)
+                continue
+            outcome = self.run_case(case, self._should_stop)
+            outcome.rank = self.rank
+            message = ("result", outcome)
+        report.stopped = self.stop_event.is_set()
+        return report
+
+    def _receive_instruction(self) -> tuple[str, Any]:
+        """Wait (Iprobe + sleep, never a busy blocking receive) for a task or exit from rank 0."""
+        delay = 0.0005
+        while True:
+            if self.comm.Iprobe(source=0, tag=TAG_TO_WORKER):
+                kind, payload = self.comm.recv(source=0, tag=TAG_TO_WORKER)
+                if kind == "stop":  # arrived after our case had finished: remember, go on
+                    self.stop_event.set()
+                    continue
+                return kind, payload
+            time.sleep(delay)
+            delay = min(2 * delay, self.poll_interval)
+
+    def _should_stop(self) -> bool:
+        """Called by the solver between cycles: local signal, or a stop message from rank 0."""
+        if self.stop_event.is_set():
+            return True
+        if self.comm.Iprobe(source=0, tag=TAG_TO_WORKER):
+            kind, _ = self.comm.recv(source=0, tag=TAG_TO_WORKER)
+            if kind != "stop":  # cannot happen: tasks are only sent in reply to a request
+                raise RuntimeError(f"rank {self.rank}: unexpected {kind!r} during a case")
+            self.stop_event.set()
+        return self.stop_event.is_set()
