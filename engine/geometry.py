@@ -34,15 +34,22 @@ class FlatPunch:
 
     def check_grid(self, grid: Grid) -> None:
         """The grid must cover the whole punch face, and resolve it with a few elements."""
-        for name, half_width in (("half_width_x", grid.half_width_x),
-                                 ("half_width_y", grid.half_width_y)):
+        for name, half_width in (
+            ("half_width_x", grid.half_width_x),
+            ("half_width_y", grid.half_width_y),
+        ):
             if half_width < self.radius:
                 raise ValueError(
                     f"grid {name} = {half_width:g} mm does not cover the punch "
                     f"radius = {self.radius:g} mm"
                 )
-        if min(grid.n_x * self.radius / grid.half_width_x,
-               grid.n_y * self.radius / grid.half_width_y) < 4:
+        if (
+            min(
+                grid.n_x * self.radius / grid.half_width_x,
+                grid.n_y * self.radius / grid.half_width_y,
+            )
+            < 4
+        ):
             raise ValueError(
                 f"grid of {grid.n_x} x {grid.n_y} elements is too coarse for radius = "
                 f"{self.radius:g} mm (fewer than 4 elements across the punch)"

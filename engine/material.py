@@ -43,16 +43,22 @@ class MaterialPair:
     @property
     def poisson_ratio(self) -> float:
         """Combined ν of Eq. (6): ν/G = (ν_A/G_A + ν_B/G_B)/2."""
-        return self.shear_modulus * 0.5 * (
-            self.nu_A / self.shear_modulus_A + self.nu_B / self.shear_modulus_B
+        return (
+            self.shear_modulus
+            * 0.5
+            * (self.nu_A / self.shear_modulus_A + self.nu_B / self.shear_modulus_B)
         )
 
     @property
     def coupling(self) -> float:
         """Normal–tangential coupling K of Eq. (6) (dimensionless; 0 for identical bodies)."""
-        return 0.25 * self.shear_modulus * (
-            (1.0 - 2.0 * self.nu_A) / self.shear_modulus_A
-            - (1.0 - 2.0 * self.nu_B) / self.shear_modulus_B
+        return (
+            0.25
+            * self.shear_modulus
+            * (
+                (1.0 - 2.0 * self.nu_A) / self.shear_modulus_A
+                - (1.0 - 2.0 * self.nu_B) / self.shear_modulus_B
+            )
         )
 
     @property

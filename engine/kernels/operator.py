@@ -59,8 +59,12 @@ class _BatchedRealFFT:
             self.real, self.spectrum, axes=(1, 2), threads=threads, flags=flags
         )
         self.inverse = pyfftw.FFTW(
-            self.spectrum, self.real, axes=(1, 2), direction="FFTW_BACKWARD",
-            threads=threads, flags=flags,
+            self.spectrum,
+            self.real,
+            axes=(1, 2),
+            direction="FFTW_BACKWARD",
+            threads=threads,
+            flags=flags,
         )
         self.real[...] = 0.0
 

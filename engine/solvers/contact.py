@@ -1,0 +1,425 @@
+"""One load increment of the frictional contact problem (Eqs. 1–3, 7–11).
+
+Unknowns on the candidate elements (where the punch profile exists): pressure p ≥ 0 and
+tangential tractions q = (q_x, q_y) acting on the half-space, with
+
+    gap         g  = g_g + ω − δ + u_n,            u = A [q_x, q_y, p]   (Eqs. 1, 3)
+    slip        Δs = u_t − u_t^prev                 (Eq. 2 with the rigid slip g_t,o = 0)
+    Signorini   p ≥ 0, g ≥ 0, p g = 0               (Eq. 7)
+    Coulomb     ||q||_μ ≤ p; Δs = 0 where ||q||_μ < p; −Δs on the outward normal of the
+                ellipse where ||q||_μ = p              (Eqs. 8–11, maximal dissipation)
+
+The rigid tangential slip is zero: the punch carries no tangential load and, by the central
+symmetry of the friction ellipse, none arises. Because the block operator is symmetric
+(A_xz = A_zxᵀ, Betti), the increment is the fixed point of a projected gradient map on
+(p, q) whose gradient is (g, Δs): it is solved by FISTA with adaptive restart, where the
+pressure is projected on {p ≥ 0, Σ p ΔA = P} (load control: δ is the multiplier) and the
+tractions on the ellipse of the new pressure (exact Euclidean projection). Without friction
+the normal problem alone is solved by the constrained conjugate gradient method of Polonsky &
+Keer (Wear 231, 1999).
+
+Residual (both methods): RMS over the candidate elements of the natural residual
+(x − P(x − α∇))/α, i.e. of the gap and slip violations (mm), divided by the approach δ.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..geometry import Profile
+from ..grid import Grid
+from ..kernels.operator import HalfSpaceOperator
+from ..material import MaterialPair
+from ..validation import require_finite, require_finite_array, require_non_negative
+from .friction import FrictionLaw
+
+NO_CONTACT, STICK, SLIP = 0, 1, 2
+
+
+@dataclass
+class ContactState:
+    """Converged tractions of an increment (MPa), the relative tangential surface
+    displacement they produce (mm) and the approach (mm); the start of the next increment."""
+
+    pressure: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    displacement_x: np.ndarray
+    displacement_y: np.ndarray
+    approach: float = 0.0
+
+    @classmethod
+    def unloaded(cls, grid: Grid) -> ContactState:
+        zeros = np.zeros(grid.shape)
+        return cls(zeros, zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy(), 0.0)
+
+    def copy(self) -> ContactState:
+        return ContactState(
+            self.pressure.copy(),
+            self.traction_x.copy(),
+            self.traction_y.copy(),
+            self.displacement_x.copy(),
+            self.displacement_y.copy(),
+            self.approach,
+        )
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {
+            "pressure": self.pressure,
+            "traction_x": self.traction_x,
+            "traction_y": self.traction_y,
+            "displacement_x": self.displacement_x,
+            "displacement_y": self.displacement_y,
+        }
+
+
+@dataclass
+class IncrementResult:
+    """Outcome of one increment. Fields (n_x, n_y): pressure, traction_x, traction_y (MPa);
+    slip_x, slip_y: slip increment Δs in contact (mm); status: 0 no contact, 1 stick, 2 slip.
+    approach δ (mm), load P (N); iterations, operator applications (matvecs), residual
+    (relative, see module doc), converged and a message."""
+
+    pressure: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    slip_x: np.ndarray
+    slip_y: np.ndarray
+    status: np.ndarray
+    approach: float
+    load: float
+    iterations: int
+    matvecs: int
+    residual: float
+    converged: bool
+    message: str
+    state: ContactState = field(repr=False)
+
+    def stick_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status == STICK) * element_area)
+
+    def slip_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status == SLIP) * element_area)
+
+    def contact_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status != NO_CONTACT) * element_area)
+
+
+def _project_load(values: np.ndarray, total: float) -> tuple[np.ndarray, float]:
+    """Euclidean projection of ``values`` on {p ≥ 0, Σ p = total}: p = max(v − θ, 0).
+
+    Michelot's finite iteration: θ increases monotonically to the exact value.
+    """
+    active = np.ones(values.shape, dtype=bool)
+    theta = (values.sum() - total) / values.size
+    for _ in range(values.size + 1):
+        new_active = values > theta
+        if np.array_equal(new_active, active):
+            break
+        active = new_active
+        theta = (values[active].sum() - total) / np.count_nonzero(active)
+    return np.maximum(values - theta, 0.0), float(theta)
+
+
+class ContactSolver:
+    """Frictional contact increments of a punch profile on a half-space (Section 6).
+
+    Parameters: ``grid`` (potential contact zone), ``material``, ``profile`` (geometric gap;
+    ``inf`` where the punch has no surface), ``friction``; ``tol`` on the relative residual,
+    ``maxiter`` iterations per increment, ``threads`` for FFTW.
+    """
+
+    def __init__(
+        self,
+        grid: Grid,
+        material: MaterialPair,
+        profile: Profile,
+        friction: FrictionLaw,
+        *,
+        tol: float = 1e-8,
+        maxiter: int = 20000,
+        threads: int = 1,
+        operator: HalfSpaceOperator | None = None,
+    ):
+        profile.check_grid(grid)
+        self.tol = require_non_negative("tol", tol)
+        if self.tol <= 0.0:
+            raise ValueError(f"tol must be > 0, got {tol!r}")
+        if isinstance(maxiter, bool) or int(maxiter) != maxiter or maxiter < 1:
+            raise ValueError(f"maxiter must be a positive integer, got {maxiter!r}")
+        self.maxiter = int(maxiter)
+        self.grid = grid
+        self.material = material
+        self.profile = profile
+        self.friction = friction
+        self.operator = operator or HalfSpaceOperator(grid, material, threads=threads)
+        self.geometric_gap = profile.gap(grid)
+        self.candidate = np.isfinite(self.geometric_gap)
+        self._lipschitz: float | None = None
+
+    # ----------------------------------------------------------------- public API
+    def initial_state(self) -> ContactState:
+        return ContactState.unloaded(self.grid)
+
+    def solve_load(
+        self, load: float, state: ContactState | None = None, wear: np.ndarray | None = None
+    ) -> IncrementResult:
+        """Load control: find the approach δ such that the total force is ``load`` (N)."""
+        load = require_non_negative("load", load)
+        return self._solve(load=load, approach=None, state=state, wear=wear)
+
+    def solve_approach(
+        self, approach: float, state: ContactState | None = None, wear: np.ndarray | None = None
+    ) -> IncrementResult:
+        """Displacement control: rigid approach ``approach`` (mm) is given."""
+        approach = require_finite("approach", approach)
+        return self._solve(load=None, approach=approach, state=state, wear=wear)
+
+    # ----------------------------------------------------------------- internals
+    def _solve(self, load, approach, state, wear) -> IncrementResult:
+        state = state if state is not None else self.initial_state()
+        offset = self.geometric_gap.copy()
+        if wear is not None:
+            wear = require_finite_array("wear", wear)
+            if wear.shape != self.grid.shape:
+                raise ValueError(f"wear has shape {wear.shape}, expected {self.grid.shape}")
+            offset[self.candidate] += wear[self.candidate]
+        if load is not None and load == 0.0:
+            return self._unloaded(state, offset)
+        if self.friction.frictionless and load is not None:
+            return self._polonsky_keer(load, state, offset)
+        return self._fista(load, approach, state, offset)
+
+    def lipschitz(self) -> float:
+        """Largest eigenvalue of A restricted to the candidate elements (power iteration)."""
+        if self._lipschitz is None:
+            rng = np.random.default_rng(12345)
+            vector = np.zeros((3, *self.grid.shape))
+            vector[:, self.candidate] = rng.standard_normal((3, int(self.candidate.sum())))
+            value = 0.0
+            for _ in range(40):
+                vector /= np.linalg.norm(vector)
+                image = np.array(self.operator.apply(*vector))
+                image[:, ~self.candidate] = 0.0
+                value = float(np.sum(vector * image))
+                vector = image
+            self.operator.applications -= 40
+            # Power iteration approaches from below: keep a safety margin.
+            self._lipschitz = 1.05 * value
+        return self._lipschitz
+
+    def _unloaded(self, state: ContactState, offset: np.ndarray) -> IncrementResult:
+        zeros = np.zeros(self.grid.shape)
+        gap_free = offset[self.candidate]
+        new_state = ContactState(
+            zeros, zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy(), float(gap_free.min())
+        )
+        return IncrementResult(
+            pressure=zeros,
+            traction_x=zeros.copy(),
+            traction_y=zeros.copy(),
+            slip_x=zeros.copy(),
+            slip_y=zeros.copy(),
+            status=np.zeros(self.grid.shape, dtype=np.int8),
+            approach=new_state.approach,
+            load=0.0,
+            iterations=0,
+            matvecs=0,
+            residual=0.0,
+            converged=True,
+            message="zero load: surfaces just touching, no tractions",
+            state=new_state,
+        )
+
+    def _finish(
+        self,
+        pressure,
+        traction_x,
+        traction_y,
+        displacement,
+        approach,
+        state,
+        iterations,
+        matvecs,
+        residual,
+        message_kind,
+    ) -> IncrementResult:
+        converged = residual <= self.tol
+        in_contact = pressure > 0.0
+        slip_x = np.where(in_contact, displacement[0] - state.displacement_x, 0.0)
+        slip_y = np.where(in_contact, displacement[1] - state.displacement_y, 0.0)
+        status = np.zeros(self.grid.shape, dtype=np.int8)
+        if self.friction.frictionless:
+            status[in_contact] = SLIP
+        else:
+            ratio = np.zeros(self.grid.shape)
+            ratio[in_contact] = (
+                self.friction.norm(traction_x[in_contact], traction_y[in_contact])
+                / pressure[in_contact]
+            )
+            status[in_contact] = np.where(ratio[in_contact] >= 1.0 - 1e-9, SLIP, STICK)
+        load = float(pressure.sum() * self.grid.element_area)
+        message = (
+            f"{message_kind} converged in {iterations} iterations (residual {residual:.2e})"
+            if converged
+            else f"{message_kind} did not converge: residual {residual:.2e} > tol {self.tol:.1e} "
+            f"after {iterations} iterations"
+        )
+        new_state = ContactState(
+            pressure, traction_x, traction_y, displacement[0], displacement[1], float(approach)
+        )
+        return IncrementResult(
+            pressure=pressure,
+            traction_x=traction_x,
+            traction_y=traction_y,
+            slip_x=slip_x,
+            slip_y=slip_y,
+            status=status,
+            approach=float(approach),
+            load=load,
+            iterations=iterations,
+            matvecs=matvecs,
+            residual=float(residual),
+            converged=converged,
+            message=message,
+            state=new_state,
+        )
+
+    def _polonsky_keer(self, load, state, offset) -> IncrementResult:
+        """Frictionless load control: constrained conjugate gradients (Polonsky & Keer 1999)."""
+        grid, mask = self.grid, self.candidate
+        target = load / grid.element_area
+        count = int(mask.sum())
+        pressure = np.zeros(grid.shape)
+        if state.pressure[mask].sum() > 0.0:
+            pressure[mask] = state.pressure[mask] * (target / state.pressure[mask].sum())
+        else:
+            pressure[mask] = target / count
+        direction = np.zeros(grid.shape)
+        previous_norm = 1.0
+        conjugate = False
+        start = self.operator.applications
+        residual = math.inf
+        approach = 0.0
+        iterations = 0
+        for iterations in range(1, self.maxiter + 1):
+            gap = self.operator.apply_normal(pressure) + offset
+            contact = mask & (pressure > 0.0)
+            approach = float(gap[contact].mean())
+            gap -= approach
+            violation = np.where(contact, gap, np.minimum(gap, 0.0))
+            residual = math.sqrt(np.sum(violation[mask] ** 2) / count) / abs(approach)
+            if residual <= self.tol:
+                break
+            norm = float(np.sum(gap[contact] ** 2))
+            beta = norm / previous_norm if conjugate else 0.0
+            direction = np.where(contact, gap + beta * direction, 0.0)
+            previous_norm = norm
+            image = self.operator.apply_normal(direction)
+            image -= image[contact].mean()
+            curvature = float(np.sum(image[contact] * direction[contact]))
+            step = float(np.sum(gap[contact] * direction[contact])) / curvature
+            pressure = np.where(contact, pressure - step * direction, 0.0)
+            pressure = np.maximum(pressure, 0.0)
+            overlap = mask & (pressure <= 0.0) & (gap < 0.0)
+            conjugate = not np.any(overlap)
+            pressure[overlap] -= step * gap[overlap]
+            pressure *= target / pressure.sum()
+        # Tangential relative displacement produced by the pressure (coupling K).
+        zeros = np.zeros(grid.shape)
+        displacement = self.operator.apply(zeros, zeros, pressure)
+        return self._finish(
+            pressure,
+            zeros,
+            zeros.copy(),
+            displacement,
+            approach,
+            state,
+            iterations,
+            self.operator.applications - start,
+            residual,
+            "Polonsky-Keer CG",
+        )
+
+    def _fista(self, load, approach, state, offset) -> IncrementResult:
+        """Accelerated projected gradient on (q_x, q_y, p) with adaptive restart."""
+        grid, mask, friction = self.grid, self.candidate, self.friction
+        count = int(mask.sum())
+        alpha = 1.0 / self.lipschitz()
+        start = self.operator.applications
+        target = None if load is None else load / grid.element_area
+        previous = np.array([state.displacement_x, state.displacement_y])
+
+        x = np.zeros((3, *grid.shape))
+        if target is not None and state.pressure[mask].sum() > 0.0:
+            x[2, mask] = state.pressure[mask] * (target / state.pressure[mask].sum())
+        elif target is not None:
+            x[2, mask] = target / count
+        else:
+            x[2] = state.pressure
+        x[0], x[1] = self._project_tractions(state.traction_x, state.traction_y, x[2])
+        y = x.copy()
+        momentum = 1.0
+        residual = math.inf
+        delta = approach if approach is not None else state.approach
+        iterations = 0
+        for iterations in range(1, self.maxiter + 1):  # noqa: B007 (count kept after loop)
+            u = np.array(self.operator.apply(*y))
+            gradient = np.empty_like(u)
+            gradient[:2] = u[:2] - previous
+            gradient[2] = u[2] + offset if target is not None else u[2] + offset - delta
+            gradient[:, ~mask] = 0.0
+            trial = y - alpha * gradient
+            new = np.zeros_like(x)
+            if target is not None:
+                new[2, mask], theta = _project_load(trial[2, mask], target)
+                delta = theta / alpha
+            else:
+                new[2, mask] = np.maximum(trial[2, mask], 0.0)
+            new[0], new[1] = self._project_tractions(trial[0], trial[1], new[2])
+            step = y - new
+            scale = abs(delta) if delta != 0.0 else 1.0
+            residual = math.sqrt(np.sum(step[:, mask] ** 2) / count) / (alpha * scale)
+            if residual <= self.tol:
+                x = new
+                break
+            # Adaptive restart (O'Donoghue & Candès 2015): drop momentum when it goes uphill.
+            if np.sum(step * (new - x)) > 0.0:
+                momentum = 1.0
+            next_momentum = 0.5 * (1.0 + math.sqrt(1.0 + 4.0 * momentum**2))
+            y = new + ((momentum - 1.0) / next_momentum) * (new - x)
+            x, momentum = new, next_momentum
+        pressure, traction_x, traction_y = x[2], x[0], x[1]
+        u_final = self.operator.apply(traction_x, traction_y, pressure)
+        displacement = np.array(u_final[:2])
+        contact = pressure > 0.0
+        if np.any(contact):
+            delta = float(np.mean((u_final[2] + offset)[contact]))
+        return self._finish(
+            pressure,
+            traction_x,
+            traction_y,
+            displacement,
+            delta,
+            state,
+            iterations,
+            self.operator.applications - start,
+            residual,
+            "accelerated projected gradient",
+        )
+
+    def _project_tractions(self, tx, ty, pressure):
+        if self.friction.frictionless:
+            return np.zeros_like(tx), np.zeros_like(ty)
+        return self.friction.project(tx, ty, pressure)
+
+
+def with_friction(solver: ContactSolver, friction: FrictionLaw) -> ContactSolver:
+    """A solver for another friction law sharing the same operator (plans, kernels)."""
+    clone = ContactSolver.__new__(ContactSolver)
+    clone.__dict__.update(solver.__dict__)
+    clone.friction = friction
+    return clone

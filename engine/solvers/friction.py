@@ -1,0 +1,134 @@
+"""Orthotropic Coulomb friction (Eqs. 8–11) and orthotropic Archard wear (Eqs. 12–14).
+
+Tribological axes {e1, e2} are the x, y axes rotated by β (Eq. 11):
+    t_e1 =  cos β t_x + sin β t_y,   t_e2 = −sin β t_x + cos β t_y.
+The friction cone is the ellipse ||t||_μ = √((t_e1/μ1)² + (t_e2/μ2)²) ≤ p (Eq. 10), the
+wear norm ||Δg||_i = √((i1 Δg_e1)² + (i2 Δg_e2)²) (Eq. 13). Angles are in radians here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..validation import require_finite, require_non_negative
+
+
+def _rotation(beta: float) -> tuple[float, float]:
+    return math.cos(beta), math.sin(beta)
+
+
+def to_tribological(beta: float, vx: np.ndarray, vy: np.ndarray):
+    """Components along (e1, e2) of a vector given along (x, y), Eq. (11)."""
+    c, s = _rotation(beta)
+    return c * vx + s * vy, -s * vx + c * vy
+
+
+def from_tribological(beta: float, v1: np.ndarray, v2: np.ndarray):
+    """Inverse of ``to_tribological``."""
+    c, s = _rotation(beta)
+    return c * v1 - s * v2, s * v1 + c * v2
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """Principal friction coefficients μ1 (along e1), μ2 (along e2) and the angle β (rad)."""
+
+    mu1: float
+    mu2: float
+    beta: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mu1", require_non_negative("mu1", self.mu1))
+        object.__setattr__(self, "mu2", require_non_negative("mu2", self.mu2))
+        object.__setattr__(self, "beta", require_finite("beta", self.beta))
+        if (self.mu1 == 0.0) != (self.mu2 == 0.0):
+            raise ValueError(
+                f"mu1 and mu2 must both be zero (frictionless) or both > 0, "
+                f"got mu1={self.mu1!r}, mu2={self.mu2!r}"
+            )
+
+    @property
+    def frictionless(self) -> bool:
+        return self.mu1 == 0.0
+
+    @property
+    def isotropic(self) -> bool:
+        return self.mu1 == self.mu2
+
+    def norm(self, tx: np.ndarray, ty: np.ndarray) -> np.ndarray:
+        """||t||_μ of Eq. (10) (MPa for tractions in MPa)."""
+        t1, t2 = to_tribological(self.beta, tx, ty)
+        return np.hypot(t1 / self.mu1, t2 / self.mu2)
+
+    def radial_return(self, tx: np.ndarray, ty: np.ndarray, bound: np.ndarray):
+        """Eq. (9) as corrected in NOTES.md: t if ||t||_μ < ρ, else ρ t / ||t||_μ.
+
+        ``bound`` is ρ ≥ 0 (the contact pressure). Keeps the direction of t.
+        """
+        norm = self.norm(tx, ty)
+        scale = np.ones_like(norm)
+        outside = norm > bound
+        scale[outside] = bound[outside] / norm[outside]
+        return tx * scale, ty * scale
+
+    def project(self, tx: np.ndarray, ty: np.ndarray, bound: np.ndarray, iterations: int = 60):
+        """Euclidean closest point of t on the ellipse ||t||_μ ≤ ρ (componentwise).
+
+        Solves for the multiplier λ ≥ 0 of min |q − t|² s.t. (q1/a)² + (q2/b)² ≤ 1 with
+        a = μ1 ρ, b = μ2 ρ: q_k = a_k² t_k / (a_k² + λ), by Newton's method on the convex,
+        decreasing secular function (monotone from λ = 0). Isotropic: the radial return.
+        """
+        if self.isotropic:
+            return self.radial_return(tx, ty, bound)
+        qx, qy = np.array(tx, dtype=float), np.array(ty, dtype=float)
+        norm = self.norm(tx, ty)
+        outside = norm > bound
+        if not np.any(outside):
+            return qx, qy
+        t1, t2 = to_tribological(self.beta, qx[outside], qy[outside])
+        rho = bound[outside]
+        zero = rho <= 0.0
+        a2 = (self.mu1 * rho) ** 2
+        b2 = (self.mu2 * rho) ** 2
+        lam = np.zeros_like(rho)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for _ in range(iterations):
+                d1 = a2 + lam
+                d2 = b2 + lam
+                f = a2 * t1**2 / d1**2 + b2 * t2**2 / d2**2 - 1.0
+                df = -2.0 * (a2 * t1**2 / d1**3 + b2 * t2**2 / d2**3)
+                step = f / df
+                lam = lam - step
+                if np.all(np.abs(step) <= 1e-15 * np.maximum(lam, 1e-300)):
+                    break
+            q1 = np.where(zero, 0.0, a2 * t1 / (a2 + lam))
+            q2 = np.where(zero, 0.0, b2 * t2 / (b2 + lam))
+        px, py = from_tribological(self.beta, q1, q2)
+        qx[outside], qy[outside] = px, py
+        return qx, qy
+
+
+@dataclass(frozen=True)
+class WearLaw:
+    """Principal wear coefficients i1, i2 (1/MPa) along e1, e2 rotated by β (rad)."""
+
+    i1: float
+    i2: float
+    beta: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "i1", require_non_negative("wear1", self.i1))
+        object.__setattr__(self, "i2", require_non_negative("wear2", self.i2))
+        object.__setattr__(self, "beta", require_finite("beta", self.beta))
+
+    def norm(self, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
+        """||Δg||_i of Eq. (13): mm/MPa for slips in mm."""
+        g1, g2 = to_tribological(self.beta, gx, gy)
+        return np.hypot(self.i1 * g1, self.i2 * g2)
+
+    def depth_increment(self, pressure: np.ndarray, slip_x: np.ndarray, slip_y: np.ndarray):
+        """Δω = p_n ||Δg_t||_i (Eq. 14), mm."""
+        return pressure * self.norm(slip_x, slip_y)

@@ -1,0 +1,144 @@
+"""Study file validation: every error names the file, the key and the value (issue 5, item 6)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from engine.study.config import StudyConfigError, load_study, parse_study
+
+VALID = """
+[study]
+name = "t"
+output = "out/t.h5"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+[punch]
+radius = 1.8
+[mesh]
+n = 32
+[loading]
+kind = "cyclic"
+load = 750
+steps = 4
+cycles = 100
+record = [10, 100]
+[subsurface]
+depth = 1.0
+layers = 8
+[sweep]
+mu1 = [0.1, 0.4]
+wear1 = [1.33e-7]
+beta = [0, 45]
+"""
+
+
+def with_line(section: str, line: str, text: str = VALID) -> str:
+    """Insert ``line`` into ``[section]`` (a later duplicate key would be a TOML error)."""
+    return text.replace(f"[{section}]\n", f"[{section}]\n{line}\n", 1)
+
+
+def replace_key(section_key: str, value: str, text: str = VALID) -> str:
+    lines = text.splitlines()
+    section, key = section_key.split(".")
+    inside = False
+    for i, line in enumerate(lines):
+        if line.startswith("["):
+            inside = line == f"[{section}]"
+        elif inside and line.split("=")[0].strip() == key:
+            lines[i] = f"{key} = {value}"
+            return "\n".join(lines)
+    raise KeyError(section_key)
+
+
+def test_valid_study_resolves_defaults():
+    config = parse_study(VALID, source="t.toml")
+    assert config.mesh.half_width == pytest.approx(1.05 * 1.8)
+    assert config.sweep.mu2 is None and config.sweep.wear2 is None
+    assert config.loading.record == (10, 100)
+    assert config.is_cyclic
+    # the resolved TOML reads back to the same configuration
+    again = parse_study(config.to_toml(), source="t.toml")
+    assert again.resolved() == config.resolved()
+    assert again.fingerprint() == config.fingerprint()
+
+
+def test_config_is_frozen():
+    config = parse_study(VALID)
+    with pytest.raises(AttributeError):
+        config.loading.load = 1.0
+
+
+def test_fingerprint_ignores_output_and_sweep_but_not_physics():
+    base = parse_study(VALID)
+    assert parse_study(replace_key("study.output", '"x.h5"')).fingerprint() == base.fingerprint()
+    assert parse_study(replace_key("sweep.mu1", "[0.2]")).fingerprint() == base.fingerprint()
+    assert parse_study(replace_key("loading.load", "700")).fingerprint() != base.fingerprint()
+
+
+@pytest.mark.parametrize(
+    "text, key, fragment",
+    [
+        (replace_key("loading.load", "-750"), "[loading] load = -750", "must be > 0"),
+        (replace_key("sweep.mu1", "[0.1, -0.2]"), "[sweep] mu1", "must be >= 0"),
+        (replace_key("material.nu_A", "0.5"), "[material] nu_A = 0.5", "(-1, 0.5)"),
+        (replace_key("material.nu_B", "0.7"), "[material] nu_B = 0.7", "(-1, 0.5)"),
+        (replace_key("loading.record", "[10, 200]"), "[loading] record", "outside 1..cycles"),
+        (replace_key("loading.kind", '"quasi"'), "[loading] kind", "static"),
+        (replace_key("mesh.n", "32.5"), "[mesh] n = 32.5", "integer"),
+        (replace_key("mesh.n", "4"), "[mesh] n = 4", ">= 8"),
+        (replace_key("punch.radius", '"big"'), "[punch] radius", "must be a number"),
+        (replace_key("loading.steps", "true"), "[loading] steps = True", "integer"),
+        (replace_key("sweep.wear1", "[]"), "[sweep] wear1", "at least one"),
+        (replace_key("sweep.beta", "[0, 0]"), "[sweep] beta", "must not repeat"),
+        (replace_key("subsurface.layers", "1"), "[subsurface] layers", ">= 2"),
+        (with_line("mesh", "half_width = 1.0"), "[mesh] half_width = 1.0", ">= 1.8"),
+        (with_line("sweep", 'wear2 = "double"'), "[sweep] wear2", "proportional"),
+        (with_line("loading", "colour = 3"), "[loading] colour = 3", "unknown key"),
+        (VALID + "\n[extras]\nx = 1\n", "[extras]", "unknown section"),
+        (VALID.replace("[punch]\nradius = 1.8\n", ""), "[punch]", "required section"),
+        (VALID.replace("load = 750\n", ""), "[loading] load", "required key is missing"),
+        (VALID.replace('output = "out/t.h5"', 'output = "out/t.txt"'), "[study] output", ".h5"),
+        (VALID + "\n[sweep]\nmu1 = 1\n", "[study]", "malformed TOML"),
+        (VALID.replace("E_A = 200e3", "E_A = "), "[study]", "malformed TOML"),
+    ],
+)
+def test_bad_input_names_file_key_and_value(text, key, fragment):
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(text, source="bad.toml")
+    message = str(info.value)
+    assert message.startswith("bad.toml: ")
+    assert key in message
+    assert fragment in message
+
+
+def test_static_rejects_cyclic_keys_and_defaults_wear():
+    static = VALID.replace('kind = "cyclic"', 'kind = "static"')
+    with pytest.raises(StudyConfigError, match=r"\[loading\] cycles = 100: unknown key"):
+        parse_study(static)
+    static = static.replace("cycles = 100\n", "").replace("record = [10, 100]\n", "")
+    config = parse_study(static.replace("wear1 = [1.33e-7]\n", ""))
+    assert config.sweep.wear1 == (0.0,)
+    assert config.loading.cycles == 0
+
+
+def test_proportional_wear_needs_positive_friction():
+    text = with_line("sweep", 'wear2 = "proportional"', replace_key("sweep.mu1", "[0.0, 0.1]"))
+    with pytest.raises(StudyConfigError, match="mu1 > 0"):
+        parse_study(text)
+
+
+def test_load_study_reports_missing_file(tmp_path: Path):
+    with pytest.raises(StudyConfigError, match="not found"):
+        load_study(tmp_path / "nope.toml")
+
+
+@pytest.mark.parametrize("path", sorted(Path(__file__).parents[1].glob("studies/*.toml")))
+def test_bundled_studies_are_valid(path: Path):
+    config = load_study(path)
+    assert config.study.name
+    assert path.read_text().startswith("#"), "studies start with a comment header"
