@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The project's test command (README "Tests"; CI runs exactly this through .ci/run).
+# From a fresh clone: creates .venv, installs the package with its test tools from PyPI
+# (the `mpich` wheel provides mpiexec), lints, runs the serial tests, then the MPI tests,
+# which run for real under `mpiexec -n 2`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python3 -m venv .venv
+.venv/bin/python -m pip install --quiet --upgrade pip
+.venv/bin/python -m pip install --quiet -e '.[test]'
+.venv/bin/ruff check engine tests benchmarks
+.venv/bin/python -m pytest tests --ignore=tests/mpi -q
+# MPI tests: each test launches `mpiexec -n 2 python -m engine ...` (real ranks, real files,
+# real signals), and the collective tests run the test module itself on two ranks.
+.venv/bin/python -m pytest tests/mpi -q
