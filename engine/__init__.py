@@ -5,3 +5,14 @@ the user-facing layer and radians inside the numerical code.
 """
 
 __version__ = "0.1.0"
+
+__all__ = ["__version__", "load_summary"]
+
+
+def __getattr__(name: str):
+    """``engine.load_summary`` without importing pandas/h5py for every ``import engine``."""
+    if name == "load_summary":
+        from engine.output.summary import load_summary
+
+        return load_summary
+    raise AttributeError(f"module 'engine' has no attribute {name!r}")

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from test_config import VALID, replace_key, with_line
 
 from engine.study.config import StudyConfigError, parse_study
 from engine.study.plan import case_id_for, make_plan
-
-from .test_config import VALID, replace_key, with_line
 
 
 def test_every_combination_is_a_case_isotropic_by_default():
@@ -19,8 +18,9 @@ def test_every_combination_is_a_case_isotropic_by_default():
 
 
 def test_orthotropic_product_and_proportional_wear():
-    text = with_line("sweep", 'mu2 = [0.4]\nwear2 = "proportional"',
-                     replace_key("sweep.mu1", "[0.1]"))
+    text = with_line(
+        "sweep", 'mu2 = [0.4]\nwear2 = "proportional"', replace_key("sweep.mu1", "[0.1]")
+    )
     text = replace_key("sweep.beta", "[0, 45, 90]", text)
     plan = make_plan(parse_study(text))
     assert len(plan) == 3

@@ -63,6 +63,7 @@ COLUMN_UNITS = {
 }  # fmt: skip
 
 _INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs")
+_TEXT_COLUMNS = ("case_id", "status")
 
 
 def pending_row(parameters: dict[str, Any], status: str = "pending") -> dict[str, Any]:
@@ -81,8 +82,11 @@ def summary_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:
             frame[column] = np.nan
     extra = [c for c in frame.columns if c not in SUMMARY_COLUMNS]
     frame = frame[SUMMARY_COLUMNS + extra]
-    for column in _INTEGER_COLUMNS:
-        frame[column] = frame[column].astype("Int64")
+    for column in SUMMARY_COLUMNS:
+        if column in _INTEGER_COLUMNS:
+            frame[column] = frame[column].astype("Float64").round().astype("Int64")
+        elif column not in _TEXT_COLUMNS:
+            frame[column] = frame[column].astype(float)
     return frame
 
 

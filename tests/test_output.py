@@ -1,0 +1,205 @@
+"""Output layer (single writer, file layout, summary) and the scheduler with a trivial callable.
+
+These run serially (one rank, ``MPI.COMM_SELF``); tests/mpi runs the real thing on two ranks.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+from test_config import VALID
+
+from engine import load_summary
+from engine.output.hdf5 import FORMAT, ResultsMismatch, SingleWriter, StudyMetadata
+from engine.output.summary import SUMMARY_COLUMNS
+from engine.parallel.scheduler import Scheduler
+from engine.study.case import CaseOutcome, DatasetRecord
+from engine.study.config import parse_study
+from engine.study.plan import make_plan
+
+
+def metadata(config, fingerprint=None):
+    return StudyMetadata(
+        name="t",
+        source="t.toml",
+        study_toml=config.to_toml(),
+        study_json=config.to_json(),
+        fingerprint=fingerprint or config.fingerprint(),
+        command_line="python -m engine t.toml",
+        version="0",
+        grid_x=np.arange(4.0),
+        grid_y=np.arange(4.0),
+    )
+
+
+def fake_outcome(case, status="completed"):
+    row = {
+        **case.parameters(),
+        "status": status,
+        "cycles": 100,
+        "load": 750.0,
+        "approach": 1e-3,
+        "p0": 73.68,
+        "max_wear_depth": case.mu1 * 1e-3,
+        "wear_volume": 2e-3,
+        "vm_max": 100.0,
+        "vm_max_x": 1.7,
+        "vm_max_y": 0.0,
+        "vm_max_z": 0.0,
+        "vm_sub_max": 90.0,
+        "vm_sub_max_x": 0.0,
+        "vm_sub_max_y": 0.0,
+        "vm_sub_max_z": 1.2,
+        "stick_fraction": 0.5,
+        "load_steps": 40,
+        "matvecs": 1234,
+        "runtime_s": 1.5,
+    }
+    datasets = {
+        "history/cycle": DatasetRecord(np.arange(1, 11), "1", "cycle"),
+        "history/max_wear_depth": DatasetRecord(np.linspace(0, 1e-3, 10), "mm", "depth"),
+        "fields/final/pressure": DatasetRecord(np.ones((4, 4)), "MPa", "pressure"),
+    }
+    if status != "completed":
+        datasets = {}
+        row = {**case.parameters(), "status": status}
+    return CaseOutcome(
+        case,
+        status,
+        row=row,
+        datasets=datasets,
+        message="boom" * (status == "failed"),
+        traceback="Traceback ..." * (status == "failed"),
+        runtime_s=1.5,
+        rank=0,
+    )
+
+
+@pytest.fixture
+def study(tmp_path):
+    config = parse_study(VALID)
+    return config, make_plan(config), tmp_path / "r.h5"
+
+
+def test_layout_units_attributes_and_completion_flag(study):
+    config, plan, path = study
+    with SingleWriter(path) as writer:
+        assert writer.prepare(plan, metadata(config)) == set()
+        writer.write(fake_outcome(plan.cases[0]))
+        writer.write(fake_outcome(plan.cases[1], "failed"))
+    with h5py.File(path, "r") as file:
+        assert file.attrs["format"] == FORMAT
+        assert "[loading]" in file.attrs["study_toml"]
+        assert file.attrs["command_line"].startswith("python -m engine")
+        assert file["grid/x"].attrs["units"] == "mm"
+        done = file["cases"][plan.cases[0].case_id]
+        assert done.attrs["status"] == "completed"
+        assert done.attrs["mu1"] == plan.cases[0].mu1
+        assert json.loads(done.attrs["parameter_units"])["beta"] == "degree"
+        assert done["history/max_wear_depth"].attrs["units"] == "mm"
+        failed = file["cases"][plan.cases[1].case_id]
+        assert failed.attrs["status"] == "failed"
+        assert failed.attrs["message"] == "boom" and failed.attrs["traceback"]
+        # every planned case has a group from the start (pre-created from the plan)
+        assert set(file["cases"]) == set(plan.case_ids)
+        assert file["cases"][plan.cases[2].case_id].attrs["status"] == "pending"
+
+
+def test_summary_from_h5_and_csv_agree(study):
+    config, plan, path = study
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        for case in plan:
+            writer.write(fake_outcome(case))
+    from_h5 = load_summary(path)
+    from_csv = load_summary(path.with_suffix(".csv"))
+    assert list(from_h5.columns[: len(SUMMARY_COLUMNS)]) == SUMMARY_COLUMNS
+    assert len(from_h5) == len(plan)
+    assert list(from_h5["case_id"]) == list(plan.case_ids)  # plan order
+    pd.testing.assert_frame_equal(from_h5, from_csv, check_exact=False, rtol=1e-9)
+
+
+def test_resume_keeps_completed_and_resets_the_rest(study):
+    config, plan, path = study
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        writer.write(fake_outcome(plan.cases[0]))
+        writer.write(fake_outcome(plan.cases[1], "interrupted"))
+        writer.write(fake_outcome(plan.cases[2], "failed"))
+    with SingleWriter(path) as writer:
+        completed = writer.prepare(plan, metadata(config))
+    assert completed == {plan.cases[0].case_id}
+    with h5py.File(path, "r") as file:
+        statuses = [file["cases"][cid].attrs["status"] for cid in plan.case_ids]
+        assert statuses == ["completed", "pending", "pending", "pending"]
+        assert "history" in file["cases"][plan.cases[0].case_id]
+
+
+def test_resume_refuses_another_study_without_touching_the_file(study):
+    config, plan, path = study
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        writer.write(fake_outcome(plan.cases[0]))
+    before = path.read_bytes()
+    with pytest.raises(ResultsMismatch, match="--fresh"):
+        SingleWriter(path).prepare(plan, metadata(config, fingerprint="other"))
+    assert path.read_bytes() == before
+
+
+class _Outcome:
+    def __init__(self, case_id, status):
+        self.case_id, self.status, self.rank = case_id, status, -1
+
+
+class _Case:
+    def __init__(self, case_id):
+        self.case_id = case_id
+
+
+def test_scheduler_single_rank_runs_every_case_once():
+    from mpi4py import MPI
+
+    calls = []
+
+    def run_case(case, should_stop):
+        calls.append(case.case_id)
+        return _Outcome(case.case_id, "completed")
+
+    seen = []
+    report = Scheduler(MPI.COMM_SELF, run_case).run([_Case(f"c{i}") for i in range(5)], seen.append)
+    assert sorted(calls) == [f"c{i}" for i in range(5)]
+    assert [outcome.rank for outcome in seen] == [0] * 5
+    assert report.cases_per_rank == {0: 5} and not report.stopped
+
+
+def test_scheduler_stop_interrupts_and_hands_out_nothing_more():
+    from mpi4py import MPI
+
+    stop = threading.Event()
+
+    def run_case(case, should_stop):
+        if case.case_id == "c1":
+            stop.set()  # as a signal handler would
+        return _Outcome(case.case_id, "interrupted" if should_stop() else "completed")
+
+    report = Scheduler(MPI.COMM_SELF, run_case, stop_event=stop).run(
+        [_Case(f"c{i}") for i in range(5)]
+    )
+    assert report.stopped
+    assert report.statuses == {"c0": "completed", "c1": "interrupted"}
+    assert report.not_started == ["c2", "c3", "c4"]
+
+
+def test_scheduler_surfaces_exceptions_of_run_case():
+    from mpi4py import MPI
+
+    def run_case(case, should_stop):
+        raise ValueError("bug")
+
+    with pytest.raises(RuntimeError, match="run_case raised"):
+        Scheduler(MPI.COMM_SELF, run_case).run([_Case("c0")])
