@@ -87,7 +87,7 @@ def test_fingerprint_ignores_output_and_sweep_but_not_physics():
         (replace_key("sweep.mu1", "[0.1, -0.2]"), "[sweep] mu1", "must be >= 0"),
         (replace_key("material.nu_A", "0.5"), "[material] nu_A = 0.5", "(-1, 0.5)"),
         (replace_key("material.nu_B", "0.7"), "[material] nu_B = 0.7", "(-1, 0.5)"),
-        (replace_key("loading.record", "[10, 200]"), "[loading] record", "outside 1..cycles"),
+        (replace_key("loading.record", "[10, 200]"), "[loading] record", "outside 0..cycles"),
         (replace_key("loading.kind", '"quasi"'), "[loading] kind", "static"),
         (replace_key("mesh.n", "32.5"), "[mesh] n = 32.5", "integer"),
         (replace_key("mesh.n", "4"), "[mesh] n = 4", ">= 8"),

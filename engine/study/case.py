@@ -116,7 +116,7 @@ class CaseRunner:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
             if self.config.is_cyclic:
-                outcome = self._run_cyclic(case, should_stop, previous)
+                outcome = self._run_cyclic(case, should_stop)
             else:
                 outcome = self._run_static(case)
         except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
@@ -128,17 +128,13 @@ class CaseRunner:
             )
         outcome.runtime_s = previous.get("runtime_s", 0.0) + time.perf_counter() - start
         if outcome.status == INTERRUPTED:
-            self._save_progress(
-                case,
-                {**previous, "runtime_s": outcome.runtime_s, **outcome.attrs.get("progress", {})},
-            )
+            self._save_progress(case, {"runtime_s": outcome.runtime_s})
         else:
             self._remove_checkpoint(case)
         if outcome.status != COMPLETED:
             outcome.row = self._parameters_row(case, outcome.status)
         outcome.row["runtime_s"] = outcome.runtime_s
         outcome.row["status"] = outcome.status
-        outcome.attrs.pop("progress", None)
         return outcome
 
     # ---------------------------------------------------------------- solver objects
@@ -208,7 +204,7 @@ class CaseRunner:
         )
 
     # ---------------------------------------------------------------- cyclic
-    def _run_cyclic(self, case: Case, should_stop, previous: dict) -> CaseOutcome:
+    def _run_cyclic(self, case: Case, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
         from engine.solvers.friction import WearLaw
 
@@ -231,18 +227,11 @@ class CaseRunner:
         result = analysis.run(state=state, should_stop=should_stop)
         if not result.completed:
             checkpoint.parent.mkdir(parents=True, exist_ok=True)
-            temporary = checkpoint.with_name(f".{checkpoint.stem}.tmp.npz")
-            result.state.save(temporary)
-            os.replace(temporary, checkpoint)
-            progress = {
-                "matvecs": previous.get("matvecs", 0) + int(result.matvecs),
-                "load_steps": previous.get("load_steps", 0) + int(result.load_steps),
-            }
+            result.state.save(checkpoint)  # atomic (temporary file + rename)
             return CaseOutcome(
                 case,
                 INTERRUPTED,
-                message=f"stopped; state saved to {checkpoint}",
-                attrs={"progress": progress},
+                message=f"stopped at cycle {result.state.cycle}; state saved to {checkpoint}",
             )
         final = result.final
         converged = getattr(result, "converged", final.converged)
@@ -278,8 +267,8 @@ class CaseRunner:
             else cfg.loading.cycles,
             max_wear_depth=float(history["max_wear_depth"][-1]),
             wear_volume=float(history["wear_volume"][-1]),
-            load_steps=previous.get("load_steps", 0) + int(result.load_steps),
-            matvecs=previous.get("matvecs", 0) + int(result.matvecs),
+            load_steps=int(result.load_steps),  # cumulative over resumed runs (in the state)
+            matvecs=int(result.matvecs),
         )
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
 

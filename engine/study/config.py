@@ -18,7 +18,8 @@ Sections and keys (``*`` = required; defaults in brackets):
 ``[mesh]``        n* (elements per side), half_width [1.05·radius]                       mm
 ``[loading]``     kind* ("static" | "cyclic"), load* (N), steps [10] (increments per half
                   cycle; for static: load increments), cycles* (cyclic only), record
-                  [[cycles]] (cycles at which fields and stresses are stored; cyclic only),
+                  [[cycles]] (cycles at which fields and stresses are stored, 0 = unworn;
+                  cyclic only),
                   max_wear_fraction [solver default] (cycle-jump control, cyclic only)
 ``[subsurface]``  depth [1.5] (in punch radii), layers [16]
 ``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
@@ -404,9 +405,9 @@ def _parse_loading(s: _Section) -> LoadingConfig:
     for item in record_list:
         if isinstance(item, bool) or not isinstance(item, int):
             raise s.error("record", record_raw, "must be a list of integer cycle numbers")
-        if not 1 <= item <= cycles:
+        if not 0 <= item <= cycles:
             raise s.error(
-                "record", record_raw, f"cycle {item} is outside 1..cycles (cycles = {cycles})"
+                "record", record_raw, f"cycle {item} is outside 0..cycles (cycles = {cycles})"
             )
         record.append(item)
     if len(set(record)) != len(record):
