@@ -92,6 +92,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     command_line = shlex.join([prog or "python -m engine", *argv])
     try:
         return _run(comm, args, command_line)
+    except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
     except BaseException:  # noqa: BLE001 - never leave other ranks waiting
         sys.stderr.write(f"rank {rank}: internal error\n{traceback.format_exc()}")
         sys.stderr.flush()
