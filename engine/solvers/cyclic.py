@@ -1,0 +1,316 @@
+"""Cyclic indentation with orthotropic Archard wear and cycle jumping (Sections 4.3, 7.2, 7.3).
+
+One simulated cycle loads the punch from 0 to P in ``steps`` increments and unloads it back to
+0 in ``steps`` increments, each increment solved from the previous one's state. The wear of
+the cycle is Σ_k p_k ||Δs_k||_i over its increments (Eq. 14, with Δs the slip increment).
+
+Cycle jumping: the cycle simulated with the wear ω(N) after N real cycles stands for the ΔN
+cycles N+1 … N+ΔN, so ω(N+ΔN) = ω(N) + ΔN·Δω_cycle (explicit Euler in the cycle count; the
+gap is held fixed within a simulated cycle because one cycle's wear is tiny). ΔN is the
+largest integer with ΔN·max(Δω_cycle) ≤ ``max_wear_fraction``·δ(P) (δ: elastic approach at
+peak load), at most ``max_jump_growth`` times the previous jump, and cut so that the count
+lands exactly on every recorded cycle and on the final one.
+
+Histories hold one row per simulated cycle, describing the state after N real cycles (the
+peak-load solution computed with ω(N)). Records hold the peak-load fields at recorded cycles.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..validation import require_positive
+from .contact import STICK, SLIP, ContactSolver, ContactState, IncrementResult
+from .friction import WearLaw
+
+HISTORY_KEYS = (
+    "cycle",
+    "jump",
+    "max_wear_depth",
+    "wear_volume",
+    "peak_pressure",
+    "stick_area",
+    "slip_area",
+    "approach",
+)
+HISTORY_UNITS = {
+    "cycle": "1",
+    "jump": "1",
+    "max_wear_depth": "mm",
+    "wear_volume": "mm^3",
+    "peak_pressure": "MPa",
+    "stick_area": "mm^2",
+    "slip_area": "mm^2",
+    "approach": "mm",
+}
+RECORD_KEYS = ("wear", "pressure", "traction_x", "traction_y", "status")
+
+
+@dataclass(frozen=True)
+class CyclicSettings:
+    """``load`` P (N), ``steps`` increments per half cycle, ``cycles`` real cycles to reach,
+    ``record``: cycles at which peak-load fields are kept (those beyond ``cycles`` raise),
+    ``max_wear_fraction``: wear allowed per jump as a fraction of the peak elastic approach,
+    ``max_jump_growth``: largest ratio of consecutive jumps."""
+
+    load: float
+    steps: int
+    cycles: int
+    record: tuple[int, ...] = (1000, 10000, 100000)
+    max_wear_fraction: float = 0.02
+    max_jump_growth: float = 2.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "load", require_positive("load", self.load))
+        for name in ("steps", "cycles"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or int(value) != value or value < 1:
+                raise ValueError(f"{name} must be a positive integer, got {value!r}")
+            object.__setattr__(self, name, int(value))
+        record = tuple(sorted({int(c) for c in self.record}))
+        for cycle in record:
+            if cycle < 0 or cycle > self.cycles:
+                raise ValueError(f"record cycle {cycle} is outside 0 … cycles = {self.cycles}")
+        object.__setattr__(self, "record", record)
+        object.__setattr__(
+            self, "max_wear_fraction", require_positive("max_wear_fraction", self.max_wear_fraction)
+        )
+        if not self.max_jump_growth >= 1.0:
+            raise ValueError(f"max_jump_growth must be >= 1, got {self.max_jump_growth!r}")
+
+
+@dataclass
+class CyclicState:
+    """Everything needed to resume a cyclic analysis: wear (mm), the unloaded contact state,
+    the real cycle count, the last jump, histories and records so far."""
+
+    wear: np.ndarray
+    contact: ContactState
+    cycle: int = 0
+    jump: int = 0
+    history: dict[str, list] = field(default_factory=lambda: {k: [] for k in HISTORY_KEYS})
+    records: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    matvecs: int = 0
+    load_steps: int = 0
+    failures: list[str] = field(default_factory=list)
+
+    def save(self, path: str | Path) -> None:
+        """Write the state to ``path`` (.npz) atomically (temporary file, then rename)."""
+        path = Path(path)
+        arrays = {"wear": self.wear}
+        for key, value in self.contact.arrays().items():
+            arrays[f"contact_{key}"] = value
+        for key, values in self.history.items():
+            arrays[f"history_{key}"] = np.asarray(values, dtype=float)
+        for cycle, fields in self.records.items():
+            for key, value in fields.items():
+                arrays[f"record_{cycle}_{key}"] = value
+        arrays["scalars"] = np.array(
+            [self.cycle, self.jump, self.matvecs, self.load_steps, self.contact.approach],
+            dtype=float,
+        )
+        arrays["failures"] = np.array(self.failures, dtype=str)
+        temporary = path.with_name(path.name + ".tmp.npz")
+        np.savez(temporary, **arrays)
+        temporary.replace(path)
+
+    @classmethod
+    def load(cls, path: str | Path) -> CyclicState:
+        with np.load(path) as data:
+            cycle, jump, matvecs, load_steps, approach = data["scalars"]
+            contact = ContactState(
+                data["contact_pressure"],
+                data["contact_traction_x"],
+                data["contact_traction_y"],
+                data["contact_displacement_x"],
+                data["contact_displacement_y"],
+                float(approach),
+            )
+            history = {k: list(data[f"history_{k}"]) for k in HISTORY_KEYS}
+            records: dict[int, dict[str, np.ndarray]] = {}
+            for name in data.files:
+                if name.startswith("record_"):
+                    _, cycle_text, key = name.split("_", 2)
+                    records.setdefault(int(cycle_text), {})[key] = data[name]
+            return cls(
+                wear=data["wear"],
+                contact=contact,
+                cycle=int(cycle),
+                jump=int(jump),
+                history=history,
+                records=records,
+                matvecs=int(matvecs),
+                load_steps=int(load_steps),
+                failures=[str(f) for f in data["failures"]],
+            )
+
+
+@dataclass
+class CyclicResult:
+    """``completed``: the final cycle was reached (False when stopped early; ``state`` then
+    resumes it). ``history``: arrays per simulated cycle (see HISTORY_UNITS); ``records``:
+    peak-load fields per recorded cycle; ``final``: peak-load increment of the last simulated
+    cycle; ``converged``: every increment reached its tolerance."""
+
+    completed: bool
+    state: CyclicState
+    history: dict[str, np.ndarray]
+    records: dict[int, dict[str, np.ndarray]]
+    final: IncrementResult | None
+    matvecs: int
+    load_steps: int
+    converged: bool
+    message: str
+
+
+@dataclass
+class _CycleOutcome:
+    peak: IncrementResult
+    wear_increment: np.ndarray
+    end_state: ContactState
+
+
+class CyclicAnalysis:
+    """Runs ``settings.cycles`` real cycles with a contact ``solver`` and a ``wear_law``."""
+
+    def __init__(self, solver: ContactSolver, wear_law: WearLaw, settings: CyclicSettings):
+        self.solver = solver
+        self.wear_law = wear_law
+        self.settings = settings
+
+    def initial_state(self) -> CyclicState:
+        grid = self.solver.grid
+        return CyclicState(wear=np.zeros(grid.shape), contact=ContactState.unloaded(grid))
+
+    def loads(self) -> np.ndarray:
+        """The increment loads of one cycle (N): up in ``steps`` increments, then down."""
+        n, load = self.settings.steps, self.settings.load
+        up = load * np.arange(1, n + 1) / n
+        down = load * np.arange(n - 1, -1, -1) / n
+        return np.concatenate([up, down])
+
+    def simulate_cycle(
+        self,
+        wear: np.ndarray,
+        state: ContactState,
+        on_increment: Callable[[IncrementResult], None] | None = None,
+    ) -> _CycleOutcome:
+        """One load–unload cycle at fixed wear; returns its peak solution and its wear."""
+        wear_increment = np.zeros_like(wear)
+        peak = None
+        failures = []
+        for index, load in enumerate(self.loads()):
+            result = self.solver.solve_load(load, state, wear=wear)
+            if not result.converged:
+                failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
+            wear_increment += self.wear_law.depth_increment(
+                result.pressure, result.slip_x, result.slip_y
+            )
+            if on_increment is not None:
+                on_increment(result)
+            if index == self.settings.steps - 1:
+                peak = result
+            state = result.state
+            self._matvecs += result.matvecs
+            self._steps += 1
+        self._failures.extend(failures)
+        return _CycleOutcome(peak=peak, wear_increment=wear_increment, end_state=state)
+
+    def _next_stop(self, cycle: int) -> int:
+        later = [c for c in self.settings.record if c > cycle]
+        return min(later + [self.settings.cycles])
+
+    def _jump(self, cycle: int, previous_jump: int, outcome: _CycleOutcome) -> int:
+        settings = self.settings
+        largest = float(outcome.wear_increment.max())
+        allowed = settings.max_wear_fraction * abs(outcome.peak.approach)
+        jump = math.inf if largest <= 0.0 else allowed / largest
+        if previous_jump > 0:
+            jump = min(jump, settings.max_jump_growth * previous_jump)
+        jump = max(1, int(min(jump, self._next_stop(cycle) - cycle)))
+        return jump
+
+    def run(
+        self,
+        state: CyclicState | None = None,
+        should_stop: Callable[[], bool] | None = None,
+        on_cycle: Callable[[int, int], None] | None = None,
+        on_increment: Callable[[IncrementResult, int], None] | None = None,
+    ) -> CyclicResult:
+        """Advance to ``settings.cycles`` real cycles, or until ``should_stop()`` is true
+        (checked between simulated cycles). ``on_cycle(N, cycles)`` reports progress;
+        ``on_increment(result, jump_index)`` sees every increment (for audits and tests)."""
+        state = state if state is not None else self.initial_state()
+        self._matvecs, self._steps, self._failures = 0, 0, []
+        settings, area = self.settings, self.solver.grid.element_area
+        final = None
+        completed = False
+        while True:
+            if should_stop is not None and should_stop():
+                break
+            row_index = len(state.history["cycle"])
+            hook = None if on_increment is None else (lambda r, i=row_index: on_increment(r, i))
+            outcome = self.simulate_cycle(state.wear, state.contact, hook)
+            final = outcome.peak
+            done = state.cycle >= settings.cycles
+            jump = 0 if done else self._jump(state.cycle, state.jump, outcome)
+            self._append_history(state, outcome.peak, jump, area)
+            if state.cycle in settings.record or done:
+                state.records[state.cycle] = {
+                    "wear": state.wear.copy(),
+                    "pressure": outcome.peak.pressure,
+                    "traction_x": outcome.peak.traction_x,
+                    "traction_y": outcome.peak.traction_y,
+                    "status": outcome.peak.status,
+                }
+            state.matvecs += self._matvecs
+            state.load_steps += self._steps
+            state.failures.extend(self._failures)
+            self._matvecs, self._steps, self._failures = 0, 0, []
+            if on_cycle is not None:
+                on_cycle(state.cycle, settings.cycles)
+            if done:
+                completed = True
+                break
+            state.wear = state.wear + jump * outcome.wear_increment
+            state.contact = outcome.end_state
+            state.cycle += jump
+            state.jump = jump
+        history = {key: np.asarray(values, dtype=float) for key, values in state.history.items()}
+        converged = not state.failures
+        if not completed:
+            message = f"stopped at cycle {state.cycle} of {settings.cycles}; state saved to resume"
+        elif converged:
+            message = f"reached {state.cycle} cycles in {len(history['cycle'])} simulated cycles"
+        else:
+            message = f"{len(state.failures)} increments did not converge; first: {state.failures[0]}"
+        return CyclicResult(
+            completed=completed,
+            state=state,
+            history=history,
+            records=dict(state.records),
+            final=final,
+            matvecs=state.matvecs,
+            load_steps=state.load_steps,
+            converged=converged,
+            message=message,
+        )
+
+    def _append_history(self, state, peak: IncrementResult, jump: int, area: float) -> None:
+        row = {
+            "cycle": state.cycle,
+            "jump": jump,
+            "max_wear_depth": float(state.wear.max()),
+            "wear_volume": float(state.wear.sum() * area),
+            "peak_pressure": float(peak.pressure.max()),
+            "stick_area": float(np.count_nonzero(peak.status == STICK) * area),
+            "slip_area": float(np.count_nonzero(peak.status == SLIP) * area),
+            "approach": peak.approach,
+        }
+        for key, value in row.items():
+            state.history[key].append(value)
