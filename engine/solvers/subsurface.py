@@ -389,19 +389,32 @@ class SubsurfaceStress:
                 tractions[load] = values
         return tractions
 
-    def block(self, pressure, traction_x=None, traction_y=None) -> StressField:
+    def block(
+        self, pressure, traction_x=None, traction_y=None, *, margin: float = 0.0
+    ) -> StressField:
         """Stresses at every element centre of the grid and every depth.
 
         Tractions: arrays of the grid shape (MPa) or None for zero. Returns a ``StressField``
-        of shape ``(n_x, n_y, n_z)``.
+        of shape ``(n_x, n_y, n_z)``. With ``margin`` > 0 (mm) the block is extended on every
+        side by ceil(margin/Δ) element pitches beyond the grid (zero traction there), e.g. to
+        see the field outside a contact grid that barely covers the punch; the shape grows
+        accordingly.
         """
         grid = self.grid
-        lattice = self._lattice((float(grid.x[0]), float(grid.y[0])), grid.shape)
+        margin = float(margin)
+        if not (math.isfinite(margin) and margin >= 0.0):
+            raise ValueError(f"margin must be a finite length >= 0 mm, got {margin!r}")
+        extra = [int(math.ceil(margin / step - 1e-9)) for step in (grid.dx, grid.dy)]
+        origin = (grid.x[0] - extra[0] * grid.dx, grid.y[0] - extra[1] * grid.dy)
+        counts = (grid.n_x + 2 * extra[0], grid.n_y + 2 * extra[1])
+        lattice = self._lattice((float(origin[0]), float(origin[1])), counts)
         components = lattice.evaluate(
             self.depths, self._tractions(pressure, traction_x, traction_y)
         )
-        x, y, z = np.meshgrid(grid.x, grid.y, self.depths, indexing="ij")
-        return StressField.from_components(x, y, z, components, depths=self.depths.copy())
+        x = origin[0] + grid.dx * np.arange(counts[0])
+        y = origin[1] + grid.dy * np.arange(counts[1])
+        X, Y, Z = np.meshgrid(x, y, self.depths, indexing="ij")
+        return StressField.from_components(X, Y, Z, components, depths=self.depths.copy())
 
     def plane(
         self,
