@@ -12,11 +12,16 @@ exact (no periodic images).
 Cost and memory. The three traction fields are transformed once per call and reused for all
 layers; each layer then costs one inverse real FFT per stress component (six) plus the
 spectral products. pyfftw plans are built once per lattice and reused. Kernel spectra are
-computed once per (lattice, layer, load) and cached when ``cache_kernels=True``: each costs
-``N_x · (N_y/2 + 1) · 16`` bytes, i.e. 0.53 MB for the 128² block (N = 256); six per layer
-and load type, so 40 layers cost 127 MB for a frictionless case (pressure only) and 380 MB
-with both shear tractions. The x–z plane lattice is a single row and costs 0.27 MB per
-spectrum (64 MB for all loads at 40 layers). ``kernel_cache_bytes`` reports the current size.
+computed once per (lattice, layer, load) and cached when ``cache_kernels=True``; six per
+layer and load type. For the block, field points coincide with the sources, the kernels are
+even or odd and their spectra real or imaginary, so only that half is stored:
+``N_x · (N_y/2 + 1) · 8`` bytes, 0.26 MB per spectrum at 128² (N = 256). Other lattices
+(planes, blocks with a margin) store complex spectra; the x–z plane is a single row of
+field points (N_y = n_y) and costs the same 0.27 MB per spectrum. Measured at 128² with 40
+layers: 63 MB (pressure only) and 190 MB (pressure and both shear tractions), for the block
+and for the x–z plane alike. ``kernel_cache_bytes`` reports the current size;
+``cache_kernels=False`` recomputes the kernels at every call (about 1.5 s for 40 layers and
+three loads at 128²).
 
 Conventions (package wide): lengths mm, stresses MPa, tension positive. z > 0 points into the
 half-space. ``pressure`` >= 0 pushes into the half-space (σzz → −p at the surface);
