@@ -139,6 +139,20 @@ class HalfSpaceOperator:
         """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
         return self._convolve(self._full[2:, 2:], [p_n])[0]
 
+    def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
+        """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
+        u = self._convolve(self._full[:2, :2], [p_x, p_y])
+        return u[0], u[1]
+
+    def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
+        """A_zx p_x + A_zy p_y (mm): normal displacement due to tangential tractions."""
+        return self._convolve(self._full[2:, :2], [p_x, p_y])[0]
+
+    def coupling_to_tangential(self, p_n: np.ndarray):
+        """(A_xz p_n, A_yz p_n) (mm): tangential displacement due to pressure."""
+        u = self._convolve(self._full[:2, 2:], [p_n])
+        return u[0], u[1]
+
     def symbol_bound(self) -> float:
         """An upper bound of the largest eigenvalue of A (mm/MPa): max over frequencies of
         the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric)."""
@@ -148,3 +162,50 @@ class HalfSpaceOperator:
 
     def normal_symbol_bound(self) -> float:
         return float(np.abs(self._spectra["zz"]).max())
+
+
+def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Fold an offset kernel ``(2n_x − 1, 2n_y − 1)`` into an ``(n_x, n_y)`` periodic cell
+    (offsets −n/2 … n/2 − 1), the circulant whose inverse serves as a preconditioner."""
+    nx, ny = shape
+    ia = np.arange(-(nx // 2), nx - nx // 2)
+    ib = np.arange(-(ny // 2), ny - ny // 2)
+    folded = np.zeros(shape)
+    folded[np.ix_(ia % nx, ib % ny)] = kernel[np.ix_(ia + nx - 1, ib + ny - 1)]
+    return folded
+
+
+class SpectralPreconditioner:
+    """Inverse of the periodic (n_x × n_y) circulant of the surface kernels (mm → MPa).
+
+    Applied to a residual (gap or slip, mm) it returns a traction-like correction (MPa):
+    the discrete analogue of the |ξ| (Dirichlet-to-Neumann) operator that cancels the 1/|ξ|
+    smoothing of A, so that CG iterations no longer grow with the number of elements.
+    """
+
+    def __init__(self, operator: HalfSpaceOperator):
+        grid = operator.grid
+        self.shape = grid.shape
+        kernels = operator.influence.kernels
+        spectrum = {
+            key: np.fft.rfft2(fold_periodic(kernels[key], self.shape)).real
+            for key in ("zz", "xx", "yy", "xy")
+        }
+        self._normal = 1.0 / spectrum["zz"]
+        determinant = spectrum["xx"] * spectrum["yy"] - spectrum["xy"] ** 2
+        self._tangential = (
+            spectrum["yy"] / determinant,
+            -spectrum["xy"] / determinant,
+            spectrum["xx"] / determinant,
+        )
+
+    def normal(self, residual: np.ndarray) -> np.ndarray:
+        return np.fft.irfft2(np.fft.rfft2(residual) * self._normal, self.shape)
+
+    def tangential(self, rx: np.ndarray, ry: np.ndarray):
+        fx, fy = np.fft.rfft2(rx), np.fft.rfft2(ry)
+        ixx, ixy, iyy = self._tangential
+        return (
+            np.fft.irfft2(ixx * fx + ixy * fy, self.shape),
+            np.fft.irfft2(ixy * fx + iyy * fy, self.shape),
+        )

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..validation import require_positive
-from .contact import STICK, SLIP, ContactSolver, ContactState, IncrementResult
+from .contact import SLIP, STICK, ContactSolver, ContactState, IncrementResult
 from .friction import WearLaw
 
 HISTORY_KEYS = (
@@ -288,7 +288,9 @@ class CyclicAnalysis:
         elif converged:
             message = f"reached {state.cycle} cycles in {len(history['cycle'])} simulated cycles"
         else:
-            message = f"{len(state.failures)} increments did not converge; first: {state.failures[0]}"
+            message = (
+                f"{len(state.failures)} increments did not converge; first: {state.failures[0]}"
+            )
         return CyclicResult(
             completed=completed,
             state=state,

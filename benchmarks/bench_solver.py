@@ -1,0 +1,167 @@
+"""Contact-solver benchmark (issue 2): flat punch, tolerance 1e-8, one core.
+
+For 64², 128², 256², 512² elements over the square of half-width 1.05 a0 (a0 = 1.8 mm,
+P = 714 N, paper materials E_B = 100 E_A, ν = 0.3, K = 0.196), prints for the frictionless
+solve (Polonsky–Keer CG) and for μ = 0.2 (coupled FISTA): wall time, iterations, operator
+applications, time / one operator application, and for μ = 0.2 the operator applications of
+a warm-started increment (second half of a two-increment static analysis). At 256² Tamaas
+2.9's PolonskyKeerRey (non-periodic "dcfft" operator, same grid and tolerance) is timed in
+the same run when installed (`pip install tamaas==2.9.0`); accuracy is compared with the
+solver-agnostic face residual (max − min of the face displacement) / approach.
+
+Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_solver.py [--sizes 64 128 256 512]
+Takes about 10 minutes here with 512² (the μ = 0.2 solve dominates).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from engine.geometry import FlatPunch
+from engine.grid import Grid
+from engine.material import paper_material
+from engine.reference.flat_punch import sneddon_approach
+from engine.solvers.contact import ContactSolver, with_friction
+from engine.solvers.friction import FrictionLaw
+
+RADIUS, LOAD, TOL = 1.8, 714.0, 1e-8
+
+
+def time_operator(solver: ContactSolver, normal: bool, repeats: int = 20) -> float:
+    field = np.ones(solver.grid.shape)
+    apply = (
+        (lambda: solver.operator.apply_normal(field))
+        if normal
+        else (lambda: solver.operator.apply(field, field, field))
+    )
+    apply()
+    start = time.perf_counter()
+    for _ in range(repeats):
+        apply()
+    solver.operator.applications -= repeats + 1
+    return (time.perf_counter() - start) / repeats
+
+
+def face_residual(solver: ContactSolver, result) -> float:
+    zeros = np.zeros(solver.grid.shape)
+    u = solver.operator.apply(result.traction_x, result.traction_y, result.pressure)[2]
+    contact = result.pressure > 0
+    return float(np.ptp(u[contact]) / result.approach) if zeros is not None else 0.0
+
+
+def run_size(n: int) -> dict:
+    material = paper_material()
+    grid = Grid.square(n, 1.05 * RADIUS)
+    solver = ContactSolver(grid, material, FlatPunch(RADIUS), FrictionLaw(0.0, 0.0), tol=TOL)
+    row = {"n": n}
+    t_normal = time_operator(solver, normal=True)
+    start = time.perf_counter()
+    result = solver.solve_load(LOAD)
+    elapsed = time.perf_counter() - start
+    row["frictionless"] = dict(
+        time=elapsed,
+        iterations=result.iterations,
+        matvecs=result.matvecs,
+        ratio=elapsed / t_normal,
+        converged=result.converged,
+        approach_error=result.approach / sneddon_approach(LOAD, RADIUS, material.contact_modulus)
+        - 1,
+        face=face_residual(solver, result),
+        op=t_normal,
+    )
+    frictional = with_friction(solver, FrictionLaw(0.2, 0.2))
+    t_full = time_operator(frictional, normal=False)
+    frictional.lipschitz()  # once per grid, reused by every increment
+    start = time.perf_counter()
+    cold = frictional.solve_load(LOAD)
+    elapsed = time.perf_counter() - start
+    start = time.perf_counter()
+    half = frictional.solve_load(0.5 * LOAD)
+    warm = frictional.solve_load(LOAD, half.state)
+    warm_time = time.perf_counter() - start
+    row["mu=0.2"] = dict(
+        time=elapsed,
+        iterations=cold.iterations,
+        matvecs=cold.matvecs,
+        ratio=elapsed / t_full,
+        converged=cold.converged and warm.converged,
+        warm_matvecs=warm.matvecs,
+        warm_time=warm_time,
+        op=t_full,
+    )
+    return row
+
+
+def run_tamaas(n: int) -> dict | None:
+    sys.path.insert(0, str(Path(__file__).parent))
+    try:
+        from tamaas_reference import solve_flat_punch_tamaas
+    except ImportError:
+        return None
+    try:
+        best = None
+        for _ in range(2):
+            result = solve_flat_punch_tamaas(n, radius=RADIUS, load=LOAD, tol=TOL)
+            if best is None or result["solve_time_s"] < best["solve_time_s"]:
+                best = result
+        return best
+    except ImportError as error:
+        print(f"(Tamaas not available: {error})")
+        return None
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
+    args = parser.parse_args()
+    rows = [run_size(n) for n in args.sizes]
+    print("\nfrictionless (Polonsky-Keer CG), tol 1e-8")
+    print(
+        f"{'n':>5} {'time s':>8} {'iter':>5} {'matvecs':>8} {'t/op':>7} {'op ms':>7} "
+        f"{'approach err':>12} {'face resid':>10}"
+    )
+    for row in rows:
+        f = row["frictionless"]
+        print(
+            f"{row['n']:>5} {f['time']:8.3f} {f['iterations']:5d} {f['matvecs']:8d} "
+            f"{f['ratio']:7.1f} {f['op'] * 1e3:7.2f} {f['approach_error']:12.2e} {f['face']:10.1e}"
+        )
+    print("\nmu = 0.2, K = 0.196 (FISTA on the coupled increment), tol 1e-8")
+    print(
+        f"{'n':>5} {'time s':>8} {'iter':>5} {'matvecs':>8} {'t/op':>7} {'op ms':>7} "
+        f"{'warm matvecs':>12}"
+    )
+    for row in rows:
+        f = row["mu=0.2"]
+        print(
+            f"{row['n']:>5} {f['time']:8.3f} {f['iterations']:5d} {f['matvecs']:8d} "
+            f"{f['ratio']:7.1f} {f['op'] * 1e3:7.2f} {f['warm_matvecs']:12d}"
+        )
+    warm = {row["n"]: row["mu=0.2"]["warm_matvecs"] for row in rows}
+    if 64 in warm and 512 in warm:
+        print(
+            f"\nwarm-started matvecs growth 64² -> 512²: {warm[512] / warm[64]:.2f}x "
+            "(target <= 1.5x)"
+        )
+    if 256 in args.sizes:
+        tamaas = run_tamaas(256)
+        ours = next(r for r in rows if r["n"] == 256)["frictionless"]
+        if tamaas is None:
+            print("\nTamaas not installed: pip install tamaas==2.9.0 for the side-by-side figure")
+        else:
+            print(
+                f"\n256² frictionless, same run: ours {ours['time']:.3f} s "
+                f"({ours['iterations']} iterations, face residual {ours['face']:.1e}); "
+                f"Tamaas {tamaas['solve_time_s']:.3f} s ({tamaas['iterations']} iterations, "
+                f"face residual {tamaas['face_residual']:.1e}); "
+                f"ratio ours/Tamaas = {ours['time'] / tamaas['solve_time_s']:.3f}"
+            )
+
+
+if __name__ == "__main__":
+    main()
