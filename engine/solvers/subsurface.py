@@ -292,7 +292,10 @@ class _LatticeConvolution:
         return spectra
 
     def layer(self, layer: int, depth: float, tractions: dict[str, np.ndarray]) -> dict:
-        """Stresses on the lattice at one depth: dict component -> (m_x, m_y), MPa."""
+        """Stresses on the lattice at one depth: dict component -> (m_x, m_y), MPa.
+
+        ``tractions``: traction spectra from ``traction_spectra``.
+        """
         kernels = {load: self.kernel_spectra(layer, depth, load) for load in tractions}
         m_x, m_y = self.counts
         result = {}
