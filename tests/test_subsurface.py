@@ -98,7 +98,7 @@ def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source)
 
 def test_oblique_plane_matches_appendix_a(paper_stress):
     # A plane at φ = 0.6 rad is bilinearly interpolated from the lattice; same tolerances as
-    # acceptance 1 (measured 0.15 % / 0.0005 p0).
+    # acceptance 1 (measured 0.19 % / 0.0006 p0).
     field = paper_stress.plane(_sneddon(PAPER_GRID), angle=0.6, half_length=2.2 * A0)
     errors = _compare_with_appendix_a(field)
     assert errors["von_mises"] < 0.02, errors
