@@ -89,7 +89,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
             args = build_parser(prog).parse_args(argv)
     except SystemExit as exit_:  # --help, --version, usage errors: same code on every rank
         return int(exit_.code or 0)
-    command_line = shlex.join([prog or "python -m engine", *argv])
+    command_line = " ".join([prog or "python -m engine", shlex.join(argv)])
     try:
         return _run(comm, args, command_line)
     except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly

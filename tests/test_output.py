@@ -12,7 +12,6 @@ import h5py
 import numpy as np
 import pandas as pd
 import pytest
-from test_config import VALID
 
 from engine import load_summary
 from engine.output.hdf5 import FORMAT, ResultsMismatch, SingleWriter, StudyMetadata
@@ -21,6 +20,7 @@ from engine.parallel.scheduler import Scheduler
 from engine.study.case import CaseOutcome, DatasetRecord
 from engine.study.config import parse_study
 from engine.study.plan import make_plan
+from tests.test_config import VALID
 
 
 def metadata(config, fingerprint=None):
@@ -121,7 +121,7 @@ def test_summary_from_h5_and_csv_agree(study):
     assert list(from_h5.columns[: len(SUMMARY_COLUMNS)]) == SUMMARY_COLUMNS
     assert len(from_h5) == len(plan)
     assert list(from_h5["case_id"]) == list(plan.case_ids)  # plan order
-    pd.testing.assert_frame_equal(from_h5, from_csv, check_exact=False, rtol=1e-9)
+    pd.testing.assert_frame_equal(from_h5, from_csv, check_exact=True)
 
 
 def test_resume_keeps_completed_and_resets_the_rest(study):

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
-from test_config import VALID, replace_key, with_line
 
 from engine.study.config import StudyConfigError, parse_study
 from engine.study.plan import case_id_for, make_plan
+from tests.test_config import VALID, replace_key, with_line
 
 
 def test_every_combination_is_a_case_isotropic_by_default():

@@ -94,7 +94,7 @@ def write_summary_csv(frame: pd.DataFrame, path: str | Path) -> None:
     """Write atomically (temporary file + rename) so a kill never leaves half a table."""
     path = Path(path)
     temporary = path.with_name(f".{path.name}.tmp")
-    frame.to_csv(temporary, index=False, float_format="%.10g")
+    frame.to_csv(temporary, index=False)  # shortest repr: round-trips exactly
     os.replace(temporary, path)
 
 

@@ -1,0 +1,108 @@
+"""Parallel efficiency of the study engine: four equal cases on one rank vs two ranks.
+
+Four cyclic cases of identical cost (isotropic friction, so the axes angle β = 0, 90, 180, 270°
+changes nothing but the id) are run with ``python -m engine`` under ``mpiexec -n 1`` and
+``mpiexec -n 2``, side by side in one session, alternating, ``--repeat`` times each. The wall
+time of the whole command (start-up, MPI init, HDF5 writing included) is measured; the best of
+the repeats is compared. Target (issue 5): t(2 ranks) / t(1 rank) <= 0.55 on a 2-core machine.
+
+    python benchmarks/bench_parallel.py            # ~2 minutes here
+    python benchmarks/bench_parallel.py --n 32 --cycles 10000 --repeat 1   # quick look
+
+Other processes on the machine distort the figure; run it on an otherwise idle machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+STUDY = """
+[study]
+name = "bench_parallel"
+output = "{output}"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+[punch]
+radius = 1.8
+[mesh]
+n = {n}
+[loading]
+kind = "cyclic"
+load = 750.0
+steps = {steps}
+cycles = {cycles}
+record = [{cycles}]
+[subsurface]
+depth = 1.0
+layers = 12
+[sweep]
+mu1 = [0.2]
+wear1 = [1.33e-7]
+beta = [0.0, 90.0, 180.0, 270.0]
+"""
+
+
+def run(ranks: int, study: Path) -> float:
+    mpiexec = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    command = [
+        mpiexec,
+        "-n",
+        str(ranks),
+        sys.executable,
+        "-m",
+        "engine",
+        str(study),
+        "--fresh",
+        "--no-progress-bar",
+    ]
+    start = time.perf_counter()
+    result = subprocess.run(command, env=env, capture_output=True, text=True)
+    elapsed = time.perf_counter() - start
+    if result.returncode != 0:
+        raise SystemExit(f"engine failed ({result.returncode}):\n{result.stdout}{result.stderr}")
+    return elapsed
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=48, help="elements per side (default 48)")
+    parser.add_argument("--steps", type=int, default=6, help="increments per half cycle")
+    parser.add_argument("--cycles", type=int, default=100000)
+    parser.add_argument("--repeat", type=int, default=2)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        study = Path(folder) / "bench.toml"
+        study.write_text(
+            STUDY.format(
+                output=Path(folder) / "bench.h5", n=args.n, steps=args.steps, cycles=args.cycles
+            )
+        )
+        times: dict[int, list[float]] = {1: [], 2: []}
+        for _ in range(args.repeat):
+            for ranks in (1, 2):
+                times[ranks].append(run(ranks, study))
+                print(f"ranks={ranks}: {times[ranks][-1]:7.2f} s", flush=True)
+    one, two = min(times[1]), min(times[2])
+    print(
+        f"four equal cases (n = {args.n}, {args.cycles} cycles, {args.steps} steps), best of "
+        f"{args.repeat}: 1 rank {one:.2f} s, 2 ranks {two:.2f} s, ratio {two / one:.3f} "
+        f"(target <= 0.55); cpus = {os.cpu_count()}, load average before: "
+        f"{os.getloadavg()[0]:.2f}"
+    )
+
+
+if __name__ == "__main__":
+    main()
