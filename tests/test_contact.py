@@ -6,7 +6,6 @@ analytic solutions hold to the discretisation error at the stated resolution.
 
 import numpy as np
 import pytest
-from conftest import LOAD, RADIUS
 
 from engine.geometry import FlatPunch
 from engine.grid import Grid
@@ -20,6 +19,7 @@ from engine.reference.flat_punch import (
 from engine.solvers.contact import SLIP, STICK, ContactSolver, with_friction
 from engine.solvers.friction import FrictionLaw
 from engine.solvers.static import static_analysis
+from tests.conftest import LOAD, RADIUS
 
 
 def test_frictionless_punch_matches_sneddon(frictionless_64, material):

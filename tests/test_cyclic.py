@@ -3,13 +3,13 @@ test_cycle_jump_convergence.py)."""
 
 import numpy as np
 import pytest
-from conftest import RADIUS
 
 from engine.geometry import FlatPunch
 from engine.grid import Grid
 from engine.solvers.contact import ContactSolver
 from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
 from engine.solvers.friction import FrictionLaw, WearLaw
+from tests.conftest import RADIUS
 
 LOAD = 750.0  # N, Section 7.2
 WEAR = 1.33e-7  # 1/MPa, Section 7.2

@@ -62,7 +62,7 @@ class CyclicSettings:
     steps: int
     cycles: int
     record: tuple[int, ...] = (1000, 10000, 100000)
-    max_wear_fraction: float = 0.02
+    max_wear_fraction: float = 0.004
     max_jump_growth: float = 2.0
 
     def __post_init__(self) -> None:
