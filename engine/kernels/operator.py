@@ -90,7 +90,7 @@ class HalfSpaceOperator:
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
         self.influence = SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
-        self._ffts: dict[int, _BatchedRealFFT] = {}
+        self._ffts: dict[tuple[int, str], _BatchedRealFFT] = {}
         spectra = {}
         transform = self._fft(1)
         for key, kernel in self.influence.kernels.items():
@@ -103,14 +103,15 @@ class HalfSpaceOperator:
         self._full = np.empty((3, 3, *spectra["zz"].shape), dtype=complex)
         for (a, b), (key, sign) in _BLOCKS.items():
             self._full[a, b] = sign * spectra[key]
+        self._product = np.empty_like(spectra["zz"])
         self.applications = 0
 
-    def _fft(self, batch: int) -> _BatchedRealFFT:
-        if batch not in self._ffts:
-            self._ffts[batch] = _BatchedRealFFT(
-                batch, self.padded_shape, self.threads, self._effort
-            )
-        return self._ffts[batch]
+    def _fft(self, batch: int, role: str = "in") -> _BatchedRealFFT:
+        """Plans and buffers per batch size; inputs and outputs never share a buffer."""
+        key = (batch, role)
+        if key not in self._ffts:
+            self._ffts[key] = _BatchedRealFFT(batch, self.padded_shape, self.threads, self._effort)
+        return self._ffts[key]
 
     def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:
         """Apply a (rows × columns) block of kernel spectra to ``fields`` (columns)."""
@@ -122,10 +123,15 @@ class HalfSpaceOperator:
         for index, field in enumerate(fields):
             fft.real[index, :nx, :ny] = field
         fft.forward()
-        transformed = np.einsum("abij,bij->aij", block, fft.spectrum)
         rows = block.shape[0]
-        out_fft = self._fft(rows)
-        out_fft.spectrum[...] = transformed
+        out_fft = self._fft(rows, "out")
+        product = self._product
+        for a in range(rows):
+            target = out_fft.spectrum[a]
+            np.multiply(block[a, 0], fft.spectrum[0], out=target)
+            for b in range(1, columns):
+                np.multiply(block[a, b], fft.spectrum[b], out=product)
+                target += product
         out_fft.inverse()
         self.applications += 1
         return out_fft.real[:, :nx, :ny].copy()
