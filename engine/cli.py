@@ -6,7 +6,11 @@ communicator. The flow:
 1. every rank parses the command line; rank 0 validates the study file, expands the plan and
    checks that an existing results file belongs to the same study — before any file is created
    or changed — and broadcasts the verdict (bad input: exit code 2 on every rank);
-2. rank 0 prepares the results file (the single writer) and learns which cases are complete;
+2. the output strategy is chosen (``--output-strategy`` / ``[study] output_strategy``): the
+   single writer (rank 0 owns the file; default with the PyPI h5py wheel) or collective mpio
+   (every rank writes its own cases; automatic when h5py is MPI-enabled and ranks > 1, see
+   ``engine.output.collective``); the writer prepares the file and learns which cases are
+   complete;
 3. the scheduler hands the remaining cases out dynamically; rank 0 computes as well;
 4. SIGTERM / SIGUSR1 / SIGINT set a stop flag: no new cases, running cyclic cases save their
    state, the file is closed cleanly, exit code 3; the next run resumes.
@@ -63,6 +67,14 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         "--output", type=Path, default=None, help="results file to write instead of [study] output"
     )
     parser.add_argument(
+        "--output-strategy",
+        choices=("auto", "single", "mpio"),
+        default=None,
+        help="who writes the HDF5 file: rank 0 only (single), every rank through parallel "
+        "HDF5 (mpio, needs an MPI-enabled h5py: scripts/build_parallel_h5py.sh), or mpio when "
+        "possible (auto); overrides [study] output_strategy (default auto)",
+    )
+    parser.add_argument(
         "--no-progress-bar",
         action="store_true",
         help="never draw the tqdm bar (lines per case are always printed)",
@@ -103,21 +115,31 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         return EXIT_INTERNAL
 
 
-def _prepare_on_root(args):
-    """Validate everything that can be wrong with the input. Returns (config, plan) or raises."""
+def _prepare_on_root(args, ranks: int):
+    """Validate everything that can be wrong with the input.
+
+    Returns (config, plan, strategy, layout) or raises; ``layout`` (datasets to pre-create per
+    case) only for the mpio strategy.
+    """
+    from engine.output.collective import choose_strategy
     from engine.output.hdf5 import check_resumable
     from engine.study.config import load_study
+    from engine.study.layout import case_layout
     from engine.study.plan import make_plan
 
     config = load_study(args.study)
+    study = config.study
     if args.output is not None:
-        config = dataclasses.replace(
-            config, study=dataclasses.replace(config.study, output=args.output)
-        )
+        study = dataclasses.replace(study, output=args.output)
+    if args.output_strategy is not None:
+        study = dataclasses.replace(study, output_strategy=args.output_strategy)
+    config = dataclasses.replace(config, study=study)
     plan = make_plan(config)
+    strategy = choose_strategy(config.study.output_strategy, ranks)
     if not args.fresh and not args.dry_run:
         check_resumable(config.study.output, _metadata(config, ""))
-    return config, plan
+    layout = case_layout(config) if strategy == "mpio" and not args.dry_run else None
+    return config, plan, strategy, layout
 
 
 def _metadata(config, command_line: str):
@@ -139,6 +161,7 @@ def _metadata(config, command_line: str):
 
 
 def _run(comm, args, command_line: str) -> int:
+    from engine.output.collective import ParallelH5pyMissing
     from engine.output.hdf5 import ResultsMismatch
     from engine.study.config import StudyConfigError
 
@@ -146,11 +169,11 @@ def _run(comm, args, command_line: str) -> int:
     verdict = None
     if rank == 0:
         try:
-            verdict = ("ok", *_prepare_on_root(args))
-        except (StudyConfigError, ResultsMismatch) as error:
+            verdict = ("ok", *_prepare_on_root(args, comm.Get_size()))
+        except (StudyConfigError, ResultsMismatch, ParallelH5pyMissing) as error:
             print(f"error: {error}", file=sys.stderr, flush=True)
-            verdict = ("bad-input", None, None)
-    kind, config, plan = comm.bcast(verdict, root=0)
+            verdict = ("bad-input", None, None, None, None)
+    kind, config, plan, strategy, layout = comm.bcast(verdict, root=0)
     if kind != "ok":
         return EXIT_BAD_INPUT
     if args.dry_run:
@@ -160,7 +183,10 @@ def _run(comm, args, command_line: str) -> int:
 
     stop_event = threading.Event()
     _install_stop_handlers(stop_event, rank)
-    code = _compute(comm, config, plan, args, command_line, stop_event)
+    if strategy == "mpio":
+        code = _compute_collective(comm, config, plan, layout, args, command_line, stop_event)
+    else:
+        code = _compute(comm, config, plan, args, command_line, stop_event)
     return comm.bcast(code, root=0)
 
 
@@ -213,6 +239,71 @@ def _compute(comm, config, plan, args, command_line, stop_event) -> int:
         finally:
             progress.close()
         statuses = [row["status"] for row in writer.rows()]
+    return _report(config, statuses, report)
+
+
+def _compute_collective(comm, config, plan, layout, args, command_line, stop_event) -> int:
+    """mpio strategy: every rank opens the file and writes the cases it computes."""
+    import time
+
+    from engine.output.collective import CollectiveWriter
+    from engine.output.hdf5 import remove_outputs
+    from engine.output.progress import ProgressReporter
+    from engine.parallel.scheduler import Scheduler
+    from engine.study.case import CaseRunner
+
+    rank = comm.Get_rank()
+    if args.fresh and rank == 0:
+        remove_outputs(config.study.output, config.study.checkpoint_dir)
+    comm.Barrier()
+    writer = CollectiveWriter(
+        config.study.output,
+        comm,
+        layout,
+        summary_path=config.study.summary_path,
+        journal_dir=config.study.checkpoint_dir,
+    )
+    completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+    runner = CaseRunner(config)
+    scheduler = Scheduler(
+        comm, runner if rank == 0 else writer.owner(runner), stop_event=stop_event
+    )
+    if rank != 0:
+        scheduler.run()
+        writer.close()
+        return EXIT_OK  # replaced by rank 0's code in the final bcast
+
+    todo = plan.dispatch_order(skip=completed)
+    print(
+        f"study {config.study.name!r}: {len(plan)} cases, {len(completed)} already complete, "
+        f"{len(todo)} to run on {comm.Get_size()} rank(s) -> {config.study.output} "
+        "(collective mpio output)",
+        flush=True,
+    )
+    progress = ProgressReporter(
+        len(plan), len(completed), bar=False if args.no_progress_bar else None
+    )
+
+    def on_outcome(outcome):
+        writer.write(outcome)
+        progress.update(outcome)
+
+    try:
+        report = scheduler.run(todo, on_outcome)
+    finally:
+        progress.close()
+    start = time.perf_counter()
+    writer.close()
+    print(
+        f"output (mpio): {writer.write_seconds_total:.2f} s writing data over all ranks, "
+        f"{writer.commit_seconds:.2f} s collective prepare/commit "
+        f"(close {time.perf_counter() - start:.2f} s)",
+        flush=True,
+    )
+    return _report(config, [row["status"] for row in writer.rows()], report)
+
+
+def _report(config, statuses: list[str], report) -> int:
     failed = statuses.count("failed")
     done = statuses.count("completed")
     print(

@@ -12,7 +12,9 @@ wear coefficients in 1/MPa, angles in degrees.
 Sections and keys (``*`` = required; defaults in brackets):
 
 ``[study]``       name*, output* (path of the .h5 file, relative to the working directory;
-                  the summary is written beside it as .csv)
+                  the summary is written beside it as .csv), output_strategy ["auto"]
+                  ("single": rank 0 writes; "mpio": every rank writes its cases through
+                  parallel HDF5; "auto": mpio when h5py is MPI-enabled and ranks > 1)
 ``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
 ``[punch]``       radius*                                                                mm
 ``[mesh]``        n* (elements per side), half_width [1.05·radius]                       mm
@@ -80,6 +82,7 @@ _MISSING = object()
 class StudyInfo:
     name: str
     output: Path
+    output_strategy: str = "auto"
 
     @property
     def summary_path(self) -> Path:
@@ -354,12 +357,15 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
 
 
 def _parse_study_info(s: _Section) -> StudyInfo:
-    s.check_known({"name", "output"})
+    s.check_known({"name", "output", "output_strategy"})
     name = s.string("name")
     output = s.string("output")
     if not output.endswith((".h5", ".hdf5")):
         raise s.error("output", output, "must be a path ending in .h5 or .hdf5")
-    return StudyInfo(name=name, output=Path(output))
+    strategy = s.string("output_strategy", "auto")
+    if strategy not in ("auto", "single", "mpio"):
+        raise s.error("output_strategy", strategy, 'must be "auto", "single" or "mpio"')
+    return StudyInfo(name=name, output=Path(output), output_strategy=strategy)
 
 
 def _parse_material(s: _Section) -> MaterialConfig:

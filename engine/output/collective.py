@@ -1,0 +1,358 @@
+"""Collective output strategy: every rank writes its own cases into the one shared HDF5 file.
+
+Needs h5py built against parallel HDF5 (``h5py.get_config().mpi``; see
+``scripts/build_parallel_h5py.sh``). The file layout is that of :class:`SingleWriter`
+(engine.output.hdf5), so readers cannot tell the strategies apart.
+
+Parallel HDF5 rule: every *structural* call — opening/closing the file, creating or deleting
+groups and datasets, writing attributes, resizing, flushing — is collective and must be made
+with identical arguments on all ranks. Raw data of an existing dataset may be written by one
+rank alone (independent I/O). The dynamic scheduler lets ranks finish cases at different times,
+so this writer keeps all structural calls at two collective points:
+
+``prepare`` (all ranks, before the scheduler starts)
+    Open the file with ``driver="mpio"``, commit cases left by a killed run (see journal
+    below), reset every incomplete case group and pre-create its datasets from the plan
+    (:func:`engine.study.layout.case_layout`: shapes known from the study, contiguous, no fill
+    values), flush.
+between (independent only)
+    The rank that computed a case writes its fields and stresses into the pre-created
+    datasets, then writes the case's *journal* ``<output>.checkpoints/<case_id>.written.json``
+    (atomic rename): status, attributes, summary row, dataset units/descriptions and the small
+    ``history/*`` arrays whose length the cycle jump decides at run time. Rank 0 keeps the
+    summary CSV in step. No metadata of the file changes, so the file on disk stays as
+    consistent as it was after ``prepare`` even if a rank is killed (SIGKILL, node failure).
+``close`` (all ranks, after the scheduler returns — also after SIGTERM)
+    Rank 0 broadcasts the journals of the run; all ranks *commit* them identically: history
+    datasets, attributes, ``summary``, flush, then the ``status`` attribute (the completion
+    flag, last), flush. Groups of cases that did not complete lose their pre-created datasets
+    (as in the single-writer file); committed journals are deleted.
+
+Resume after a kill: ``prepare`` commits every journal whose case is not yet complete — its
+data is already in the file — so no completed case is lost or recomputed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from engine.study.case import COMPLETED, FAILED, CaseOutcome, DatasetRecord
+from engine.study.layout import DatasetShape
+from engine.study.plan import Case, Plan
+
+from .hdf5 import (
+    SingleWriter,
+    StudyMetadata,
+    _attribute_safe,
+    _json_safe,
+    check_resumable,
+)
+from .summary import pending_row, summary_frame, write_summary_csv
+
+__all__ = [
+    "STRATEGIES",
+    "CollectiveWriter",
+    "ParallelH5pyMissing",
+    "h5py_is_mpi_enabled",
+    "choose_strategy",
+]
+
+STRATEGIES = ("auto", "single", "mpio")
+BUILD_HINT = (
+    "build one with `bash scripts/build_parallel_h5py.sh` (Debian parallel HDF5 -> .venv-mpio) "
+    "and run `mpiexec.mpich -n N .venv-mpio/bin/python -m engine STUDY.toml`; or use "
+    "--output-strategy single"
+)
+
+
+class ParallelH5pyMissing(ValueError):
+    """mpio was requested but the installed h5py is not built against parallel HDF5."""
+
+
+def h5py_is_mpi_enabled() -> bool:
+    return bool(h5py.get_config().mpi)
+
+
+def choose_strategy(requested: str, ranks: int) -> str:
+    """``single`` or ``mpio`` for the requested strategy (``auto``: mpio when possible)."""
+    if requested not in STRATEGIES:
+        raise ValueError(f"output strategy must be one of {STRATEGIES}, not {requested!r}")
+    if requested == "mpio" and not h5py_is_mpi_enabled():
+        raise ParallelH5pyMissing(
+            f"output strategy 'mpio' needs h5py built against parallel HDF5, but h5py "
+            f"{h5py.__version__} (HDF5 {h5py.version.hdf5_version}) is not MPI-enabled; "
+            + BUILD_HINT
+        )
+    if requested == "auto":
+        return "mpio" if ranks > 1 and h5py_is_mpi_enabled() else "single"
+    return requested
+
+
+class _Written:
+    """Stands for a dataset its rank has already written into the shared file."""
+
+    def __init__(self, units: str, description: str) -> None:
+        self.units, self.description = units, description
+
+
+class CollectiveWriter:
+    """All ranks share the file (``driver="mpio"``); each writes the cases it computed.
+
+    ``layout``: path -> :class:`DatasetShape` of the datasets pre-created in every incomplete
+    case group (identical on all ranks). ``prepare`` and ``close`` are collective; ``write``
+    (rank 0, outcomes of all ranks) and ``write_own`` (any rank, its own outcome) are not.
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        comm,
+        layout: dict[str, DatasetShape],
+        *,
+        summary_path: str | Path | None = None,
+        journal_dir: str | Path | None = None,
+    ) -> None:
+        self.path = Path(path)
+        self.comm = comm
+        self.rank = comm.Get_rank()
+        self.layout = dict(layout)
+        self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
+        self.journal_dir = (
+            Path(journal_dir)
+            if journal_dir
+            else self.path.with_name(self.path.name + ".checkpoints")
+        )
+        self._file: h5py.File | None = None
+        self._plan: Plan | None = None
+        self._rows: dict[str, dict[str, Any]] = {}
+        self._order: list[str] = []
+        self._journals: list[dict[str, Any]] = []  # rank 0: written this run, not committed
+        self.write_seconds = 0.0  # time in independent writes on this rank (benchmark)
+        self.commit_seconds = 0.0  # time in prepare + close (collective)
+        self.write_seconds_total = 0.0  # sum over ranks, known after close
+
+    # ------------------------------------------------------------------ collective
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
+        """Collective: open, commit leftover journals, reset and pre-create incomplete cases."""
+        start = _now()
+        mode, leftovers = None, []
+        if self.rank == 0:
+            exists = self.path.exists() and not fresh
+            if exists:
+                check_resumable(self.path, metadata)
+            else:
+                self.path.parent.mkdir(parents=True, exist_ok=True)
+            mode = "a" if exists else "w"
+            leftovers = self._read_journals() if exists else []
+        mode, leftovers = self.comm.bcast((mode, leftovers), root=0)
+        self._file = h5py.File(self.path, mode, driver="mpio", comm=self.comm)
+        file = self._file
+        file.attrs.update(metadata.attrs)
+        grid = file.require_group("grid")
+        for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
+            if name not in grid:
+                dataset = grid.create_dataset(name, data=values)
+                dataset.attrs["units"] = "mm"
+                dataset.attrs["description"] = f"element-centre {name} coordinates"
+        cases = file.require_group("cases")
+        self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
+        completed = set()
+        for case in plan:
+            group = cases.get(case.case_id)
+            status = group.attrs.get("status", "") if group is not None else ""
+            if status == COMPLETED:
+                completed.add(case.case_id)
+                self._rows[case.case_id] = json.loads(group.attrs["summary"])
+                continue
+            group = SingleWriter._reset_group(cases, case)
+            for path, spec in self.layout.items():
+                group.create_dataset(path, shape=spec.shape, dtype=spec.dtype, fill_time="never")
+            self._rows[case.case_id] = pending_row(case.parameters())
+        self._plan = plan
+        self._order = list(plan.case_ids)
+        file.flush()
+        if self.rank == 0:
+            self._remove_journals(leftovers)
+            self._write_summary()
+        self.commit_seconds += _now() - start
+        return completed
+
+    def close(self) -> None:
+        """Collective: commit the cases written this run, empty incomplete groups, close."""
+        if self._file is None:
+            return
+        start = _now()
+        journals = self.comm.bcast(self._journals if self.rank == 0 else None, root=0)
+        cases = self._file["cases"]
+        self._commit_all(cases, journals)
+        for case in self._plan or []:
+            if cases[case.case_id].attrs.get("status", "") in ("pending", ""):
+                SingleWriter._reset_group(cases, case)  # drop the unwritten pre-created data
+        self._file.flush()
+        self._file.close()
+        self._file = None
+        self.write_seconds_total = self.comm.allreduce(self.write_seconds)
+        if self.rank == 0:
+            self._remove_journals(journals)
+            self._journals = []
+        self.commit_seconds += _now() - start
+
+    def __enter__(self) -> CollectiveWriter:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ independent
+    def write_own(self, outcome: CaseOutcome) -> CaseOutcome:
+        """On the computing rank: write the pre-created datasets of ``outcome`` into the file,
+        then its journal. Returns the outcome without the written arrays (what rank 0 gets)."""
+        if self._file is None:
+            raise RuntimeError("prepare() the writer before writing")
+        start = _now()
+        group = self._file["cases"][outcome.case_id]
+        light = dict(outcome.datasets)
+        if outcome.status == COMPLETED:
+            for path, record in outcome.datasets.items():
+                if isinstance(record, _Written) or not self._fits_layout(path, record):
+                    continue  # not pre-created: created and written at the commit
+                group[path].write_direct(np.ascontiguousarray(record.data))
+                light[path] = _Written(record.units, record.description)
+        outcome.datasets = light
+        self._write_journal(_journal(outcome))
+        self.write_seconds += _now() - start
+        return outcome
+
+    def write(self, outcome: CaseOutcome) -> None:
+        """On rank 0 (main thread) for every outcome: write it if it is rank 0's own, then keep
+        its journal for the commit and update the summary CSV."""
+        if outcome.rank == self.rank:  # computed by rank 0's own thread
+            outcome = self.write_own(outcome)
+        self._journals.append(_journal(outcome))
+        self._rows[outcome.case_id] = dict(outcome.row)
+        self._write_summary()
+
+    def owner(self, run_case):
+        """Wrap ``run_case`` for ranks > 0: run the case, write it, return the light outcome."""
+
+        def run_and_write(case: Case, should_stop) -> CaseOutcome:
+            outcome = run_case(case, should_stop)
+            outcome.rank = self.rank
+            return self.write_own(outcome)
+
+        return run_and_write
+
+    def rows(self) -> list[dict[str, Any]]:
+        return [self._rows[case_id] for case_id in self._order]
+
+    # ------------------------------------------------------------------ commit
+    def _commit_all(self, cases: h5py.Group, journals: list[dict[str, Any]]) -> None:
+        for record in journals:
+            group = cases[record["case_id"]]
+            if group.attrs.get("status", "") in (COMPLETED, FAILED):
+                continue  # committed before the journal could be removed
+            self._commit(cases, group, record)
+            self._rows[record["case_id"]] = record["row"]
+
+    def _commit(self, cases: h5py.Group, group: h5py.Group, record: dict[str, Any]) -> None:
+        """Collective, identical on all ranks: the structural part of SingleWriter.write."""
+        written = {path for path, item in record["datasets"].items() if item["written"]}
+        if record["status"] != COMPLETED or set(self.layout) - written:
+            group = _drop_unwritten(cases, group, written, record)
+        for path, item in record["datasets"].items():
+            if item["written"]:
+                dataset = group[path]
+            else:
+                data = np.asarray(item["data"], dtype=item["dtype"]).reshape(item["shape"])
+                dataset = group.create_dataset(path, data=data)
+            dataset.attrs["units"] = item["units"]
+            dataset.attrs["description"] = item["description"]
+        group.attrs.update(record["attrs"])
+        group.attrs["message"] = record["message"]
+        group.attrs["traceback"] = record["traceback"]
+        group.attrs["rank"] = record["rank"]
+        group.attrs["runtime_s"] = record["runtime_s"]
+        group.attrs["summary"] = json.dumps(_json_safe(record["row"]))
+        self._file.flush()
+        group.attrs["status"] = record["status"]  # the completion flag, written last
+        self._file.flush()
+
+    def _fits_layout(self, path: str, record: DatasetRecord) -> bool:
+        spec = self.layout.get(path)
+        data = np.asarray(record.data)
+        return spec is not None and data.shape == spec.shape and data.dtype == np.dtype(spec.dtype)
+
+    # ------------------------------------------------------------------ journal + summary
+    def _journal_path(self, case_id: str) -> Path:
+        return self.journal_dir / f"{case_id}.written.json"
+
+    def _write_journal(self, record: dict[str, Any]) -> None:
+        path = self._journal_path(record["case_id"])
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary = path.with_name(f".{path.name}.{self.rank}.tmp")
+        temporary.write_text(json.dumps(record))
+        os.replace(temporary, path)
+
+    def _read_journals(self) -> list[dict[str, Any]]:
+        if not self.journal_dir.is_dir():
+            return []
+        paths = sorted(self.journal_dir.glob("*.written.json"))
+        return [json.loads(path.read_text()) for path in paths]
+
+    def _remove_journals(self, records: list[dict[str, Any]]) -> None:
+        for record in records:
+            self._journal_path(record["case_id"]).unlink(missing_ok=True)
+
+    def _write_summary(self) -> None:
+        write_summary_csv(summary_frame(self.rows()), self.summary_path)
+
+
+def _drop_unwritten(cases, group, written: set[str], record) -> h5py.Group:
+    """Delete pre-created datasets the case did not write (failed or interrupted cases keep
+    none, as in the single-writer file), and subgroups left empty."""
+    keep = written if record["status"] == COMPLETED else set()
+    names: list[str] = []
+    group.visit(names.append)
+    for name in sorted(names, key=lambda n: -n.count("/")):
+        item = group.get(name)
+        if isinstance(item, h5py.Dataset) and name not in keep:
+            del group[name]
+        elif isinstance(item, h5py.Group) and len(item) == 0:
+            del group[name]
+    return group
+
+
+def _journal(outcome: CaseOutcome) -> dict[str, Any]:
+    """JSON-able record of an outcome whose pre-created datasets have been written."""
+    datasets = {}
+    for path, record in outcome.datasets.items():
+        item: dict[str, Any] = {"units": record.units, "description": record.description}
+        if isinstance(record, _Written):
+            item["written"] = True
+        else:
+            data = np.asarray(record.data)
+            item.update(
+                written=False, dtype=data.dtype.str, shape=list(data.shape), data=data.tolist()
+            )
+        datasets[path] = item
+    return {
+        "case_id": outcome.case_id,
+        "status": outcome.status,
+        "row": _json_safe(dict(outcome.row)),
+        "attrs": _attribute_safe(outcome.attrs),
+        "message": outcome.message,
+        "traceback": outcome.traceback,
+        "rank": int(outcome.rank),
+        "runtime_s": float(outcome.runtime_s),
+        "datasets": datasets,
+    }
+
+
+_now = time.perf_counter

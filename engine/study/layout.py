@@ -1,0 +1,90 @@
+"""Datasets of a completed case, known from the study before anything is computed.
+
+A collective (mpio) writer must create every dataset with identical arguments on all ranks
+before any rank writes into it, so it needs, per case, the path, shape and dtype of what
+:class:`~engine.study.case.CaseRunner` will produce. Every case of a study has the same
+layout (the sweep changes values, never shapes):
+
+- ``fields/final/<name>`` and, for cyclic studies, ``fields/cycle_NNNNNNN/<name>`` for every
+  recorded cycle (the solver also records the last cycle): surface fields, shape
+  ``(n, n)`` (ij indexing), float64; ``status`` is int8;
+- ``subsurface/final/*`` and ``subsurface/cycle_NNNNNNN/*``: the x–z plane through the punch
+  axis, shape ``(n_s, n_z)``, float64. Its shape is taken from
+  :meth:`~engine.solvers.subsurface.SubsurfaceStress.plane` evaluated once for zero tractions,
+  so it cannot drift from the solver's sampling rule.
+
+Not in the layout: ``history/*`` (one entry per *simulated* cycle, whose number the adaptive
+cycle jump decides at run time). They are small and are written at the collective commit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .config import StudyConfig
+
+__all__ = ["DatasetShape", "case_layout", "FIELD_NAMES"]
+
+FIELD_NAMES = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
+
+
+@dataclass(frozen=True)
+class DatasetShape:
+    shape: tuple[int, ...]
+    dtype: str
+
+
+def recorded_cycles(config: StudyConfig) -> list[int]:
+    """Cycles whose fields a completed cyclic case stores (the record list and the last)."""
+    if not config.is_cyclic:
+        return []
+    return sorted({int(c) for c in config.loading.record} | {int(config.loading.cycles)})
+
+
+def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
+    """Path (relative to the case group) -> shape and dtype of every pre-creatable dataset."""
+    n_x, n_y = _grid(config).shape
+    plane = _plane_layout(config)
+    groups = ["final"] + [f"cycle_{cycle:07d}" for cycle in recorded_cycles(config)]
+    layout: dict[str, DatasetShape] = {}
+    for group in groups:
+        for name in FIELD_NAMES:
+            dtype = "int8" if name == "status" else "float64"
+            layout[f"fields/{group}/{name}"] = DatasetShape((n_x, n_y), dtype)
+        for name, shape in plane.items():
+            layout[f"subsurface/{group}/{name}"] = shape
+    return layout
+
+
+def _grid(config: StudyConfig):
+    from engine.grid import Grid
+
+    return Grid.square(config.mesh.n, config.mesh.half_width)
+
+
+def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
+    """Names and shapes of the x–z plane datasets (zero tractions: only shapes matter)."""
+    from engine.solvers.subsurface import SubsurfaceStress, depth_layers
+
+    grid = _grid(config)
+    depths = np.asarray(
+        depth_layers(config.subsurface.depth * config.punch.radius, config.subsurface.layers),
+        dtype=float,
+    )
+    stress = SubsurfaceStress(grid, config.material.nu_A, depths)
+    zero = np.zeros(grid.shape)
+    plane = stress.plane(zero, zero, zero, angle=0.0)
+    arrays = {"x": plane.x, "y": plane.y, "z": plane.z, "von_mises": plane.von_mises}
+    arrays.update({f"sigma_{name}": values for name, values in plane.components.items()})
+    return {
+        name: DatasetShape(tuple(np.shape(values)), np.asarray(values).dtype.str.lstrip("<>="))
+        for name, values in arrays.items()
+    }
+
+
+def layout_bytes(layout: dict[str, DatasetShape]) -> int:
+    """Size of one case's pre-created data (bytes)."""
+    return sum(math.prod(s.shape) * np.dtype(s.dtype).itemsize for s in layout.values())
