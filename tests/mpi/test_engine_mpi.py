@@ -26,7 +26,15 @@ import engine
 pytestmark = pytest.mark.mpi
 
 REPO = Path(__file__).resolve().parents[2]
-MPIEXEC = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or shutil.which("mpiexec")
+# The engine's interpreter and mpiexec: by default this virtualenv's (the `mpich` wheel).
+# ENGINE_PYTHON / ENGINE_MPIEXEC select another environment, e.g. the MPI-enabled h5py of
+# scripts/build_parallel_h5py.sh with Debian's `mpiexec.mpich` (scripts/test.sh, second run).
+PYTHON = os.environ.get("ENGINE_PYTHON") or sys.executable
+MPIEXEC = (
+    os.environ.get("ENGINE_MPIEXEC")
+    or shutil.which("mpiexec", path=str(Path(PYTHON).parent))
+    or shutil.which("mpiexec")
+)
 # Cyclic runs, P = 750 N, n = 32: one case takes 1.5–3 s here.
 STUDY = """
 [study]
@@ -69,7 +77,7 @@ def write_study(
 
 
 def engine_command(study: Path, *options: str, ranks: int = 2) -> list[str]:
-    return [MPIEXEC, "-n", str(ranks), sys.executable, "-m", "engine", str(study), *options]
+    return [MPIEXEC, "-n", str(ranks), PYTHON, "-m", "engine", str(study), *options]
 
 
 def environment() -> dict[str, str]:
