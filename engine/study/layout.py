@@ -5,9 +5,10 @@ before any rank writes into it, so it needs, per case, the path, shape and dtype
 :class:`~engine.study.case.CaseRunner` will produce. Every case of a study has the same
 layout (the sweep changes values, never shapes):
 
-- ``fields/final/<name>`` and, for cyclic studies, ``fields/cycle_NNNNNNN/<name>`` for every
-  recorded cycle (the solver also records the last cycle): surface fields, shape
-  ``(n, n)`` (ij indexing), float64; ``status`` is int8;
+- ``fields/final/<name>`` (pressure, tractions, slip increments, status) and, for cyclic
+  studies, ``fields/cycle_NNNNNNN/<name>`` (wear, pressure, tractions, status) for every
+  recorded cycle (the solver also records the last cycle): surface fields, shape ``(n, n)``
+  (ij indexing), float64; ``status`` is int8;
 - ``subsurface/final/*`` and ``subsurface/cycle_NNNNNNN/*``: the x–z plane through the punch
   axis, shape ``(n_s, n_z)``, float64. Its shape is taken from
   :meth:`~engine.solvers.subsurface.SubsurfaceStress.plane` evaluated once for zero tractions,
@@ -26,9 +27,10 @@ import numpy as np
 
 from .config import StudyConfig
 
-__all__ = ["DatasetShape", "case_layout", "FIELD_NAMES"]
+__all__ = ["DatasetShape", "case_layout", "recorded_cycles"]
 
-FIELD_NAMES = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
+FINAL_FIELDS = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
+RECORDED_FIELDS = ("wear", "pressure", "traction_x", "traction_y", "status")  # CyclicAnalysis
 
 
 @dataclass(frozen=True)
@@ -48,10 +50,11 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     """Path (relative to the case group) -> shape and dtype of every pre-creatable dataset."""
     n_x, n_y = _grid(config).shape
     plane = _plane_layout(config)
-    groups = ["final"] + [f"cycle_{cycle:07d}" for cycle in recorded_cycles(config)]
+    groups = {"final": FINAL_FIELDS}
+    groups.update({f"cycle_{c:07d}": RECORDED_FIELDS for c in recorded_cycles(config)})
     layout: dict[str, DatasetShape] = {}
-    for group in groups:
-        for name in FIELD_NAMES:
+    for group, names in groups.items():
+        for name in names:
             dtype = "int8" if name == "status" else "float64"
             layout[f"fields/{group}/{name}"] = DatasetShape((n_x, n_y), dtype)
         for name, shape in plane.items():

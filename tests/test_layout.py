@@ -1,0 +1,65 @@
+"""The pre-created layout (engine.study.layout) is exactly what the case runner produces.
+
+The collective writer creates these datasets before any case runs; a case whose datasets did
+not match would fall back to commit-time creation (correct, but no longer independent I/O), so
+the layout is checked here against real outcomes: path, shape and dtype, no more, no less.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from engine.study.case import COMPLETED, CaseRunner
+from engine.study.config import parse_study
+from engine.study.layout import case_layout
+from engine.study.plan import make_plan
+
+STUDY = """
+[study]
+name = "layout"
+output = "{output}"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+[punch]
+radius = 1.8
+[mesh]
+n = 16
+[loading]
+{loading}
+[subsurface]
+depth = 1.0
+layers = 6
+[sweep]
+mu1 = [0.3]
+{wear}
+"""
+LOADINGS = {
+    "static": ('kind = "static"\nload = 750.0\nsteps = 3', ""),
+    "cyclic": (
+        'kind = "cyclic"\nload = 750.0\nsteps = 3\ncycles = 2000\nrecord = [0, 500]',
+        "wear1 = [1.33e-7]",
+    ),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(LOADINGS))
+def test_layout_matches_the_datasets_of_a_completed_case(kind, tmp_path):
+    loading, wear = LOADINGS[kind]
+    text = STUDY.format(output=tmp_path / "layout.h5", loading=loading, wear=wear)
+    config = parse_study(text, source="test")
+    case = next(iter(make_plan(config)))
+    outcome = CaseRunner(config)(case)
+    assert outcome.status == COMPLETED, outcome.message
+    produced = {
+        path: (np.shape(record.data), np.asarray(record.data).dtype)
+        for path, record in outcome.datasets.items()
+        if not path.startswith("history/")
+    }
+    expected = {
+        path: (spec.shape, np.dtype(spec.dtype)) for path, spec in case_layout(config).items()
+    }
+    assert produced == expected
