@@ -13,3 +13,9 @@ python3 -m venv .venv
 # MPI tests: each test launches `mpiexec -n 2 python -m engine ...` (real ranks, real files,
 # real signals), and the collective tests run the test module itself on two ranks.
 .venv/bin/python -m pytest tests/mpi -q
+# Second MPI run, for the collective (mpio) output strategy: an MPI-enabled h5py built from
+# Debian's parallel HDF5 in .venv-mpio (idempotent; about 10 minutes on 2 cores the first
+# time), with Debian's mpiexec matching that build. `auto` then writes collectively on 2
+# ranks, so the whole MPI suite runs through the mpio writer, plus tests/mpi/test_mpio.py.
+bash scripts/build_parallel_h5py.sh
+ENGINE_MPIEXEC=mpiexec.mpich .venv-mpio/bin/python -m pytest tests/mpi -q
