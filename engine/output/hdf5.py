@@ -29,7 +29,8 @@ consistent after every flush.
 Strategies
 ----------
 :class:`SingleWriter` (default): rank 0 owns the file; workers send their outcomes to it.
-A collective strategy (parallel h5py, ``driver="mpio"``) will implement the same interface.
+:class:`engine.output.collective.CollectiveWriter` (mpio): every rank writes its own cases into
+the shared file through parallel HDF5; same layout (see that module).
 """
 
 from __future__ import annotations
