@@ -1,5 +1,9 @@
 """Entry point: ``python -m engine STUDY.toml`` (also under ``mpiexec -n N`` or ``srun``).
 
+Post-processing (serial, no MPI): ``python -m engine plot RESULTS.h5 [--out DIR]`` writes the
+figures (:mod:`engine.output.figures`), ``python -m engine report RESULTS.h5`` prints the
+results tables in Markdown (:mod:`engine.output.report`).
+
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
 communicator. The flow:
 
@@ -85,6 +89,8 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in _OUTPUT_COMMANDS:
+        return _output_command(argv, prog)
     from mpi4py import rc
 
     rc.thread_level = "funneled"  # only the main thread calls MPI (see engine.parallel.scheduler)
@@ -113,6 +119,22 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         if comm.Get_size() > 1:
             comm.Abort(EXIT_INTERNAL)
         return EXIT_INTERNAL
+
+
+_OUTPUT_COMMANDS = ("plot", "report")  # post-processing of a results file: serial, no MPI
+
+
+def _output_command(argv: list[str], prog: str | None) -> int:
+    """``plot RESULTS.h5 [--out DIR]`` (engine.output.figures), ``report RESULTS.h5 …``
+    (engine.output.report)."""
+    if argv[0] == "plot":
+        from engine.output.figures import main as command
+    else:
+        from engine.output.report import main as command
+    try:
+        return command(argv[1:], prog=f"{prog or 'python -m engine'} {argv[0]}")
+    except SystemExit as exit_:  # --help, usage errors
+        return int(exit_.code or 0)
 
 
 def _prepare_on_root(args, ranks: int):

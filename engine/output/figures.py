@@ -1,0 +1,448 @@
+"""Figures of a study, as PNG files: ``python -m engine plot RESULTS.h5 [--out DIR]``.
+
+Matplotlib with the Agg backend (no display needed); no MPI. Which figures, and the paper's
+figure each corresponds to (Juliá & Rodríguez-Tembleque 2023, Section 7):
+
+static study (Section 7.1)
+    ``pressure_frictionless.png``     p/p0 along x at y ≈ 0 vs Sneddon, Eq. (17)    Fig. 3a
+    ``stiffness_ratio.png``           k_μ/k_0 vs μ with Mossakovskii's limit, Eq. (20) Fig. 3b
+    ``traction_profiles.png``         p/p0 and q_x/p0 along x per μ                 Fig. 4
+    ``von_mises_final.png``           σ_VM/p0 in the x–z plane, Appendix A panel    Fig. 5
+cyclic study (Sections 7.2, 7.3)
+    ``wear_history.png``              max wear depth and wear volume vs N (log)     Figs. 6a–b, 9
+    ``pressure_profiles.png``         p/p0 along x (and y) at each recorded N       Fig. 6c–e
+    ``surface_maps_N<N>.png``         wear depth and p/p0 in the x–y plane, last N   Figs. 7, 10
+    ``von_mises_N<N>.png``            σ_VM/p0 in the x–z plane at each recorded N   Figs. 8, 11
+
+Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
+z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps the black line is
+σ_VM/p0 = 1; ★ marks the peak over the whole plane (the surface layer carries the grid-
+dependent edge singularity of the flat punch) and ○ the peak below the surface layer.
+The colour scale of σ_VM/p0 is capped at ``VM_LEVEL_MAX`` (values above are drawn in the
+top colour) so that the singular edge does not wash out the rest of the plane.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
+
+from engine.reference.flat_punch import (  # noqa: E402
+    flat_punch_stress,
+    mossakovskii_ratio,
+    sneddon_pressure,
+    von_mises_cylindrical,
+)
+
+from .reader import CaseResults, StudyResults, read_results  # noqa: E402
+
+__all__ = ["plot_study", "main", "VM_LEVEL_MAX"]
+
+VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
+DPI = 110
+_MARKERS = ("s", "o", "^", "D", "v", "P", "X", "<", ">")
+
+
+# ----------------------------------------------------------------------------- entry points
+def plot_study(results: str | Path | StudyResults, out_dir: str | Path) -> list[Path]:
+    """Write every figure of the study to ``out_dir`` (created); return the PNG paths."""
+    study = results if isinstance(results, StudyResults) else read_results(results)
+    if not study.cases:
+        raise ValueError(f"{study.path}: no completed case to plot")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if study.is_cyclic:
+        figures = _cyclic_figures(study)
+    else:
+        figures = _static_figures(study)
+    written = []
+    for name, figure in figures:
+        path = out / name
+        figure.savefig(path, dpi=DPI)
+        plt.close(figure)
+        written.append(path)
+    return written
+
+
+def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog=prog,
+        description="Draw the figures of a study (PNG) from its results file.",
+    )
+    parser.add_argument("results", type=Path, help="results file (.h5) written by the engine")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="directory for the PNG files (default: <results>_figures beside the file)",
+    )
+    return parser
+
+
+def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
+    args = build_parser(prog).parse_args(argv)
+    if not args.results.exists():
+        print(f"error: {args.results}: no such file", file=sys.stderr)
+        return 2
+    out = args.out or args.results.with_name(f"{args.results.stem}_figures")
+    for path in plot_study(args.results, out):
+        print(path)
+    return 0
+
+
+# ----------------------------------------------------------------------------- helpers
+def _title(study: StudyResults, what: str) -> str:
+    return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} N)"
+
+
+def _central_row(values: np.ndarray, study: StudyResults, axis: str) -> tuple[np.ndarray, float]:
+    """Profile along ``axis`` ('x' or 'y') on the grid line nearest to the other axis = 0.
+
+    Returns (profile, offset in mm of that grid line from the axis).
+    """
+    if axis == "x":
+        j = int(np.argmin(np.abs(study.grid_y)))
+        return values[:, j], float(study.grid_y[j])
+    i = int(np.argmin(np.abs(study.grid_x)))
+    return values[i, :], float(study.grid_x[i])
+
+
+def _sneddon_curve(study: StudyResults, offset: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sneddon p/p0 (Eq. 17) along a line at distance ``offset`` (mm) from the axis."""
+    a = study.radius
+    s = np.linspace(-1.0, 1.0, 801) * min(a, float(np.max(study.grid_x)))
+    r = np.hypot(s, offset)
+    return s / a, sneddon_pressure(r, study.load, a) / study.p0
+
+
+def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns: int = 3):
+    columns = min(count, max_columns)
+    rows = -(-count // columns)
+    figure, axes = plt.subplots(
+        rows, columns, figsize=(width * columns, height * rows), squeeze=False, layout="constrained"
+    )
+    for axis in axes.flat[count:]:
+        axis.set_visible(False)
+    return figure, list(axes.flat[:count])
+
+
+def _draw_von_mises(axis, study: StudyResults, x, z, von_mises, title: str, peaks=True):
+    """Filled σ_VM/p0 contours in the x–z plane, the σ_VM/p0 = 1 line and the peaks."""
+    a, p0 = study.radius, study.p0
+    ratio = von_mises / p0
+    levels = np.linspace(0.0, VM_LEVEL_MAX, 21)
+    filled = axis.contourf(x / a, z / a, ratio, levels=levels, cmap="turbo", extend="max")
+    axis.contour(x / a, z / a, ratio, levels=[1.0], colors="k", linewidths=1.2)
+    if peaks:
+        index = np.unravel_index(np.argmax(ratio), ratio.shape)
+        axis.plot(x[index] / a, z[index] / a, "*", ms=14, mfc="w", mec="k", clip_on=False)
+        text = f"max {ratio[index]:.2f} at r/a0={abs(x[index]) / a:.2f}, z/a0={z[index] / a:.3f}"
+        depths = z[0]
+        if len(depths) > 1:
+            below = np.where(z >= depths[1], ratio, -np.inf)
+            sub = np.unravel_index(np.argmax(below), below.shape)
+            axis.plot(x[sub] / a, z[sub] / a, "o", ms=8, mfc="none", mec="w", mew=2)
+            text += (
+                f"\nbelow surface {ratio[sub]:.2f} at r/a0={abs(x[sub]) / a:.2f}, "
+                f"z/a0={z[sub] / a:.3f}"
+            )
+        axis.text(
+            0.02, 0.02, text, transform=axis.transAxes, fontsize=7, color="w", va="bottom",
+            bbox={"facecolor": "k", "alpha": 0.5, "pad": 2, "edgecolor": "none"},
+        )  # fmt: skip
+    axis.set_ylim(float(np.max(z)) / a, 0.0)
+    axis.set_xlabel("x/a0")
+    axis.set_ylabel("z/a0 (depth)")
+    axis.set_title(title, fontsize=10)
+    axis.set_aspect("equal")
+    return filled
+
+
+def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]:
+    """A fine (x, z) grid (mm) over the extent of a computed plane, for Appendix A.
+
+    Same depth of the surface layer as the computed plane, so that the peaks compare.
+    """
+    x = np.linspace(float(np.min(plane.x)), float(np.max(plane.x)), 421)
+    top = float(plane.depths[0])
+    z = np.concatenate([[top], np.geomspace(max(top, 1e-4 * study.radius), plane.z.max(), 240)])
+    return np.meshgrid(x, np.unique(z), indexing="ij")
+
+
+def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = False):
+    panels = [case for case in study.cases if key in case.planes]
+    count = len(panels) + int(analytic)
+    figure, axes = _panel_grid(count, width=4.6, height=3.6)
+    filled = None
+    axes_iter = iter(axes)
+    if analytic:
+        x, z = _analytic_plane(study, panels[0].planes[key])
+        nu = study.config["material"]["nu_A"]
+        stress = flat_punch_stress(np.abs(x), z, study.load, study.radius, nu)
+        filled = _draw_von_mises(
+            next(axes_iter), study, x, z, von_mises_cylindrical(stress),
+            "Appendix A (frictionless, analytic; singular at r = a0, z = 0)", peaks=False,
+        )  # fmt: skip
+    for case in panels:
+        plane = case.planes[key]
+        filled = _draw_von_mises(
+            next(axes_iter), study, plane.x, plane.z, plane.von_mises, case.label
+        )
+    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=0.6)
+    figure.suptitle(suptitle)
+    return figure
+
+
+# ----------------------------------------------------------------------------- static study
+def _static_figures(study: StudyResults):
+    figures = []
+    frictionless = [case for case in study.cases if case.mu1 == 0.0 and case.mu2 == 0.0]
+    if frictionless:
+        figures.append(
+            ("pressure_frictionless.png", _pressure_frictionless(study, frictionless[0]))
+        )
+    figures.append(("stiffness_ratio.png", _stiffness_ratio(study)))
+    figures.append(("traction_profiles.png", _traction_profiles(study)))
+    figures.append(
+        (
+            "von_mises_final.png",
+            _von_mises_figure(
+                study, "final", _title(study, "σ_VM/p0 in the x–z plane (y = 0)"), analytic=True
+            ),
+        )
+    )
+    return figures
+
+
+def _pressure_frictionless(study: StudyResults, case: CaseResults):
+    a, p0 = study.radius, study.p0
+    pressure, offset = _central_row(case.fields["final"]["pressure"], study, "x")
+    figure, axis = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    s, curve = _sneddon_curve(study, offset)
+    axis.plot(s, curve, "-", color="C0", label="Sneddon, Eq. (17)")
+    axis.plot(study.grid_x / a, pressure / p0, "s", ms=4, mfc="none", color="C3", label="computed")
+    axis.set_xlabel("x/a0")
+    axis.set_ylabel("p / p0")
+    axis.set_ylim(0.0, max(3.0, 1.1 * float(np.max(pressure / p0))))
+    axis.legend()
+    axis.grid(alpha=0.3)
+    axis.set_title(
+        _title(study, f"frictionless pressure, {case.case_id}")
+        + f"\nalong x at y/a0 = {offset / a:.3f} (grid line nearest the axis)",
+        fontsize=9,
+    )
+    return figure
+
+
+def stiffness_ratios(study: StudyResults) -> tuple[np.ndarray, np.ndarray, float, str]:
+    """(μ, k_μ/k_0, Mossakovskii's ratio, what k_0 is) with k = P/g_n at peak load.
+
+    k_0 is the computed frictionless stiffness when the study has a μ = 0 case (so the
+    discretisation error of the stiffness cancels), else Sneddon's 2E*a0 (Eq. 18).
+    """
+    isotropic = [case for case in study.cases if case.isotropic]
+    mu = np.array([case.mu1 for case in isotropic])
+    stiffness = np.array([case.summary["load"] / case.summary["approach"] for case in isotropic])
+    frictionless = [k for m, k in zip(mu, stiffness, strict=True) if m == 0.0]
+    if frictionless:
+        reference, what = frictionless[0], "computed μ = 0 stiffness"
+    else:
+        reference = 2.0 * study.material.contact_modulus * study.radius
+        what = "Sneddon 2E*a0, Eq. (18)"
+    order = np.argsort(mu)
+    limit = mossakovskii_ratio(study.material.dundurs_beta)
+    return mu[order], stiffness[order] / reference, limit, what
+
+
+def _stiffness_ratio(study: StudyResults):
+    mu, ratio, limit, what = stiffness_ratios(study)
+    figure, axis = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    axis.plot(mu, ratio, "s-", color="C3", label=f"computed, k = P/g_n (k_0: {what})")
+    axis.axhline(
+        limit, color="C0", ls="--",
+        label=f"Mossakovskii (full stick) artanh(β)/β = {limit:.5f}",
+    )  # fmt: skip
+    axis.axhline(1.0, color="0.5", lw=0.8)
+    axis.set_xlabel("friction coefficient μ")
+    axis.set_ylabel("k_n|μ / k_n|frictionless")
+    span = max(limit - 1.0, float(np.max(ratio)) - 1.0, 1e-3)
+    axis.set_ylim(1.0 - 0.15 * span, 1.0 + 1.25 * span)
+    axis.legend(fontsize=8, loc="lower right")
+    axis.grid(alpha=0.3)
+    nu = study.material.poisson_ratio
+    axis.set_title(
+        _title(study, "normal stiffness vs friction")
+        + f"\nν = {nu:.3f}, Dundurs β = {study.material.dundurs_beta:.5f}",
+        fontsize=9,
+    )
+    return figure
+
+
+def _traction_profiles(study: StudyResults):
+    a, p0 = study.radius, study.p0
+    cases = sorted(study.cases, key=lambda case: case.mu1)
+    figure, axes = _panel_grid(len(cases), width=4.3, height=3.3)
+    for axis, case in zip(axes, cases, strict=True):
+        fields = case.fields["final"]
+        pressure, offset = _central_row(fields["pressure"], study, "x")
+        traction, _ = _central_row(fields["traction_x"], study, "x")
+        s, curve = _sneddon_curve(study, offset)
+        xa = study.grid_x / a
+        axis.plot(s, curve, "-", color="0.6", lw=1, label="Sneddon (μ = 0)")
+        axis.plot(xa, pressure / p0, "s", ms=3, mfc="none", color="C3", label="p/p0")
+        axis.plot(xa, traction / p0, "o", ms=3, mfc="none", color="C0", label="q_x/p0")
+        if case.mu1 > 0:
+            bound = case.mu1 * pressure / p0
+            axis.plot(xa, bound, ":", color="C0", lw=1, label="±μ p/p0")
+            axis.plot(xa, -bound, ":", color="C0", lw=1)
+        axis.set_ylim(-1.2, 3.0)
+        axis.set_xlabel("x/a0")
+        axis.set_ylabel("traction / p0")
+        stick = case.summary.get("stick_fraction", float("nan"))
+        axis.set_title(f"{case.label}  (stick fraction {stick:.2f})", fontsize=9)
+        axis.grid(alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper center")
+    figure.suptitle(_title(study, f"tractions along x at y/a0 = {offset / a:.3f}"), fontsize=10)
+    return figure
+
+
+# ----------------------------------------------------------------------------- cyclic study
+def _cyclic_figures(study: StudyResults):
+    figures = [
+        ("wear_history.png", _wear_history(study)),
+        ("pressure_profiles.png", _pressure_profiles(study)),
+    ]
+    cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    if cycles:
+        last = cycles[-1]
+        figures.append((f"surface_maps_N{last}.png", _surface_maps(study, last)))
+    for cycle in cycles:
+        figures.append(
+            (
+                f"von_mises_N{cycle}.png",
+                _von_mises_figure(
+                    study, cycle, _title(study, f"σ_VM/p0 in the x–z plane after N = {cycle:,}")
+                ),
+            )
+        )
+    return figures
+
+
+def _wear_history(study: StudyResults):
+    figure, (depth_axis, volume_axis) = plt.subplots(
+        1, 2, figsize=(11.0, 4.2), layout="constrained"
+    )
+    for number, case in enumerate(study.cases):
+        cycles = np.asarray(case.history["cycle"], dtype=float)
+        depth = np.asarray(case.history["max_wear_depth"]) * 1e3  # mm -> µm
+        volume = np.asarray(case.history["wear_volume"])
+        keep = (cycles > 0) & (depth > 0) & (volume > 0)
+        style = {"marker": _MARKERS[number % len(_MARKERS)], "ms": 3, "label": case.label}
+        depth_axis.loglog(cycles[keep], depth[keep], "-", **style)
+        volume_axis.loglog(cycles[keep], volume[keep], "-", **style)
+    depth_axis.set_ylabel("maximum wear depth (µm)")
+    volume_axis.set_ylabel("wear volume (mm³)")
+    for axis in (depth_axis, volume_axis):
+        axis.set_xlabel("load cycles N")
+        axis.grid(alpha=0.3, which="both")
+        axis.legend(fontsize=8)
+    figure.suptitle(_title(study, "wear history (markers: simulated cycles, cycle jumping)"))
+    return figure
+
+
+def _profile_axes(study: StudyResults) -> list[str]:
+    """Along x only for isotropic studies; along x and y when the axes β matter."""
+    return ["x"] if study.isotropic else ["x", "y"]
+
+
+def _pressure_profiles(study: StudyResults):
+    a, p0 = study.radius, study.p0
+    cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    directions = _profile_axes(study)
+    columns = max(len(cycles), 1)
+    figure, axes = plt.subplots(
+        len(directions), columns, figsize=(4.4 * columns, 3.5 * len(directions)),
+        squeeze=False, layout="constrained", sharey=True,
+    )  # fmt: skip
+    for row, direction in enumerate(directions):
+        coordinate = study.grid_x if direction == "x" else study.grid_y
+        for column, cycle in enumerate(cycles):
+            axis = axes[row, column]
+            offset = 0.0
+            for number, case in enumerate(study.cases):
+                if cycle not in case.fields:
+                    continue
+                pressure, offset = _central_row(case.fields[cycle]["pressure"], study, direction)
+                axis.plot(
+                    coordinate / a, pressure / p0, "-", marker=_MARKERS[number % len(_MARKERS)],
+                    ms=3, label=case.label,
+                )  # fmt: skip
+            s, curve = _sneddon_curve(study, offset)
+            axis.plot(s, curve, "--", color="0.5", lw=1, label="Sneddon, unworn")
+            other = "y" if direction == "x" else "x"
+            axis.set_title(f"N = {cycle:,}, along {direction} ({other}/a0 = {offset / a:.3f})")
+            axis.set_xlabel(f"{direction}/a0")
+            axis.set_ylabel("p / p0")
+            axis.set_ylim(0.0, 4.0)
+            axis.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7, loc="upper center")
+    figure.suptitle(_title(study, "pressure at peak load of recorded cycles"))
+    return figure
+
+
+def _draw_axes_of_anisotropy(axis, case: CaseResults) -> None:
+    """Tribological axes e1 (solid) and e2 (dashed) at angle β, through the punch centre."""
+    beta = np.radians(case.beta)
+    for angle, style, name in ((beta, "-", "e1"), (beta + np.pi / 2, "--", "e2")):
+        dx, dy = np.cos(angle), np.sin(angle)
+        axis.plot([-dx, dx], [-dy, dy], style, color="w", lw=0.9)
+        axis.text(1.08 * dx, 1.08 * dy, name, color="k", fontsize=8, ha="center", va="center")
+
+
+def _surface_maps(study: StudyResults, cycle: int):
+    a, p0 = study.radius, study.p0
+    cases = [case for case in study.cases if cycle in case.fields]
+    extent = study.grid_x / a, study.grid_y / a
+    wear = [case.fields[cycle]["wear"] * 1e3 for case in cases]  # µm
+    pressure = [case.fields[cycle]["pressure"] / p0 for case in cases]
+    wear_max = max(float(np.max(w)) for w in wear) or 1.0
+    pressure_max = max(float(np.max(p)) for p in pressure) or 1.0
+    figure, axes = plt.subplots(
+        2, len(cases), figsize=(3.9 * len(cases) + 1.0, 7.0), squeeze=False, layout="constrained"
+    )
+    for column, case in enumerate(cases):
+        rows = (
+            (wear[column], "viridis", wear_max, "wear depth"),
+            (pressure[column], "magma", pressure_max, "p/p0"),
+        )
+        for row, (values, cmap, top, what) in enumerate(rows):
+            axis = axes[row, column]
+            mesh = axis.pcolormesh(
+                *extent, values.T, cmap=cmap, vmin=0.0, vmax=top, shading="nearest"
+            )
+            axis.add_patch(Circle((0.0, 0.0), 1.0, fill=False, color="w", lw=0.8, ls=":"))
+            if not study.isotropic:
+                _draw_axes_of_anisotropy(axis, case)
+            axis.set_aspect("equal")
+            axis.set_xlabel("x/a0")
+            axis.set_ylabel("y/a0")
+            axis.set_title(f"{what}, {case.label}", fontsize=9)
+            if column == len(cases) - 1:
+                label = "wear depth (µm)" if row == 0 else "p / p0"
+                figure.colorbar(mesh, ax=axes[row, :], label=label)
+    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles (dotted: r = a0)"))
+    return figure
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main(prog="python -m engine.output.figures"))

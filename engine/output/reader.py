@@ -1,0 +1,196 @@
+"""Read a study's results file (layout: :mod:`engine.output.hdf5`) into plain in-memory objects.
+
+Used by the figures and the report; nothing here writes. Units as stored: mm, N, MPa; the
+objects add the normalisations the paper uses (a0 = punch radius, p0 = P/(π a0²), Eq. 19).
+Only completed cases are loaded; the others are listed in ``StudyResults.skipped``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from engine.material import MaterialPair
+from engine.reference.flat_punch import mean_pressure
+
+__all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
+
+_CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
+
+
+@dataclass
+class StressPlane:
+    """Von Mises stress on the x–z plane through the punch axis (y = 0).
+
+    ``x``, ``z``: coordinates (mm), shape ``(n_s, n_z)``, z into the half-space; ``von_mises``
+    (MPa), same shape. ``depths``: the evaluated depths (mm); ``depths[0]`` is the surface
+    layer (see :func:`engine.solvers.subsurface.depth_layers`).
+    """
+
+    x: np.ndarray
+    z: np.ndarray
+    von_mises: np.ndarray
+
+    @property
+    def depths(self) -> np.ndarray:
+        return self.z[0]
+
+    def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
+        """(σ_VM, x, z) of the largest von Mises stress over the points with z >= min_depth."""
+        candidates = np.where(self.z >= min_depth, self.von_mises, -np.inf)
+        index = np.unravel_index(np.argmax(candidates), candidates.shape)
+        return float(self.von_mises[index]), float(self.x[index]), float(self.z[index])
+
+    def subsurface_peak(self) -> tuple[float, float, float]:
+        """Peak over the layers strictly below the surface layer (z >= depths[1])."""
+        depths = self.depths
+        return self.peak(float(depths[1]) if len(depths) > 1 else 0.0)
+
+
+@dataclass
+class CaseResults:
+    """One completed case: parameters, summary row, histories, surface fields, stress planes.
+
+    ``fields[key][name]`` and ``planes[key]`` use the key ``"final"`` or the recorded cycle
+    number N (int). Field arrays have shape ``(n_x, n_y)`` (ij indexing, as ``grid_x, grid_y``).
+    """
+
+    case_id: str
+    index: int
+    mu1: float
+    mu2: float
+    wear1: float
+    wear2: float
+    beta: float
+    summary: dict[str, Any]
+    history: dict[str, np.ndarray] = field(default_factory=dict)
+    fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
+    planes: dict[Any, StressPlane] = field(default_factory=dict)
+
+    @property
+    def isotropic(self) -> bool:
+        return self.mu1 == self.mu2 and self.wear1 == self.wear2
+
+    @property
+    def label(self) -> str:
+        """Short name of the case for legends and titles (μ, and μ2, β when orthotropic)."""
+        if self.isotropic:
+            text = f"μ = {self.mu1:g}"
+            return text + (f", β = {self.beta:g}°" if self.beta else "")
+        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°"
+
+    @property
+    def recorded_cycles(self) -> list[int]:
+        return sorted(key for key in self.fields if isinstance(key, int))
+
+    def history_at(self, name: str, cycle: int) -> float:
+        """History value ``name`` after exactly ``cycle`` real cycles (NaN if not simulated)."""
+        cycles = self.history.get("cycle")
+        if cycles is None:
+            return float("nan")
+        hits = np.flatnonzero(np.asarray(cycles) == cycle)
+        return float(self.history[name][hits[-1]]) if len(hits) else float("nan")
+
+
+@dataclass
+class StudyResults:
+    """A study's results file in memory."""
+
+    path: Path
+    name: str
+    config: dict[str, Any]
+    grid_x: np.ndarray
+    grid_y: np.ndarray
+    cases: list[CaseResults]
+    skipped: list[tuple[str, str]] = field(default_factory=list)
+
+    @property
+    def is_cyclic(self) -> bool:
+        return self.config["loading"]["kind"] == "cyclic"
+
+    @property
+    def radius(self) -> float:
+        """a0 (mm)."""
+        return float(self.config["punch"]["radius"])
+
+    @property
+    def load(self) -> float:
+        """Peak normal load P (N)."""
+        return float(self.config["loading"]["load"])
+
+    @property
+    def p0(self) -> float:
+        """Mean pressure p0 = P/(π a0²) (MPa), Eq. (19)."""
+        return float(mean_pressure(self.load, self.radius))
+
+    @property
+    def material(self) -> MaterialPair:
+        m = self.config["material"]
+        return MaterialPair(m["E_A"], m["nu_A"], m["E_B"], m["nu_B"])
+
+    @property
+    def mesh_label(self) -> str:
+        n = self.config["mesh"]["n"]
+        return f"{n}×{n} mesh"
+
+    @property
+    def isotropic(self) -> bool:
+        return all(case.isotropic for case in self.cases)
+
+
+def read_results(path: str | Path) -> StudyResults:
+    """Load every completed case of the results file ``path``."""
+    path = Path(path)
+    with h5py.File(path, "r") as file:
+        config = json.loads(file.attrs["study_json"])
+        cases, skipped = [], []
+        for case_id, group in file["cases"].items():
+            status = str(group.attrs.get("status", ""))
+            if status != "completed":
+                skipped.append((case_id, status))
+                continue
+            cases.append(_read_case(case_id, group))
+        study = StudyResults(
+            path=path,
+            name=str(file.attrs.get("study_name", path.stem)),
+            config=config,
+            grid_x=np.asarray(file["grid/x"]),
+            grid_y=np.asarray(file["grid/y"]),
+            cases=sorted(cases, key=lambda case: case.index),
+            skipped=skipped,
+        )
+    return study
+
+
+def _group_key(name: str):
+    match = _CYCLE_GROUP.match(name)
+    return int(match.group(1)) if match else name
+
+
+def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
+    attrs = group.attrs
+    case = CaseResults(
+        case_id=case_id,
+        index=int(attrs.get("index", 0)),
+        mu1=float(attrs["mu1"]),
+        mu2=float(attrs["mu2"]),
+        wear1=float(attrs["wear1"]),
+        wear2=float(attrs["wear2"]),
+        beta=float(attrs["beta"]),
+        summary=json.loads(attrs["summary"]),
+    )
+    if "history" in group:
+        case.history = {name: np.asarray(data) for name, data in group["history"].items()}
+    for name, sub in group.get("fields", {}).items():
+        case.fields[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
+    for name, sub in group.get("subsurface", {}).items():
+        case.planes[_group_key(name)] = StressPlane(
+            x=np.asarray(sub["x"]), z=np.asarray(sub["z"]), von_mises=np.asarray(sub["von_mises"])
+        )
+    return case
