@@ -58,8 +58,11 @@ class Case:
 
     @property
     def expected_cost(self) -> float:
-        """Relative cost guess for scheduling: low friction slips more and takes longer."""
-        return 1.0 / (0.05 + min(self.mu1, self.mu2))
+        """Relative cost guess for scheduling: low friction slips more and takes longer
+        (more slip, more wear, more simulated cycles); frictionless cases are a single
+        normal solve per increment and the cheapest."""
+        friction = min(self.mu1, self.mu2)
+        return 0.5 if friction == 0.0 else 1.0 / (0.05 + friction)
 
 
 @dataclass(frozen=True)
