@@ -49,7 +49,7 @@ from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 __all__ = ["plot_study", "main", "VM_LEVEL_MAX"]
 
 VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
-DPI = 110
+DPI = 95
 _MARKERS = ("s", "o", "^", "D", "v", "P", "X", "<", ">")
 
 
@@ -191,7 +191,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
         stress = flat_punch_stress(np.abs(x), z, study.load, study.radius, nu)
         filled = _draw_von_mises(
             next(axes_iter), study, x, z, von_mises_cylindrical(stress),
-            "Appendix A (frictionless, analytic; singular at r = a0, z = 0)", peaks=False,
+            "Appendix A, μ = 0 (analytic)", peaks=False,
         )  # fmt: skip
     for case in panels:
         plane = case.planes[key]

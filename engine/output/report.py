@@ -25,7 +25,9 @@ import numpy as np
 
 from .reader import CaseResults, StressPlane, StudyResults, read_results
 
-__all__ = ["study_report", "main"]
+__all__ = ["study_report", "main", "INTERIOR_DEPTH"]
+
+INTERIOR_DEPTH = 0.1  # z/a0 below which the surface edge singularity dominates the σ_VM peak
 
 
 def _format_peak(study: StudyResults, peak: tuple[float, float, float]) -> tuple[str, str]:
@@ -189,6 +191,14 @@ def cyclic_facts(study: StudyResults) -> list[str]:
         for case in study.cases:
             if last not in case.fields:
                 continue
+            plane = case.planes.get(last)
+            if plane is not None:
+                value, x, z = plane.peak(INTERIOR_DEPTH * study.radius)
+                facts.append(
+                    f"N = {last:,}, {case.label}: σ_VM peak at depth z/a0 >= {INTERIOR_DEPTH:g} "
+                    f"(away from the edge singularity) {value / study.p0:.2f} p0 at "
+                    f"r/a0 = {abs(x) / study.radius:.2f}, z/a0 = {z / study.radius:.3f}"
+                )
             radius, angle = _pressure_peak_angle(study, case, last)
             text = f"N = {last:,}, {case.label}: pressure maximum at r/a0 = {radius:.2f}, "
             text += f"polar angle {angle:.0f}°"

@@ -1,0 +1,146 @@
+"""`python -m engine plot` and `python -m engine report` on tiny studies written here.
+
+Two studies in the shape of the bundled ones (a cyclic sweep like studies/demo.toml with an
+orthotropic case, and a static μ sweep like Section 7.1), on a 16 × 16 mesh with few cycles,
+so that the engine runs them on one rank in a few seconds. Each is computed with
+``python -m engine`` in a subprocess (the real entry point), then plotted with
+``python -m engine plot``. Checks: every figure the module documents is written, is a PNG of
+more than a few kB, and is not blank (pixel standard deviation well above zero; a blank
+white canvas has 0). The numbers are not checked here (tests/test_cyclic.py, test_contact.py).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib import image
+
+REPO = Path(__file__).resolve().parents[1]
+
+COMMON = """
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+
+[punch]
+radius = 1.8
+
+[mesh]
+n = 16
+
+[subsurface]
+depth = 1.0
+layers = 6
+"""
+
+CYCLIC = """
+[study]
+name = "tiny_cyclic"
+output = "tiny_cyclic.h5"
+
+[loading]
+kind = "cyclic"
+load = 750.0
+steps = 2
+cycles = 200
+record = [20, 200]
+
+[sweep]
+mu1 = [0.1]
+mu2 = [0.1, 0.4]         # an isotropic and an orthotropic case
+wear1 = [1.33e-7]
+beta = [30.0]
+"""
+
+STATIC = """
+[study]
+name = "tiny_static"
+output = "tiny_static.h5"
+
+[loading]
+kind = "static"
+load = 714.0
+steps = 2
+
+[sweep]
+mu1 = [0.0, 0.4]
+"""
+
+CYCLIC_FIGURES = [
+    "wear_history.png",
+    "pressure_profiles.png",
+    "surface_maps_N200.png",
+    "von_mises_N20.png",
+    "von_mises_N200.png",
+]
+STATIC_FIGURES = [
+    "pressure_frictionless.png",
+    "stiffness_ratio.png",
+    "traction_profiles.png",
+    "von_mises_final.png",
+]
+MIN_BYTES = 5_000  # a titled, labelled matplotlib PNG is > 20 kB; an empty canvas ~ 2-5 kB
+MIN_PIXEL_STD = 0.02  # RGB in [0, 1]; blank = 0, a line plot on white ~ 0.1, a map ~ 0.3
+
+
+def _engine(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    return subprocess.run(
+        [sys.executable, "-m", "engine", *args],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+
+
+@pytest.fixture(scope="module", params=["cyclic", "static"])
+def study_results(request, tmp_path_factory):
+    folder = tmp_path_factory.mktemp(request.param)
+    text = (CYCLIC if request.param == "cyclic" else STATIC) + COMMON
+    (folder / "study.toml").write_text(text)
+    run = _engine("study.toml", "--no-progress-bar", cwd=folder)
+    assert run.returncode == 0, run.stdout + run.stderr
+    name = "tiny_cyclic" if request.param == "cyclic" else "tiny_static"
+    expected = CYCLIC_FIGURES if request.param == "cyclic" else STATIC_FIGURES
+    return folder, folder / f"{name}.h5", expected
+
+
+def test_plot_writes_every_figure_non_blank(study_results):
+    folder, results, expected = study_results
+    run = _engine("plot", str(results), "--out", "figures", cwd=folder)
+    assert run.returncode == 0, run.stdout + run.stderr
+    written = sorted(path.name for path in (folder / "figures").glob("*.png"))
+    assert written == sorted(expected)
+    for name in expected:
+        path = folder / "figures" / name
+        assert path.stat().st_size > MIN_BYTES, name
+        pixels = image.imread(path)[..., :3]
+        assert pixels.ndim == 3 and min(pixels.shape[:2]) > 200, name
+        assert float(np.std(pixels)) > MIN_PIXEL_STD, name
+
+
+def test_report_prints_a_row_per_case(study_results):
+    folder, results, _ = study_results
+    run = _engine("report", str(results), cwd=folder)
+    assert run.returncode == 0, run.stdout + run.stderr
+    table_rows = [line for line in run.stdout.splitlines() if line.startswith("| μ")]
+    is_cyclic = "cyclic" in results.name
+    assert len(table_rows) == (2 * 2 if is_cyclic else 2)  # cases × recorded cycles
+    assert "Measured:" in run.stdout
+    assert "nan" not in "\n".join(table_rows)
+
+
+def test_plot_missing_file_is_an_error(tmp_path):
+    run = _engine("plot", str(tmp_path / "missing.h5"), cwd=tmp_path)
+    assert run.returncode == 2
+    assert "no such file" in run.stderr
