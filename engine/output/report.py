@@ -232,6 +232,19 @@ def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | Non
     return "\n".join(lines) + "\n"
 
 
+def update_markdown(document: str | Path, name: str, report: str) -> None:
+    """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
+    of ``document`` with ``report`` (how docs/results.md is regenerated)."""
+    document = Path(document)
+    text = document.read_text()
+    begin, end = f"<!-- BEGIN report {name} -->", f"<!-- END report {name} -->"
+    if begin not in text or end not in text:
+        raise ValueError(f"{document}: no block {begin} … {end}")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    document.write_text(f"{head}{begin}\n{report}{end}{tail}")
+
+
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=prog, description="Print the results tables of a study (Markdown)."
@@ -240,6 +253,11 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument(
         "--cycles", type=int, nargs="+", default=None,
         help="cycles N to tabulate (cyclic studies; default: the recorded cycles)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--update", type=Path, default=None, metavar="DOC.md",
+        help="instead of printing, replace the block <!-- BEGIN report NAME --> … "
+        "<!-- END report NAME --> of DOC.md (NAME: the study name)",
     )  # fmt: skip
     return parser
 
@@ -250,7 +268,14 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         if not path.exists():
             print(f"error: {path}: no such file", file=sys.stderr)
             return 2
-    print("\n".join(study_report(path, args.cycles) for path in args.results), end="")
+    for path in args.results:
+        study = read_results(path)
+        report = study_report(study, args.cycles)
+        if args.update is None:
+            print(report)
+        else:
+            update_markdown(args.update, study.name, report)
+            print(f"{args.update}: updated the report of {study.name}")
     return 0
 
 
