@@ -8,7 +8,8 @@ Layout (``format = "fretting-engine-results/1"``)::
     /grid/x, /grid/y        element-centre coordinates (mm)
     /cases/<case_id>/       attrs: case_id, index, mu1, mu2, wear1, wear2, beta (degree),
                                    parameter_units (JSON), status, message, traceback,
-                                   rank, runtime_s, summary (JSON row of the summary table)
+                                   rank, runtime_s, cpu_s (CPU s of this run's computing
+                                   thread), summary (JSON row of the summary table)
         history/<name>      per simulated cycle (cyclic) or per load increment (static)
         fields/cycle_NNNNNNN/<name>   surface fields at peak load of a recorded cycle
         fields/final/<name>           surface fields at peak load of the last cycle

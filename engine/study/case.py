@@ -111,6 +111,7 @@ class CaseRunner:
     def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
         should_stop = should_stop or (lambda: False)
         start = time.perf_counter()
+        cpu_start = time.thread_time()  # CPU of the computing thread (rank 0 computes in one)
         previous = self._load_progress(case)
         try:
             if case.case_id in self.config.testing.fail_cases:
@@ -133,6 +134,7 @@ class CaseRunner:
             self._remove_checkpoint(case)
         if outcome.status != COMPLETED:
             outcome.row = self._parameters_row(case, outcome.status)
+        outcome.attrs["cpu_s"] = time.thread_time() - cpu_start  # this run only
         outcome.row["runtime_s"] = outcome.runtime_s
         outcome.row["status"] = outcome.status
         return outcome

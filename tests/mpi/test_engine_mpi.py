@@ -64,7 +64,7 @@ mu1 = {mu1}
 wear1 = [1.33e-7]
 beta = {beta}
 """
-VOLATILE_ATTRS = {"rank", "runtime_s", "command_line", "summary"}
+VOLATILE_ATTRS = {"rank", "runtime_s", "cpu_s", "command_line", "summary"}
 
 
 def write_study(
