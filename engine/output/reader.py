@@ -47,6 +47,16 @@ class StressPlane:
         index = np.unravel_index(np.argmax(candidates), candidates.shape)
         return float(self.von_mises[index]), float(self.x[index]), float(self.z[index])
 
+    def axis_peak(self) -> tuple[float, float, float]:
+        """(σ_VM, x, z) of the largest von Mises stress on the punch axis (the column x ≈ 0)."""
+        column = int(np.argmin(np.abs(self.x[:, 0])))
+        depth = int(np.argmax(self.von_mises[column]))
+        return (
+            float(self.von_mises[column, depth]),
+            float(self.x[column, depth]),
+            float(self.z[column, depth]),
+        )
+
     def subsurface_peak(self) -> tuple[float, float, float]:
         """Peak over the layers strictly below the surface layer (z >= depths[1])."""
         depths = self.depths

@@ -197,7 +197,10 @@ def cyclic_facts(study: StudyResults) -> list[str]:
                 facts.append(
                     f"N = {last:,}, {case.label}: σ_VM peak at depth z/a0 >= {INTERIOR_DEPTH:g} "
                     f"(away from the edge singularity) {value / study.p0:.2f} p0 at "
-                    f"r/a0 = {abs(x) / study.radius:.2f}, z/a0 = {z / study.radius:.3f}"
+                    f"r/a0 = {abs(x) / study.radius:.2f}, z/a0 = {z / study.radius:.3f}; "
+                    "on the axis r = 0: {:.2f} p0 at z/a0 = {:.3f}".format(
+                        plane.axis_peak()[0] / study.p0, plane.axis_peak()[2] / study.radius
+                    )
                 )
             radius, angle = _pressure_peak_angle(study, case, last)
             text = f"N = {last:,}, {case.label}: pressure maximum at r/a0 = {radius:.2f}, "
