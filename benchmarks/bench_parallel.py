@@ -143,7 +143,7 @@ def main() -> None:
     )
     print(
         f"cpu of all processes: 1 rank {min(cpu[1]):.2f} s, 2 ranks {min(cpu[2]):.2f} s; "
-        f"load-independent ratio (fixed cost + busiest rank's case cpu) / 1-rank wall: "
+        f"load-independent ratio (fixed cpu + busiest rank's case cpu) / 1-rank cpu: "
         f"{min(estimates):.3f}. Other processes on the cores inflate the wall ratio."
     )
 
