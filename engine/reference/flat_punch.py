@@ -38,7 +38,9 @@ def mean_pressure(load: float, radius: float) -> float:
 
 
 def mossakovskii_ratio(dundurs_beta: float) -> float:
-    """Full-stick to frictionless normal stiffness ratio, artanh(β)/β (Eq. 20 for β=(1−2ν)/(2−2ν))."""
+    """Full-stick to frictionless normal stiffness ratio artanh(β)/β, Dundurs' β (NOTES.md).
+
+    For a rigid punch, β = (1−2ν)/(2−2ν) and this equals Eq. (20)."""
     if dundurs_beta == 0.0:
         return 1.0
     return float(np.arctanh(dundurs_beta) / dundurs_beta)

@@ -129,7 +129,8 @@ class ContactSolver:
 
     Parameters: ``grid`` (potential contact zone), ``material``, ``profile`` (geometric gap;
     ``inf`` where the punch has no surface), ``friction``; ``tol`` on the relative residual,
-    ``maxiter`` iterations per increment, ``threads`` for FFTW.
+    ``maxiter`` iterations per increment, ``threads`` and ``planner_effort`` for FFTW
+    ("FFTW_ESTIMATE" makes results bit-reproducible across processes).
     """
 
     def __init__(
@@ -142,6 +143,7 @@ class ContactSolver:
         tol: float = 1e-8,
         maxiter: int = 20000,
         threads: int = 1,
+        planner_effort: str = "FFTW_MEASURE",
         operator: HalfSpaceOperator | None = None,
     ):
         profile.check_grid(grid)
@@ -155,7 +157,9 @@ class ContactSolver:
         self.material = material
         self.profile = profile
         self.friction = friction
-        self.operator = operator or HalfSpaceOperator(grid, material, threads=threads)
+        self.operator = operator or HalfSpaceOperator(
+            grid, material, threads=threads, planner_effort=planner_effort
+        )
         self.geometric_gap = profile.gap(grid)
         self.candidate = np.isfinite(self.geometric_gap)
         self._lipschitz: float | None = None

@@ -155,7 +155,11 @@ class CaseRunner:
         punch = FlatPunch(cfg.punch.radius)
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
-        options: dict[str, Any] = {"tol": cfg.solver.tol, "threads": cfg.solver.threads}
+        options: dict[str, Any] = {
+            "tol": cfg.solver.tol,
+            "threads": cfg.solver.threads,
+            "planner_effort": cfg.solver.planner_effort,
+        }
         if cfg.solver.maxiter is not None:
             options["maxiter"] = cfg.solver.maxiter
         return ContactSolver(grid, material, punch, friction, **options), grid, material
@@ -168,7 +172,11 @@ class CaseRunner:
             depth_layers(cfg.subsurface.depth * cfg.punch.radius, cfg.subsurface.layers),
             dtype=float,
         )
-        return SubsurfaceStress(grid, material.nu_A, depths), depths
+        stress = SubsurfaceStress(
+            grid, material.nu_A, depths, cfg.solver.threads,
+            planner_effort=cfg.solver.planner_effort,
+        )
+        return stress, depths
 
     # ---------------------------------------------------------------- static
     def _run_static(self, case: Case) -> CaseOutcome:

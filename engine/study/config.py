@@ -28,7 +28,9 @@ Sections and keys (``*`` = required; defaults in brackets):
                   "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
                   Each is a list (a single number is accepted); every combination is a case.
 ``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [solver default], threads [1]
-                  (FFT threads per rank)
+                  (FFT threads per rank), fft_planner ["estimate"] ("estimate": the same FFTW
+                  plans in every process, so runs and rank counts give bit-identical results;
+                  "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
 """
 
@@ -143,6 +145,13 @@ class SolverConfig:
     tol: float
     maxiter: int | None
     threads: int
+    fft_planner: str = "estimate"
+
+    @property
+    def planner_effort(self) -> str:
+        """FFTW planner flag: "estimate" gives the same plan (bit-identical results) in every
+        process and run; "measure" times candidate plans (faster, last-digit differences)."""
+        return "FFTW_" + self.fft_planner.upper()
 
 
 @dataclass(frozen=True)
@@ -459,7 +468,7 @@ def _parse_sweep(s: _Section, loading: LoadingConfig) -> SweepConfig:
 
 
 def _parse_solver(s: _Section, loading: LoadingConfig) -> SolverConfig:
-    s.check_known({"tol", "maxiter", "threads"})
+    s.check_known({"tol", "maxiter", "threads", "fft_planner"})
     # Static solves are cheap and feed the stiffness comparisons: 1e-8. A cyclic case solves
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
@@ -467,7 +476,10 @@ def _parse_solver(s: _Section, loading: LoadingConfig) -> SolverConfig:
     tol = s.number("tol", default_tol, minimum=0.0, strict=True)
     maxiter = s.integer("maxiter", minimum=1) if "maxiter" in s.table else None
     threads = s.integer("threads", 1, minimum=1)
-    return SolverConfig(tol=tol, maxiter=maxiter, threads=threads)
+    fft_planner = s.string("fft_planner", "estimate")
+    if fft_planner not in ("estimate", "measure"):
+        raise s.error("fft_planner", fft_planner, 'must be "estimate" or "measure"')
+    return SolverConfig(tol=tol, maxiter=maxiter, threads=threads, fft_planner=fft_planner)
 
 
 def _parse_testing(s: _Section) -> TestingConfig:

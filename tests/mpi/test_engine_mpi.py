@@ -132,14 +132,14 @@ def assert_same_results(path_a: Path, path_b: Path) -> None:
         for key in ("study_toml", "study_fingerprint", "engine_version", "format"):
             assert a.attrs[key] == b.attrs[key] or key == "study_toml"
     pd.testing.assert_frame_equal(
-        comparable_summary(path_a), comparable_summary(path_b), check_exact=False, rtol=RTOL
+        comparable_summary(path_a), comparable_summary(path_b), check_exact=True
     )
 
 
-# Equal up to round-off, not bit for bit: pyfftw plans are chosen by timing (FFTW_MEASURE), so
-# two processes may sum in different orders (observed: 4e-15 relative). Integer data (contact
-# status, cycle counts) must match exactly.
-RTOL = 1e-12
+# Bit for bit: the engine plans its FFTs with FFTW_ESTIMATE ([solver] fft_planner default), so
+# every process uses the same plans and sums in the same order. (With "measure", plans are
+# chosen by timing and two processes differed by ~4e-15 relative.)
+RTOL = 0.0
 
 
 def magnitude_per_unit(group: h5py.Group) -> dict[str, float]:
@@ -183,7 +183,7 @@ def test_two_ranks_and_one_rank_give_identical_summaries(reference_run, tmp_path
     serial = run_engine(study, "--output", str(one_rank), ranks=1)
     assert serial.returncode == 0, serial.stderr
     pd.testing.assert_frame_equal(
-        comparable_summary(two_ranks), comparable_summary(one_rank), check_exact=False, rtol=RTOL
+        comparable_summary(two_ranks), comparable_summary(one_rank), check_exact=True
     )
     assert_same_results(two_ranks, one_rank)
     with h5py.File(two_ranks, "r") as file:
