@@ -219,7 +219,6 @@ class ContactSolver:
                 image[:, ~self.candidate] = 0.0
                 value = float(np.sum(vector * image))
                 vector = image
-            self.operator.applications -= 40
             # Power iteration approaches from below: keep a safety margin.
             self._lipschitz = 1.05 * value
         return self._lipschitz
@@ -374,8 +373,8 @@ class ContactSolver:
         """Accelerated projected gradient on (q_x, q_y, p) with adaptive restart."""
         grid, mask = self.grid, self.candidate
         count = int(mask.sum())
+        start = self.operator.applications  # the first solve also pays the step-size estimate
         alpha = 1.0 / self.lipschitz()
-        start = self.operator.applications
         target = None if load is None else load / grid.element_area
         previous = np.array([state.displacement_x, state.displacement_y])
 
