@@ -4,8 +4,8 @@
 # <!-- BEGIN report NAME --> / <!-- END report NAME --> markers) with `python -m engine report`.
 #
 # Usage:  bash scripts/results.sh [RANKS]        (RANKS: MPI ranks per study, default 2)
-# Time here (2 shared cores, one rank): ~1 min (Section 7.1, 64²), ~4 min (Section 7.2, 32²),
-#   ~6 min (Section 7.3, 32²). Existing complete results are reused (the engine resumes);
+# Time here (2 shared cores, loaded, one rank): ~1 min (Section 7.1, 64²), ~3 min (Section 7.2,
+#   32²), ~22 min (Section 7.3, 32²). Existing complete results are reused (the engine resumes);
 #   delete results/ or pass FRESH=1 to recompute.
 # The paper-resolution variants (studies/section_7_2_cyclic.toml, _7_3_orthotropic.toml at
 # 64²) are not run here; see their headers.
