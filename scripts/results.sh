@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Regenerate the "Results" of docs/results.md: run the three paper studies, draw their figures
-# into docs/figures/<study>/ and rewrite the tables of docs/results.md (between its
+# Regenerate the "Results" section of README.md: run the three paper studies, draw their figures
+# into docs/figures/<study>/ and rewrite the tables of README.md (between its
 # <!-- BEGIN report NAME --> / <!-- END report NAME --> markers) with `python -m engine report`.
 #
 # Usage:  bash scripts/results.sh [RANKS]        (RANKS: MPI ranks per study, default 2)
@@ -19,5 +19,5 @@ for study in section_7_1_static section_7_2_cyclic section_7_2_cyclic_32 \
     .venv/bin/mpiexec -n "$ranks" "$python" -m engine "studies/$study.toml" \
         --no-progress-bar "${fresh[@]}"
     "$python" -m engine plot "results/$study.h5" --out "docs/figures/$study"
-    "$python" -m engine report "results/$study.h5" --update docs/results.md
+    "$python" -m engine report "results/$study.h5" --update README.md
 done

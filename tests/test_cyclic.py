@@ -79,8 +79,9 @@ def test_orthotropic_wear_is_invariant_with_beta(material):
 
 def test_save_interrupt_resume_gives_identical_histories(material, tmp_path):
     """Acceptance 5: stop after two simulated cycles, save, load, resume."""
-    settings = dict(n=24, mu1=0.2, mu2=0.2, i1=WEAR, i2=WEAR, beta_deg=0, cycles=2000,
-                    record=(100, 2000))
+    settings = dict(
+        n=24, mu1=0.2, mu2=0.2, i1=WEAR, i2=WEAR, beta_deg=0, cycles=2000, record=(100, 2000)
+    )
     uninterrupted = analysis(material, **settings).run()
     calls = iter(range(100))
     first = analysis(material, **settings).run(should_stop=lambda: next(calls) >= 2)
@@ -94,6 +95,7 @@ def test_save_interrupt_resume_gives_identical_histories(material, tmp_path):
     for cycle, fields in uninterrupted.records.items():
         for key, value in fields.items():
             np.testing.assert_array_equal(resumed.records[cycle][key], value)
+    # The checkpoint carries the step-size estimate: the resumed run does no extra work.
     assert resumed.matvecs == uninterrupted.matvecs
 
 

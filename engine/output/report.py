@@ -1,6 +1,7 @@
 """Results tables of a study in Markdown: ``python -m engine report RESULTS.h5 [--cycles N …]``.
 
-The tables of docs/results.md are printed by this command, never typed by hand. Per case:
+The tables of the README's Results section are printed by this command, never typed by hand.
+Per case:
 
 cyclic study   at each N (default: the recorded cycles): maximum wear depth (µm), wear volume
                (mm³), peak pressure p_max/p0, peak σ_VM/p0 over the x–z plane and its location
@@ -237,7 +238,7 @@ def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | Non
 
 def update_markdown(document: str | Path, name: str, report: str) -> None:
     """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
-    of ``document`` with ``report`` (how docs/results.md is regenerated)."""
+    of ``document`` with ``report`` (how the README's Results tables are regenerated)."""
     document = Path(document)
     text = document.read_text()
     begin, end = f"<!-- BEGIN report {name} -->", f"<!-- END report {name} -->"

@@ -37,6 +37,7 @@ from ..validation import require_finite, require_finite_array, require_non_negat
 from .friction import FrictionLaw
 
 NO_CONTACT, STICK, SLIP = 0, 1, 2
+POWER_ITERATIONS = 40  # operator applications of the one-time step-size estimate (per solver)
 
 
 @dataclass
@@ -201,6 +202,17 @@ class ContactSolver:
         return self._fista(load, None, state, offset)
 
     @property
+    def step_size_estimate(self) -> float | None:
+        """The largest eigenvalue estimate behind the FISTA step (mm/MPa), None until the
+        first frictional solve; saved with a checkpoint so that a resumed case continues with
+        the same step and does not pay the estimate again."""
+        return self._lipschitz
+
+    @step_size_estimate.setter
+    def step_size_estimate(self, value: float | None) -> None:
+        self._lipschitz = None if value is None else require_non_negative("step size", value)
+
+    @property
     def preconditioner(self) -> SpectralPreconditioner:
         if self._preconditioner is None:
             self._preconditioner = SpectralPreconditioner(self.operator)
@@ -213,7 +225,7 @@ class ContactSolver:
             vector = np.zeros((3, *self.grid.shape))
             vector[:, self.candidate] = rng.standard_normal((3, int(self.candidate.sum())))
             value = 0.0
-            for _ in range(40):
+            for _ in range(POWER_ITERATIONS):
                 vector /= np.linalg.norm(vector)
                 image = np.array(self.operator.apply(*vector))
                 image[:, ~self.candidate] = 0.0

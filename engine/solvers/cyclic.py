@@ -98,6 +98,7 @@ class CyclicState:
     matvecs: int = 0
     load_steps: int = 0
     failures: list[str] = field(default_factory=list)
+    step_size_estimate: float | None = None
 
     def save(self, path: str | Path) -> None:
         """Write the state to ``path`` (.npz) atomically (temporary file, then rename)."""
@@ -110,8 +111,9 @@ class CyclicState:
         for cycle, fields in self.records.items():
             for key, value in fields.items():
                 arrays[f"record_{cycle}_{key}"] = value
+        step = np.nan if self.step_size_estimate is None else self.step_size_estimate
         arrays["scalars"] = np.array(
-            [self.cycle, self.jump, self.matvecs, self.load_steps, self.contact.approach],
+            [self.cycle, self.jump, self.matvecs, self.load_steps, self.contact.approach, step],
             dtype=float,
         )
         arrays["failures"] = np.array(self.failures, dtype=str)
@@ -122,7 +124,7 @@ class CyclicState:
     @classmethod
     def load(cls, path: str | Path) -> CyclicState:
         with np.load(path) as data:
-            cycle, jump, matvecs, load_steps, approach = data["scalars"]
+            cycle, jump, matvecs, load_steps, approach, step = data["scalars"]
             contact = ContactState(
                 data["contact_pressure"],
                 data["contact_traction_x"],
@@ -147,6 +149,7 @@ class CyclicState:
                 matvecs=int(matvecs),
                 load_steps=int(load_steps),
                 failures=[str(f) for f in data["failures"]],
+                step_size_estimate=None if np.isnan(step) else float(step),
             )
 
 
@@ -246,6 +249,8 @@ class CyclicAnalysis:
         (checked between simulated cycles). ``on_cycle(N, cycles)`` reports progress;
         ``on_increment(result, jump_index)`` sees every increment (for audits and tests)."""
         state = state if state is not None else self.initial_state()
+        if state.step_size_estimate is not None and self.solver.step_size_estimate is None:
+            self.solver.step_size_estimate = state.step_size_estimate
         self._matvecs, self._steps, self._failures = 0, 0, []
         settings, area = self.settings, self.solver.grid.element_area
         final = None
@@ -271,6 +276,7 @@ class CyclicAnalysis:
             state.matvecs += self._matvecs
             state.load_steps += self._steps
             state.failures.extend(self._failures)
+            state.step_size_estimate = self.solver.step_size_estimate
             self._matvecs, self._steps, self._failures = 0, 0, []
             if on_cycle is not None:
                 on_cycle(state.cycle, settings.cycles)
