@@ -88,6 +88,33 @@ def environment() -> dict[str, str]:
     return env
 
 
+def signal_ranks(study: Path, signum: int) -> int:
+    """Send ``signum`` to the engine's rank processes of the run on ``study``, as SLURM does
+    with its pre-timeout signal (to the tasks, not to a launcher). Returns how many got it.
+
+    Sending it to mpiexec instead depends on the launcher: PyPI's Hydra 5.0 forwards it and
+    returns the ranks' exit code, Debian's Hydra 4.0.2 forwards it but then exits 0.
+    """
+    count = 0
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            argv = (entry / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        words = [word.decode(errors="replace") for word in argv if word]
+        if (
+            len(words) >= 4
+            and Path(words[0]).name.startswith("python")
+            and words[1:3] == ["-m", "engine"]
+            and str(study) in words[3:]
+        ):
+            os.kill(int(entry.name), signum)
+            count += 1
+    return count
+
+
 def run_engine(study: Path, *options: str, ranks: int = 2, timeout: float = 180):
     return subprocess.run(
         engine_command(study, *options, ranks=ranks),
@@ -217,7 +244,7 @@ def test_sigterm_then_resume_completes_without_recomputing(reference_run, tmp_pa
     for line in process.stdout:  # wait for the first finished case, then stop the run
         lines.append(line)
         if line.startswith("[1/"):
-            process.send_signal(signal.SIGTERM)
+            assert signal_ranks(study, signal.SIGTERM) == 2
             break
     out, err = process.communicate(timeout=120)
     first = "".join(lines) + out

@@ -28,6 +28,7 @@ from tests.mpi.test_engine_mpi import (
     environment,
     finished_cases,
     run_engine,
+    signal_ranks,
     write_study,
 )
 
@@ -96,7 +97,7 @@ def test_kill_during_collective_run_then_resume_loses_no_completed_case(kill, tm
             if kill == "SIGKILL":
                 os.killpg(process.pid, signal.SIGKILL)
             else:
-                process.send_signal(signal.SIGTERM)
+                assert signal_ranks(study, signal.SIGTERM) == 2
             break
     out, err = process.communicate(timeout=120)
     if kill == "SIGKILL":
