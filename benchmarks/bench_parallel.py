@@ -6,7 +6,7 @@ changes nothing but the id) are run with ``python -m engine`` under ``mpiexec -n
 time of the whole command (start-up, MPI init, HDF5 writing included) is measured; the best of
 the repeats is compared. Target (issue 5): t(2 ranks) / t(1 rank) <= 0.55 on a 2-core machine.
 
-    python benchmarks/bench_parallel.py            # ~2 minutes here
+    python benchmarks/bench_parallel.py            # ~3 minutes here (cases of ~9 s each)
     python benchmarks/bench_parallel.py --n 32 --cycles 10000 --repeat 1   # quick look
 
 Other processes on the machine distort the figure; run it on an otherwise idle machine.
@@ -100,7 +100,7 @@ def run(ranks: int, study: Path) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=40, help="elements per side (default 40)")
+    parser.add_argument("--n", type=int, default=64, help="elements per side (default 64)")
     parser.add_argument("--steps", type=int, default=6, help="increments per half cycle")
     parser.add_argument("--cycles", type=int, default=100000)
     parser.add_argument("--repeat", type=int, default=2)
