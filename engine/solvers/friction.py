@@ -79,7 +79,8 @@ class FrictionLaw:
 
         Solves for the multiplier λ ≥ 0 of min |q − t|² s.t. (q1/a)² + (q2/b)² ≤ 1 with
         a = μ1 ρ, b = μ2 ρ: q_k = a_k² t_k / (a_k² + λ), by Newton's method on the convex,
-        decreasing secular function (monotone from λ = 0). Isotropic: the radial return.
+        decreasing secular function (monotone from λ = 0; stops when the ellipse equation
+        holds to 1e-14). Isotropic: the radial return.
         """
         if self.isotropic:
             return self.radial_return(tx, ty, bound)
@@ -90,22 +91,21 @@ class FrictionLaw:
             return qx, qy
         t1, t2 = to_tribological(self.beta, qx[outside], qy[outside])
         rho = bound[outside]
-        zero = rho <= 0.0
-        a2 = (self.mu1 * rho) ** 2
-        b2 = (self.mu2 * rho) ** 2
-        lam = np.zeros_like(rho)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            for _ in range(iterations):
-                d1 = a2 + lam
-                d2 = b2 + lam
-                f = a2 * t1**2 / d1**2 + b2 * t2**2 / d2**2 - 1.0
-                df = -2.0 * (a2 * t1**2 / d1**3 + b2 * t2**2 / d2**3)
-                step = f / df
-                lam = lam - step
-                if np.all(np.abs(step) <= 1e-15 * np.maximum(lam, 1e-300)):
-                    break
-            q1 = np.where(zero, 0.0, a2 * t1 / (a2 + lam))
-            q2 = np.where(zero, 0.0, b2 * t2 / (b2 + lam))
+        q1, q2 = np.zeros_like(rho), np.zeros_like(rho)  # zero bound: the cone is a point
+        positive = rho > 0.0
+        t1p, t2p = t1[positive], t2[positive]
+        a2 = (self.mu1 * rho[positive]) ** 2
+        b2 = (self.mu2 * rho[positive]) ** 2
+        lam = np.zeros_like(a2)
+        for _ in range(iterations):
+            d1, d2 = a2 + lam, b2 + lam
+            f = a2 * t1p**2 / d1**2 + b2 * t2p**2 / d2**2 - 1.0
+            if np.all(np.abs(f) <= 1e-14):
+                break
+            df = -2.0 * (a2 * t1p**2 / d1**3 + b2 * t2p**2 / d2**3)
+            lam = lam - f / df
+        q1[positive] = a2 * t1p / (a2 + lam)
+        q2[positive] = b2 * t2p / (b2 + lam)
         px, py = from_tribological(self.beta, q1, q2)
         qx[outside], qy[outside] = px, py
         return qx, qy
