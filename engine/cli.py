@@ -228,7 +228,6 @@ def _install_stop_handlers(stop_event: threading.Event, rank: int) -> None:
 
 def _compute(comm, config, plan, args, command_line, stop_event) -> int:
     from engine.output.hdf5 import SingleWriter, remove_outputs
-    from engine.output.progress import ProgressReporter
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
@@ -248,18 +247,7 @@ def _compute(comm, config, plan, args, command_line, stop_event) -> int:
             f"{config.study.output}",
             flush=True,
         )
-        progress = ProgressReporter(
-            len(plan), len(completed), bar=False if args.no_progress_bar else None
-        )
-
-        def on_outcome(outcome):
-            writer.write(outcome)
-            progress.update(outcome)
-
-        try:
-            report = scheduler.run(todo, on_outcome)
-        finally:
-            progress.close()
+        report = _run_with_progress(scheduler, writer, plan, completed, todo, args)
         statuses = [row["status"] for row in writer.rows()]
     return _report(config, statuses, report)
 
@@ -270,7 +258,6 @@ def _compute_collective(comm, config, plan, layout, args, command_line, stop_eve
 
     from engine.output.collective import CollectiveWriter
     from engine.output.hdf5 import remove_outputs
-    from engine.output.progress import ProgressReporter
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
@@ -302,18 +289,7 @@ def _compute_collective(comm, config, plan, layout, args, command_line, stop_eve
         "(collective mpio output)",
         flush=True,
     )
-    progress = ProgressReporter(
-        len(plan), len(completed), bar=False if args.no_progress_bar else None
-    )
-
-    def on_outcome(outcome):
-        writer.write(outcome)
-        progress.update(outcome)
-
-    try:
-        report = scheduler.run(todo, on_outcome)
-    finally:
-        progress.close()
+    report = _run_with_progress(scheduler, writer, plan, completed, todo, args)
     start = time.perf_counter()
     writer.close()
     print(
@@ -323,6 +299,24 @@ def _compute_collective(comm, config, plan, layout, args, command_line, stop_eve
         flush=True,
     )
     return _report(config, [row["status"] for row in writer.rows()], report)
+
+
+def _run_with_progress(scheduler, writer, plan, completed, todo, args):
+    """Hand out ``todo``; every outcome goes to the writer, then to the progress display."""
+    from engine.output.progress import ProgressReporter
+
+    progress = ProgressReporter(
+        len(plan), len(completed), bar=False if args.no_progress_bar else None
+    )
+
+    def on_outcome(outcome):
+        writer.write(outcome)
+        progress.update(outcome)
+
+    try:
+        return scheduler.run(todo, on_outcome)
+    finally:
+        progress.close()
 
 
 def _report(config, statuses: list[str], report) -> int:

@@ -53,6 +53,7 @@ from .hdf5 import (
     _attribute_safe,
     _json_safe,
     check_resumable,
+    write_root,
 )
 from .summary import pending_row, summary_frame, write_summary_csv
 
@@ -154,13 +155,7 @@ class CollectiveWriter:
         mode, leftovers = self.comm.bcast((mode, leftovers), root=0)
         self._file = h5py.File(self.path, mode, driver="mpio", comm=self.comm)
         file = self._file
-        file.attrs.update(metadata.attrs)
-        grid = file.require_group("grid")
-        for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
-            if name not in grid:
-                dataset = grid.create_dataset(name, data=values)
-                dataset.attrs["units"] = "mm"
-                dataset.attrs["description"] = f"element-centre {name} coordinates"
+        write_root(file, metadata)
         cases = file.require_group("cases")
         self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
         completed = set()

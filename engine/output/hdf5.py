@@ -56,6 +56,7 @@ __all__ = [
     "SingleWriter",
     "ResultsMismatch",
     "read_root_metadata",
+    "write_root",
     "remove_outputs",
 ]
 
@@ -149,6 +150,18 @@ def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
         shutil.rmtree(checkpoint_dir)
 
 
+def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
+    """Root attributes and the grid coordinates; identical calls in every strategy (in mpio
+    mode they are collective, so every rank makes them with the same arguments)."""
+    file.attrs.update(metadata.attrs)
+    grid = file.require_group("grid")
+    for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
+        if name not in grid:
+            dataset = grid.create_dataset(name, data=values)
+            dataset.attrs["units"] = "mm"
+            dataset.attrs["description"] = f"element-centre {name} coordinates"
+
+
 class SingleWriter:
     """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
 
@@ -172,13 +185,7 @@ class SingleWriter:
             check_resumable(self.path, metadata)
             self._file = h5py.File(self.path, "a")
         file = self._file
-        file.attrs.update(metadata.attrs)
-        grid = file.require_group("grid")
-        for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
-            if name not in grid:
-                dataset = grid.create_dataset(name, data=values)
-                dataset.attrs["units"] = "mm"
-                dataset.attrs["description"] = f"element-centre {name} coordinates"
+        write_root(file, metadata)
         cases = file.require_group("cases")
         completed = set()
         for case in plan:
