@@ -10,15 +10,19 @@ tangential tractions q = (q_x, q_y) acting on the half-space, with
                 ellipse where ||q||_μ = p              (Eqs. 8–11, maximal dissipation)
 
 The rigid tangential slip is zero: the punch carries no tangential load and, by the central
-symmetry of the friction ellipse, none arises. Because the block operator is symmetric
-(A_xz = A_zxᵀ, Betti), the increment is the fixed point of a projected gradient map on
-(p, q) whose gradient is (g, Δs): it is solved by FISTA with adaptive restart, where the
-pressure is projected on {p ≥ 0, Σ p ΔA = P} (load control: δ is the multiplier) and the
-tractions on the ellipse of the new pressure (exact Euclidean projection). Without friction
-the normal problem alone is solved by the constrained conjugate gradient method of Polonsky &
-Keer (Wear 231, 1999).
+symmetry of the friction ellipse, none arises. Without friction the normal problem alone is
+solved by the constrained conjugate gradient method of Polonsky & Keer (Wear 231, 1999) with
+a spectral preconditioner. With friction (load control) the normal problem with the
+tangential tractions frozen and the tangential problem with the friction bounds frozen are
+solved in turn (``solve_tangential``: a preconditioned active-set CG), until neither moves;
+both inner solvers and the number of alternations are independent of the mesh. Under
+displacement control, and as a fallback, the increment is solved as the fixed point of a
+projected gradient map on (p, q), whose gradient is (g, Δs) because the block operator is
+symmetric (A_xz = A_zxᵀ, Betti), by FISTA with adaptive restart: the pressure is projected
+on {p ≥ 0, Σ p ΔA = P} (load control: δ is the multiplier) or {p ≥ 0}, the tractions on the
+ellipse of the new pressure (exact Euclidean projection).
 
-Residual (both methods): RMS over the candidate elements of the natural residual
+Residual (all methods): RMS over the candidate elements of the natural residual
 (x − P(x − α∇))/α, i.e. of the gap and slip violations (mm), divided by the approach δ.
 """
 
@@ -35,9 +39,12 @@ from ..kernels.operator import HalfSpaceOperator, SpectralPreconditioner
 from ..material import MaterialPair
 from ..validation import require_finite, require_finite_array, require_non_negative
 from .friction import FrictionLaw
+from .tangential import ON_BOUND, solve_tangential
 
 NO_CONTACT, STICK, SLIP = 0, 1, 2
 POWER_ITERATIONS = 40  # operator applications of the one-time step-size estimate (per solver)
+MAX_OUTER = 60  # normal/tangential alternations before the accelerated gradient takes over
+INNER_FACTOR = 0.1  # inner tolerance: this fraction of the last outer residual
 
 
 @dataclass
@@ -164,6 +171,7 @@ class ContactSolver:
         self.geometric_gap = profile.gap(grid)
         self.candidate = np.isfinite(self.geometric_gap)
         self._lipschitz: float | None = None
+        self._symbol: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
 
     # ----------------------------------------------------------------- public API
@@ -199,7 +207,7 @@ class ContactSolver:
             return self._fista(load, approach, state, offset)
         if self.friction.frictionless:
             return self._frictionless(load, state, offset)
-        return self._fista(load, None, state, offset)
+        return self._alternating(load, state, offset)
 
     @property
     def step_size_estimate(self) -> float | None:
@@ -333,7 +341,7 @@ class ContactSolver:
             "preconditioned CG",
         )
 
-    def _normal_cg(self, load, initial, offset, tol):
+    def _normal_cg(self, load, initial, offset, tol, maxiter=None):
         """Signorini problem under load control by Polonsky & Keer's constrained CG with the
         spectral preconditioner (Vollebregt 2014): CG on the contact set, projection on
         p >= 0, restart when elements re-enter contact, rescaling to the load each step.
@@ -354,7 +362,7 @@ class ContactSolver:
         previous = 1.0
         conjugate = False
         residual, approach, iterations = math.inf, 0.0, 0
-        for iterations in range(1, self.maxiter + 1):  # noqa: B007 (count kept after loop)
+        for iterations in range(1, (maxiter or self.maxiter) + 1):  # noqa: B007
             gap = self.operator.apply_normal(pressure) + offset
             contact = mask & (pressure > 0.0)
             approach = float(gap[contact].mean())
@@ -381,24 +389,143 @@ class ContactSolver:
             pressure *= target / pressure.sum()
         return pressure, approach, iterations, residual
 
-    def _fista(self, load, approach, state, offset) -> IncrementResult:
-        """Accelerated projected gradient on (q_x, q_y, p) with adaptive restart."""
+    def _alternating(self, load, state, offset) -> IncrementResult:
+        """Frictional load control by alternation (block Gauss–Seidel, Panagiotopoulos):
+        the normal problem with the tangential tractions frozen (preconditioned constrained
+        CG), then the tangential problem with the friction bounds frozen (``solve_tangential``),
+        until neither moves. Each outer pass contracts the coupling error by a factor set by K
+        and μ, not by the mesh, and both inner solvers are mesh independent. Inner tolerances
+        follow the outer residual; the reported residual is the natural residual of the
+        coupled map (the one FISTA reports) at the final iterate. Should the alternation not
+        settle within ``MAX_OUTER`` passes, FISTA continues from its iterate."""
+        mask, operator = self.candidate, self.operator
+        count = int(mask.sum())
+        start = operator.applications
+        previous = np.array([state.displacement_x, state.displacement_y])
+        pressure = state.pressure
+        tractions = np.array([state.traction_x, state.traction_y])
+        coupling = operator.coupling_to_normal(*tractions)
+        inner_tol, budget, outer = 0.1, self.maxiter, 0
+        residual, approach, settled = math.inf, state.approach, False
+        u = None
+        for outer in range(1, MAX_OUTER + 1):  # noqa: B007 (count kept after loop)
+            tol = max(0.3 * self.tol, inner_tol)
+            old_bound = pressure
+            pressure, approach, normal_its, _ = self._normal_cg(
+                load, pressure, offset + coupling, tol, maxiter=budget
+            )
+            budget -= normal_its
+            tractions = self._follow_bound(tractions, old_bound, pressure)
+            u = np.array(operator.apply(*tractions, pressure))
+            tangential = solve_tangential(
+                operator,
+                self.preconditioner,
+                self.friction,
+                pressure,
+                tractions,
+                u[:2] - previous,
+                tol=tol * abs(approach),
+                maxiter=max(budget, 0),
+                count=count,
+            )
+            budget -= tangential.iterations
+            if normal_its == 1 and tangential.iterations == 0:
+                # Neither block moved: u = A x exactly; measure the coupled residual.
+                x = np.array([*tractions, pressure])
+                residual, approach = self._natural_residual(x, u, previous, offset, load)
+                if residual <= self.tol:
+                    settled = True
+                    break
+                inner_tol = INNER_FACTOR * residual
+            else:
+                inner_tol = INNER_FACTOR * max(tol, tangential.residual / abs(approach))
+            if budget <= 0:
+                break
+            tractions = tangential.tractions
+            coupling = operator.coupling_to_normal(*tractions)
+        x = np.array([*tractions, pressure])
+        if not settled:
+            u = np.array(operator.apply(*x))
+            residual, approach = self._natural_residual(x, u, previous, offset, load)
+        kind = f"alternating PCG ({outer} passes)"
+        if not settled and budget > 0 and residual > self.tol:
+            spent = operator.applications - start
+            label = f" after {outer} alternating passes"
+            return self._fista(load, None, state, offset, start=x, spent=spent, label=label)
+        contact = pressure > 0.0
+        if np.any(contact):
+            approach = float(np.mean((u[2] + offset)[contact]))
+        return self._finish(
+            pressure,
+            tractions[0],
+            tractions[1],
+            u[:2],
+            approach,
+            state,
+            self.maxiter - max(budget, 0),
+            operator.applications - start,
+            residual,
+            kind,
+        )
+
+    def _follow_bound(self, tractions, old_bound, bound):
+        """Tractions for a changed pressure: elements that were sliding (on the ellipse of
+        ``old_bound``) stay on the ellipse of ``bound`` (scaled with it), the others are
+        projected on the new ellipse."""
+        sliding = (old_bound > 0.0) & (self.friction.norm(*tractions) >= ON_BOUND * old_bound)
+        factor = np.divide(bound, old_bound, out=np.ones_like(bound), where=sliding)
+        return np.array(self._project_tractions(*(tractions * factor), bound))
+
+    def _natural_residual(self, x, u, previous, offset, load):
+        """Relative natural residual (x − P(x − αG))/α of the coupled increment at ``x`` with
+        ``u = A x``, α = 1 / (bound of A's largest eigenvalue); returns it and the approach
+        (the multiplier of the load constraint)."""
+        mask = self.candidate
+        alpha = 1.0 / self._symbol_bound()
+        gradient = np.empty_like(u)
+        gradient[:2] = u[:2] - previous
+        gradient[2] = u[2] + offset
+        gradient[:, ~mask] = 0.0
+        trial = x - alpha * gradient
+        new = np.zeros_like(x)
+        new[2, mask], theta = _project_load(trial[2, mask], load / self.grid.element_area)
+        delta = theta / alpha
+        new[0], new[1] = self._project_tractions(trial[0], trial[1], new[2])
+        step = x - new
+        scale = abs(delta) if delta != 0.0 else 1.0
+        residual = math.sqrt(np.sum(step[:, mask] ** 2) / mask.sum()) / (alpha * scale)
+        return residual, delta
+
+    def _symbol_bound(self) -> float:
+        if self._symbol is None:
+            self._symbol = self.operator.symbol_bound()
+        return self._symbol
+
+    def _fista(
+        self, load, approach, state, offset, start=None, spent=0, label=""
+    ) -> IncrementResult:
+        """Accelerated projected gradient on (q_x, q_y, p) with adaptive restart, from
+        ``start`` (q_x, q_y, p) when given (``spent`` operator applications already made)."""
         grid, mask = self.grid, self.candidate
         count = int(mask.sum())
-        start = self.operator.applications  # the first solve also pays the step-size estimate
+        initial = start
+        start = self.operator.applications - spent  # the first solve pays the step estimate
         alpha = 1.0 / self.lipschitz()
         target = None if load is None else load / grid.element_area
         previous = np.array([state.displacement_x, state.displacement_y])
 
         x = np.zeros((3, *grid.shape))
-        if target is not None:
+        if initial is not None:
+            x[...] = initial
+        elif target is not None:
             # Start from the normal solution with the previous tangential tractions frozen
             # (preconditioned CG: ~10 cheap iterations): FISTA then mostly resolves friction.
             coupling = self.operator.coupling_to_normal(state.traction_x, state.traction_y)
             x[2], _, _, _ = self._normal_cg(load, state.pressure, offset + coupling, self.tol)
         else:
             x[2] = state.pressure
-        x[0], x[1] = self._project_tractions(state.traction_x, state.traction_y, x[2])
+        if initial is None:
+            x[0], x[1] = self._project_tractions(state.traction_x, state.traction_y, x[2])
         y = x.copy()
         momentum = 1.0
         residual = math.inf
@@ -446,7 +573,7 @@ class ContactSolver:
             iterations,
             self.operator.applications - start,
             residual,
-            "accelerated projected gradient",
+            "accelerated projected gradient" + label,
         )
 
     def _project_tractions(self, tx, ty, pressure):

@@ -1,0 +1,168 @@
+"""The tangential subproblem of one increment: friction bounds frozen (Tresca-like).
+
+Given the pressure p (so the elliptic bound ||q||_μ ≤ p of every element is fixed) and the
+slip Δs(q) = A_tt q + A_tn p − u_t^prev of the current tractions, find the tractions q that
+minimise the elastic energy ½ qᵀA_tt q − cᵀq over the product of ellipses; its optimality
+conditions are the Coulomb law of Eqs. (8)–(11) with that bound: no slip where ||q||_μ < p,
+slip along the inward normal of the ellipse where ||q||_μ = p.
+
+Method: an active-set (face) conjugate gradient, in the spirit of Polonsky & Keer's normal
+solver and Vollebregt's TangCG, made mesh independent by two ingredients:
+- stick elements are preconditioned by the spectral preconditioner (the |ξ| symbol that
+  cancels the 1/|ξ| smoothing of A_tt), restricted to the stick set;
+- slip elements move only along the tangent of their ellipse; the energy along the ellipse
+  has the curvature term λκ (λ = slip magnitude along the normal, mm; κ = curvature of the
+  ellipse, 1/MPa), which usually dominates there: it enters the step length, and the
+  preconditioner is D^½ M⁻¹ D^½ with D the elastic share A_ii / (A_ii + λκ) of the
+  tangent stiffness on slip elements (1 on stick elements), so that a slip direction is
+  turned by a Newton step where the curvature dominates and elastically where it does not.
+Search directions are combined by Polak–Ribière (restarted when β < 0); each step is
+projected on the ellipses and accepted by an Armijo test on the energy (backtracking), so
+the energy decreases monotonically and the active set cannot cycle. Slip elements whose
+slip points outward of the ellipse are released to stick. Two operator applications per
+iteration (A_tt d for the step, A_tt Δq for the new slip); the energy change is computed
+from them, so the solver works with differences and needs no explicit c.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kernels.operator import HalfSpaceOperator, SpectralPreconditioner
+from .friction import FrictionLaw, from_tribological, to_tribological
+
+ON_BOUND = 1.0 - 1e-10  # ||q||_μ ≥ ON_BOUND · p counts as on the ellipse (slip)
+ARMIJO = 1e-4
+MAX_BACKTRACKS = 30
+
+
+@dataclass
+class TangentialResult:
+    """``tractions`` (2, n_x, n_y) MPa and the ``slip`` Δs they produce (2, n_x, n_y) mm;
+    ``residual``: RMS over ``count`` elements of the face residual (mm); ``iterations``,
+    ``backtracks``, ``converged``; ``stalled`` if no step decreased the energy."""
+
+    tractions: np.ndarray
+    slip: np.ndarray
+    residual: float
+    iterations: int
+    backtracks: int
+    converged: bool
+    stalled: bool = False
+
+
+def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray):
+    """Unit outward normal (n_x, n_y) and unit tangent (t_x, t_y) of the friction ellipse
+    through q, and its curvature κ (1/MPa); zero tractions get an arbitrary frame."""
+    q1, q2 = to_tribological(friction.beta, qx, qy)
+    g1, g2 = q1 / friction.mu1**2, q2 / friction.mu2**2  # gradient of ||q||_μ² / 2
+    length = np.hypot(g1, g2)
+    safe = np.where(length > 0.0, length, 1.0)
+    nx, ny = from_tribological(friction.beta, g1 / safe, g2 / safe)
+    # Curvature of q1²/a² + q2²/b² = 1 with a = μ1 ρ, b = μ2 ρ (ρ = ||q||_μ):
+    # κ = 1 / (a² b² (q1²/a⁴ + q2²/b⁴)^{3/2}).
+    rho = friction.norm(qx, qy)
+    a2, b2 = (friction.mu1 * rho) ** 2, (friction.mu2 * rho) ** 2
+    denominator = (
+        a2
+        * b2
+        * (q1**2 / np.where(a2 > 0, a2, 1.0) ** 2 + q2**2 / np.where(b2 > 0, b2, 1.0) ** 2) ** 1.5
+    )
+    kappa = np.where(denominator > 0.0, 1.0 / np.where(denominator > 0.0, denominator, 1.0), 0.0)
+    return nx, ny, -ny, nx, kappa
+
+
+def _dot(ax, ay, bx, by) -> float:
+    return float(np.sum(ax * bx) + np.sum(ay * by))
+
+
+def solve_tangential(
+    operator: HalfSpaceOperator,
+    preconditioner: SpectralPreconditioner,
+    friction: FrictionLaw,
+    bound: np.ndarray,
+    tractions: np.ndarray,
+    slip: np.ndarray,
+    *,
+    tol: float,
+    maxiter: int,
+    count: int,
+) -> TangentialResult:
+    """Minimise the tangential energy over ||q||_μ ≤ ``bound`` (MPa) starting from
+    ``tractions`` (already inside the ellipses) whose slip is ``slip`` (mm); stop when the
+    RMS face residual over ``count`` elements is ≤ ``tol`` (mm) or after ``maxiter``
+    iterations."""
+    grid = operator.grid
+    centre = (grid.n_x - 1, grid.n_y - 1)
+    self_xx = operator.influence.kernels["xx"][centre]
+    self_yy = operator.influence.kernels["yy"][centre]
+    free = bound > 0.0
+    qx, qy = tractions[0].copy(), tractions[1].copy()
+    gx, gy = slip[0].copy(), slip[1].copy()
+    dx = dy = rx_old = ry_old = None
+    rz_old = 0.0
+    residual, backtracks, iterations, stalled = math.inf, 0, 0, False
+    for iterations in range(maxiter + 1):  # noqa: B007 (count kept after loop)
+        nx, ny, tx, ty, kappa = ellipse_frame(friction, qx, qy)
+        on_bound = free & (friction.norm(qx, qy) >= ON_BOUND * bound)
+        multiplier = -(gx * nx + gy * ny)  # λ ≥ 0: slip along the inward normal
+        sliding = on_bound & (multiplier > 0.0)
+        sticking = free & ~sliding
+        along = gx * tx + gy * ty
+        rx = np.where(sticking, gx, np.where(sliding, along * tx, 0.0))
+        ry = np.where(sticking, gy, np.where(sliding, along * ty, 0.0))
+        residual = math.sqrt(_dot(rx, ry, rx, ry) / count)
+        if residual <= tol or iterations == maxiter:
+            break
+        curvature = np.where(sliding, multiplier * kappa, 0.0)
+        # Preconditioner D^½ M⁻¹ D^½: M⁻¹ spectral, D = 1 on stick elements and the share
+        # A_ii / (A_ii + λκ) of the elastic stiffness on the tangent of slip elements.
+        stiffness = self_xx * tx**2 + self_yy * ty**2
+        share = np.divide(stiffness, stiffness + curvature, out=np.zeros_like(along), where=sliding)
+        scale = np.where(sticking, 1.0, np.sqrt(share))
+        zx, zy = preconditioner.tangential(scale * rx, scale * ry)
+        zx, zy = scale * zx, scale * zy
+        z_along = zx * tx + zy * ty
+        zx = np.where(sticking, zx, np.where(sliding, z_along * tx, 0.0))
+        zy = np.where(sticking, zy, np.where(sliding, z_along * ty, 0.0))
+        rz = _dot(rx, ry, zx, zy)
+        if dx is None:
+            dx, dy = zx, zy
+        else:
+            beta = max(0.0, (rz - _dot(rx_old, ry_old, zx, zy)) / rz_old)
+            dx, dy = zx + beta * dx, zy + beta * dy
+            d_along = dx * tx + dy * ty
+            dx = np.where(sticking, dx, np.where(sliding, d_along * tx, 0.0))
+            dy = np.where(sticking, dy, np.where(sliding, d_along * ty, 0.0))
+        rx_old, ry_old, rz_old = rx, ry, rz
+        wx, wy = operator.apply_tangential(dx, dy)
+        d_along = dx * tx + dy * ty
+        step = _dot(rx, ry, dx, dy) / (_dot(wx, wy, dx, dy) + float(np.sum(curvature * d_along**2)))
+        for _ in range(MAX_BACKTRACKS):
+            new_x, new_y = friction.project(qx - step * dx, qy - step * dy, bound)
+            change_x = np.where(free, new_x, 0.0) - qx
+            change_y = np.where(free, new_y, 0.0) - qy
+            image_x, image_y = operator.apply_tangential(change_x, change_y)
+            first = _dot(gx, gy, change_x, change_y)
+            energy_change = first + 0.5 * _dot(image_x, image_y, change_x, change_y)
+            if energy_change <= ARMIJO * first:
+                break
+            step *= 0.5
+            backtracks += 1
+        else:
+            stalled = True  # no decrease measurable: the energy is at round-off level
+            break
+        qx, qy = qx + change_x, qy + change_y
+        gx, gy = gx + image_x, gy + image_y
+    return TangentialResult(
+        tractions=np.array([qx, qy]),
+        slip=np.array([gx, gy]),
+        residual=residual,
+        iterations=iterations,
+        backtracks=backtracks,
+        converged=residual <= tol,
+        stalled=stalled,
+    )
