@@ -58,6 +58,22 @@ def test_euclidean_projection_on_ellipse_satisfies_optimality(beta):
         assert np.hypot(qx[k] - tx[k], qy[k] - ty[k]) <= best + 1e-9
 
 
+@pytest.mark.parametrize("scale", [1e-9, 1e-4, 1e-2])
+def test_projection_is_exact_far_outside_the_ellipse(scale):
+    """Trials 1e9 times the bound (tiny bounds, as at the edge of contact): the Newton
+    iteration starts from a lower bound of the multiplier and still lands on the ellipse to
+    round-off with t − q along the outward normal."""
+    law = FrictionLaw(0.1, 0.4, 0.3)
+    tx, ty = RNG.standard_normal(300), RNG.standard_normal(300)
+    bound = scale * (np.abs(RNG.standard_normal(300)) + 0.1)
+    qx, qy = law.project(tx, ty, bound)
+    np.testing.assert_allclose(law.norm(qx, qy), bound, rtol=1e-12)
+    q1, q2 = to_tribological(0.3, qx, qy)
+    d1, d2 = to_tribological(0.3, tx - qx, ty - qy)
+    n1, n2 = q1 / law.mu1**2, q2 / law.mu2**2
+    sine = (d1 * n2 - d2 * n1) / (np.hypot(d1, d2) * np.hypot(n1, n2))
+    np.testing.assert_allclose(sine, 0.0, atol=1e-9)
+
 def test_isotropic_projection_is_radial_return():
     law = FrictionLaw(0.3, 0.3, 0.4)
     tx, ty = RNG.standard_normal(20), RNG.standard_normal(20)

@@ -427,6 +427,7 @@ class ContactSolver:
                 tol=tol * abs(approach),
                 maxiter=max(budget, 0),
                 count=count,
+                lipschitz=self._symbol_bound(),
             )
             budget -= tangential.iterations
             if normal_its == 1 and tangential.iterations == 0:

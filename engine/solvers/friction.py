@@ -79,8 +79,8 @@ class FrictionLaw:
 
         Solves for the multiplier λ ≥ 0 of min |q − t|² s.t. (q1/a)² + (q2/b)² ≤ 1 with
         a = μ1 ρ, b = μ2 ρ: q_k = a_k² t_k / (a_k² + λ), by Newton's method on the convex,
-        decreasing secular function (monotone from λ = 0; stops when the ellipse equation
-        holds to 1e-14). Isotropic: the radial return.
+        decreasing secular function (monotone from a lower bound of the root; stops when the
+        ellipse equation holds to 1e-14). Isotropic: the radial return.
         """
         if self.isotropic:
             return self.radial_return(tx, ty, bound)
@@ -96,7 +96,11 @@ class FrictionLaw:
         t1p, t2p = t1[positive], t2[positive]
         a2 = (self.mu1 * rho[positive]) ** 2
         b2 = (self.mu2 * rho[positive]) ** 2
-        lam = np.zeros_like(a2)
+        # Start left of the root (f ≥ 0 there, so Newton increases monotonically to it):
+        # f(λ) ≥ a_min² |t|² / (a_max² + λ)² − 1 gives λ0 = a_min |t| − a_max², within the
+        # axis ratio of the root however far outside t lies (exact when a = b).
+        a_min, a2_max = np.sqrt(np.minimum(a2, b2)), np.maximum(a2, b2)
+        lam = np.maximum(a_min * np.hypot(t1p, t2p) - a2_max, 0.0)
         for _ in range(iterations):
             d1, d2 = a2 + lam, b2 + lam
             f = a2 * t1p**2 / d1**2 + b2 * t2p**2 / d2**2 - 1.0

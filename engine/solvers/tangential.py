@@ -17,8 +17,9 @@ solver and Vollebregt's TangCG, made mesh independent by two ingredients:
   tangent stiffness on slip elements (1 on stick elements), so that a slip direction is
   turned by a Newton step where the curvature dominates and elastically where it does not.
 Search directions are combined by Polak–Ribière (restarted when β < 0); each step is
-projected on the ellipses and accepted by an Armijo test on the energy (backtracking), so
-the energy decreases monotonically and the active set cannot cycle. Slip elements whose
+projected on the ellipses and accepted by an Armijo test on the energy (backtracking; after
+a few failures a plain projected-gradient step, which always descends), so the energy
+decreases monotonically and the active set cannot cycle. Slip elements whose
 slip points outward of the ellipse are released to stick. Two operator applications per
 iteration (A_tt d for the step, A_tt Δq for the new slip); the energy change is computed
 from them, so the solver works with differences and needs no explicit c.
@@ -37,6 +38,7 @@ from .friction import FrictionLaw, from_tribological, to_tribological
 ON_BOUND = 1.0 - 1e-10  # ||q||_μ ≥ ON_BOUND · p counts as on the ellipse (slip)
 ARMIJO = 1e-4
 MAX_BACKTRACKS = 30
+PRECONDITIONED_ATTEMPTS = 6  # halvings along the CG direction before a gradient step
 
 
 @dataclass
@@ -90,11 +92,12 @@ def solve_tangential(
     tol: float,
     maxiter: int,
     count: int,
+    lipschitz: float,
 ) -> TangentialResult:
     """Minimise the tangential energy over ||q||_μ ≤ ``bound`` (MPa) starting from
     ``tractions`` (already inside the ellipses) whose slip is ``slip`` (mm); stop when the
     RMS face residual over ``count`` elements is ≤ ``tol`` (mm) or after ``maxiter``
-    iterations."""
+    iterations. ``lipschitz`` bounds the largest eigenvalue of A_tt (mm/MPa)."""
     grid = operator.grid
     centre = (grid.n_x - 1, grid.n_y - 1)
     self_xx = operator.influence.kernels["xx"][centre]
@@ -129,7 +132,7 @@ def solve_tangential(
         zx = np.where(sticking, zx, np.where(sliding, z_along * tx, 0.0))
         zy = np.where(sticking, zy, np.where(sliding, z_along * ty, 0.0))
         rz = _dot(rx, ry, zx, zy)
-        if dx is None:
+        if rx_old is None:
             dx, dy = zx, zy
         else:
             beta = max(0.0, (rz - _dot(rx_old, ry_old, zx, zy)) / rz_old)
@@ -141,7 +144,14 @@ def solve_tangential(
         wx, wy = operator.apply_tangential(dx, dy)
         d_along = dx * tx + dy * ty
         step = _dot(rx, ry, dx, dy) / (_dot(wx, wy, dx, dy) + float(np.sum(curvature * d_along**2)))
-        for _ in range(MAX_BACKTRACKS):
+        accepted = False
+        for attempt in range(MAX_BACKTRACKS):
+            if attempt == PRECONDITIONED_ATTEMPTS:
+                # The preconditioned path keeps failing (far from the solution, the metric
+                # and the projection disagree): take a plain projected-gradient step, which
+                # descends for any step ≤ 1/L, and restart the conjugate directions.
+                dx, dy = np.where(free, gx, 0.0), np.where(free, gy, 0.0)
+                step, rx_old = 1.0 / lipschitz, None
             new_x, new_y = friction.project(qx - step * dx, qy - step * dy, bound)
             change_x = np.where(free, new_x, 0.0) - qx
             change_y = np.where(free, new_y, 0.0) - qy
@@ -149,10 +159,11 @@ def solve_tangential(
             first = _dot(gx, gy, change_x, change_y)
             energy_change = first + 0.5 * _dot(image_x, image_y, change_x, change_y)
             if energy_change <= ARMIJO * first:
+                accepted = True
                 break
             step *= 0.5
             backtracks += 1
-        else:
+        if not accepted:
             stalled = True  # no decrease measurable: the energy is at round-off level
             break
         qx, qy = qx + change_x, qy + change_y
