@@ -12,10 +12,10 @@ solver and Vollebregt's TangCG, made mesh independent by two ingredients:
   cancels the 1/|ξ| smoothing of A_tt), restricted to the stick set;
 - slip elements move only along the tangent of their ellipse; the energy along the ellipse
   has the curvature term λκ (λ = slip magnitude along the normal, mm; κ = curvature of the
-  ellipse, 1/MPa), which usually dominates there: it enters the step length, and the
-  preconditioner is D^½ M⁻¹ D^½ with D the elastic share A_ii / (A_ii + λκ) of the
-  tangent stiffness on slip elements (1 on stick elements), so that a slip direction is
-  turned by a Newton step where the curvature dominates and elastically where it does not.
+  ellipse, 1/MPa). It enters the step length and the preconditioner: where it exceeds the
+  elastic self-stiffness A_ii the slip direction is turned by a Newton step
+  r_t / (A_ii + λκ); elsewhere the element stays in the spectral block, scaled by its
+  elastic share A_ii / (A_ii + λκ) (symmetrically, D^½ M⁻¹ D^½).
 Search directions are combined by Polak–Ribière (restarted when β < 0); each step is
 projected on the ellipses and accepted by an Armijo test on the energy (backtracking; after
 a few failures a plain projected-gradient step, which always descends), so the energy
@@ -121,14 +121,20 @@ def solve_tangential(
         if residual <= tol or iterations == maxiter:
             break
         curvature = np.where(sliding, multiplier * kappa, 0.0)
-        # Preconditioner D^½ M⁻¹ D^½: M⁻¹ spectral, D = 1 on stick elements and the share
-        # A_ii / (A_ii + λκ) of the elastic stiffness on the tangent of slip elements.
+        # Preconditioner: where the curvature stiffness λκ of a slip element exceeds its
+        # elastic self-stiffness A_ii, its direction is turned by the Newton step
+        # r_t / (A_ii + λκ); the other slip elements stay in the spectral block scaled by
+        # D^½ M⁻¹ D^½, D = A_ii / (A_ii + λκ) their elastic share (1 on stick elements).
         stiffness = self_xx * tx**2 + self_yy * ty**2
-        share = np.divide(stiffness, stiffness + curvature, out=np.zeros_like(along), where=sliding)
-        scale = np.where(sticking, 1.0, np.sqrt(share))
+        newton = sliding & (curvature > stiffness)
+        share = np.divide(stiffness, stiffness + curvature, out=np.ones_like(along), where=sliding)
+        scale = np.where(free & ~newton, np.sqrt(share), 0.0)
         zx, zy = preconditioner.tangential(scale * rx, scale * ry)
         zx, zy = scale * zx, scale * zy
-        z_along = zx * tx + zy * ty
+        newton_step = np.divide(
+            along, stiffness + curvature, out=np.zeros_like(along), where=newton
+        )
+        z_along = np.where(newton, newton_step, zx * tx + zy * ty)
         zx = np.where(sticking, zx, np.where(sliding, z_along * tx, 0.0))
         zy = np.where(sticking, zy, np.where(sliding, z_along * ty, 0.0))
         rz = _dot(rx, ry, zx, zy)
