@@ -74,6 +74,7 @@ def test_projection_is_exact_far_outside_the_ellipse(scale):
     sine = (d1 * n2 - d2 * n1) / (np.hypot(d1, d2) * np.hypot(n1, n2))
     np.testing.assert_allclose(sine, 0.0, atol=1e-9)
 
+
 def test_isotropic_projection_is_radial_return():
     law = FrictionLaw(0.3, 0.3, 0.4)
     tx, ty = RNG.standard_normal(20), RNG.standard_normal(20)

@@ -98,24 +98,29 @@ def _tangential_setup(material, bound_value):
     return solver, bound, zeros, slip
 
 
-def test_tangential_cg_with_unreachable_bound_is_the_linear_stick_solution(material):
-    """Bound 1e6 MPa: nothing slips; the slip A_tt q + c vanishes on the face (1e-12 of
-    its initial size, checked with a fresh operator application)."""
-    solver, bound, zeros, slip = _tangential_setup(material, 1e6)
+def _solve_tangential(solver, bound, start, slip):
+    """The tangential CG from ``start`` to 1e-12 of the initial RMS slip."""
     count = int(solver.candidate.sum())
     initial = np.sqrt(np.sum(slip**2) / count)
-    result = solve_tangential(
+    return solve_tangential(
         solver.operator,
         solver.preconditioner,
         solver.friction,
         bound,
-        zeros,
+        start,
         slip,
         tol=1e-12 * initial,
         maxiter=500,
         count=count,
         lipschitz=solver.operator.symbol_bound(),
     )
+
+
+def test_tangential_cg_with_unreachable_bound_is_the_linear_stick_solution(material):
+    """Bound 1e6 MPa: nothing slips; the slip A_tt q + c vanishes on the face (1e-12 of
+    its initial size, checked with a fresh operator application)."""
+    solver, bound, zeros, slip = _tangential_setup(material, 1e6)
+    result = _solve_tangential(solver, bound, zeros, slip)
     assert result.converged
     assert result.iterations < 60
     fresh = np.array(solver.operator.apply_tangential(*result.tractions)) + slip
@@ -127,20 +132,7 @@ def test_tangential_cg_with_tiny_bound_slips_everywhere_along_the_slip(material)
     """Bound 1e-9 MPa: every element slides; the traction sits on its ellipse at the point
     whose outward normal is opposite to the slip (maximal dissipation, Eq. 9–10)."""
     solver, bound, zeros, slip = _tangential_setup(material, 1e-9)
-    count = int(solver.candidate.sum())
-    initial = np.sqrt(np.sum(slip**2) / count)
-    result = solve_tangential(
-        solver.operator,
-        solver.preconditioner,
-        solver.friction,
-        bound,
-        zeros,
-        slip,
-        tol=1e-12 * initial,
-        maxiter=500,
-        count=count,
-        lipschitz=solver.operator.symbol_bound(),
-    )
+    result = _solve_tangential(solver, bound, zeros, slip)
     assert result.converged
     face = (bound > 0) & (np.hypot(*slip) > 1e-6 * np.abs(slip).max())
     norm = solver.friction.norm(*result.tractions)

@@ -405,9 +405,7 @@ class ContactSolver:
         pressure = state.pressure
         tractions = np.array([state.traction_x, state.traction_y])
         coupling = operator.coupling_to_normal(*tractions)
-        inner_tol, budget, outer = 0.1, self.maxiter, 0
-        residual, approach, settled = math.inf, state.approach, False
-        u = None
+        inner_tol, budget, settled = 0.1, self.maxiter, False
         for outer in range(1, MAX_OUTER + 1):  # noqa: B007 (count kept after loop)
             tol = max(0.3 * self.tol, inner_tol)
             old_bound = pressure
@@ -448,7 +446,6 @@ class ContactSolver:
         if not settled:
             u = np.array(operator.apply(*x))
             residual, approach = self._natural_residual(x, u, previous, offset, load)
-        kind = f"alternating PCG ({outer} passes)"
         if not settled and budget > 0 and residual > self.tol:
             spent = operator.applications - start
             label = f" after {outer} alternating passes"
@@ -466,7 +463,7 @@ class ContactSolver:
             self.maxiter - max(budget, 0),
             operator.applications - start,
             residual,
-            kind,
+            f"alternating PCG ({outer} passes)",
         )
 
     def _follow_bound(self, tractions, old_bound, bound):
@@ -477,24 +474,35 @@ class ContactSolver:
         factor = np.divide(bound, old_bound, out=np.ones_like(bound), where=sliding)
         return np.array(self._project_tractions(*(tractions * factor), bound))
 
-    def _natural_residual(self, x, u, previous, offset, load):
-        """Relative natural residual (x − P(x − αG))/α of the coupled increment at ``x`` with
-        ``u = A x``, α = 1 / (bound of A's largest eigenvalue); returns it and the approach
-        (the multiplier of the load constraint)."""
+    def _gradient_map(self, x, u, previous, offset, target, delta, alpha):
+        """One projected-gradient step from ``x`` (with ``u = A x``) of length ``alpha``:
+        the pressure on {p ≥ 0, Σ p = ``target``} (or {p ≥ 0} at the approach ``delta`` when
+        ``target`` is None), the tractions on the ellipse of the new pressure. Returns the
+        new point, the approach (the multiplier of the load constraint) and the relative
+        natural residual |x − new| / (α δ) (RMS over the candidate elements)."""
         mask = self.candidate
-        alpha = 1.0 / self._symbol_bound()
         gradient = np.empty_like(u)
         gradient[:2] = u[:2] - previous
-        gradient[2] = u[2] + offset
+        gradient[2] = u[2] + offset if target is not None else u[2] + offset - delta
         gradient[:, ~mask] = 0.0
         trial = x - alpha * gradient
         new = np.zeros_like(x)
-        new[2, mask], theta = _project_load(trial[2, mask], load / self.grid.element_area)
-        delta = theta / alpha
+        if target is not None:
+            new[2, mask], theta = _project_load(trial[2, mask], target)
+            delta = theta / alpha
+        else:
+            new[2, mask] = np.maximum(trial[2, mask], 0.0)
         new[0], new[1] = self._project_tractions(trial[0], trial[1], new[2])
-        step = x - new
         scale = abs(delta) if delta != 0.0 else 1.0
-        residual = math.sqrt(np.sum(step[:, mask] ** 2) / mask.sum()) / (alpha * scale)
+        residual = math.sqrt(np.sum((x - new)[:, mask] ** 2) / mask.sum()) / (alpha * scale)
+        return new, delta, residual
+
+    def _natural_residual(self, x, u, previous, offset, load):
+        """The relative natural residual of the load-controlled increment at ``x``, with
+        α = 1 / (bound of A's largest eigenvalue); returns it and the approach."""
+        target = load / self.grid.element_area
+        alpha = 1.0 / self._symbol_bound()
+        _, delta, residual = self._gradient_map(x, u, previous, offset, target, 0.0, alpha)
         return residual, delta
 
     def _symbol_bound(self) -> float:
@@ -507,8 +515,7 @@ class ContactSolver:
     ) -> IncrementResult:
         """Accelerated projected gradient on (q_x, q_y, p) with adaptive restart, from
         ``start`` (q_x, q_y, p) when given (``spent`` operator applications already made)."""
-        grid, mask = self.grid, self.candidate
-        count = int(mask.sum())
+        grid = self.grid
         initial = start
         start = self.operator.applications - spent  # the first solve pays the step estimate
         alpha = 1.0 / self.lipschitz()
@@ -534,21 +541,8 @@ class ContactSolver:
         iterations = 0
         for iterations in range(1, self.maxiter + 1):  # noqa: B007 (count kept after loop)
             u = np.array(self.operator.apply(*y))
-            gradient = np.empty_like(u)
-            gradient[:2] = u[:2] - previous
-            gradient[2] = u[2] + offset if target is not None else u[2] + offset - delta
-            gradient[:, ~mask] = 0.0
-            trial = y - alpha * gradient
-            new = np.zeros_like(x)
-            if target is not None:
-                new[2, mask], theta = _project_load(trial[2, mask], target)
-                delta = theta / alpha
-            else:
-                new[2, mask] = np.maximum(trial[2, mask], 0.0)
-            new[0], new[1] = self._project_tractions(trial[0], trial[1], new[2])
+            new, delta, residual = self._gradient_map(y, u, previous, offset, target, delta, alpha)
             step = y - new
-            scale = abs(delta) if delta != 0.0 else 1.0
-            residual = math.sqrt(np.sum(step[:, mask] ** 2) / count) / (alpha * scale)
             if residual <= self.tol:
                 x = new
                 break

@@ -56,9 +56,10 @@ class TangentialResult:
     stalled: bool = False
 
 
-def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray):
+def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray, rho=None):
     """Unit outward normal (n_x, n_y) and unit tangent (t_x, t_y) of the friction ellipse
-    through q, and its curvature κ (1/MPa); zero tractions get an arbitrary frame."""
+    through q, and its curvature κ (1/MPa); zero tractions get an arbitrary frame. ``rho``:
+    ||q||_μ when already known."""
     q1, q2 = to_tribological(friction.beta, qx, qy)
     g1, g2 = q1 / friction.mu1**2, q2 / friction.mu2**2  # gradient of ||q||_μ² / 2
     length = np.hypot(g1, g2)
@@ -66,7 +67,7 @@ def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray):
     nx, ny = from_tribological(friction.beta, g1 / safe, g2 / safe)
     # Curvature of q1²/a² + q2²/b² = 1 with a = μ1 ρ, b = μ2 ρ (ρ = ||q||_μ):
     # κ = 1 / (a² b² (q1²/a⁴ + q2²/b⁴)^{3/2}).
-    rho = friction.norm(qx, qy)
+    rho = friction.norm(qx, qy) if rho is None else rho
     a2, b2 = (friction.mu1 * rho) ** 2, (friction.mu2 * rho) ** 2
     denominator = (
         a2
@@ -109,8 +110,9 @@ def solve_tangential(
     rz_old = 0.0
     residual, backtracks, iterations, stalled = math.inf, 0, 0, False
     for iterations in range(maxiter + 1):  # noqa: B007 (count kept after loop)
-        nx, ny, tx, ty, kappa = ellipse_frame(friction, qx, qy)
-        on_bound = free & (friction.norm(qx, qy) >= ON_BOUND * bound)
+        norm = friction.norm(qx, qy)
+        nx, ny, tx, ty, kappa = ellipse_frame(friction, qx, qy, norm)
+        on_bound = free & (norm >= ON_BOUND * bound)
         multiplier = -(gx * nx + gy * ny)  # λ ≥ 0: slip along the inward normal
         sliding = on_bound & (multiplier > 0.0)
         sticking = free & ~sliding
