@@ -14,10 +14,10 @@ traction components involved).
 from __future__ import annotations
 
 import numpy as np
-import pyfftw
 
 from ..grid import Grid
 from ..material import MaterialPair
+from .fft import DEFAULT_EFFORT, RealFFTPair
 from .influence import SurfaceInfluence
 
 # Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
@@ -45,30 +45,6 @@ def wrap_kernel(kernel: np.ndarray, padded_shape: tuple[int, int]) -> np.ndarray
     return wrapped
 
 
-class _BatchedRealFFT:
-    """Forward and inverse real 2-D FFTs of ``batch`` fields with reusable pyfftw plans."""
-
-    def __init__(self, batch: int, padded_shape: tuple[int, int], threads: int, effort: str):
-        shape = (batch, *padded_shape)
-        self.real = pyfftw.empty_aligned(shape, dtype="float64")
-        self.spectrum = pyfftw.empty_aligned(
-            (batch, padded_shape[0], padded_shape[1] // 2 + 1), dtype="complex128"
-        )
-        flags = (effort, "FFTW_DESTROY_INPUT")
-        self.forward = pyfftw.FFTW(
-            self.real, self.spectrum, axes=(1, 2), threads=threads, flags=flags
-        )
-        self.inverse = pyfftw.FFTW(
-            self.spectrum,
-            self.real,
-            axes=(1, 2),
-            direction="FFTW_BACKWARD",
-            threads=threads,
-            flags=flags,
-        )
-        self.real[...] = 0.0
-
-
 class HalfSpaceOperator:
     """Relative surface displacements of two half-spaces from surface tractions.
 
@@ -82,7 +58,7 @@ class HalfSpaceOperator:
         material: MaterialPair,
         *,
         threads: int = 1,
-        planner_effort: str = "FFTW_MEASURE",
+        planner_effort: str = DEFAULT_EFFORT,
     ):
         self.grid = grid
         self.material = material
@@ -90,7 +66,7 @@ class HalfSpaceOperator:
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
         self.influence = SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
-        self._ffts: dict[tuple[int, str], _BatchedRealFFT] = {}
+        self._ffts: dict[tuple[int, str], RealFFTPair] = {}
         spectra = {}
         transform = self._fft(1)
         for key, kernel in self.influence.kernels.items():
@@ -106,11 +82,13 @@ class HalfSpaceOperator:
         self._product = np.empty_like(spectra["zz"])
         self.applications = 0
 
-    def _fft(self, batch: int, role: str = "in") -> _BatchedRealFFT:
+    def _fft(self, batch: int, role: str = "in") -> RealFFTPair:
         """Plans and buffers per batch size; inputs and outputs never share a buffer."""
         key = (batch, role)
         if key not in self._ffts:
-            self._ffts[key] = _BatchedRealFFT(batch, self.padded_shape, self.threads, self._effort)
+            self._ffts[key] = RealFFTPair(
+                (batch, *self.padded_shape), threads=self.threads, effort=self._effort
+            )
         return self._ffts[key]
 
     def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..geometry import Profile
 from ..grid import Grid
+from ..kernels.fft import DEFAULT_EFFORT
 from ..kernels.operator import HalfSpaceOperator, SpectralPreconditioner
 from ..material import MaterialPair
 from ..validation import require_finite, require_finite_array, require_non_negative
@@ -138,7 +139,8 @@ class ContactSolver:
     Parameters: ``grid`` (potential contact zone), ``material``, ``profile`` (geometric gap;
     ``inf`` where the punch has no surface), ``friction``; ``tol`` on the relative residual,
     ``maxiter`` iterations per increment, ``threads`` and ``planner_effort`` for FFTW
-    ("FFTW_ESTIMATE" makes results bit-reproducible across processes).
+    (default "FFTW_ESTIMATE": results bit-reproducible across processes, see
+    ``engine.kernels.fft``; "FFTW_MEASURE" may be faster, not reproducible).
     """
 
     def __init__(
@@ -151,7 +153,7 @@ class ContactSolver:
         tol: float = 1e-8,
         maxiter: int = 20000,
         threads: int = 1,
-        planner_effort: str = "FFTW_MEASURE",
+        planner_effort: str = DEFAULT_EFFORT,
         operator: HalfSpaceOperator | None = None,
     ):
         profile.check_grid(grid)

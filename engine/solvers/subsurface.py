@@ -36,10 +36,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import pyfftw
 from scipy.fft import next_fast_len
 
 from ..grid import Grid
+from ..kernels.fft import DEFAULT_EFFORT, RealFFTPair
 from ..kernels.stress import COMPONENTS, LOADS, element_stress, kernel_parity
 from ..validation import require_poisson, require_positive
 
@@ -203,22 +203,8 @@ class _LatticeConvolution:
         self.padded = tuple(
             next_fast_len(n + m - 1, real=True) for n, m in zip(grid.shape, counts, strict=True)
         )
-        self._real = pyfftw.empty_aligned(self.padded, dtype="float64")
-        self._spectrum = pyfftw.empty_aligned(
-            (self.padded[0], self.padded[1] // 2 + 1), dtype="complex128"
-        )
-        flags = (effort, "FFTW_DESTROY_INPUT")
-        self._forward = pyfftw.FFTW(
-            self._real, self._spectrum, axes=(0, 1), threads=threads, flags=flags
-        )
-        self._inverse = pyfftw.FFTW(
-            self._spectrum,
-            self._real,
-            axes=(0, 1),
-            direction="FFTW_BACKWARD",
-            threads=threads,
-            flags=flags,
-        )
+        self._fft = RealFFTPair(self.padded, threads=threads, effort=effort)
+        self._real, self._spectrum = self._fft.real, self._fft.spectrum
         self._scale = 1.0 / (self.padded[0] * self.padded[1])
         steps = (grid.dx, grid.dy)
         sources = (grid.x[0], grid.y[0])
@@ -256,8 +242,7 @@ class _LatticeConvolution:
             real[N_x - nx + 1 :, : values.shape[1] - ny + 1] = values[: nx - 1, ny - 1 :]
             real[: values.shape[0] - nx + 1, N_y - ny + 1 :] = values[nx - 1 :, : ny - 1]
             real[N_x - nx + 1 :, N_y - ny + 1 :] = values[: nx - 1, : ny - 1]
-        self._forward()
-        return self._spectrum.copy()
+        return self._fft.forward().copy()
 
     def traction_spectra(self, tractions: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """Forward transforms of the zero-padded traction fields (once per call)."""
@@ -308,7 +293,7 @@ class _LatticeConvolution:
                     spectrum += kernel * traction
                 else:
                     spectrum += factor * (kernel * traction)
-            self._inverse.execute()
+            self._fft.inverse_unscaled()
             result[component] = self._scale * self._real[:m_x, :m_y]
         return result
 
@@ -340,7 +325,8 @@ class SubsurfaceStress:
     depths : evaluation depths (mm, all > 0), e.g. from ``depth_layers``.
     threads : FFTW threads.
     cache_kernels : keep kernel spectra between calls (memory: see the module docstring).
-    planner_effort : FFTW planner flag, ``"FFTW_MEASURE"`` (default) or ``"FFTW_ESTIMATE"``.
+    planner_effort : FFTW planner flag, ``"FFTW_ESTIMATE"`` (default: bit-reproducible across
+        processes, see ``engine.kernels.fft``) or ``"FFTW_MEASURE"``.
     """
 
     def __init__(
@@ -351,7 +337,7 @@ class SubsurfaceStress:
         threads: int = 1,
         *,
         cache_kernels: bool = True,
-        planner_effort: str = "FFTW_MEASURE",
+        planner_effort: str = DEFAULT_EFFORT,
     ):
         self.grid = grid
         self.poisson_ratio = require_poisson("poisson_ratio", poisson_ratio)

@@ -77,7 +77,11 @@ def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
         depth_layers(config.subsurface.depth * config.punch.radius, config.subsurface.layers),
         dtype=float,
     )
-    stress = SubsurfaceStress(grid, config.material.nu_A, depths)
+    # The study's planner effort: a timed plan here would leave FFTW wisdom that the cases'
+    # estimate plans of the same lattice reuse, on this rank only (issue 15).
+    stress = SubsurfaceStress(
+        grid, config.material.nu_A, depths, planner_effort=config.solver.planner_effort
+    )
     zero = np.zeros(grid.shape)
     plane = stress.plane(zero, zero, zero, angle=0.0)
     arrays = {"x": plane.x, "y": plane.y, "z": plane.z, "von_mises": plane.von_mises}
