@@ -1,69 +1,260 @@
-"""Cyclic-wear benchmark (issue 3): one core, Section 7.2 settings.
+"""Cyclic-wear benchmark (issues 3, 17): today's method and the new one side by side.
 
-Flat punch a0 = 1.8 mm, P = 750 N, i = 1.33e-7 1/MPa, paper materials; default cycle jumping
-(10 increments per half cycle, wear per jump <= 0.004 of the elastic approach), tol 1e-6.
-Prints, for μ = 0.1 at 64² and 128²: simulated cycles to reach 10⁵ real cycles, wall time per
-simulated cycle, total wall time, operator applications per increment, and the wear reached.
-Target: the 64² case under 2 minutes on one core.
+Section 7.2 settings: flat punch a0 = 1.8 mm, P = 750 N, i = 1.33e-7 1/MPa, μ = 0.1, paper
+materials, 10 increments per half cycle, wear per jump <= 0.004 of the elastic approach,
+tol 1e-6, 10⁵ cycles. Methods (``CyclicSettings.warm_start``):
+
+- today: ``previous_increment``: every increment starts from the previous increment;
+- new:   ``previous_cycle``: every increment starts from the same increment of the previous
+  simulated cycles (linearly extrapolated in N), with the first inner tolerance set from the
+  start's own residual.
+
+Each (size, method) runs in a fresh process (so the peak RSS is its own), one after the
+other, alternating the order per size, on one core (OMP/OpenBLAS threads = 1, FFTW threads =
+1). Printed per run: set-up time (operator, spectra, plans, preconditioner), solve time,
+simulated cycles, operator applications per increment, max wear depth, wear volume, the
+von Mises peak of the final x–z plane (all layers and below the surface layer) and the peak
+RSS; then the ratios today/new. Targets (issue 17): 64² ≤ 10 s and ≥ 2.9× today in the same
+run, 128² ≤ 45 s, results within 1 %.
+
+``--static-cases K`` also runs a study of K static frictional 128² cases through the case
+runner, with the per-rank operator cache and without it (today), and prints set-up vs total.
+``--static-512`` reports the peak RSS of one 512² static frictional solve.
 
 Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_cyclic.py [--sizes 64 128]
-Takes ~2 minutes for 64² and ~8 minutes more for 128² here.
+      [--static-cases 20] [--static-512]
+Takes ~1 minute for 64² and ~4 minutes more for 128² on an idle core here.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
 import time
-
-from engine.geometry import FlatPunch
-from engine.grid import Grid
-from engine.material import paper_material
-from engine.solvers.contact import ContactSolver
-from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
-from engine.solvers.friction import FrictionLaw, WearLaw
+from pathlib import Path
 
 RADIUS, LOAD, WEAR = 1.8, 750.0, 1.33e-7
+METHODS = {"today": "previous_increment", "new": "previous_cycle"}
+REPO = Path(__file__).resolve().parents[1]
 
 
-def run(n: int, mu: float, cycles: int) -> dict:
+def _peak_rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def run_cyclic(n: int, mu: float, cycles: int, method: str) -> dict:
+    """One cyclic case in this process; returns the figures of the table."""
+    from engine.geometry import FlatPunch
+    from engine.grid import Grid
+    from engine.material import paper_material
+    from engine.solvers.contact import ContactSolver
+    from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
+    from engine.solvers.friction import FrictionLaw, WearLaw
+    from engine.solvers.subsurface import SubsurfaceStress, depth_layers
+
     grid = Grid.square(n, 1.05 * RADIUS)
     start = time.perf_counter()
     solver = ContactSolver(grid, paper_material(), FlatPunch(RADIUS), FrictionLaw(mu, mu), tol=1e-6)
-    settings = CyclicSettings(LOAD, 10, cycles, record=(1000, 10000, 100000))
+    solver.preconditioner  # noqa: B018 (set-up: built before the clock of the solve starts)
+    solver.operator.symbol_bound()
+    setup = time.perf_counter() - start
+    settings = CyclicSettings(
+        LOAD, 10, cycles, record=(1000, 10000, 100000), warm_start=METHODS[method]
+    )
+    start = time.perf_counter()
     result = CyclicAnalysis(solver, WearLaw(WEAR, WEAR), settings).run()
-    elapsed = time.perf_counter() - start
-    simulated = len(result.history["cycle"])
+    solve = time.perf_counter() - start
+    depths = depth_layers(1.5 * RADIUS, 16)
+    final = result.final
+    plane = SubsurfaceStress(grid, paper_material().nu_A, depths).plane(
+        final.pressure, final.traction_x, final.traction_y
+    )
     return dict(
         n=n,
-        mu=mu,
-        time=elapsed,
-        simulated=simulated,
-        per_cycle=elapsed / simulated,
+        method=method,
+        setup=setup,
+        solve=solve,
+        simulated=len(result.history["cycle"]),
         per_increment=result.matvecs / result.load_steps,
-        converged=result.converged,
-        depth=result.history["max_wear_depth"][-1],
-        volume=result.history["wear_volume"][-1],
+        converged=bool(result.converged),
+        depth=float(result.history["max_wear_depth"][-1]),
+        volume=float(result.history["wear_volume"][-1]),
+        vm=float(plane.peak().value),
+        vm_sub=float(plane.peak(min_depth=float(depths[1])).value),
+        rss=_peak_rss_mb(),
     )
+
+
+def run_static_512() -> dict:
+    """Peak RSS (MB) and time of one 512² static frictional solve (μ = 0.3, 3 increments)."""
+    from engine.geometry import FlatPunch
+    from engine.grid import Grid
+    from engine.material import paper_material
+    from engine.solvers.contact import ContactSolver
+    from engine.solvers.friction import FrictionLaw
+    from engine.solvers.static import static_analysis
+
+    grid = Grid.square(512, 1.05 * RADIUS)
+    start = time.perf_counter()
+    solver = ContactSolver(grid, paper_material(), FlatPunch(RADIUS), FrictionLaw(0.3, 0.3))
+    result = static_analysis(solver, LOAD, 3)
+    return dict(time=time.perf_counter() - start, rss=_peak_rss_mb(), converged=result.converged)
+
+
+STATIC_STUDY = """
+[study]
+name = "bench_static"
+output = "{output}"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+[punch]
+radius = 1.8
+[mesh]
+n = {n}
+[loading]
+kind = "static"
+load = 750.0
+steps = 1
+[subsurface]
+depth = 1.5
+layers = 16
+[sweep]
+mu1 = {mu}
+"""
+
+
+def run_static_cases(n: int, count: int, shared: bool) -> dict:
+    """``count`` static frictional cases (μ from 0.05 to 0.5) through the case runner, with
+    the per-rank operator cache (``shared``) or a fresh build per case (today)."""
+    import tempfile
+
+    from engine.study.case import CaseRunner
+    from engine.study.config import parse_study
+    from engine.study.operators import OperatorCache
+    from engine.study.plan import make_plan
+
+    mus = [round(0.05 + 0.45 * k / max(count - 1, 1), 4) for k in range(count)]
+    with tempfile.TemporaryDirectory() as folder:
+        text = STATIC_STUDY.format(output=Path(folder) / "s.h5", n=n, mu=mus)
+        config = parse_study(text, source="bench")
+        runner = CaseRunner(config)
+        setup = 0.0
+        start = time.perf_counter()
+        for case in make_plan(config):
+            if not shared:
+                runner.operators = OperatorCache()
+            outcome = runner(case)
+            assert outcome.status == "completed", outcome.message
+            setup += runner.operators.setup_s if not shared else 0.0
+        total = time.perf_counter() - start
+        if shared:
+            setup = runner.operators.setup_s
+    return dict(total=total, setup=setup, count=count, rss=_peak_rss_mb())
+
+
+def in_subprocess(*arguments: str) -> dict:
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    output = subprocess.run(
+        [sys.executable, __file__, "--child", *arguments],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return json.loads(output.strip().splitlines()[-1])
+
+
+def _relative(a: float, b: float) -> str:
+    return f"{abs(a / b - 1) * 100:.3f} %"
+
+
+def compare_cyclic(sizes, mu, cycles) -> None:
+    print(
+        f"{'n':>4} {'method':>6} {'setup s':>7} {'solve s':>8} {'sim cyc':>7} "
+        f"{'matvec/inc':>10} {'max wear um':>11} {'volume mm3':>11} {'vm MPa':>8} "
+        f"{'vm_sub MPa':>10} {'RSS MB':>7} converged",
+        flush=True,
+    )
+    for index, n in enumerate(sizes):
+        order = ("today", "new") if index % 2 == 0 else ("new", "today")
+        rows = {}
+        for method in order:
+            row = in_subprocess("cyclic", str(n), str(mu), str(cycles), method)
+            rows[method] = row
+            print(
+                f"{n:>4} {method:>6} {row['setup']:7.2f} {row['solve']:8.2f} "
+                f"{row['simulated']:>7} {row['per_increment']:10.1f} {row['depth'] * 1e3:11.5f} "
+                f"{row['volume']:11.5e} {row['vm']:8.2f} {row['vm_sub']:10.2f} "
+                f"{row['rss']:7.0f} {row['converged']}",
+                flush=True,
+            )
+        today, new = rows["today"], rows["new"]
+        print(
+            f"{n:>4} today/new: solve time {today['solve'] / new['solve']:.2f}x, total "
+            f"{(today['solve'] + today['setup']) / (new['solve'] + new['setup']):.2f}x, "
+            f"operator applications {today['per_increment'] / new['per_increment']:.2f}x; "
+            f"differences: max wear {_relative(new['depth'], today['depth'])}, volume "
+            f"{_relative(new['volume'], today['volume'])}, vm "
+            f"{_relative(new['vm'], today['vm'])}, vm_sub "
+            f"{_relative(new['vm_sub'], today['vm_sub'])}; RSS new - today "
+            f"{new['rss'] - today['rss']:+.0f} MB",
+            flush=True,
+        )
+
+
+def child(arguments) -> None:
+    kind = arguments[0]
+    if kind == "cyclic":
+        n, mu, cycles, method = arguments[1:]
+        row = run_cyclic(int(n), float(mu), int(cycles), method)
+    elif kind == "static":
+        n, count, shared = arguments[1:]
+        row = run_static_cases(int(n), int(count), shared == "shared")
+    else:
+        row = run_static_512()
+    print(json.dumps(row))
 
 
 def main() -> None:
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        child(sys.argv[2:])
+        return
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[64, 128])
     parser.add_argument("--mu", type=float, default=0.1)
     parser.add_argument("--cycles", type=int, default=100000)
+    parser.add_argument("--static-cases", type=int, default=0, metavar="K")
+    parser.add_argument("--static-n", type=int, default=128)
+    parser.add_argument("--static-512", action="store_true")
     args = parser.parse_args()
-    print(
-        f"{'n':>5} {'mu':>5} {'sim cycles':>10} {'s/cycle':>8} {'total s':>8} "
-        f"{'matvecs/incr':>12} {'max wear um':>11} {'volume mm3':>10} converged"
-    )
-    for n in args.sizes:
-        row = run(n, args.mu, args.cycles)
+    print(f"load average before: {os.getloadavg()}, cpus: {os.cpu_count()}", flush=True)
+    if args.sizes:
+        compare_cyclic(args.sizes, args.mu, args.cycles)
+    if args.static_cases:
+        for mode in ("today", "shared"):
+            row = in_subprocess("static", str(args.static_n), str(args.static_cases), mode)
+            print(
+                f"{row['count']} static {args.static_n}² cases ({mode:>6}): total "
+                f"{row['total']:.2f} s, set-up {row['setup']:.2f} s "
+                f"({100 * row['setup'] / row['total']:.1f} %), RSS {row['rss']:.0f} MB",
+                flush=True,
+            )
+    if args.static_512:
+        row = in_subprocess("static512")
         print(
-            f"{row['n']:>5} {row['mu']:>5} {row['simulated']:>10} {row['per_cycle']:8.2f} "
-            f"{row['time']:8.1f} {row['per_increment']:12.0f} {row['depth'] * 1e3:11.4f} "
-            f"{row['volume']:10.3e} {row['converged']}",
+            f"512² static frictional solve (3 increments): {row['time']:.1f} s, peak RSS "
+            f"{row['rss']:.0f} MB, converged {row['converged']}",
             flush=True,
         )
+    print(f"load average after: {os.getloadavg()}", flush=True)
 
 
 if __name__ == "__main__":

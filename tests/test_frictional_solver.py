@@ -33,7 +33,9 @@ def _two_increments(solver):
 def _fista(solver):
     """The same solver with the alternation replaced by FISTA (the independent method)."""
     clone = with_friction(solver, solver.friction)
-    clone._alternating = lambda load, state, offset: clone._fista(load, None, state, offset)
+    clone._alternating = lambda load, state, offset, guess=None: clone._fista(
+        load, None, state, offset
+    )
     return clone
 
 

@@ -66,6 +66,7 @@ class HalfSpaceOperator:
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
         self.influence = SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
+        self.planner_effort = planner_effort
         self._ffts: dict[tuple[int, str], RealFFTPair] = {}
         spectra = {}
         transform = self._fft(1)
@@ -81,6 +82,15 @@ class HalfSpaceOperator:
             self._full[a, b] = sign * spectra[key]
         self._product = np.empty_like(spectra["zz"])
         self.applications = 0
+        self._symbol_bound: float | None = None
+        self._preconditioner: SpectralPreconditioner | None = None
+
+    @property
+    def preconditioner(self) -> SpectralPreconditioner:
+        """The spectral preconditioner of this operator (built once, then shared)."""
+        if self._preconditioner is None:
+            self._preconditioner = SpectralPreconditioner(self)
+        return self._preconditioner
 
     def _fft(self, batch: int, role: str = "in") -> RealFFTPair:
         """Plans and buffers per batch size; inputs and outputs never share a buffer."""
@@ -139,10 +149,13 @@ class HalfSpaceOperator:
 
     def symbol_bound(self) -> float:
         """An upper bound of the largest eigenvalue of A (mm/MPa): max over frequencies of
-        the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric)."""
-        symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
-        hermitian = 0.5 * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
-        return float(np.linalg.eigvalsh(hermitian).max())
+        the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric);
+        computed once."""
+        if self._symbol_bound is None:
+            symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
+            hermitian = 0.5 * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
+            self._symbol_bound = float(np.linalg.eigvalsh(hermitian).max())
+        return self._symbol_bound
 
     def normal_symbol_bound(self) -> float:
         return float(np.abs(self._spectra["zz"]).max())
@@ -182,14 +195,26 @@ class SpectralPreconditioner:
             -spectrum["xy"] / determinant,
             spectrum["xx"] / determinant,
         )
+        # pyfftw plans of the operator's kind (estimate by default: reproducible bits).
+        effort, threads = operator.planner_effort, operator.threads
+        self._one = RealFFTPair((1, *self.shape), threads=threads, effort=effort)
+        self._two = RealFFTPair((2, *self.shape), threads=threads, effort=effort)
 
     def normal(self, residual: np.ndarray) -> np.ndarray:
-        return np.fft.irfft2(np.fft.rfft2(residual) * self._normal, self.shape)
+        fft = self._one
+        fft.real[0] = residual
+        spectrum = fft.forward()
+        spectrum *= self._normal
+        return fft.inverse()[0].copy()
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
-        fx, fy = np.fft.rfft2(rx), np.fft.rfft2(ry)
+        fft = self._two
+        fft.real[0] = rx
+        fft.real[1] = ry
+        spectrum = fft.forward()
+        fx, fy = spectrum[0].copy(), spectrum[1]
         ixx, ixy, iyy = self._tangential
-        return (
-            np.fft.irfft2(ixx * fx + ixy * fy, self.shape),
-            np.fft.irfft2(ixy * fx + iyy * fy, self.shape),
-        )
+        spectrum[0] = ixx * fx + ixy * fy
+        spectrum[1] = ixy * fx + iyy * fy
+        real = fft.inverse()
+        return real[0].copy(), real[1].copy()

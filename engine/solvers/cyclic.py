@@ -11,6 +11,18 @@ largest integer with ΔN·max(Δω_cycle) ≤ ``max_wear_fraction``·δ(P) (δ: 
 peak load), at most ``max_jump_growth`` times the previous jump, and cut so that the count
 lands exactly on every recorded cycle and on the final one.
 
+Warm start (``CyclicSettings.warm_start = "previous_cycle"``, the default): increment k of a
+simulated cycle starts its iteration from the converged increment k of the previous simulated
+cycles, which differ from it only by the wear of the jumps, instead of from increment k − 1,
+which differs by a whole load step. With two previous cycles x_k(N_1), x_k(N_0) the start is
+their linear extrapolation in the cycle count, x_k(N_1) + (N − N_1)/(N_1 − N_0) ·
+(x_k(N_1) − x_k(N_0)), projected on p ≥ 0 and the friction ellipses (the wear, hence the
+solution, drifts smoothly with N). The history of the increment (the slip reference) is still
+increment k − 1; only where the iteration starts changes, so the converged increment is the
+same to the solver tolerance. The previous cycles' increments are part of ``CyclicState`` and
+of its checkpoint, so a resumed case does the same work bit for bit.
+``"previous_increment"`` is the former method (each increment starts from the one before).
+
 Histories hold one row per simulated cycle, describing the state after N real cycles (the
 peak-load solution computed with ω(N)). Records hold the peak-load fields at recorded cycles.
 """
@@ -48,6 +60,8 @@ HISTORY_UNITS = {
     "slip_area": "mm^2",
     "approach": "mm",
 }
+WARM_STARTS = ("previous_cycle", "previous_increment")
+WARM_KEYS = ("pressure", "traction_x", "traction_y")
 RECORD_KEYS = ("wear", "pressure", "traction_x", "traction_y", "status")
 
 
@@ -56,7 +70,9 @@ class CyclicSettings:
     """``load`` P (N), ``steps`` increments per half cycle, ``cycles`` real cycles to reach,
     ``record``: cycles at which peak-load fields are kept (those beyond ``cycles`` raise),
     ``max_wear_fraction``: wear allowed per jump as a fraction of the peak elastic approach,
-    ``max_jump_growth``: largest ratio of consecutive jumps."""
+    ``max_jump_growth``: largest ratio of consecutive jumps; ``warm_start``: where each
+    increment's iteration starts, ``"previous_cycle"`` or ``"previous_increment"`` (see the
+    module docstring)."""
 
     load: float
     steps: int
@@ -64,8 +80,11 @@ class CyclicSettings:
     record: tuple[int, ...] = (1000, 10000, 100000)
     max_wear_fraction: float = 0.004
     max_jump_growth: float = 2.0
+    warm_start: str = "previous_cycle"
 
     def __post_init__(self) -> None:
+        if self.warm_start not in WARM_STARTS:
+            raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {self.warm_start!r}")
         object.__setattr__(self, "load", require_positive("load", self.load))
         for name in ("steps", "cycles"):
             value = getattr(self, name)
@@ -87,7 +106,9 @@ class CyclicSettings:
 @dataclass
 class CyclicState:
     """Everything needed to resume a cyclic analysis: wear (mm), the unloaded contact state,
-    the real cycle count, the last jump, histories and records so far."""
+    the real cycle count, the last jump, histories and records so far, and ``warm``: the
+    converged increments of the last (at most two) simulated cycles, newest first, with
+    ``warm_jump`` real cycles between them (the next cycle's starting points)."""
 
     wear: np.ndarray
     contact: ContactState
@@ -99,6 +120,8 @@ class CyclicState:
     load_steps: int = 0
     failures: list[str] = field(default_factory=list)
     step_size_estimate: float | None = None
+    warm: list[list[ContactState]] = field(default_factory=list)
+    warm_jump: int = 0
 
     def save(self, path: str | Path) -> None:
         """Write the state to ``path`` (.npz) atomically (temporary file, then rename)."""
@@ -117,6 +140,12 @@ class CyclicState:
             dtype=float,
         )
         arrays["failures"] = np.array(self.failures, dtype=str)
+        if self.warm:
+            for key in WARM_KEYS:
+                arrays[f"warm_{key}"] = np.array(
+                    [[getattr(c, key) for c in cycle] for cycle in self.warm]
+                )
+            arrays["warm_jump"] = np.array(self.warm_jump)
         temporary = path.with_name(path.name + ".tmp.npz")
         np.savez(temporary, **arrays)
         temporary.replace(path)
@@ -150,7 +179,21 @@ class CyclicState:
                 load_steps=int(load_steps),
                 failures=[str(f) for f in data["failures"]],
                 step_size_estimate=None if np.isnan(step) else float(step),
+                warm=_load_warm(data),
+                warm_jump=int(data["warm_jump"]) if "warm_jump" in data.files else 0,
             )
+
+
+def _load_warm(data) -> list[list[ContactState]]:
+    """The warm-start increments of a checkpoint, per cycle (empty when it has none)."""
+    if "warm_pressure" not in data.files:
+        return []
+    fields = [data[f"warm_{key}"] for key in WARM_KEYS]
+    zeros = np.zeros(fields[0].shape[2:])
+    return [
+        [ContactState(p, tx, ty, zeros, zeros.copy()) for p, tx, ty in zip(*cycle, strict=True)]
+        for cycle in zip(*fields, strict=True)
+    ]
 
 
 @dataclass
@@ -176,6 +219,7 @@ class _CycleOutcome:
     peak: IncrementResult
     wear_increment: np.ndarray
     end_state: ContactState
+    increments: list[ContactState]
 
 
 class CyclicAnalysis:
@@ -202,13 +246,18 @@ class CyclicAnalysis:
         wear: np.ndarray,
         state: ContactState,
         on_increment: Callable[[IncrementResult], None] | None = None,
+        guesses: list[ContactState] | None = None,
     ) -> _CycleOutcome:
-        """One load–unload cycle at fixed wear; returns its peak solution and its wear."""
+        """One load–unload cycle at fixed wear; returns its peak solution and its wear.
+        ``guesses``: starting points per increment (the previous cycle's increments)."""
         wear_increment = np.zeros_like(wear)
         peak = None
         failures = []
+        increments = []
         for index, load in enumerate(self.loads()):
-            result = self.solver.solve_load(load, state, wear=wear)
+            guess = None if guesses is None else guesses[index]
+            result = self.solver.solve_load(load, state, wear=wear, guess=guess)
+            increments.append(result.state)
             if not result.converged:
                 failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
             wear_increment += self.wear_law.depth_increment(
@@ -222,7 +271,30 @@ class CyclicAnalysis:
             self._matvecs += result.matvecs
             self._steps += 1
         self._failures.extend(failures)
-        return _CycleOutcome(peak=peak, wear_increment=wear_increment, end_state=state)
+        return _CycleOutcome(
+            peak=peak, wear_increment=wear_increment, end_state=state, increments=increments
+        )
+
+    def _starting_points(self, state: CyclicState) -> list[ContactState] | None:
+        """Per increment, where the iteration of the coming simulated cycle starts: the last
+        simulated cycle's solution, linearly extrapolated in N when there are two."""
+        if not state.warm:
+            return None
+        if len(state.warm) == 1 or state.warm_jump <= 0:
+            return state.warm[0]
+        ratio = state.jump / state.warm_jump
+        return [
+            self._extrapolate(last, before, ratio)
+            for last, before in zip(state.warm[0], state.warm[1], strict=True)
+        ]
+
+    def _extrapolate(self, last: ContactState, before: ContactState, ratio: float):
+        """last + ratio (last − before), pressure ≥ 0, tractions inside its friction ellipse."""
+        pressure = np.maximum(last.pressure + ratio * (last.pressure - before.pressure), 0.0)
+        tx = last.traction_x + ratio * (last.traction_x - before.traction_x)
+        ty = last.traction_y + ratio * (last.traction_y - before.traction_y)
+        tx, ty = self.solver.project_tractions(tx, ty, pressure)
+        return ContactState(pressure, tx, ty, last.displacement_x, last.displacement_y)
 
     def _next_stop(self, cycle: int) -> int:
         later = [c for c in self.settings.record if c > cycle]
@@ -260,7 +332,9 @@ class CyclicAnalysis:
                 break
             row_index = len(state.history["cycle"])
             hook = None if on_increment is None else (lambda r, i=row_index: on_increment(r, i))
-            outcome = self.simulate_cycle(state.wear, state.contact, hook)
+            warm = self.settings.warm_start == "previous_cycle"
+            guesses = self._starting_points(state) if warm else None
+            outcome = self.simulate_cycle(state.wear, state.contact, hook, guesses)
             final = outcome.peak
             done = state.cycle >= settings.cycles
             jump = 0 if done else self._jump(state.cycle, state.jump, outcome)
@@ -285,6 +359,9 @@ class CyclicAnalysis:
                 break
             state.wear = state.wear + jump * outcome.wear_increment
             state.contact = outcome.end_state
+            if warm:
+                state.warm_jump = state.jump if state.warm else 0
+                state.warm = [outcome.increments, *state.warm[:1]]
             state.cycle += jump
             state.jump = jump
         history = {key: np.asarray(values, dtype=float) for key, values in state.history.items()}

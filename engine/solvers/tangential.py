@@ -60,6 +60,8 @@ def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray, rho=Non
     """Unit outward normal (n_x, n_y) and unit tangent (t_x, t_y) of the friction ellipse
     through q, and its curvature κ (1/MPa); zero tractions get an arbitrary frame. ``rho``:
     ||q||_μ when already known."""
+    if friction.isotropic:
+        return _circle_frame(qx, qy)
     q1, q2 = to_tribological(friction.beta, qx, qy)
     g1, g2 = q1 / friction.mu1**2, q2 / friction.mu2**2  # gradient of ||q||_μ² / 2
     length = np.hypot(g1, g2)
@@ -76,6 +78,17 @@ def ellipse_frame(friction: FrictionLaw, qx: np.ndarray, qy: np.ndarray, rho=Non
     )
     kappa = np.where(denominator > 0.0, 1.0 / np.where(denominator > 0.0, denominator, 1.0), 0.0)
     return nx, ny, -ny, nx, kappa
+
+
+def _circle_frame(qx: np.ndarray, qy: np.ndarray):
+    """``ellipse_frame`` of an isotropic law (μ1 = μ2, any β): the circle through q has the
+    normal q/|q| and the curvature 1/|q| (the general formula with a = b = |q|); zero
+    tractions get a zero frame and zero curvature, as in the general formula."""
+    length = np.hypot(qx, qy)
+    inverse = np.divide(1.0, length, out=np.zeros_like(length), where=length > 0.0)
+    nx = qx * inverse
+    ny = qy * inverse
+    return nx, ny, -ny, nx, inverse
 
 
 def _dot(ax, ay, bx, by) -> float:

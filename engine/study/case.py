@@ -104,8 +104,12 @@ class CaseRunner:
     """Callable ``runner(case, should_stop) -> CaseOutcome`` for one study configuration."""
 
     def __init__(self, config: StudyConfig) -> None:
+        from .operators import OperatorCache
+
         self.config = config
         self.checkpoint_dir = config.study.checkpoint_dir
+        # Operators, plans and stress kernels shared by the cases of this rank (issue 17).
+        self.operators = OperatorCache()
 
     # ---------------------------------------------------------------- public entry point
     def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
@@ -162,18 +166,24 @@ class CaseRunner:
         }
         if cfg.solver.maxiter is not None:
             options["maxiter"] = cfg.solver.maxiter
+        options["operator"] = self.operators.operator(
+            grid, material, threads=cfg.solver.threads, planner_effort=cfg.solver.planner_effort
+        )
         return ContactSolver(grid, material, punch, friction, **options), grid, material
 
     def _subsurface(self, grid, material):
-        from engine.solvers.subsurface import SubsurfaceStress, depth_layers
+        from engine.solvers.subsurface import depth_layers
 
         cfg = self.config
         depths = np.asarray(
             depth_layers(cfg.subsurface.depth * cfg.punch.radius, cfg.subsurface.layers),
             dtype=float,
         )
-        stress = SubsurfaceStress(
-            grid, material.nu_A, depths, cfg.solver.threads,
+        stress = self.operators.stress(
+            grid,
+            material.nu_A,
+            depths,
+            threads=cfg.solver.threads,
             planner_effort=cfg.solver.planner_effort,
         )
         return stress, depths
