@@ -17,7 +17,7 @@ import numpy as np
 
 from ..grid import Grid
 from ..material import MaterialPair
-from .fft import DEFAULT_EFFORT, RealFFTPair
+from .fft import DEFAULT_EFFORT, PaddedRealFFT, RealFFTPair
 from .influence import SurfaceInfluence
 
 # Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
@@ -67,19 +67,20 @@ class HalfSpaceOperator:
         self.influence = SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
         self.planner_effort = planner_effort
-        self._ffts: dict[tuple[int, str], RealFFTPair] = {}
         spectra = {}
-        transform = self._fft(1)
+        transform = RealFFTPair((1, *self.padded_shape), threads=threads, effort=planner_effort)
         for key, kernel in self.influence.kernels.items():
             transform.real[0] = wrap_kernel(kernel, self.padded_shape)
-            transform.forward()
-            # The inverse transform of pyfftw is normalised; fold nothing into the kernel.
-            spectra[key] = transform.spectrum[0].copy()
-        transform.real[...] = 0.0
+            spectra[key] = transform.forward()[0].copy()
         self._spectra = spectra
+        # The block of Eq. (4) in Fourier space, with the 1/(4 n_x n_y) of the inverse FFT
+        # folded in (the pruned transforms of PaddedRealFFT are unnormalised).
+        self._scale = 1.0 / (self.padded_shape[0] * self.padded_shape[1])
         self._full = np.empty((3, 3, *spectra["zz"].shape), dtype=complex)
         for (a, b), (key, sign) in _BLOCKS.items():
-            self._full[a, b] = sign * spectra[key]
+            np.multiply(spectra[key], sign * self._scale, out=self._full[a, b])
+        self._ffts: dict[int, PaddedRealFFT] = {}
+        self._inverse_ffts: dict[int, PaddedRealFFT] = {}
         self._product = np.empty_like(spectra["zz"])
         self.applications = 0
         self._symbol_bound: float | None = None
@@ -92,37 +93,32 @@ class HalfSpaceOperator:
             self._preconditioner = SpectralPreconditioner(self)
         return self._preconditioner
 
-    def _fft(self, batch: int, role: str = "in") -> RealFFTPair:
-        """Plans and buffers per batch size; inputs and outputs never share a buffer."""
-        key = (batch, role)
-        if key not in self._ffts:
-            self._ffts[key] = RealFFTPair(
-                (batch, *self.padded_shape), threads=self.threads, effort=self._effort
+    def _fft(self, batch: int, store: dict) -> PaddedRealFFT:
+        """Plans and buffers per batch size (inputs and outputs in separate objects)."""
+        if batch not in store:
+            store[batch] = PaddedRealFFT(
+                batch, self.grid.shape, threads=self.threads, effort=self._effort
             )
-        return self._ffts[key]
+        return store[batch]
 
     def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:
         """Apply a (rows × columns) block of kernel spectra to ``fields`` (columns)."""
-        nx, ny = self.grid.shape
         columns = len(fields)
-        fft = self._fft(columns)
-        fft.real[:, nx:, :] = 0.0
-        fft.real[:, :nx, ny:] = 0.0
+        fft = self._fft(columns, self._ffts)
         for index, field in enumerate(fields):
-            fft.real[index, :nx, :ny] = field
-        fft.forward()
+            fft.fields[index] = field
+        spectrum = fft.forward()
         rows = block.shape[0]
-        out_fft = self._fft(rows, "out")
+        out_fft = self._fft(rows, self._inverse_ffts)
         product = self._product
         for a in range(rows):
             target = out_fft.spectrum[a]
-            np.multiply(block[a, 0], fft.spectrum[0], out=target)
+            np.multiply(block[a, 0], spectrum[0], out=target)
             for b in range(1, columns):
-                np.multiply(block[a, b], fft.spectrum[b], out=product)
+                np.multiply(block[a, b], spectrum[b], out=product)
                 target += product
-        out_fft.inverse()
         self.applications += 1
-        return out_fft.real[:, :nx, :ny].copy()
+        return out_fft.inverse().copy()
 
     def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
         """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
@@ -153,7 +149,7 @@ class HalfSpaceOperator:
         computed once."""
         if self._symbol_bound is None:
             symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
-            hermitian = 0.5 * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
+            hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
             self._symbol_bound = float(np.linalg.eigvalsh(hermitian).max())
         return self._symbol_bound
 
