@@ -34,11 +34,12 @@ import os
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 RADIUS, LOAD, WEAR = 1.8, 750.0, 1.33e-7
-METHODS = {"today": "previous_increment", "new": "previous_cycle"}
+METHODS = {"base": None, "today": "previous_increment", "new": "previous_cycle"}
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -61,9 +62,12 @@ def run_cyclic(n: int, mu: float, cycles: int, method: str) -> dict:
     solver = ContactSolver(grid, paper_material(), FlatPunch(RADIUS), FrictionLaw(mu, mu), tol=1e-6)
     solver.preconditioner  # noqa: B018 (set-up: built before the clock of the solve starts)
     solver.operator.symbol_bound()
+    if hasattr(solver, "_symbol"):
+        solver._symbol = solver.operator.symbol_bound()
     setup = time.perf_counter() - start
+    options = {} if METHODS[method] is None else {"warm_start": METHODS[method]}
     settings = CyclicSettings(
-        LOAD, 10, cycles, record=(1000, 10000, 100000), warm_start=METHODS[method]
+        LOAD, 10, cycles, record=tuple(c for c in (1000, 10000, 100000) if c <= cycles), **options
     )
     start = time.perf_counter()
     result = CyclicAnalysis(solver, WearLaw(WEAR, WEAR), settings).run()
@@ -133,8 +137,6 @@ mu1 = {mu}
 def run_static_cases(n: int, count: int, shared: bool) -> dict:
     """``count`` static frictional cases (μ from 0.05 to 0.5) through the case runner, with
     the per-rank operator cache (``shared``) or a fresh build per case (today)."""
-    import tempfile
-
     from engine.study.case import CaseRunner
     from engine.study.config import parse_study
     from engine.study.operators import OperatorCache
@@ -159,9 +161,10 @@ def run_static_cases(n: int, count: int, shared: bool) -> dict:
     return dict(total=total, setup=setup, count=count, rss=_peak_rss_mb())
 
 
-def in_subprocess(*arguments: str) -> dict:
+def in_subprocess(*arguments: str, code: Path = REPO) -> dict:
+    """Run this file's ``child`` with the engine of ``code`` (this tree, or the baseline)."""
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(code), env.get("PYTHONPATH")]))
     output = subprocess.run(
         [sys.executable, __file__, "--child", *arguments],
         env=env,
@@ -176,7 +179,7 @@ def _relative(a: float, b: float) -> str:
     return f"{abs(a / b - 1) * 100:.3f} %"
 
 
-def compare_cyclic(sizes, mu, cycles) -> None:
+def compare_cyclic(sizes, mu, cycles, baseline: Path | None, methods) -> None:
     print(
         f"{'n':>4} {'method':>6} {'setup s':>7} {'solve s':>8} {'sim cyc':>7} "
         f"{'matvec/inc':>10} {'max wear um':>11} {'volume mm3':>11} {'vm MPa':>8} "
@@ -184,10 +187,13 @@ def compare_cyclic(sizes, mu, cycles) -> None:
         flush=True,
     )
     for index, n in enumerate(sizes):
-        order = ("today", "new") if index % 2 == 0 else ("new", "today")
+        order = [m for m in ("base", "today", "new") if m in methods]
+        order = [m for m in order if m != "base" or baseline is not None]
+        order = order if index % 2 == 0 else order[::-1]
         rows = {}
         for method in order:
-            row = in_subprocess("cyclic", str(n), str(mu), str(cycles), method)
+            code = baseline if method == "base" else REPO
+            row = in_subprocess("cyclic", str(n), str(mu), str(cycles), method, code=code)
             rows[method] = row
             print(
                 f"{n:>4} {method:>6} {row['setup']:7.2f} {row['solve']:8.2f} "
@@ -196,18 +202,23 @@ def compare_cyclic(sizes, mu, cycles) -> None:
                 f"{row['rss']:7.0f} {row['converged']}",
                 flush=True,
             )
-        today, new = rows["today"], rows["new"]
-        print(
-            f"{n:>4} today/new: solve time {today['solve'] / new['solve']:.2f}x, total "
-            f"{(today['solve'] + today['setup']) / (new['solve'] + new['setup']):.2f}x, "
-            f"operator applications {today['per_increment'] / new['per_increment']:.2f}x; "
-            f"differences: max wear {_relative(new['depth'], today['depth'])}, volume "
-            f"{_relative(new['volume'], today['volume'])}, vm "
-            f"{_relative(new['vm'], today['vm'])}, vm_sub "
-            f"{_relative(new['vm_sub'], today['vm_sub'])}; RSS new - today "
-            f"{new['rss'] - today['rss']:+.0f} MB",
-            flush=True,
-        )
+        for name in [m for m in ("base", "today") if m in rows and "new" in rows]:
+            _print_ratio(n, name, rows[name], rows["new"])
+
+
+def _print_ratio(n: int, name: str, today: dict, new: dict) -> None:
+    """Speed-up of ``new`` over ``today`` and the relative differences of the results."""
+    print(
+        f"{n:>4} {name}/new: solve time {today['solve'] / new['solve']:.2f}x, total "
+        f"{(today['solve'] + today['setup']) / (new['solve'] + new['setup']):.2f}x, "
+        f"operator applications {today['per_increment'] / new['per_increment']:.2f}x; "
+        f"differences: max wear {_relative(new['depth'], today['depth'])}, volume "
+        f"{_relative(new['volume'], today['volume'])}, vm "
+        f"{_relative(new['vm'], today['vm'])}, vm_sub "
+        f"{_relative(new['vm_sub'], today['vm_sub'])}; RSS new - today "
+        f"{new['rss'] - today['rss']:+.0f} MB",
+        flush=True,
+    )
 
 
 def child(arguments) -> None:
@@ -223,6 +234,15 @@ def child(arguments) -> None:
     print(json.dumps(row))
 
 
+def _export(revision: str, folder: Path) -> Path:
+    """The ``engine`` package of a git revision, extracted into ``folder``."""
+    archive = subprocess.run(
+        ["git", "-C", str(REPO), "archive", revision, "engine"], capture_output=True, check=True
+    ).stdout
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
+    return folder
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
         child(sys.argv[2:])
@@ -231,29 +251,42 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="*", default=[64, 128])
     parser.add_argument("--mu", type=float, default=0.1)
     parser.add_argument("--cycles", type=int, default=100000)
+    parser.add_argument(
+        "--methods", nargs="+", default=["base", "today", "new"], choices=sorted(METHODS)
+    )
     parser.add_argument("--static-cases", type=int, default=0, metavar="K")
     parser.add_argument("--static-n", type=int, default=128)
     parser.add_argument("--static-512", action="store_true")
+    parser.add_argument(
+        "--baseline-commit",
+        metavar="REV",
+        help="also run the engine of this git revision (e.g. the commit before issue 17) as "
+        "'base', from a temporary export (git archive)",
+    )
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()}, cpus: {os.cpu_count()}", flush=True)
-    if args.sizes:
-        compare_cyclic(args.sizes, args.mu, args.cycles)
-    if args.static_cases:
-        for mode in ("today", "shared"):
-            row = in_subprocess("static", str(args.static_n), str(args.static_cases), mode)
-            print(
-                f"{row['count']} static {args.static_n}² cases ({mode:>6}): total "
-                f"{row['total']:.2f} s, set-up {row['setup']:.2f} s "
-                f"({100 * row['setup'] / row['total']:.1f} %), RSS {row['rss']:.0f} MB",
-                flush=True,
-            )
-    if args.static_512:
-        row = in_subprocess("static512")
-        print(
-            f"512² static frictional solve (3 increments): {row['time']:.1f} s, peak RSS "
-            f"{row['rss']:.0f} MB, converged {row['converged']}",
-            flush=True,
-        )
+    with tempfile.TemporaryDirectory() as folder:
+        baseline = _export(args.baseline_commit, Path(folder)) if args.baseline_commit else None
+        if args.sizes:
+            compare_cyclic(args.sizes, args.mu, args.cycles, baseline, args.methods)
+        if args.static_cases:
+            for mode in ("today", "shared"):
+                row = in_subprocess("static", str(args.static_n), str(args.static_cases), mode)
+                print(
+                    f"{row['count']} static {args.static_n}² cases ({mode:>6}): total "
+                    f"{row['total']:.2f} s, set-up {row['setup']:.2f} s "
+                    f"({100 * row['setup'] / row['total']:.1f} %), RSS {row['rss']:.0f} MB",
+                    flush=True,
+                )
+        if args.static_512:
+            codes = {"new": REPO} if baseline is None else {"base": baseline, "new": REPO}
+            for name, code in codes.items():
+                row = in_subprocess("static512", code=code)
+                print(
+                    f"512² static frictional solve (3 increments, {name}): {row['time']:.1f} s, "
+                    f"peak RSS {row['rss']:.0f} MB, converged {row['converged']}",
+                    flush=True,
+                )
     print(f"load average after: {os.getloadavg()}", flush=True)
 
 

@@ -105,3 +105,20 @@ def test_case_results_do_not_depend_on_timed_plans_made_earlier(tmp_path):
     assert sorted(again) == sorted(reference)
     for path, values in reference.items():
         assert np.array_equal(again[path], values), path
+
+
+def test_shared_operators_give_the_same_bits_in_any_case_order(tmp_path):
+    """The case runner shares operators, plans and stress kernels between the cases of a
+    rank (engine.study.operators): the order in which a rank meets its cases, and whether a
+    case is the first one, must not change a bit."""
+    text = STUDY.format(output=tmp_path / "bits.h5").replace("n = 30", "n = 16")
+    config = parse_study(text.replace("mu1 = [0.3]", "mu1 = [0.1, 0.3]"), source="test")
+    cases = list(make_plan(config))
+    forward, backward = CaseRunner(config), CaseRunner(config)
+    first = {case.case_id: forward(case) for case in cases}
+    second = {case.case_id: backward(case) for case in reversed(cases)}
+    assert len(forward.operators._operators) == 1, "one operator for both cases"
+    for case_id, outcome in first.items():
+        assert outcome.status == COMPLETED, outcome.message
+        for path, record in outcome.datasets.items():
+            assert np.array_equal(second[case_id].datasets[path].data, record.data), path

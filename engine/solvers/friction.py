@@ -60,8 +60,8 @@ class FrictionLaw:
 
     def norm(self, tx: np.ndarray, ty: np.ndarray) -> np.ndarray:
         """||t||_μ of Eq. (10) (MPa for tractions in MPa)."""
-        if self.isotropic:  # rotation invariant: |t| / μ
-            return np.hypot(tx, ty) / self.mu1
+        if self.isotropic:  # rotation invariant: |t| / μ (tractions never near overflow)
+            return np.sqrt(tx * tx + ty * ty) / self.mu1
         t1, t2 = to_tribological(self.beta, tx, ty)
         return np.hypot(t1 / self.mu1, t2 / self.mu2)
 
