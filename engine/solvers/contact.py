@@ -174,6 +174,7 @@ class ContactSolver:
         self.candidate = np.isfinite(self.geometric_gap)
         self._lipschitz: float | None = None
         self._symbol: float | None = None
+        self._normal_image: np.ndarray | None = None
 
     # ----------------------------------------------------------------- public API
     def initial_state(self) -> ContactState:
@@ -352,35 +353,46 @@ class ContactSolver:
             "preconditioned CG",
         )
 
-    def _normal_cg(self, load, initial, offset, tol, maxiter=None):
+    def _normal_cg(self, load, initial, offset, tol, maxiter=None, image=None):
         """Signorini problem under load control by Polonsky & Keer's constrained CG with the
         spectral preconditioner (Vollebregt 2014): CG on the contact set, projection on
         p >= 0, restart when elements re-enter contact, rescaling to the load each step.
 
-        ``offset`` is the gap with zero pressure and zero approach (mm). Returns
-        (pressure, approach, iterations, relative residual).
+        ``offset`` is the gap with zero pressure and zero approach (mm). ``image``: A_zz
+        ``initial`` (mm) when already known, which saves the first operator application.
+        Returns (pressure, approach, iterations, relative residual); ``self._normal_image``
+        is then A_zz of the returned pressure, or None if not known.
         """
         grid, mask = self.grid, self.candidate
         target = load / grid.element_area
         count = int(mask.sum())
         pressure = np.zeros(grid.shape)
+        known = None
         if initial[mask].sum() > 0.0:
             pressure[mask] = np.maximum(initial[mask], 0.0)
-            pressure *= target / pressure.sum()
+            factor = target / pressure.sum()
+            pressure *= factor
+            proportional = np.all(initial >= 0.0) and np.array_equal(pressure > 0.0, initial > 0.0)
+            if image is not None and proportional:
+                known = image * factor  # A (c p) = c A p: the start is a multiple of initial
         else:
             pressure[mask] = target / count
         direction = np.zeros(grid.shape)
         previous = 1.0
         conjugate = False
         residual, approach, iterations = math.inf, 0.0, 0
+        self._normal_image = None
         for iterations in range(1, (maxiter or self.maxiter) + 1):  # noqa: B007
-            gap = self.operator.apply_normal(pressure) + offset
+            raw = known if known is not None else self.operator.apply_normal(pressure)
+            known = None
+            gap = raw + offset
             contact = mask & (pressure > 0.0)
             approach = float(gap[contact].mean())
             gap -= approach
             violation = np.where(contact, gap, np.minimum(gap, 0.0))
             residual = math.sqrt(np.sum(violation[mask] ** 2) / count) / abs(approach)
             if residual <= tol:
+                self._normal_image = raw
                 break
             residual_c = np.where(contact, gap, 0.0)
             z = np.where(contact, self.preconditioner.normal(residual_c), 0.0)
@@ -421,7 +433,7 @@ class ContactSolver:
         first = guess if guess is not None else state
         pressure = first.pressure
         tractions = np.array([first.traction_x, first.traction_y])
-        inner_tol, budget, settled = 0.1, self.maxiter, False
+        inner_tol, budget, settled, u = 0.1, self.maxiter, False, None
         if guess is not None and pressure.sum() > 0.0:
             x = np.array([*tractions, pressure])
             u = np.array(operator.apply(*x))
@@ -430,12 +442,14 @@ class ContactSolver:
                 return self._finish_alternating(x, u, offset, state, 0, start, residual, 0)
             inner_tol = min(inner_tol, INNER_FACTOR * residual)
         coupling = operator.coupling_to_normal(*tractions)
+        image = None if u is None else u[2] - coupling  # A_zz p, known from the guess's check
         for outer in range(1, MAX_OUTER + 1):  # noqa: B007 (count kept after loop)
             tol = max(0.3 * self.tol, inner_tol)
             old_bound = pressure
             pressure, approach, normal_its, _ = self._normal_cg(
-                load, pressure, offset + coupling, tol, maxiter=budget
+                load, pressure, offset + coupling, tol, maxiter=budget, image=image
             )
+            image = self._normal_image  # A_zz of this pressure: the next pass starts from it
             budget -= normal_its
             tractions = self._follow_bound(tractions, old_bound, pressure)
             u = np.array(operator.apply(*tractions, pressure))
