@@ -26,7 +26,8 @@ Protocol (pickled tuples; one tag per direction so messages stay in order):
 worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
 before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
 
-Stopping (SIGTERM/SIGUSR1 or an interrupted case anywhere): rank 0 hands out no more cases,
+Stopping (SIGTERM/SIGUSR1 on any rank — also on a worker alone, which then interrupts its
+case or returns the next one — or an interrupted case anywhere): rank 0 hands out no more cases,
 sends ``stop`` to the busy workers, waits for their (interrupted) outcomes, and tells every
 worker to exit. An exception escaping ``run_case`` propagates to the caller; the entry point
 aborts the communicator so no rank is left waiting (see ``engine.cli``).
@@ -141,8 +142,9 @@ class Scheduler:
 
         def finish(rank: int, kind: str, payload: Any) -> None:
             case = busy.pop(rank)
-            if kind == "returned":
+            if kind == "returned":  # the worker was stopped (its own signal): the job stops
                 pending.appendleft(case)
+                self.stop_event.set()
                 return
             if payload.status == INTERRUPTED:
                 self.stop_event.set()
