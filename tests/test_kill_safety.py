@@ -278,3 +278,9 @@ def test_identity_ignores_threads_and_output_but_not_physics():
     assert study_identity(config.resolved()) == study_identity(same.resolved())
     other = parse_study(VALID.replace("radius = 1.8", "radius = 1.7"))
     assert json.loads(study_identity(other.resolved()))["punch"]["radius"] == 1.7
+
+
+def test_case_id_collision_names_the_sweep_key():
+    text = VALID.replace("mu1 = [0.1, 0.4]", "mu1 = [0.1, 0.10000000000001]")
+    with pytest.raises(StudyConfigError, match=r"\[sweep\] mu1 = .*same id"):
+        make_plan(parse_study(text, source="s.toml"))
