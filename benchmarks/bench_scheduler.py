@@ -92,8 +92,7 @@ def run(directory: Path, cases: int, ranks: int) -> dict:
         raise SystemExit(f"{ranks} ranks: exit {result.returncode}\n{result.stderr[-2000:]}")
     wall = float(re.search(r"wall time ([0-9.]+) s", result.stdout).group(1))
     summary = pd.read_csv(output.with_suffix(".csv"))
-    ranks_line = [line for line in result.stdout.splitlines() if line.startswith("[")]
-    on_rank0 = sum(1 for line in ranks_line if line.split()[3] == "0")
+    on_rank0 = len(re.findall(r"^\[.*\] \S+ +rank 0 ", result.stdout, flags=re.MULTILINE))
     count = len(summary)
     compute = float(summary["runtime_s"].sum())
     cores = min(ranks, os.cpu_count() or 1)

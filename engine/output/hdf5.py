@@ -209,6 +209,10 @@ class SingleWriter:
         self._rows: dict[str, dict[str, Any]] = {}
         self._order: list[str] = []
         self._summary = SummaryTable(self.summary_path)
+        self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self.flag_spacing = 10.0
+        self._last_commit_end = -math.inf
+        self._commit_cost = 0.0
 
     # ------------------------------------------------------------------ lifecycle
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
@@ -266,10 +270,10 @@ class SingleWriter:
 
     def close(self) -> None:
         if self._file is not None:
+            self._commit_flags(force=True)
             self._file.flush()
             self._file.close()
             self._file = None
-        if self._summary.dirty:
             self._write_summary(force=True)
 
     def __enter__(self) -> SingleWriter:
@@ -280,11 +284,14 @@ class SingleWriter:
 
     # ------------------------------------------------------------------ writing
     def write(self, outcome: CaseOutcome) -> None:
-        """Write one case: clear its group, datasets, attributes, then status, then flush."""
+        """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
+        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
         cases = self._file["cases"]
-        group = self._reset_group(cases, outcome.case)
+        group = cases[outcome.case_id] if outcome.case_id in cases else None
+        if group is None or len(group) or group.attrs.get("status") != "pending":
+            group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         for path, record in outcome.datasets.items():
             dataset = group.create_dataset(path, data=np.asarray(record.data))
             dataset.attrs["units"] = record.units
@@ -296,11 +303,31 @@ class SingleWriter:
         group.attrs["rank"] = outcome.rank
         group.attrs["runtime_s"] = outcome.runtime_s
         group.attrs["summary"] = json.dumps(_json_safe(row))
-        self._file.flush()
-        group.attrs["status"] = outcome.status  # the completion flag, written last
-        self._file.flush()
         self._rows[outcome.case_id] = row
-        self._write_summary()
+        self._unflagged.append((group, outcome.status))
+        if self._commit_flags():
+            self._write_summary()
+
+    def _commit_flags(self, force: bool = False) -> bool:
+        """Flush the written cases, then set their ``status`` and flush again — the completion
+        flag reaches the file only after the data. Done after every case while that costs
+        little; when cases arrive faster (thousands of small cases), at most every
+        ``flag_spacing`` × the cost of the last commit, so flushing stays a small share of the
+        run. A kill loses at most the cases of one uncommitted batch (they are recomputed);
+        SIGTERM and the end of the run commit everything (``close``)."""
+        if not self._unflagged:
+            return False
+        now = time.perf_counter()
+        if not force and now - self._last_commit_end < self.flag_spacing * self._commit_cost:
+            return False
+        self._file.flush()
+        for group, status in self._unflagged:
+            group.attrs["status"] = status
+        self._file.flush()
+        self._unflagged = []
+        self._last_commit_end = time.perf_counter()
+        self._commit_cost = self._last_commit_end - now
+        return True
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
