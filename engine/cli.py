@@ -32,6 +32,7 @@ import dataclasses
 import os
 import shlex
 import signal
+import socket
 import sys
 import threading
 import traceback
@@ -134,8 +135,15 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
         return int(exit_.code or 0)
     command_line = " ".join([prog or "python -m engine", shlex.join(argv)])
     _STOP_STATE["rank"] = rank
+    from engine.parallel.scheduler import PeerDied
+
     try:
         return _run(comm, args, command_line, stop_event)
+    except PeerDied as error:  # a rank is gone: nothing can continue, end every rank
+        sys.stderr.write(f"rank {rank}: {error}\n")
+        sys.stderr.flush()
+        comm.Abort(EXIT_INTERNAL)
+        return EXIT_INTERNAL
     except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
@@ -244,6 +252,7 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
 
     rank = comm.Get_rank()
     ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
+    _STOP_STATE["peers"] = comm.allgather((os.getpid(), socket.gethostname()))
     verdict = None
     lock_holder: list = []  # rank 0: the output lock, once taken
     try:
@@ -292,7 +301,8 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
             lock.release()
 
 
-_STOP_STATE: dict = {"rank": None}  # the rank, once MPI is initialised (for the message)
+# the rank, once MPI is initialised (for the message); (pid, host) of every rank (PeerWatch)
+_STOP_STATE: dict = {"rank": None, "peers": None}
 
 
 def _install_stop_handlers(stop_event: threading.Event) -> None:
@@ -331,7 +341,9 @@ def _compute(comm, config, plan, args, command_line, stop_event, existing) -> in
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
-    scheduler = Scheduler(comm, CaseRunner(config), stop_event=stop_event)
+    scheduler = Scheduler(
+        comm, CaseRunner(config), stop_event=stop_event, peers=_STOP_STATE["peers"]
+    )
     if comm.Get_rank() != 0:
         scheduler.run()
         return EXIT_OK  # replaced by rank 0's code in the final bcast
@@ -378,7 +390,10 @@ def _compute_collective(
     completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
     runner = CaseRunner(config)
     scheduler = Scheduler(
-        comm, runner if rank == 0 else writer.owner(runner), stop_event=stop_event
+        comm,
+        runner if rank == 0 else writer.owner(runner),
+        stop_event=stop_event,
+        peers=_STOP_STATE["peers"],
     )
     if rank != 0:
         scheduler.run()

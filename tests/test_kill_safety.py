@@ -284,3 +284,23 @@ def test_case_id_collision_names_the_sweep_key():
     text = VALID.replace("mu1 = [0.1, 0.4]", "mu1 = [0.1, 0.10000000000001]")
     with pytest.raises(StudyConfigError, match=r"\[sweep\] mu1 = .*same id"):
         make_plan(parse_study(text, source="s.toml"))
+
+
+def test_peer_watch_notices_a_dead_rank_of_this_host():
+    """A launcher that does not clean up would leave rank 0 waiting for a dead worker forever;
+    the watch (about once a second while waiting) turns that into an error (exit code 70)."""
+    import subprocess
+    import sys
+
+    from engine.parallel.scheduler import PeerDied, PeerWatch
+
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()  # gone: its pid no longer exists
+    host = socket.gethostname()
+    alive = PeerWatch(0, [(os.getpid(), host), (os.getppid(), host)], interval=0.0)
+    alive.check({1})  # a live peer: nothing happens
+    watch = PeerWatch(0, [(os.getpid(), host), (child.pid, host)], interval=0.0)
+    with pytest.raises(PeerDied, match=rf"rank 1 \(pid {child.pid}\) died"):
+        watch.check({1})
+    remote = PeerWatch(0, [(os.getpid(), host), (child.pid, "another-node")], interval=0.0)
+    remote.check({1})  # another host: left to the launcher

@@ -44,7 +44,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Scheduler", "SchedulerReport"]
+__all__ = ["Scheduler", "SchedulerReport", "PeerDied"]
 
 TAG_TO_MASTER = 71
 TAG_TO_WORKER = 72
@@ -87,6 +87,60 @@ class _LocalWorker(threading.Thread):
                 return
 
 
+class PeerDied(RuntimeError):
+    """A rank this one waits for no longer exists (SIGKILL, OOM killer): the job must end."""
+
+
+class PeerWatch:
+    """Notices a dead peer on the same host while waiting for it, about once a second.
+
+    ``peers``: (pid, host) of every rank, from one ``allgather`` at start-up. MPI has no
+    portable way to see a dead peer, and a launcher that does not clean up (``srun`` without
+    ``--kill-on-bad-exit``, ``mpiexec -disable-auto-cleanup``) would leave the job waiting
+    forever; a process of the same host can be checked directly (gone, or a zombie). Ranks on
+    other hosts are left to the launcher.
+    """
+
+    def __init__(self, rank: int, peers: list[tuple[int, str]] | None, interval: float = 1.0):
+        import os
+        import socket
+
+        self.interval = interval
+        self._next = time.monotonic() + interval
+        host = socket.gethostname()
+        self.local = {
+            other: pid
+            for other, (pid, peer_host) in enumerate(peers or [])
+            if other != rank and peer_host == host and pid != os.getpid()
+        }
+
+    def check(self, busy_or_alive: set[int]) -> None:
+        if not self.local or time.monotonic() < self._next:
+            return
+        self._next = time.monotonic() + self.interval
+        for rank in busy_or_alive:
+            pid = self.local.get(rank)
+            if pid is not None and not _process_exists(pid):
+                raise PeerDied(f"rank {rank} (pid {pid}) died; ending the job")
+
+
+def _process_exists(pid: int) -> bool:
+    """True while ``pid`` runs (a zombie — dead, not yet reaped — counts as gone)."""
+    import os
+
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            return handle.read().rpartition(")")[2].split()[0] not in ("Z", "X")
+    except OSError:
+        return True
+
+
 class Scheduler:
     """Run cases over ``comm`` with ``run_case(case, should_stop) -> outcome``.
 
@@ -102,6 +156,7 @@ class Scheduler:
         *,
         stop_event: threading.Event | None = None,
         poll_interval: float = 0.01,
+        peers: list[tuple[int, str]] | None = None,
     ) -> None:
         self.comm = comm
         self.run_case = run_case
@@ -109,6 +164,7 @@ class Scheduler:
         self.poll_interval = poll_interval
         self.rank = comm.Get_rank()
         self.size = comm.Get_size()
+        self.watch = PeerWatch(self.rank, peers)
 
     def run(
         self, cases: Iterable[Any] | None = None, on_outcome: Callable[[Any], None] | None = None
@@ -198,6 +254,7 @@ class Scheduler:
                     busy[source] = case
                     self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
             if not progressed:
+                self.watch.check(busy_or_alive=set(busy) | workers_alive)
                 time.sleep(self.poll_interval)
         local.join()
         report.stopped = self.stop_event.is_set()
@@ -232,6 +289,7 @@ class Scheduler:
                     self.stop_event.set()
                     continue
                 return kind, payload
+            self.watch.check(busy_or_alive={0})
             time.sleep(delay)
             delay = min(2 * delay, self.poll_interval)
 

@@ -161,8 +161,9 @@ def _kill_at_first_writes(directory: Path, delay: float) -> tuple[int, str]:
     time.sleep(delay)
     kill_ranks(study, signal.SIGKILL)  # as the OOM killer or a node loss would
     process.communicate(timeout=60)
+    left = "+".join(p.name for p in first_write if p.exists()) or "nothing"
     rerun = run_engine(study, "--resume", timeout=120)
-    return rerun.returncode, rerun.stderr + rerun.stdout
+    return rerun.returncode, rerun.stderr + rerun.stdout, left
 
 
 def test_kill_at_the_first_writes_then_plain_resume_completes(tmp_path):
@@ -175,8 +176,10 @@ def test_kill_at_the_first_writes_then_plain_resume_completes(tmp_path):
             for i, delay in enumerate(delays)
         ]
         results = [future.result() for future in futures]
-    failures = [(i, text) for i, (code, text) in enumerate(results) if code != 0]
+    failures = [(i, text) for i, (code, text, _) in enumerate(results) if code != 0]
     assert not failures, failures[:2]
+    left = [state for *_, state in results]
+    print("kill trials, files left:", {state: left.count(state) for state in sorted(set(left))})
     for i in range(len(delays)):
         assert len(completed_cases(tmp_path / f"trial{i}" / "tiny.h5")) == 16
         assert "Traceback" not in results[i][1]
