@@ -196,15 +196,22 @@ class Scheduler:
                 return None
             return pending.popleft()
 
-        def finish(rank: int, kind: str, payload: Any) -> None:
+        def settle(rank: int, kind: str, payload: Any) -> bool:
+            """Bookkeeping of a message (cheap, before the next case is handed out); True
+            when it carries an outcome to deliver."""
             case = busy.pop(rank)
             if kind == "returned":  # the worker was stopped (its own signal): the job stops
                 pending.appendleft(case)
                 self.stop_event.set()
-                return
+                return False
             if payload.status == INTERRUPTED:
                 self.stop_event.set()
-            report.statuses[case.case_id] = payload.status
+            return True
+
+        def deliver(rank: int, payload: Any) -> None:
+            """Record and hand on an outcome (writing it may take a while: the rank that
+            computed it has already received its next case)."""
+            report.statuses[payload.case_id] = payload.status
             report.cases_per_rank[rank] = report.cases_per_rank.get(rank, 0) + 1
             on_outcome(payload)
 
@@ -218,33 +225,40 @@ class Scheduler:
                 busy[self.rank] = case
                 local.inbox.put(case)
 
+        def service_local(timeout: float | None = None) -> bool:
+            """Collect rank 0's own outcome if there is one (waiting up to ``timeout``), give
+            the computing thread its next case at once, then deliver the outcome."""
+            try:
+                if timeout is None:
+                    kind, payload = local.outbox.get_nowait()
+                else:
+                    kind, payload = local.outbox.get(timeout=timeout)
+            except queue.Empty:
+                return False
+            if kind == "error":
+                error, text = payload
+                raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
+            has_outcome = settle(self.rank, kind, payload)
+            feed_local()
+            if has_outcome:
+                deliver(self.rank, payload)
+            return True
+
         feed_local()
         status = MPI.Status()
         while local_alive or self.rank in busy or workers_alive:
-            progressed = False
             if self.stop_event.is_set():
                 for rank in [r for r in busy if r != self.rank and r not in stop_sent]:
                     self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
                     stop_sent.add(rank)
-            try:
-                kind, payload = local.outbox.get_nowait()
-            except queue.Empty:
-                pass
-            else:
-                progressed = True
-                if kind == "error":
-                    error, text = payload
-                    raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
-                finish(self.rank, kind, payload)
-                feed_local()
+            progressed = service_local()
             while workers_alive and self.comm.Iprobe(
                 source=MPI.ANY_SOURCE, tag=TAG_TO_MASTER, status=status
             ):
                 progressed = True
                 source = status.Get_source()
                 kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
-                if kind in ("result", "returned"):
-                    finish(source, kind, payload)
+                has_outcome = kind in ("result", "returned") and settle(source, kind, payload)
                 stop_sent.discard(source)
                 case = next_case()
                 if case is None:
@@ -253,9 +267,15 @@ class Scheduler:
                 else:
                     busy[source] = case
                     self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
+                if has_outcome:
+                    deliver(source, payload)
+                service_local()  # rank 0's own computing is never starved by the workers
             if not progressed:
                 self.watch.check(busy_or_alive=set(busy) | workers_alive)
-                time.sleep(self.poll_interval)
+                if self.rank in busy:  # wake as soon as rank 0's own case is done
+                    service_local(timeout=self.poll_interval)
+                else:
+                    time.sleep(self.poll_interval)
         local.join()
         report.stopped = self.stop_event.is_set()
         report.not_started = [case.case_id for case in pending]
