@@ -1,6 +1,6 @@
 """Parallel efficiency of the study engine: four equal cases on one rank vs two ranks.
 
-Four cyclic cases of identical cost (isotropic friction, so the axes angle β = 0, 90, 180, 270°
+Four cyclic cases of identical cost (isotropic friction, so the axes angle β = 0, 45, 90, 135°
 changes nothing but the id) are run with ``python -m engine`` under ``mpiexec -n 1`` and
 ``mpiexec -n 2``, side by side in one session, alternating, ``--repeat`` times each. The wall
 time of the whole command (start-up, MPI init, HDF5 writing included) is measured; the best of
@@ -51,7 +51,7 @@ layers = 12
 [sweep]
 mu1 = [0.2]
 wear1 = [1.33e-7]
-beta = [0.0, 90.0, 180.0, 270.0]
+beta = [0.0, 45.0, 90.0, 135.0]
 """
 
 

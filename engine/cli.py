@@ -32,6 +32,7 @@ import dataclasses
 import os
 import shlex
 import signal
+import socket
 import sys
 import threading
 import traceback
@@ -79,6 +80,12 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         "possible (auto); overrides [study] output_strategy (default auto)",
     )
     parser.add_argument(
+        "--drop-stale",
+        action="store_true",
+        help="delete cases of an existing results file that are no longer in the study "
+        "(after the sweep shrank); by default they are kept and listed",
+    )
+    parser.add_argument(
         "--no-progress-bar",
         action="store_true",
         help="never draw the tqdm bar (lines per case are always printed)",
@@ -91,6 +98,25 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] in _OUTPUT_COMMANDS:
         return _output_command(argv, prog)
+    stop_event = threading.Event()
+    _install_stop_handlers(stop_event)  # first: a signal during start-up is a stop, too
+    code = _main_mpi(argv, prog, stop_event)
+    return _quiet_shutdown(code, stop_event)
+
+
+def _quiet_shutdown(code: int, stop_event: threading.Event) -> int:
+    """Exit code 3 if this rank saw a stop signal at any time; then ignore further stop
+    signals, so one arriving while the interpreter and MPI shut down cannot turn the exit
+    code into a signal death (Python restores the default handlers as it finalises, but
+    leaves ignored signals ignored)."""
+    for name in _STOP_SIGNALS:
+        signal.signal(getattr(signal, name), signal.SIG_IGN)
+    if stop_event.is_set() and code in (EXIT_OK, EXIT_FAILED):
+        return EXIT_INTERRUPTED
+    return code
+
+
+def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) -> int:
     from mpi4py import rc
 
     rc.thread_level = "funneled"  # only the main thread calls MPI (see engine.parallel.scheduler)
@@ -108,8 +134,16 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     except SystemExit as exit_:  # --help, --version, usage errors: same code on every rank
         return int(exit_.code or 0)
     command_line = " ".join([prog or "python -m engine", shlex.join(argv)])
+    _STOP_STATE["rank"] = rank
+    from engine.parallel.scheduler import PeerDied
+
     try:
-        return _run(comm, args, command_line)
+        return _run(comm, args, command_line, stop_event)
+    except PeerDied as error:  # a rank is gone: nothing can continue, end every rank
+        sys.stderr.write(f"rank {rank}: {error}\n")
+        sys.stderr.flush()
+        comm.Abort(EXIT_INTERNAL)
+        return EXIT_INTERNAL
     except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
@@ -137,17 +171,23 @@ def _output_command(argv: list[str], prog: str | None) -> int:
         return int(exit_.code or 0)
 
 
-def _prepare_on_root(args, ranks: int):
-    """Validate everything that can be wrong with the input.
+def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
+    """Validate everything that can be wrong with the input, in this order, before any file is
+    created or changed: the study file and its plan (incl. the memory a case needs), the
+    output path, the lock on the output (taken here, appended to ``lock_holder``), then the
+    existing results file (same study? damaged?).
 
-    Returns (config, plan, strategy, layout) or raises; ``layout`` (datasets to pre-create per
-    case) only for the mpio strategy.
+    Returns (config, plan, strategy, layout, existing) or raises; ``layout`` (datasets to
+    pre-create per case) only for the mpio strategy; ``existing`` is the verdict on the
+    existing results file (:class:`engine.output.identity.ExistingResults`).
     """
     from engine.output.collective import choose_strategy
-    from engine.output.hdf5 import check_resumable
+    from engine.output.identity import inspect_existing
+    from engine.output.lock import OutputLock, check_output_path, check_summary_path
     from engine.study.config import load_study
     from engine.study.layout import case_layout
     from engine.study.plan import make_plan
+    from engine.study.resources import check_memory
 
     config = load_study(args.study)
     study = config.study
@@ -157,19 +197,37 @@ def _prepare_on_root(args, ranks: int):
         study = dataclasses.replace(study, output_strategy=args.output_strategy)
     config = dataclasses.replace(config, study=study)
     plan = make_plan(config)
+    check_memory(config, ranks_on_node)
     strategy = choose_strategy(config.study.output_strategy, ranks)
-    if not args.fresh and not args.dry_run:
-        check_resumable(config.study.output, _metadata(config, ""))
-    layout = case_layout(config) if strategy == "mpio" and not args.dry_run else None
-    return config, plan, strategy, layout
+    if args.dry_run:
+        return config, plan, strategy, None, None
+    output = config.study.output
+    check_output_path(output)
+    lock = OutputLock(output)
+    lock.acquire()  # before anything else touches the output, --fresh included
+    lock_holder.append(lock)
+    if lock.replaced is not None:
+        print(
+            f"note: removed the stale lock of a run that no longer exists (pid "
+            f"{lock.replaced.pid}, host {lock.replaced.host})",
+            file=sys.stderr,
+            flush=True,
+        )
+    check_summary_path(output, config.study.summary_path)
+    existing = None
+    if not args.fresh:
+        existing = inspect_existing(output, _metadata(config, ""), plan)
+    layout = case_layout(config) if strategy == "mpio" else None
+    return config, plan, strategy, layout, existing
 
 
 def _metadata(config, command_line: str):
     from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
+    from engine.output.identity import study_identity
 
     grid = Grid.square(config.mesh.n, config.mesh.half_width)
-    return StudyMetadata(
+    metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
         study_toml=config.to_toml(),
@@ -180,41 +238,79 @@ def _metadata(config, command_line: str):
         grid_x=grid.x,
         grid_y=grid.y,
     )
+    metadata.attrs["study_identity"] = study_identity(config.resolved())
+    return metadata
 
 
-def _run(comm, args, command_line: str) -> int:
+def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
+    from mpi4py import MPI
+
     from engine.output.collective import ParallelH5pyMissing
     from engine.output.hdf5 import ResultsMismatch
+    from engine.output.lock import OutputInUse, OutputPathError
     from engine.study.config import StudyConfigError
 
     rank = comm.Get_rank()
+    ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
+    _STOP_STATE["peers"] = comm.allgather((os.getpid(), socket.gethostname()))
     verdict = None
-    if rank == 0:
-        try:
-            verdict = ("ok", *_prepare_on_root(args, comm.Get_size()))
-        except (StudyConfigError, ResultsMismatch, ParallelH5pyMissing) as error:
-            print(f"error: {error}", file=sys.stderr, flush=True)
-            verdict = ("bad-input", None, None, None, None)
-    kind, config, plan, strategy, layout = comm.bcast(verdict, root=0)
-    if kind != "ok":
-        return EXIT_BAD_INPUT
-    if args.dry_run:
+    lock_holder: list = []  # rank 0: the output lock, once taken
+    try:
         if rank == 0:
-            _print_plan(config, plan)
-        return EXIT_OK
+            try:
+                verdict = (
+                    "ok",
+                    *_prepare_on_root(args, comm.Get_size(), ranks_on_node, lock_holder),
+                )
+            except (
+                StudyConfigError,
+                ResultsMismatch,
+                ParallelH5pyMissing,
+                OutputInUse,
+                OutputPathError,
+            ) as error:
+                print(f"error: {error}", file=sys.stderr, flush=True)
+                verdict = ("bad-input", None, None, None, None, None)
+        kind, config, plan, strategy, layout, existing = comm.bcast(verdict, root=0)
+        if kind != "ok":
+            return EXIT_BAD_INPUT
+        if args.dry_run:
+            if rank == 0:
+                _print_plan(config, plan)
+            return EXIT_OK
+        if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a signal during start-up
+            if rank == 0:
+                print(
+                    "stop signal received during start-up: nothing computed, no file "
+                    "changed (rerun to start)",
+                    file=sys.stderr,
+                    flush=True,
+                )
+            return EXIT_INTERRUPTED
+        if rank == 0 and existing is not None:
+            existing.report(sys.stdout)
+        if strategy == "mpio":
+            code = _compute_collective(
+                comm, config, plan, layout, args, command_line, stop_event, existing
+            )
+        else:
+            code = _compute(comm, config, plan, args, command_line, stop_event, existing)
+        return comm.bcast(code, root=0)
+    finally:
+        for lock in lock_holder:
+            lock.release()
 
-    stop_event = threading.Event()
-    _install_stop_handlers(stop_event, rank)
-    if strategy == "mpio":
-        code = _compute_collective(comm, config, plan, layout, args, command_line, stop_event)
-    else:
-        code = _compute(comm, config, plan, args, command_line, stop_event)
-    return comm.bcast(code, root=0)
+
+# the rank, once MPI is initialised (for the message); (pid, host) of every rank (PeerWatch)
+_STOP_STATE: dict = {"rank": None, "peers": None}
 
 
-def _install_stop_handlers(stop_event: threading.Event, rank: int) -> None:
+def _install_stop_handlers(stop_event: threading.Event) -> None:
+    """SIGTERM / SIGUSR1 / SIGINT only set ``stop_event`` (never interrupt a write); rank 0
+    says what happens next. A second signal changes nothing: the stop is already under way."""
+
     def handler(signum, frame):
-        if not stop_event.is_set() and rank == 0:
+        if not stop_event.is_set() and _STOP_STATE["rank"] == 0:
             name = signal.Signals(signum).name
             sys.stderr.write(
                 f"{name} received: no new cases; saving running cases and "
@@ -226,19 +322,36 @@ def _install_stop_handlers(stop_event: threading.Event, rank: int) -> None:
         signal.signal(getattr(signal, name), handler)
 
 
-def _compute(comm, config, plan, args, command_line, stop_event) -> int:
-    from engine.output.hdf5 import SingleWriter, remove_outputs
+def _settle_existing(config, plan, args, existing, command_line) -> None:
+    """Rank 0, under the lock: --fresh removes the old outputs; a damaged file is salvaged or
+    moved aside (engine.output.salvage)."""
+    from engine.output.hdf5 import remove_outputs
+    from engine.output.salvage import apply_existing
+
+    if args.fresh:
+        remove_outputs(config.study.output, config.study.checkpoint_dir)
+    elif existing is not None:
+        apply_existing(
+            existing, plan, _metadata(config, command_line), config.study.checkpoint_dir
+        )
+
+
+def _compute(comm, config, plan, args, command_line, stop_event, existing) -> int:
+    from engine.output.hdf5 import SingleWriter
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
-    scheduler = Scheduler(comm, CaseRunner(config), stop_event=stop_event)
+    scheduler = Scheduler(
+        comm, CaseRunner(config), stop_event=stop_event, peers=_STOP_STATE["peers"]
+    )
     if comm.Get_rank() != 0:
         scheduler.run()
         return EXIT_OK  # replaced by rank 0's code in the final bcast
 
-    if args.fresh:
-        remove_outputs(config.study.output, config.study.checkpoint_dir)
-    with SingleWriter(config.study.output, config.study.summary_path) as writer:
+    _settle_existing(config, plan, args, existing, command_line)
+    with SingleWriter(
+        config.study.output, config.study.summary_path, drop_stale=args.drop_stale
+    ) as writer:
         completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
         todo = plan.dispatch_order(skip=completed)
         print(
@@ -252,18 +365,19 @@ def _compute(comm, config, plan, args, command_line, stop_event) -> int:
     return _report(config, statuses, report)
 
 
-def _compute_collective(comm, config, plan, layout, args, command_line, stop_event) -> int:
+def _compute_collective(
+    comm, config, plan, layout, args, command_line, stop_event, existing
+) -> int:
     """mpio strategy: every rank opens the file and writes the cases it computes."""
     import time
 
     from engine.output.collective import CollectiveWriter
-    from engine.output.hdf5 import remove_outputs
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
     rank = comm.Get_rank()
-    if args.fresh and rank == 0:
-        remove_outputs(config.study.output, config.study.checkpoint_dir)
+    if rank == 0:
+        _settle_existing(config, plan, args, existing, command_line)
     comm.Barrier()
     writer = CollectiveWriter(
         config.study.output,
@@ -271,11 +385,15 @@ def _compute_collective(comm, config, plan, layout, args, command_line, stop_eve
         layout,
         summary_path=config.study.summary_path,
         journal_dir=config.study.checkpoint_dir,
+        drop_stale=args.drop_stale,
     )
     completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
     runner = CaseRunner(config)
     scheduler = Scheduler(
-        comm, runner if rank == 0 else writer.owner(runner), stop_event=stop_event
+        comm,
+        runner if rank == 0 else writer.owner(runner),
+        stop_event=stop_event,
+        peers=_STOP_STATE["peers"],
     )
     if rank != 0:
         scheduler.run()

@@ -103,8 +103,9 @@ def test_fingerprint_ignores_output_and_sweep_but_not_physics():
         (VALID.replace("[punch]\nradius = 1.8\n", ""), "[punch]", "required section"),
         (VALID.replace("load = 750\n", ""), "[loading] load", "required key is missing"),
         (VALID.replace('output = "out/t.h5"', 'output = "out/t.txt"'), "[study] output", ".h5"),
-        (VALID + "\n[sweep]\nmu1 = 1\n", "[study]", "malformed TOML"),
-        (VALID.replace("E_A = 200e3", "E_A = "), "[study]", "malformed TOML"),
+        (VALID + "\n[sweep]\nmu1 = 1\n", "[sweep]", "malformed TOML"),
+        (VALID.replace("E_A = 200e3", "E_A = "), "[material] E_A", "malformed TOML"),
+        (VALID.replace("[mesh]\n", "[mesh]\nn = 4\n"), "[mesh] n", "given twice"),
     ],
 )
 def test_bad_input_names_file_key_and_value(text, key, fragment):

@@ -50,12 +50,17 @@ from engine.study.plan import Case, Plan
 from .hdf5 import (
     SingleWriter,
     StudyMetadata,
+    SummaryTable,
     _attribute_safe,
     _json_safe,
     check_resumable,
+    creating_path,
+    publish_created,
+    renumber_cases,
+    stale_row,
     write_root,
 )
-from .summary import pending_row, summary_frame, write_summary_csv
+from .summary import pending_row
 
 __all__ = [
     "STRATEGIES",
@@ -119,6 +124,7 @@ class CollectiveWriter:
         *,
         summary_path: str | Path | None = None,
         journal_dir: str | Path | None = None,
+        drop_stale: bool = False,
     ) -> None:
         self.path = Path(path)
         self.comm = comm
@@ -130,6 +136,8 @@ class CollectiveWriter:
             if journal_dir
             else self.path.with_name(self.path.name + ".checkpoints")
         )
+        self.drop_stale = drop_stale
+        self._summary = SummaryTable(self.summary_path)
         self._file: h5py.File | None = None
         self._plan: Plan | None = None
         self._rows: dict[str, dict[str, Any]] = {}
@@ -141,23 +149,62 @@ class CollectiveWriter:
 
     # ------------------------------------------------------------------ collective
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
-        """Collective: open, commit leftover journals, reset and pre-create incomplete cases."""
+        """Collective: open, commit leftover journals, reset and pre-create incomplete cases.
+
+        A new file is built under a temporary name (every rank takes part) and renamed by
+        rank 0 once its structure is complete, as in the single writer."""
         start = _now()
-        mode, leftovers = None, []
+        exists, leftovers = None, []
         if self.rank == 0:
             exists = self.path.exists() and not fresh
             if exists:
                 check_resumable(self.path, metadata)
+                leftovers = self._read_journals()
             else:
                 self.path.parent.mkdir(parents=True, exist_ok=True)
-            mode = "a" if exists else "w"
-            leftovers = self._read_journals() if exists else []
-        mode, leftovers = self.comm.bcast((mode, leftovers), root=0)
-        self._file = h5py.File(self.path, mode, driver="mpio", comm=self.comm)
+        exists, leftovers = self.comm.bcast((exists, leftovers), root=0)
+        if not exists:
+            self._create(plan, metadata)
+        self._file = h5py.File(self.path, "a", driver="mpio", comm=self.comm)
         file = self._file
-        write_root(file, metadata)
-        cases = file.require_group("cases")
-        self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
+        cases = file["cases"] if not exists else file.require_group("cases")
+        completed: set[str] = set()
+        stale: list[str] = []
+        if exists:
+            write_root(file, metadata)
+            self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
+            completed = self._reset_incomplete(cases, plan)
+            stale = self._stale_cases(cases, plan)
+            renumber_cases(cases, plan, stale)
+        else:
+            self._rows = {case.case_id: pending_row(case.parameters()) for case in plan}
+        self._plan = plan
+        self._order = list(plan.case_ids) + stale
+        file.flush()
+        if self.rank == 0:
+            self._remove_journals(leftovers)
+            self._summary.update(self.rows, force=True)
+        self.commit_seconds += _now() - start
+        return completed
+
+    def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
+        """Collective: structure of a new file under the temporary name, then the rename."""
+        temporary = creating_path(self.path)
+        with h5py.File(temporary, "w", driver="mpio", comm=self.comm) as file:
+            write_root(file, metadata)
+            cases = file.create_group("cases")
+            for case in plan:
+                self._pending_group(cases, case)
+        if self.rank == 0:
+            publish_created(self.path)
+        self.comm.Barrier()
+
+    def _pending_group(self, cases: h5py.Group, case) -> None:
+        group = SingleWriter._reset_group(cases, case)
+        for path, spec in self.layout.items():
+            group.create_dataset(path, shape=spec.shape, dtype=spec.dtype, fill_time="never")
+
+    def _reset_incomplete(self, cases: h5py.Group, plan: Plan) -> set[str]:
         completed = set()
         for case in plan:
             group = cases.get(case.case_id)
@@ -166,18 +213,21 @@ class CollectiveWriter:
                 completed.add(case.case_id)
                 self._rows[case.case_id] = json.loads(group.attrs["summary"])
                 continue
-            group = SingleWriter._reset_group(cases, case)
-            for path, spec in self.layout.items():
-                group.create_dataset(path, shape=spec.shape, dtype=spec.dtype, fill_time="never")
+            self._pending_group(cases, case)
             self._rows[case.case_id] = pending_row(case.parameters())
-        self._plan = plan
-        self._order = list(plan.case_ids)
-        file.flush()
-        if self.rank == 0:
-            self._remove_journals(leftovers)
-            self._write_summary()
-        self.commit_seconds += _now() - start
         return completed
+
+    def _stale_cases(self, cases: h5py.Group, plan: Plan) -> list[str]:
+        """As :meth:`SingleWriter._stale_cases` (collective: identical on all ranks)."""
+        planned = set(plan.case_ids)
+        stale = sorted(name for name in cases if name not in planned)
+        if self.drop_stale:
+            for name in stale:
+                del cases[name]
+            return []
+        for name in stale:
+            self._rows[name] = stale_row(cases[name])
+        return stale
 
     def close(self) -> None:
         """Collective: commit the cases written this run, empty incomplete groups, close."""
@@ -197,6 +247,8 @@ class CollectiveWriter:
         if self.rank == 0:
             self._remove_journals(journals)
             self._journals = []
+            if self._summary.dirty:
+                self._summary.update(self.rows, force=True)
         self.commit_seconds += _now() - start
 
     def __enter__(self) -> CollectiveWriter:
@@ -306,7 +358,7 @@ class CollectiveWriter:
             self._journal_path(record["case_id"]).unlink(missing_ok=True)
 
     def _write_summary(self) -> None:
-        write_summary_csv(summary_frame(self.rows()), self.summary_path)
+        self._summary.update(self.rows)
 
 
 def _drop_unwritten(cases, group, written: set[str], record) -> h5py.Group:

@@ -37,7 +37,10 @@ the shared file through parallel HDF5; same layout (see that module).
 from __future__ import annotations
 
 import json
+import math
+import os
 import shutil
+import time
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -143,11 +146,34 @@ def check_resumable(path: Path, metadata: StudyMetadata) -> None:
 
 
 def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
-    """--fresh: delete the results file, its summary and the checkpoints of a previous run."""
+    """--fresh: delete the results file, its summary and the checkpoints of a previous run
+    (under the output lock: never while another run holds it, see engine.output.lock)."""
     output.unlink(missing_ok=True)
+    creating_path(output).unlink(missing_ok=True)
     output.with_suffix(".csv").unlink(missing_ok=True)
     if checkpoint_dir.exists():
         shutil.rmtree(checkpoint_dir)
+
+
+def creating_path(output: Path) -> Path:
+    """Where a new results file is built: renamed to ``output`` once its structure (root
+    attributes, grid, a pending group per case) is complete, so a kill during creation never
+    leaves a file that the next run cannot read (the rename is atomic)."""
+    return output.with_name(f".{output.name}.creating")
+
+
+def publish_created(output: Path) -> None:
+    """Rename the completed new file into place (atomic on one file system)."""
+    os.replace(creating_path(output), output)
+
+
+def renumber_cases(cases: h5py.Group, plan: Plan, stale: list[str]) -> None:
+    """``index`` of every case = its position in the current plan (stale cases after it), so
+    an extended or shrunk sweep never leaves two cases with the same index."""
+    for index, case_id in enumerate(list(plan.case_ids) + stale):
+        group = cases[case_id]
+        if group.attrs.get("index") != index:
+            group.attrs["index"] = index
 
 
 def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
@@ -169,21 +195,36 @@ class SingleWriter:
     in step with the HDF5 file.
     """
 
-    def __init__(self, path: str | Path, summary_path: str | Path | None = None) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        summary_path: str | Path | None = None,
+        *,
+        drop_stale: bool = False,
+    ) -> None:
         self.path = Path(path)
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
+        self.drop_stale = drop_stale
         self._file: h5py.File | None = None
         self._rows: dict[str, dict[str, Any]] = {}
         self._order: list[str] = []
+        self._summary = SummaryTable(self.summary_path)
+        self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self.flag_spacing = 10.0
+        self._last_commit_end = -math.inf
+        self._commit_cost = 0.0
 
     # ------------------------------------------------------------------ lifecycle
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
         if fresh or not self.path.exists():
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._file = h5py.File(self.path, "w")
-        else:
-            check_resumable(self.path, metadata)
+            self._create(plan, metadata)
             self._file = h5py.File(self.path, "a")
+            self._rows = {case.case_id: pending_row(case.parameters()) for case in plan}
+            self._order = list(plan.case_ids)
+            self._write_summary(force=True)
+            return set()
+        check_resumable(self.path, metadata)
+        self._file = h5py.File(self.path, "a")
         file = self._file
         write_root(file, metadata)
         cases = file.require_group("cases")
@@ -197,16 +238,43 @@ class SingleWriter:
                 continue
             self._reset_group(cases, case)
             self._rows[case.case_id] = pending_row(case.parameters())
-        self._order = list(plan.case_ids)
+        stale = self._stale_cases(cases, plan)
+        renumber_cases(cases, plan, stale)
+        self._order = list(plan.case_ids) + stale
         file.flush()
-        self._write_summary()
+        self._write_summary(force=True)
         return completed
+
+    def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
+        """New file: built under a temporary name, renamed when its structure is complete."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with h5py.File(creating_path(self.path), "w") as file:
+            write_root(file, metadata)
+            cases = file.create_group("cases")
+            for case in plan:
+                self._reset_group(cases, case)
+        publish_created(self.path)
+
+    def _stale_cases(self, cases: h5py.Group, plan: Plan) -> list[str]:
+        """Groups of cases no longer in the plan: deleted (``drop_stale``) or kept and listed
+        in the summary after the plan's cases, with their stored rows."""
+        planned = set(plan.case_ids)
+        stale = [name for name in cases if name not in planned]
+        if self.drop_stale:
+            for name in stale:
+                del cases[name]
+            return []
+        for name in stale:
+            self._rows[name] = stale_row(cases[name])
+        return stale
 
     def close(self) -> None:
         if self._file is not None:
+            self._commit_flags(force=True)
             self._file.flush()
             self._file.close()
             self._file = None
+            self._write_summary(force=True)
 
     def __enter__(self) -> SingleWriter:
         return self
@@ -216,11 +284,14 @@ class SingleWriter:
 
     # ------------------------------------------------------------------ writing
     def write(self, outcome: CaseOutcome) -> None:
-        """Write one case: clear its group, datasets, attributes, then status, then flush."""
+        """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
+        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
         cases = self._file["cases"]
-        group = self._reset_group(cases, outcome.case)
+        group = cases[outcome.case_id] if outcome.case_id in cases else None
+        if group is None or len(group) or group.attrs.get("status") != "pending":
+            group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         for path, record in outcome.datasets.items():
             dataset = group.create_dataset(path, data=np.asarray(record.data))
             dataset.attrs["units"] = record.units
@@ -232,11 +303,31 @@ class SingleWriter:
         group.attrs["rank"] = outcome.rank
         group.attrs["runtime_s"] = outcome.runtime_s
         group.attrs["summary"] = json.dumps(_json_safe(row))
-        self._file.flush()
-        group.attrs["status"] = outcome.status  # the completion flag, written last
-        self._file.flush()
         self._rows[outcome.case_id] = row
-        self._write_summary()
+        self._unflagged.append((group, outcome.status))
+        if self._commit_flags():
+            self._write_summary()
+
+    def _commit_flags(self, force: bool = False) -> bool:
+        """Flush the written cases, then set their ``status`` and flush again — the completion
+        flag reaches the file only after the data. Done after every case while that costs
+        little; when cases arrive faster (thousands of small cases), at most every
+        ``flag_spacing`` × the cost of the last commit, so flushing stays a small share of the
+        run. A kill loses at most the cases of one uncommitted batch (they are recomputed);
+        SIGTERM and the end of the run commit everything (``close``)."""
+        if not self._unflagged:
+            return False
+        now = time.perf_counter()
+        if not force and now - self._last_commit_end < self.flag_spacing * self._commit_cost:
+            return False
+        self._file.flush()
+        for group, status in self._unflagged:
+            group.attrs["status"] = status
+        self._file.flush()
+        self._unflagged = []
+        self._last_commit_end = time.perf_counter()
+        self._commit_cost = self._last_commit_end - now
+        return True
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
@@ -254,8 +345,47 @@ class SingleWriter:
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
 
-    def _write_summary(self) -> None:
-        write_summary_csv(summary_frame(self.rows()), self.summary_path)
+    def _write_summary(self, force: bool = False) -> None:
+        self._summary.update(self.rows, force=force)
+
+
+def stale_row(group: h5py.Group) -> dict[str, Any]:
+    """Summary row of a stored case no longer in the plan (its stored row, current status)."""
+    case_id = group.name.rsplit("/", 1)[-1]
+    row = json.loads(group.attrs.get("summary", "{}")) or pending_row({"case_id": case_id})
+    row["status"] = str(group.attrs.get("status", row.get("status", "pending")))
+    return row
+
+
+class SummaryTable:
+    """The summary CSV beside the results file, rewritten atomically (always a whole table
+    listing every case of the file) but not after every case of a large study.
+
+    Rewriting is O(cases), so rewriting after each case costs O(cases²) over a study (36 ms
+    per rewrite at 1000 rows). A rewrite is skipped while less than ``spacing`` × the time of
+    the last rewrite has passed since it (default 20: at most ~5 % of the wall time goes to
+    the summary, and a small study is still rewritten after every case). ``force`` (file
+    prepared, run ending) always writes. After a SIGKILL the CSV can lag the HDF5 file by a
+    few seconds of cases; the next run rewrites it from the HDF5 file.
+    """
+
+    def __init__(self, path: Path, spacing: float = 20.0) -> None:
+        self.path = path
+        self.spacing = spacing
+        self._last_end = -math.inf
+        self._last_cost = 0.0
+        self.dirty = False
+
+    def update(self, rows, *, force: bool = False) -> None:
+        """``rows``: a callable returning the rows (only called when writing)."""
+        self.dirty = True
+        now = time.perf_counter()
+        if not force and now - self._last_end < self.spacing * self._last_cost:
+            return
+        write_summary_csv(summary_frame(rows()), self.path)
+        self._last_end = time.perf_counter()
+        self._last_cost = self._last_end - now
+        self.dirty = False
 
 
 def _json_safe(row: dict[str, Any]) -> dict[str, Any]:

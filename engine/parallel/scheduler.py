@@ -26,7 +26,8 @@ Protocol (pickled tuples; one tag per direction so messages stay in order):
 worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
 before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
 
-Stopping (SIGTERM/SIGUSR1 or an interrupted case anywhere): rank 0 hands out no more cases,
+Stopping (SIGTERM/SIGUSR1 on any rank — also on a worker alone, which then interrupts its
+case or returns the next one — or an interrupted case anywhere): rank 0 hands out no more cases,
 sends ``stop`` to the busy workers, waits for their (interrupted) outcomes, and tells every
 worker to exit. An exception escaping ``run_case`` propagates to the caller; the entry point
 aborts the communicator so no rank is left waiting (see ``engine.cli``).
@@ -43,7 +44,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Scheduler", "SchedulerReport"]
+__all__ = ["Scheduler", "SchedulerReport", "PeerDied"]
 
 TAG_TO_MASTER = 71
 TAG_TO_WORKER = 72
@@ -86,6 +87,60 @@ class _LocalWorker(threading.Thread):
                 return
 
 
+class PeerDied(RuntimeError):
+    """A rank this one waits for no longer exists (SIGKILL, OOM killer): the job must end."""
+
+
+class PeerWatch:
+    """Notices a dead peer on the same host while waiting for it, about once a second.
+
+    ``peers``: (pid, host) of every rank, from one ``allgather`` at start-up. MPI has no
+    portable way to see a dead peer, and a launcher that does not clean up (``srun`` without
+    ``--kill-on-bad-exit``, ``mpiexec -disable-auto-cleanup``) would leave the job waiting
+    forever; a process of the same host can be checked directly (gone, or a zombie). Ranks on
+    other hosts are left to the launcher.
+    """
+
+    def __init__(self, rank: int, peers: list[tuple[int, str]] | None, interval: float = 1.0):
+        import os
+        import socket
+
+        self.interval = interval
+        self._next = time.monotonic() + interval
+        host = socket.gethostname()
+        self.local = {
+            other: pid
+            for other, (pid, peer_host) in enumerate(peers or [])
+            if other != rank and peer_host == host and pid != os.getpid()
+        }
+
+    def check(self, busy_or_alive: set[int]) -> None:
+        if not self.local or time.monotonic() < self._next:
+            return
+        self._next = time.monotonic() + self.interval
+        for rank in busy_or_alive:
+            pid = self.local.get(rank)
+            if pid is not None and not _process_exists(pid):
+                raise PeerDied(f"rank {rank} (pid {pid}) died; ending the job")
+
+
+def _process_exists(pid: int) -> bool:
+    """True while ``pid`` runs (a zombie — dead, not yet reaped — counts as gone)."""
+    import os
+
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            return handle.read().rpartition(")")[2].split()[0] not in ("Z", "X")
+    except OSError:
+        return True
+
+
 class Scheduler:
     """Run cases over ``comm`` with ``run_case(case, should_stop) -> outcome``.
 
@@ -101,6 +156,7 @@ class Scheduler:
         *,
         stop_event: threading.Event | None = None,
         poll_interval: float = 0.01,
+        peers: list[tuple[int, str]] | None = None,
     ) -> None:
         self.comm = comm
         self.run_case = run_case
@@ -108,6 +164,7 @@ class Scheduler:
         self.poll_interval = poll_interval
         self.rank = comm.Get_rank()
         self.size = comm.Get_size()
+        self.watch = PeerWatch(self.rank, peers)
 
     def run(
         self, cases: Iterable[Any] | None = None, on_outcome: Callable[[Any], None] | None = None
@@ -139,14 +196,22 @@ class Scheduler:
                 return None
             return pending.popleft()
 
-        def finish(rank: int, kind: str, payload: Any) -> None:
+        def settle(rank: int, kind: str, payload: Any) -> bool:
+            """Bookkeeping of a message (cheap, before the next case is handed out); True
+            when it carries an outcome to deliver."""
             case = busy.pop(rank)
-            if kind == "returned":
+            if kind == "returned":  # the worker was stopped (its own signal): the job stops
                 pending.appendleft(case)
-                return
+                self.stop_event.set()
+                return False
             if payload.status == INTERRUPTED:
                 self.stop_event.set()
-            report.statuses[case.case_id] = payload.status
+            return True
+
+        def deliver(rank: int, payload: Any) -> None:
+            """Record and hand on an outcome (writing it may take a while: the rank that
+            computed it has already received its next case)."""
+            report.statuses[payload.case_id] = payload.status
             report.cases_per_rank[rank] = report.cases_per_rank.get(rank, 0) + 1
             on_outcome(payload)
 
@@ -160,33 +225,40 @@ class Scheduler:
                 busy[self.rank] = case
                 local.inbox.put(case)
 
+        def service_local(timeout: float | None = None) -> bool:
+            """Collect rank 0's own outcome if there is one (waiting up to ``timeout``), give
+            the computing thread its next case at once, then deliver the outcome."""
+            try:
+                if timeout is None:
+                    kind, payload = local.outbox.get_nowait()
+                else:
+                    kind, payload = local.outbox.get(timeout=timeout)
+            except queue.Empty:
+                return False
+            if kind == "error":
+                error, text = payload
+                raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
+            has_outcome = settle(self.rank, kind, payload)
+            feed_local()
+            if has_outcome:
+                deliver(self.rank, payload)
+            return True
+
         feed_local()
         status = MPI.Status()
         while local_alive or self.rank in busy or workers_alive:
-            progressed = False
             if self.stop_event.is_set():
                 for rank in [r for r in busy if r != self.rank and r not in stop_sent]:
                     self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
                     stop_sent.add(rank)
-            try:
-                kind, payload = local.outbox.get_nowait()
-            except queue.Empty:
-                pass
-            else:
-                progressed = True
-                if kind == "error":
-                    error, text = payload
-                    raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
-                finish(self.rank, kind, payload)
-                feed_local()
+            progressed = service_local()
             while workers_alive and self.comm.Iprobe(
                 source=MPI.ANY_SOURCE, tag=TAG_TO_MASTER, status=status
             ):
                 progressed = True
                 source = status.Get_source()
                 kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
-                if kind in ("result", "returned"):
-                    finish(source, kind, payload)
+                has_outcome = kind in ("result", "returned") and settle(source, kind, payload)
                 stop_sent.discard(source)
                 case = next_case()
                 if case is None:
@@ -195,8 +267,15 @@ class Scheduler:
                 else:
                     busy[source] = case
                     self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
+                if has_outcome:
+                    deliver(source, payload)
+                service_local()  # rank 0's own computing is never starved by the workers
             if not progressed:
-                time.sleep(self.poll_interval)
+                self.watch.check(busy_or_alive=set(busy) | workers_alive)
+                if self.rank in busy:  # wake as soon as rank 0's own case is done
+                    service_local(timeout=self.poll_interval)
+                else:
+                    time.sleep(self.poll_interval)
         local.join()
         report.stopped = self.stop_event.is_set()
         report.not_started = [case.case_id for case in pending]
@@ -230,6 +309,7 @@ class Scheduler:
                     self.stop_event.set()
                     continue
                 return kind, payload
+            self.watch.check(busy_or_alive={0})
             time.sleep(delay)
             delay = min(2 * delay, self.poll_interval)
 

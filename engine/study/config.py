@@ -333,7 +333,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        raise StudyConfigError(source, "study", _MISSING, f"malformed TOML: {error}") from None
+        raise _toml_error(source, text, error) from None
 
     for name in data:
         if name not in _SECTIONS_REQUIRED + _SECTIONS_OPTIONAL:
@@ -361,6 +361,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     sweep = _parse_sweep(section("sweep"), loading)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
+    check_physical_ranges(source, material, punch, loading, sweep)
     return StudyConfig(
         source, study, material, punch, mesh, loading, subsurface, sweep, solver, testing
     )
@@ -460,10 +461,7 @@ def _parse_sweep(s: _Section, loading: LoadingConfig) -> SweepConfig:
             )
         else:
             wear2 = s.number_list("wear2", minimum=0.0, unit="1/MPa")
-    beta = s.number_list("beta", [0.0], unit="degrees")
-    for value in beta:
-        if not -360.0 <= value <= 360.0:
-            raise s.error("beta", s.table["beta"], "angles must lie in [-360, 360] degrees")
+    beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
     return SweepConfig(mu1=mu1, mu2=mu2, wear1=wear1, wear2=wear2, beta=beta)
 
 
@@ -473,7 +471,7 @@ def _parse_solver(s: _Section, loading: LoadingConfig) -> SolverConfig:
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
     default_tol = 1e-6 if loading.kind == "cyclic" else 1e-8
-    tol = s.number("tol", default_tol, minimum=0.0, strict=True)
+    tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
     maxiter = s.integer("maxiter", minimum=1) if "maxiter" in s.table else None
     threads = s.integer("threads", 1, minimum=1)
     fft_planner = s.string("fft_planner", "estimate")
@@ -488,6 +486,139 @@ def _parse_testing(s: _Section) -> TestingConfig:
     if not isinstance(raw, list) or not all(isinstance(item, str) for item in raw):
         raise s.error("fail_cases", raw, "must be a list of case ids (strings)")
     return TestingConfig(fail_cases=tuple(raw))
+
+
+# --------------------------------------------------------------------------------------------
+# Range checks (issues 16 and 18): values the model cannot represent are input errors.
+
+MAX_TOLERANCE = 1e-2
+# Moduli from soft gels (1 kPa) to a "rigid" punch modelled as 10^6 × steel: outside, the
+# compliance 1/E* is so large or small that a case fails slowly (E_A = 1e-300 took 100 s per
+# case before failing) or the displacements vanish in float64 round-off of the approach.
+MODULUS_RANGE = (1e-3, 1e12)  # MPa
+# The half-space model is linear elastic, i.e. small strains: the mean pressure P/(π a²) of
+# the flat punch must stay below 10 % of the contact modulus E* (strain ~ p0/E*), and above
+# 1e-12 of it (displacements below float64 resolution of the approach).
+MAX_PRESSURE_OVER_MODULUS = 0.1
+MIN_PRESSURE_OVER_MODULUS = 1e-12
+# Friction coefficients of real contacts lie below ~2 (clean metals in vacuum up to ~5); far
+# above, the contact sticks everywhere and μ·p overflows nothing but the user's intent.
+MAX_FRICTION = 10.0
+# Archard-type wear coefficients (1/MPa) of fretting tests are 1e-9 … 1e-6 (Section 7: 1.33e-7);
+# at 1e-3 a contact at 100 MPa slipping 1 µm wears 0.1 µm per cycle, 10^4 × the severest
+# measured, and the cycle jump degenerates into single cycles.
+MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
+
+
+def _toml_error(source: str, text: str, error: Exception) -> StudyConfigError:
+    """Malformed TOML, located: the section and key of the offending line when known
+    (``[mesh] n: malformed TOML: Cannot overwrite a value (at line 14, column 4)``)."""
+    message = str(error)
+    line_number = None
+    if "(at line " in message:
+        try:
+            line_number = int(message.split("(at line ")[1].split(",")[0])
+        except ValueError:
+            line_number = None
+    key = "study"
+    if line_number is not None:
+        lines = text.splitlines()
+        section = ""
+        for line in lines[: line_number - 1]:
+            stripped = line.strip()
+            if stripped.startswith("[") and "]" in stripped:
+                section = stripped.strip("[]").strip()
+        offending = lines[line_number - 1] if line_number <= len(lines) else ""
+        name = offending.split("=")[0].strip() if "=" in offending else ""
+        if section:
+            key = f"{section}.{name}" if name and " " not in name else section
+    problem = f"malformed TOML: {message}"
+    if "Cannot overwrite a value" in message:
+        problem += " (the key is given twice)"
+    return StudyConfigError(source, key, _MISSING, problem)
+
+
+def _tolerance(s: _Section, tol: float) -> float:
+    """Relative residual of the solvers: above 1e-2 a solve stops before it has done anything
+    meaningful (tol = 1e300 "completed" every case with the same wrong wear)."""
+    if tol > MAX_TOLERANCE:
+        raise s.error(
+            "tol", s.table["tol"], f"must lie in (0, {MAX_TOLERANCE:g}] (relative residual)"
+        )
+    return tol
+
+
+def _axes_angles(s: _Section, angles: tuple[float, ...]) -> tuple[float, ...]:
+    """β normalised to [0°, 180°): the friction and wear ellipses are centrally symmetric, so
+    β and β ± 180° are the same physics; two values that coincide are rejected."""
+    normalised = []
+    for value in angles:
+        if not -360.0 <= value <= 360.0:
+            raise s.error("beta", s.table["beta"], "angles must lie in [-360, 360] degrees")
+        normalised.append(value % 180.0)
+    for index, value in enumerate(normalised):
+        first = normalised.index(value)
+        if first != index:
+            raise s.error(
+                "beta",
+                s.table["beta"],
+                f"{angles[first]:g} and {angles[index]:g} degrees are the same axes "
+                "(β is taken modulo 180°: the friction and wear ellipses are centrally "
+                "symmetric); list each angle once",
+            )
+    return tuple(normalised)
+
+
+def check_physical_ranges(source, material, punch, loading, sweep) -> None:
+    """Moduli, load (as mean pressure over contact modulus), friction and wear coefficients
+    inside what the model represents (see the constants above for the ranges and why)."""
+    low, high = MODULUS_RANGE
+    for key in ("E_A", "E_B"):
+        value = getattr(material, key)
+        if not low <= value <= high:
+            raise StudyConfigError(
+                source,
+                f"material.{key}",
+                value,
+                f"must lie in [{low:g}, {high:g}] MPa (from gels to a rigid punch modelled as "
+                "10^6 × steel; outside, the compliance leaves float64's useful range)",
+            )
+    contact_modulus = 1.0 / (
+        (1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B
+    )
+    mean_pressure = loading.load / (math.pi * punch.radius**2)
+    ratio = mean_pressure / contact_modulus
+    if not MIN_PRESSURE_OVER_MODULUS <= ratio <= MAX_PRESSURE_OVER_MODULUS:
+        raise StudyConfigError(
+            source,
+            "loading.load",
+            loading.load,
+            f"mean pressure P/(π a²) = {mean_pressure:.3g} MPa is {ratio:.3g} × the contact "
+            f"modulus E* = {contact_modulus:.3g} MPa; the linear-elastic half-space needs "
+            f"{MIN_PRESSURE_OVER_MODULUS:g} ≤ p0/E* ≤ {MAX_PRESSURE_OVER_MODULUS:g} "
+            "(small strains)",
+        )
+    for key in ("mu1", "mu2"):
+        for value in getattr(sweep, key, None) or ():
+            if value > MAX_FRICTION:
+                raise StudyConfigError(
+                    source,
+                    f"sweep.{key}",
+                    value,
+                    f"friction coefficient must lie in [0, {MAX_FRICTION:g}] (real contacts: "
+                    "below ~2)",
+                )
+    for key in ("wear1", "wear2"):
+        values = getattr(sweep, key, None)
+        for value in values if isinstance(values, tuple) else ():
+            if value > MAX_WEAR_COEFFICIENT:
+                raise StudyConfigError(
+                    source,
+                    f"sweep.{key}",
+                    value,
+                    f"wear coefficient must lie in [0, {MAX_WEAR_COEFFICIENT:g}] 1/MPa "
+                    "(fretting tests: 1e-9 … 1e-6)",
+                )
 
 
 # --------------------------------------------------------------------------------------------

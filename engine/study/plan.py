@@ -119,12 +119,7 @@ def make_plan(config: StudyConfig) -> Plan:
     for index, (mu1, mu2, wear1, wear2, beta) in enumerate(combos):
         case_id = case_id_for(mu1, mu2, wear1, wear2, beta)
         if case_id in seen:
-            raise StudyConfigError(
-                config.source,
-                "sweep",
-                list(combos[index]),
-                f"two cases get the same id {case_id!r}: values differ beyond 10 digits",
-            )
+            raise _collision(config.source, case_id, seen[case_id], combos[index])
         seen[case_id] = combos[index]
         cases.append(Case(index, case_id, mu1, mu2, wear1, wear2, beta))
     unknown = set(config.testing.fail_cases) - set(seen)
@@ -133,3 +128,22 @@ def make_plan(config: StudyConfig) -> Plan:
             config.source, "testing.fail_cases", sorted(unknown), "not a case id of this plan"
         )
     return Plan(tuple(cases))
+
+
+_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+
+
+def _collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:
+    """Two combinations with the same id: name the sweep key whose values differ only beyond
+    the 10 significant digits of the id."""
+    keys = [key for key, a, b in zip(_PARAMETERS, first, second, strict=True) if a != b]
+    key = keys[0] if keys else "mu1"
+    values = [a for k, a, b in zip(_PARAMETERS, first, second, strict=True) if k == key]
+    values += [b for k, a, b in zip(_PARAMETERS, first, second, strict=True) if k == key]
+    return StudyConfigError(
+        source,
+        f"sweep.{key}",
+        values,
+        f"two cases get the same id {case_id!r}: the values differ only beyond 10 "
+        "significant digits",
+    )

@@ -1,0 +1,306 @@
+"""Serial parts of kill-safety and study identity (issues 16 and 18): the output lock, output
+paths, the identity check, extended and shrunk sweeps, salvage of damaged files, input ranges.
+The same behaviour under ``mpiexec -n 2`` with real kills: tests/mpi/test_kill_safety.py.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import socket
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+
+from engine import load_summary
+from engine.output.hdf5 import ResultsMismatch, SingleWriter, SummaryTable
+from engine.output.identity import inspect_existing, study_identity
+from engine.output.lock import (
+    OutputInUse,
+    OutputLock,
+    OutputPathError,
+    check_output_path,
+    check_summary_path,
+    lock_path_for,
+)
+from engine.output.salvage import apply_existing
+from engine.study.config import StudyConfigError, parse_study
+from engine.study.plan import make_plan
+from engine.study.resources import case_memory_bytes, check_memory
+from tests.test_config import VALID
+from tests.test_output import fake_outcome
+from tests.test_output import metadata as base_metadata
+
+
+def metadata(config):
+    data = base_metadata(config)
+    data.attrs["study_identity"] = study_identity(config.resolved())
+    return data
+
+
+def study(text=VALID):
+    config = parse_study(text)
+    return config, make_plan(config)
+
+
+def completed_file(path, text=VALID):
+    """A results file whose cases are all completed (fake outcomes)."""
+    config, plan = study(text)
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        for case in plan:
+            writer.write(fake_outcome(case))
+    return config, plan
+
+
+# ------------------------------------------------------------------------------ lock
+def test_lock_refuses_a_second_owner_and_is_released(tmp_path):
+    output = tmp_path / "r.h5"
+    first = OutputLock(output)
+    first.acquire()
+    owner = lock_path_for(output).read_text().split()
+    assert owner[:2] == [str(os.getpid()), socket.gethostname()]
+    with pytest.raises(OutputInUse, match=rf"in use by another run \(pid {os.getpid()}, host "):
+        OutputLock(output).acquire()
+    first.release()
+    assert not lock_path_for(output).exists()
+    with OutputLock(output):
+        assert lock_path_for(output).exists()
+
+
+def test_stale_lock_of_a_dead_process_is_replaced(tmp_path):
+    output = tmp_path / "r.h5"
+    lock_path_for(output).write_text(f"999999999 {socket.gethostname()} 1\n")
+    lock = OutputLock(output)
+    lock.acquire()
+    assert lock.replaced is not None and lock.replaced.pid == 999999999
+    lock.release()
+
+
+def test_lock_of_another_host_names_the_file_to_delete(tmp_path):
+    output = tmp_path / "r.h5"
+    lock_path_for(output).write_text("1234 some-other-node 1\n")
+    with pytest.raises(OutputInUse, match="host some-other-node.*delete .*r.h5.lock"):
+        OutputLock(output).acquire()
+
+
+def test_output_path_errors_name_the_path(tmp_path):
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(OutputPathError, match="is not a directory"):
+        check_output_path(tmp_path / "file" / "r.h5")
+    (tmp_path / "dir.h5").mkdir()
+    with pytest.raises(OutputPathError, match="not a regular file"):
+        check_output_path(tmp_path / "dir.h5")
+    with pytest.raises(OutputPathError, match="/proc/no-such"):
+        check_output_path(__import__("pathlib").Path("/proc/no-such/r.h5"))
+
+
+def test_an_unrelated_csv_with_the_summary_name_is_not_overwritten(tmp_path):
+    (tmp_path / "r.csv").write_text("date,temperature\n2024-01-01,3\n")
+    with pytest.raises(OutputPathError, match="not a summary of this engine"):
+        check_summary_path(tmp_path / "r.h5", tmp_path / "r.csv")
+    (tmp_path / "r.csv").write_text("case_id,mu1,mu2,wear1\n")
+    check_summary_path(tmp_path / "r.h5", tmp_path / "r.csv")  # a summary: fine
+
+
+# ------------------------------------------------------------------------------ identity
+def test_another_study_is_refused_naming_every_difference(tmp_path):
+    path = tmp_path / "r.h5"
+    completed_file(path)
+    before = path.read_bytes()
+    other_text = VALID.replace('name = "t"', 'name = "other"').replace("load = 750", "load = 700")
+    config, plan = study(other_text)
+    with pytest.raises(ResultsMismatch) as info:
+        inspect_existing(path, metadata(config), plan)
+    message = str(info.value)
+    assert "study name 't' in the file, 'other' in the study" in message
+    assert "[loading] load: 750.0 in the file, 700.0 in the study" in message
+    assert path.read_bytes() == before
+
+
+def test_extended_sweep_adds_cases_and_keeps_completed_ones(tmp_path):
+    path = tmp_path / "r.h5"
+    completed_file(path)
+    config, plan = study(VALID.replace("mu1 = [0.1, 0.4]", "mu1 = [0.1, 0.2, 0.4]"))
+    existing = inspect_existing(path, metadata(config), plan)
+    assert existing.kind == "resume" and existing.new_cases == 2 and not existing.stale
+    with SingleWriter(path) as writer:
+        assert len(writer.prepare(plan, metadata(config))) == 4
+    with h5py.File(path, "r") as file:  # indices follow the new plan: no two cases share one
+        indices = {name: int(group.attrs["index"]) for name, group in file["cases"].items()}
+    assert sorted(indices.values()) == list(range(6))
+    assert [indices[case_id] for case_id in plan.case_ids] == list(range(6))
+
+
+@pytest.mark.parametrize("drop_stale", [False, True])
+def test_shrunk_sweep_reports_stale_cases_and_csv_equals_h5(tmp_path, drop_stale):
+    path = tmp_path / "r.h5"
+    completed_file(path)
+    config, plan = study(VALID.replace("mu1 = [0.1, 0.4]", "mu1 = [0.1]"))
+    existing = inspect_existing(path, metadata(config), plan)
+    assert existing.stale == ["mu0.4_w1.33e-07_b0", "mu0.4_w1.33e-07_b45"]
+    with SingleWriter(path, drop_stale=drop_stale) as writer:
+        writer.prepare(plan, metadata(config))
+    from_h5, from_csv = load_summary(path), load_summary(path.with_suffix(".csv"))
+    pd.testing.assert_frame_equal(from_h5, from_csv, check_exact=True)
+    expected = list(plan.case_ids) + ([] if drop_stale else existing.stale)
+    assert list(from_h5.case_id) == expected
+    assert (from_h5.status == "completed").all()
+
+
+# ------------------------------------------------------------------------------ salvage
+def _truncate(path, fraction):
+    size = path.stat().st_size
+    with open(path, "r+b") as handle:
+        handle.truncate(int(size * fraction))
+
+
+def test_truncated_file_is_salvaged_and_the_rest_recomputed(tmp_path):
+    """A file cut at 95 %: HDF5 refuses it ('truncated file'); the salvage reads the cases that
+    lie wholly before the cut, copies them into a new file and keeps the damaged one."""
+    path = tmp_path / "r.h5"
+    config, plan = completed_file(path)
+    with h5py.File(path, "r") as file:
+        reference = {n: file["cases"][n]["fields/final/pressure"][()] for n in plan.case_ids}
+    _truncate(path, 0.95)
+    with pytest.raises(OSError, match="truncated"):
+        h5py.File(path, "r")
+    existing = inspect_existing(path, metadata(config), plan)
+    assert existing.kind == "salvage", existing
+    assert 1 <= len(existing.completed) < len(plan)
+    apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
+    assert (tmp_path / "r.h5.damaged").exists()
+    with SingleWriter(path) as writer:
+        completed = writer.prepare(plan, metadata(config))
+    assert completed == set(existing.completed)
+    with h5py.File(path, "r") as file:
+        for name in completed:
+            np.testing.assert_array_equal(
+                file["cases"][name]["fields/final/pressure"][()], reference[name]
+            )
+        assert set(file["cases"]) == set(plan.case_ids)
+
+
+def test_file_with_a_torn_header_starts_over_with_a_message(tmp_path, capsys):
+    path = tmp_path / "r.h5"
+    config, plan = completed_file(path)
+    with open(path, "r+b") as handle:  # tear the superblock and root object header
+        handle.seek(0)
+        handle.write(b"\0" * 2048)
+    existing = inspect_existing(path, metadata(config), plan)
+    assert existing.kind == "start-over"
+    existing.report(__import__("sys").stdout)
+    assert "starts over" in capsys.readouterr().out
+    apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
+    assert not path.exists() and (tmp_path / "r.h5.damaged").exists()
+
+
+def test_file_killed_before_any_case_completed_starts_over(tmp_path):
+    """A half-built file (e.g. left by an engine without the temporary-name creation)."""
+    path = tmp_path / "r.h5"
+    config, plan = study()
+    with h5py.File(path, "w") as file:
+        file.attrs["format"] = "fretting-engine-results/1"
+    shutil.copyfile(path, tmp_path / "copy.h5")
+    _truncate(path, 0.3)
+    existing = inspect_existing(path, metadata(config), plan)
+    assert existing.kind == "start-over"
+
+
+# ------------------------------------------------------------------------------ summary
+def test_summary_table_spaces_rewrites_but_always_writes_when_forced(tmp_path):
+    table = SummaryTable(tmp_path / "s.csv", spacing=1e9)
+    rows = [{"case_id": "a", "status": "pending"}]
+    table.update(lambda: rows, force=True)
+    rows[0]["status"] = "completed"
+    table.update(lambda: rows)  # within the spacing: skipped
+    assert "pending" in (tmp_path / "s.csv").read_text() and table.dirty
+    table.update(lambda: rows, force=True)
+    assert "completed" in (tmp_path / "s.csv").read_text() and not table.dirty
+
+
+# ------------------------------------------------------------------------------ input ranges
+def replace_in(section_key_value: tuple[str, str]) -> str:
+    old, new = section_key_value
+    assert old in VALID
+    return VALID.replace(old, new)
+
+
+SOLVER = "beta = [0, 45]\n[solver]\n"
+RANGE_ERRORS = {
+    "tol 1e300": (("beta = [0, 45]\n", SOLVER + "tol = 1e300\n"), "[solver] tol", "(0, 0.01]"),
+    "tol 0.1": (("beta = [0, 45]\n", SOLVER + "tol = 0.1\n"), "[solver] tol", "(0, 0.01]"),
+    "maxiter 0": (("beta = [0, 45]\n", SOLVER + "maxiter = 0\n"), "[solver] maxiter", ">= 1"),
+    "beta 0 and 180": (("beta = [0, 45]", "beta = [0, 180]"), "[sweep] beta", "same axes"),
+    "beta 45 and -135": (("beta = [0, 45]", "beta = [45, -135]"), "[sweep] beta", "same axes"),
+    "E_A tiny": (("E_A = 200e3", "E_A = 1e-300"), "[material] E_A", "[0.001, 1e+12] MPa"),
+    "E_B huge": (("E_B = 200e5", "E_B = 1e300"), "[material] E_B", "MPa"),
+    "load huge": (("load = 750", "load = 1e300"), "[loading] load", "small strains"),
+    "load tiny": (("load = 750", "load = 1e-300"), "[loading] load", "small strains"),
+    "mu huge": (("mu1 = [0.1, 0.4]", "mu1 = [0.1, 1e300]"), "[sweep] mu1", "[0, 10]"),
+    "wear huge": (("wear1 = [1.33e-7]", "wear1 = [1e300]"), "[sweep] wear1", "1/MPa"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(RANGE_ERRORS))
+def test_values_outside_the_model_are_input_errors(kind):
+    edit, key, fragment = RANGE_ERRORS[kind]
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(replace_in(edit), source="s.toml")
+    message = str(info.value)
+    assert message.startswith("s.toml: ") and key in message and fragment in message, message
+
+
+def test_beta_is_normalised_to_0_180():
+    config, plan = study(VALID.replace("beta = [0, 45]", "beta = [-30, 270, 45]"))
+    assert config.sweep.beta == (150.0, 90.0, 45.0)
+    assert {case.beta for case in plan} == {150.0, 90.0, 45.0}
+
+
+def test_memory_estimate_refuses_a_mesh_the_machine_cannot_hold():
+    config, _ = study(VALID.replace("n = 32", "n = 2000"))
+    with pytest.raises(StudyConfigError) as info:
+        check_memory(config, ranks_on_node=2, limit=16 * 2**30)
+    message = str(info.value)
+    assert "[mesh] n = 2000" in message and "GiB" in message and "16.0 GiB" in message
+    small, _ = study()
+    check_memory(small, ranks_on_node=2, limit=16 * 2**30)  # n = 32: ~0.1 GB, fine
+    # the fit against measured peaks (resources.py): n = 256, 32 layers -> 889 MB measured
+    assert 0.95 * 889e6 < case_memory_bytes(256, 32) < 1.1 * 889e6
+
+
+def test_identity_ignores_threads_and_output_but_not_physics():
+    config, _ = study()
+    same = parse_study(VALID.replace('output = "out/t.h5"', 'output = "elsewhere/t.h5"'))
+    assert study_identity(config.resolved()) == study_identity(same.resolved())
+    other = parse_study(VALID.replace("radius = 1.8", "radius = 1.7"))
+    assert json.loads(study_identity(other.resolved()))["punch"]["radius"] == 1.7
+
+
+def test_case_id_collision_names_the_sweep_key():
+    text = VALID.replace("mu1 = [0.1, 0.4]", "mu1 = [0.1, 0.10000000000001]")
+    with pytest.raises(StudyConfigError, match=r"\[sweep\] mu1 = .*same id"):
+        make_plan(parse_study(text, source="s.toml"))
+
+
+def test_peer_watch_notices_a_dead_rank_of_this_host():
+    """A launcher that does not clean up would leave rank 0 waiting for a dead worker forever;
+    the watch (about once a second while waiting) turns that into an error (exit code 70)."""
+    import subprocess
+    import sys
+
+    from engine.parallel.scheduler import PeerDied, PeerWatch
+
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()  # gone: its pid no longer exists
+    host = socket.gethostname()
+    alive = PeerWatch(0, [(os.getpid(), host), (os.getppid(), host)], interval=0.0)
+    alive.check({1})  # a live peer: nothing happens
+    watch = PeerWatch(0, [(os.getpid(), host), (child.pid, host)], interval=0.0)
+    with pytest.raises(PeerDied, match=rf"rank 1 \(pid {child.pid}\) died"):
+        watch.check({1})
+    remote = PeerWatch(0, [(os.getpid(), host), (child.pid, "another-node")], interval=0.0)
+    remote.check({1})  # another host: left to the launcher
