@@ -31,6 +31,7 @@ peak_region        –       where vm_max sits: edge-surface | edge-subsurface |
                            axis-subsurface | axis-surface (``engine.solvers.peak``)
 peak_region_change_cycle – real cycle N of the first simulated cycle whose region differs
                            from cycle 0's (empty if it never changes)
+deep_region        –       where vm_deep_max sits (same words)
 load_steps         –       load increments solved
 matvecs            –       influence-operator applications in the case
 runtime_s          s       wall time of the case (summed over resumed runs)
@@ -66,7 +67,7 @@ SUMMARY_COLUMNS = [
     "stick_fraction", "load_steps", "matvecs", "runtime_s",
     "vm_deep_max", "vm_deep_max_x", "vm_deep_max_z", "vm_axis_max", "vm_axis_max_z",
     "contact_radius", "centre_pressure", "elastic_approach", "wear_severity",
-    "peak_region", "peak_region_change_cycle",
+    "peak_region", "peak_region_change_cycle", "deep_region",
 ]  # fmt: skip
 
 COLUMN_UNITS = {
@@ -81,7 +82,7 @@ COLUMN_UNITS = {
 }  # fmt: skip
 
 _INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
-_TEXT_COLUMNS = ("case_id", "status", "peak_region")
+_TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
 
 
 def pending_row(parameters: dict[str, Any], status: str = "pending") -> dict[str, Any]:

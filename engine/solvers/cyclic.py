@@ -15,8 +15,9 @@ Histories hold one row per simulated cycle, describing the state after N real cy
 peak-load solution computed with ω(N)). Records hold the peak-load fields at recorded cycles.
 With a ``peak_probe`` (e.g. :class:`engine.solvers.peak.PeakTracker`) every row also holds
 the probe's values for the peak-load tractions (von Mises peaks, contact radius, peak region);
-when the probe returns ``peak_region``, the peak-load tractions of the first row and of every
-row whose region differs from the previous row's are kept in ``CyclicState.region_changes``.
+when the probe returns ``peak_region`` (and ``deep_region``), the peak-load tractions of the
+first row and of every row where either differs from the previous row's are kept in
+``CyclicState.region_changes``.
 """
 
 from __future__ import annotations
@@ -356,16 +357,20 @@ class CyclicAnalysis:
 
     @staticmethod
     def _keep_region_change(state: CyclicState, peak: IncrementResult) -> None:
-        """Keep the peak-load tractions of the first row and of every region change."""
-        regions = state.history.get("peak_region")
-        if not regions:
+        """Keep the peak-load tractions of the first row and of every region change (of the
+        overall or of the deep peak)."""
+        if not state.history.get("peak_region"):
             return
-        if len(regions) > 1 and regions[-1] == regions[-2]:
-            return
-        if len(regions) > 1 and math.isnan(regions[-1]) and math.isnan(regions[-2]):
+        columns = [state.history[k] for k in ("peak_region", "deep_region") if k in state.history]
+        if len(columns[0]) > 1 and all(_same(c[-1], c[-2]) for c in columns):
             return
         state.region_changes[state.cycle] = {
             "pressure": np.asarray(peak.pressure).copy(),
             "traction_x": np.asarray(peak.traction_x).copy(),
             "traction_y": np.asarray(peak.traction_y).copy(),
         }
+
+
+def _same(first: float, second: float) -> bool:
+    """Equal region codes (NaN equals NaN: no classification in either row)."""
+    return first == second or (math.isnan(first) and math.isnan(second))

@@ -13,7 +13,9 @@ plane :class:`PeakTracker` extracts, per cycle,
 - ``contact_radius`` a = √(A_c/π), A_c the area of the elements with p > 0 (area-equivalent
   radius; a = a0 for the intact flat punch up to the staircase edge);
 - ``centre_pressure`` — the pressure at the axis (mean of the elements nearest to it: four
-  for an even mesh).
+  for an even mesh);
+- ``peak_region`` and ``deep_region`` — where ``vm_max`` and ``vm_deep_max`` sit (codes of
+  ``REGIONS``).
 
 Classification of the overall peak (:func:`classify_peak`), with r = |x| on the plane and a
 the current contact radius:
@@ -78,6 +80,7 @@ PEAK_HISTORY_UNITS = {
     "contact_radius": "mm",
     "centre_pressure": "MPa",
     "peak_region": "1",
+    "deep_region": "1",
 }
 
 _PLANE = "von Mises stress (Eq. 21) on the x-z plane through the axis at peak load"
@@ -101,6 +104,7 @@ PEAK_HISTORY_DESCRIPTIONS = {
         + f" (axis: r/a < {AXIS_RADIUS_FRACTION:g}; surface: z/a < {SURFACE_DEPTH_FRACTION:g};"
         " a = contact_radius)"
     ),
+    "deep_region": "where vm_deep_max sits, same codes and thresholds as peak_region",
 }
 
 
@@ -203,7 +207,10 @@ class PeakTracker:
         axis_column = np.abs(plane.x) == np.abs(plane.x).min()
         axis = _maximum(plane, axis_column)
         radius = self.contact_radius(pressure)
-        region = classify_peak(overall.x, overall.z, radius) if radius > 0.0 else None
+        region = deep_region = None
+        if radius > 0.0:
+            region = classify_peak(overall.x, overall.z, radius)
+            deep_region = classify_peak(deep.x, deep.z, radius)
         return {
             "vm_max": overall.value,
             "vm_max_x": overall.x,
@@ -219,4 +226,5 @@ class PeakTracker:
             "contact_radius": radius,
             "centre_pressure": self.centre_pressure(pressure),
             "peak_region": math.nan if region is None else float(region_code(region)),
+            "deep_region": math.nan if deep_region is None else float(region_code(deep_region)),
         }

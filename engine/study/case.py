@@ -296,7 +296,7 @@ class CaseRunner:
         datasets = {}
         for key, values in history.items():
             values = np.asarray(values)
-            if key == "peak_region" and not np.any(np.isnan(values)):
+            if key in ("peak_region", "deep_region") and not np.any(np.isnan(values)):
                 values = values.astype(np.int8)
             units = PEAK_HISTORY_UNITS.get(key, _HISTORY_UNITS.get(key, ""))
             description = PEAK_HISTORY_DESCRIPTIONS.get(key, key)
@@ -341,6 +341,7 @@ class CaseRunner:
             "elastic_approach": float(history["approach"][0]),
             "wear_severity": float(history["max_wear_depth"][-1] / history["approach"][0]),
             "peak_region": region_name(values["peak_region"]),
+            "deep_region": region_name(values["deep_region"]),
             "peak_region_change_cycle": math.nan if change is None else change,
         }
 
