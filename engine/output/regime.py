@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib import ticker
 
 from engine.solvers.peak import AXIS_RADIUS_FRACTION, DEEP_DEPTH_FRACTION, region_name
 
@@ -200,8 +201,10 @@ def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
                   label=label)  # fmt: skip
     axis.set_xscale("log")
     axis.set_yscale("log")
+    axis.yaxis.set_major_formatter(ticker.FormatStrFormatter("%g"))
+    axis.yaxis.set_minor_formatter(ticker.FormatStrFormatter("%g"))
     axis.set_xlabel("wear severity ω_max / δ0")
-    axis.set_ylabel("stress / p0")
+    axis.set_ylabel("stress / p0 (log)")
     axis.set_title(f"(c) μ = {mu:g}, i = {case.wear1:g} 1/MPa: peaks along the history",
                    fontsize=10)  # fmt: skip
     axis.grid(True, which="both", alpha=0.3)

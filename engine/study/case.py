@@ -306,8 +306,8 @@ class CaseRunner:
         return datasets
 
     def _region_change_datasets(self, stress, changes) -> dict[str, DatasetRecord]:
-        """x–z plane (σ_VM and components) and pressure at the first cycle and every change
-        of the peak region, under ``peak_changes/cycle_<N>/``."""
+        """x–z plane (σ_VM and components) and the peak-load pressure and tractions at the
+        first cycle and every change of the peak region, under ``peak_changes/cycle_<N>/``."""
         datasets = {}
         for cycle in sorted(changes):
             fields = changes[cycle]
@@ -316,11 +316,12 @@ class CaseRunner:
                 fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
             )
             datasets.update(self._plane_datasets(plane, prefix))
-            datasets[f"{prefix}/pressure"] = DatasetRecord(
-                np.asarray(fields["pressure"]),
-                "MPa",
-                _FIELD_DESCRIPTIONS["pressure"] + f", peak load of cycle {cycle}",
-            )
+            for name in ("pressure", "traction_x", "traction_y"):
+                datasets[f"{prefix}/{name}"] = DatasetRecord(
+                    np.asarray(fields[name]),
+                    _FIELD_UNITS[name],
+                    _FIELD_DESCRIPTIONS[name] + f", peak load of cycle {cycle}",
+                )
         return datasets
 
     @staticmethod
