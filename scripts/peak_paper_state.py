@@ -10,7 +10,9 @@ for the same peak-load tractions, the maxima of σ_VM
 - on the x–z plane through the axis (the engine's plane; its points lie on element edges of
   an even mesh, where piecewise-constant shear tractions make the surface layer grid
   dependent), and
-- on the block of element centres (every depth), which avoids those edge lines.
+- on the block of element centres (every depth), which avoids those edge lines;
+- on the axis at 141 depths between 0.3 a0 and 1.0 a0 (the studies' layers are 0.06 a0
+  apart there), to place the deep peak finer than the layers do.
 
 Run:  python scripts/peak_paper_state.py [--n 32] [--wear 1.33e-6]
 Time here: ~3 min for 32², ~15 min for 64² on one loaded core.
@@ -97,6 +99,12 @@ def main() -> None:
             f"  element-centre block, {label}: {values[index] / p0:.3f} p0 at "
             f"r/a0 = {math.hypot(x, y) / RADIUS:.3f}, z/a0 = {z / RADIUS:.4f}"
         )
+    fine = SubsurfaceStress(grid, material.nu_A, np.linspace(0.3, 1.0, 141) * RADIUS)
+    plane = fine.plane(final.pressure, final.traction_x, final.traction_y)
+    column = int(np.argmin(np.abs(plane.x[:, 0])))
+    deepest = int(np.argmax(plane.von_mises[column]))
+    value, depth = plane.von_mises[column, deepest] / p0, plane.z[column, deepest] / RADIUS
+    print(f"  axis profile, 141 depths z/a0 = 0.30-1.00: max {value:.3f} p0 at z/a0 = {depth:.3f}")
     stick, contact = np.count_nonzero(final.status == 1), np.count_nonzero(final.status)
     print(f"  stick fraction of the contact {stick / contact:.3f}")
 
