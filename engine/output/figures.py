@@ -13,6 +13,8 @@ cyclic study (Sections 7.2, 7.3)
     ``pressure_profiles.png``         p/p0 along x (and y) at each recorded N       Fig. 6c–e
     ``surface_maps_N<N>.png``         wear depth and p/p0 in the x–y plane, last N   Figs. 7, 10
     ``von_mises_N<N>.png``            σ_VM/p0 in the x–z plane at each recorded N   Figs. 8, 11
+    ``peak_regime_*.png``             peak region vs wear severity (studies sweeping
+                                      wear; :mod:`engine.output.regime`)
 
 Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
 z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps the black line is
@@ -335,6 +337,9 @@ def _cyclic_figures(study: StudyResults):
                 ),
             )
         )
+    from .regime import regime_figures  # peak regime (issue 11): studies that sweep wear
+
+    figures.extend(regime_figures(study))
     return figures
 
 

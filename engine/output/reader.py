@@ -82,6 +82,7 @@ class CaseResults:
     history: dict[str, np.ndarray] = field(default_factory=dict)
     fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
     planes: dict[Any, StressPlane] = field(default_factory=dict)
+    change_planes: dict[int, StressPlane] = field(default_factory=dict)  # peak_changes/, by N
 
     @property
     def isotropic(self) -> bool:
@@ -201,6 +202,10 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
         case.fields[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
     for name, sub in group.get("subsurface", {}).items():
         case.planes[_group_key(name)] = StressPlane(
+            x=np.asarray(sub["x"]), z=np.asarray(sub["z"]), von_mises=np.asarray(sub["von_mises"])
+        )
+    for name, sub in group.get("peak_changes", {}).items():
+        case.change_planes[_group_key(name)] = StressPlane(
             x=np.asarray(sub["x"]), z=np.asarray(sub["z"]), von_mises=np.asarray(sub["von_mises"])
         )
     return case

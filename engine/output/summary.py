@@ -19,6 +19,19 @@ vm_max_x/_y/_z     mm      its location (z into the half-space)
 vm_sub_max         MPa     maximum von Mises stress below the surface layer
 vm_sub_max_x/_y/_z mm      its location
 stick_fraction     –       stick area / contact area at peak load of the last cycle
+vm_deep_max        MPa     maximum von Mises stress at depth z >= 0.1 a0 (cyclic cases)
+vm_deep_max_x/_z   mm      its location
+vm_axis_max        MPa     maximum von Mises stress on the punch axis r = 0 (cyclic)
+vm_axis_max_z      mm      its depth
+contact_radius     mm      area-equivalent contact radius √(A_c/π) at peak load (cyclic)
+centre_pressure    MPa     pressure at the punch axis at peak load (cyclic)
+elastic_approach   mm      approach at peak load of the unworn punch (cycle 0, cyclic)
+wear_severity      –       max_wear_depth / elastic_approach (cyclic)
+peak_region        –       where vm_max sits: edge-surface | edge-subsurface |
+                           axis-subsurface | axis-surface (``engine.solvers.peak``)
+peak_region_change_cycle – real cycle N of the first simulated cycle whose region differs
+                           from cycle 0's (empty if it never changes)
+deep_region        –       where vm_deep_max sits (same words)
 load_steps         –       load increments solved
 matvecs            –       influence-operator applications in the case
 runtime_s          s       wall time of the case (summed over resumed runs)
@@ -52,6 +65,9 @@ SUMMARY_COLUMNS = [
     "vm_max", "vm_max_x", "vm_max_y", "vm_max_z",
     "vm_sub_max", "vm_sub_max_x", "vm_sub_max_y", "vm_sub_max_z",
     "stick_fraction", "load_steps", "matvecs", "runtime_s",
+    "vm_deep_max", "vm_deep_max_x", "vm_deep_max_z", "vm_axis_max", "vm_axis_max_z",
+    "contact_radius", "centre_pressure", "elastic_approach", "wear_severity",
+    "peak_region", "peak_region_change_cycle", "deep_region",
 ]  # fmt: skip
 
 COLUMN_UNITS = {
@@ -60,10 +76,13 @@ COLUMN_UNITS = {
     "vm_max": "MPa", "vm_max_x": "mm", "vm_max_y": "mm", "vm_max_z": "mm",
     "vm_sub_max": "MPa", "vm_sub_max_x": "mm", "vm_sub_max_y": "mm", "vm_sub_max_z": "mm",
     "runtime_s": "s",
+    "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
+    "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
+    "centre_pressure": "MPa", "elastic_approach": "mm",
 }  # fmt: skip
 
-_INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs")
-_TEXT_COLUMNS = ("case_id", "status")
+_INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
+_TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
 
 
 def pending_row(parameters: dict[str, Any], status: str = "pending") -> dict[str, Any]:

@@ -25,6 +25,11 @@ of its checkpoint, so a resumed case does the same work bit for bit.
 
 Histories hold one row per simulated cycle, describing the state after N real cycles (the
 peak-load solution computed with ω(N)). Records hold the peak-load fields at recorded cycles.
+With a ``peak_probe`` (e.g. :class:`engine.solvers.peak.PeakTracker`) every row also holds
+the probe's values for the peak-load tractions (von Mises peaks, contact radius, peak region);
+when the probe returns ``peak_region`` (and ``deep_region``), the peak-load tractions of the
+first row and of every row where either differs from the previous row's are kept in
+``CyclicState.region_changes``.
 """
 
 from __future__ import annotations
@@ -116,6 +121,7 @@ class CyclicState:
     jump: int = 0
     history: dict[str, list] = field(default_factory=lambda: {k: [] for k in HISTORY_KEYS})
     records: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    region_changes: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
     matvecs: int = 0
     load_steps: int = 0
     failures: list[str] = field(default_factory=list)
@@ -134,6 +140,9 @@ class CyclicState:
         for cycle, fields in self.records.items():
             for key, value in fields.items():
                 arrays[f"record_{cycle}_{key}"] = value
+        for cycle, fields in self.region_changes.items():
+            for key, value in fields.items():
+                arrays[f"change_{cycle}_{key}"] = value
         step = np.nan if self.step_size_estimate is None else self.step_size_estimate
         arrays["scalars"] = np.array(
             [self.cycle, self.jump, self.matvecs, self.load_steps, self.contact.approach, step],
@@ -163,11 +172,16 @@ class CyclicState:
                 float(approach),
             )
             history = {k: list(data[f"history_{k}"]) for k in HISTORY_KEYS}
+            for name in data.files:  # probe columns (peak history), when present
+                if name.startswith("history_") and name[8:] not in history:
+                    history[name[8:]] = list(data[name])
             records: dict[int, dict[str, np.ndarray]] = {}
+            changes: dict[int, dict[str, np.ndarray]] = {}
             for name in data.files:
-                if name.startswith("record_"):
-                    _, cycle_text, key = name.split("_", 2)
-                    records.setdefault(int(cycle_text), {})[key] = data[name]
+                for prefix, target in (("record_", records), ("change_", changes)):
+                    if name.startswith(prefix):
+                        _, cycle_text, key = name.split("_", 2)
+                        target.setdefault(int(cycle_text), {})[key] = data[name]
             return cls(
                 wear=data["wear"],
                 contact=contact,
@@ -175,6 +189,7 @@ class CyclicState:
                 jump=int(jump),
                 history=history,
                 records=records,
+                region_changes=changes,
                 matvecs=int(matvecs),
                 load_steps=int(load_steps),
                 failures=[str(f) for f in data["failures"]],
@@ -223,12 +238,24 @@ class _CycleOutcome:
 
 
 class CyclicAnalysis:
-    """Runs ``settings.cycles`` real cycles with a contact ``solver`` and a ``wear_law``."""
+    """Runs ``settings.cycles`` real cycles with a contact ``solver`` and a ``wear_law``.
 
-    def __init__(self, solver: ContactSolver, wear_law: WearLaw, settings: CyclicSettings):
+    ``peak_probe(pressure, traction_x, traction_y) -> dict[str, float]``, when given, is called
+    with the peak-load tractions (MPa) of every simulated cycle; its values join the history
+    row (see :class:`engine.solvers.peak.PeakTracker`).
+    """
+
+    def __init__(
+        self,
+        solver: ContactSolver,
+        wear_law: WearLaw,
+        settings: CyclicSettings,
+        peak_probe: Callable[..., dict[str, float]] | None = None,
+    ):
         self.solver = solver
         self.wear_law = wear_law
         self.settings = settings
+        self.peak_probe = peak_probe
 
     def initial_state(self) -> CyclicState:
         grid = self.solver.grid
@@ -397,5 +424,30 @@ class CyclicAnalysis:
             "slip_area": float(np.count_nonzero(peak.status == SLIP) * area),
             "approach": peak.approach,
         }
+        if self.peak_probe is not None:
+            row.update(self.peak_probe(peak.pressure, peak.traction_x, peak.traction_y))
+        rows = len(state.history["cycle"])
         for key, value in row.items():
-            state.history[key].append(value)
+            # a column the resumed state lacks starts with NaN for the rows before it
+            state.history.setdefault(key, [math.nan] * rows).append(value)
+        self._keep_region_change(state, peak)
+
+    @staticmethod
+    def _keep_region_change(state: CyclicState, peak: IncrementResult) -> None:
+        """Keep the peak-load tractions of the first row and of every region change (of the
+        overall or of the deep peak)."""
+        if not state.history.get("peak_region"):
+            return
+        columns = [state.history[k] for k in ("peak_region", "deep_region") if k in state.history]
+        if len(columns[0]) > 1 and all(_same(c[-1], c[-2]) for c in columns):
+            return
+        state.region_changes[state.cycle] = {
+            "pressure": np.asarray(peak.pressure).copy(),
+            "traction_x": np.asarray(peak.traction_x).copy(),
+            "traction_y": np.asarray(peak.traction_y).copy(),
+        }
+
+
+def _same(first: float, second: float) -> bool:
+    """Equal region codes (NaN equals NaN: no classification in either row)."""
+    return first == second or (math.isnan(first) and math.isnan(second))

@@ -15,6 +15,11 @@ plane through the punch axis, at the final state and at every recorded cycle. ``
 the maximum over the whole plane; ``vm_sub_max`` the maximum over the layers strictly below
 the surface layer, i.e. ``z >= depths[1]`` (the surface layer itself carries the edge
 singularity of the flat punch, Eq. 17, whose value depends on the element size).
+
+Cyclic cases also track the peak at every simulated cycle (:mod:`engine.solvers.peak`): the
+history gains the von Mises maxima (overall, below the surface layer, at z >= 0.1 a0, on the
+axis), the contact radius, the centre pressure and the peak region; the x–z plane at the
+first cycle and at every change of region is written under ``peak_changes/cycle_<N>/``.
 """
 
 from __future__ import annotations
@@ -58,6 +63,7 @@ _FIELD_DESCRIPTIONS = {
 }
 _HISTORY_UNITS = {
     "cycle": "1",
+    "jump": "1",
     "max_wear_depth": "mm",
     "wear_volume": "mm^3",
     "peak_pressure": "MPa",
@@ -227,6 +233,7 @@ class CaseRunner:
     def _run_cyclic(self, case: Case, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
         from engine.solvers.friction import WearLaw
+        from engine.solvers.peak import PeakTracker
 
         cfg = self.config
         solver, grid, material = self._solver(case)
@@ -241,7 +248,9 @@ class CaseRunner:
             record=cfg.loading.record,
             **options,
         )
-        analysis = CyclicAnalysis(solver, wear_law, settings)
+        stress, depths = self._subsurface(grid, material)
+        tracker = PeakTracker(stress, cfg.punch.radius)
+        analysis = CyclicAnalysis(solver, wear_law, settings, peak_probe=tracker)
         checkpoint = self._checkpoint_path(case)
         state = CyclicState.load(checkpoint) if checkpoint.exists() else None
         result = analysis.run(state=state, should_stop=should_stop)
@@ -259,12 +268,8 @@ class CaseRunner:
             message = getattr(result, "message", "") or final.message
             return CaseOutcome(case, FAILED, message=f"cyclic analysis did not converge: {message}")
 
-        datasets: dict[str, DatasetRecord] = {}
-        for key, values in result.history.items():
-            datasets[f"history/{key}"] = DatasetRecord(
-                np.asarray(values), _HISTORY_UNITS.get(key, ""), f"{key} per simulated cycle"
-            )
-        stress, depths = self._subsurface(grid, material)
+        datasets = self._history_datasets(result.history)
+        datasets.update(self._region_change_datasets(stress, result.state.region_changes))
         for cycle in sorted(result.records):
             fields = result.records[cycle]
             group = f"cycle_{cycle:07d}"
@@ -281,6 +286,7 @@ class CaseRunner:
         datasets.update(self._final_fields(final))
         history = result.history
         row = self._final_row(case, final, stress, depths, datasets, "final")
+        row.update(self._peak_row(tracker, final, history))
         row.update(
             cycles=int(history["cycle"][-1])
             if len(history.get("cycle", []))
@@ -291,6 +297,64 @@ class CaseRunner:
             matvecs=int(result.matvecs),
         )
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
+    # ---------------------------------------------------------------- peak history
+    @staticmethod
+    def _history_datasets(history: dict[str, np.ndarray]) -> dict[str, DatasetRecord]:
+        from engine.solvers.peak import PEAK_HISTORY_DESCRIPTIONS, PEAK_HISTORY_UNITS
+
+        datasets = {}
+        for key, values in history.items():
+            values = np.asarray(values)
+            if key in ("peak_region", "deep_region") and not np.any(np.isnan(values)):
+                values = values.astype(np.int8)
+            units = PEAK_HISTORY_UNITS.get(key, _HISTORY_UNITS.get(key, ""))
+            description = PEAK_HISTORY_DESCRIPTIONS.get(key, key)
+            datasets[f"history/{key}"] = DatasetRecord(
+                values, units, f"{description}, per simulated cycle (after N = cycle)"
+            )
+        return datasets
+
+    def _region_change_datasets(self, stress, changes) -> dict[str, DatasetRecord]:
+        """x–z plane (σ_VM and components) and the peak-load pressure and tractions at the
+        first cycle and every change of the peak region, under ``peak_changes/cycle_<N>/``."""
+        datasets = {}
+        for cycle in sorted(changes):
+            fields = changes[cycle]
+            prefix = f"peak_changes/cycle_{cycle:07d}"
+            plane = stress.plane(
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+            )
+            datasets.update(self._plane_datasets(plane, prefix))
+            for name in ("pressure", "traction_x", "traction_y"):
+                datasets[f"{prefix}/{name}"] = DatasetRecord(
+                    np.asarray(fields[name]),
+                    _FIELD_UNITS[name],
+                    _FIELD_DESCRIPTIONS[name] + f", peak load of cycle {cycle}",
+                )
+        return datasets
+
+    @staticmethod
+    def _peak_row(tracker, final, history: dict[str, np.ndarray]) -> dict[str, Any]:
+        """Summary values of the peak history: final peaks, region and its first change."""
+        from engine.solvers.peak import first_region_change, region_name
+
+        values = tracker(final.pressure, final.traction_x, final.traction_y)
+        change = first_region_change(history.get("cycle", []), history.get("peak_region", []))
+        return {
+            "vm_deep_max": values["vm_deep_max"],
+            "vm_deep_max_x": values["vm_deep_max_x"],
+            "vm_deep_max_z": values["vm_deep_max_z"],
+            "vm_axis_max": values["vm_axis_max"],
+            "vm_axis_max_z": values["vm_axis_max_z"],
+            "contact_radius": values["contact_radius"],
+            "centre_pressure": values["centre_pressure"],
+            "elastic_approach": float(history["approach"][0]),
+            "wear_severity": float(history["max_wear_depth"][-1] / history["approach"][0]),
+            "peak_region": region_name(values["peak_region"]),
+            "deep_region": region_name(values["deep_region"]),
+            "peak_region_change_cycle": math.nan if change is None else change,
+        }
 
     # ---------------------------------------------------------------- shared pieces
     def _final_fields(self, final) -> dict[str, DatasetRecord]:

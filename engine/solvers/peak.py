@@ -1,0 +1,230 @@
+"""Where the von Mises peak sits: per-cycle peak history and its classification (issue 11).
+
+After every simulated cycle the peak-load tractions give the stresses on the x–z plane
+through the punch axis (Eq. 16 by DC-FFT, von Mises Eq. 21; :mod:`.subsurface`). From that
+plane :class:`PeakTracker` extracts, per cycle,
+
+- ``vm_max`` — the maximum over the whole plane (surface layer included), at (x, z);
+- ``vm_sub_max`` — the maximum below the surface layer, z >= depths[1];
+- ``vm_deep_max`` — the maximum at depth z >= ``DEEP_DEPTH_FRACTION``·a0 = 0.1 a0, i.e. away
+  from the surface edge singularity of the flat punch (Eq. 17), where the paper's μ = 0.1
+  peak (r = 0, z ≈ 0.7 a0, Fig. 8b) would be;
+- ``vm_axis_max`` — the maximum on the punch axis r = 0, at depth z;
+- ``contact_radius`` a = √(A_c/π), A_c the area of the elements with p > 0 (area-equivalent
+  radius; a = a0 for the intact flat punch up to the staircase edge);
+- ``centre_pressure`` — the pressure at the axis (mean of the elements nearest to it: four
+  for an even mesh);
+- ``peak_region`` and ``deep_region`` — where ``vm_max`` and ``vm_deep_max`` sit (codes of
+  ``REGIONS``).
+
+Classification of the overall peak (:func:`classify_peak`), with r = |x| on the plane and a
+the current contact radius:
+
+- *axis* if r/a < ``AXIS_RADIUS_FRACTION`` = 0.5, else *edge*. The two loci a worn flat
+  punch produces are the contact edge (r ≈ a: the square-root pressure singularity of the
+  intact punch, Eq. 17, and the slip/stick boundary on the surface) and the axis (r = 0: the
+  maximum shear under a uniform or centre-peaked pressure, z ≈ 0.48 a for Hertz and ≈ 0.64 a
+  for a uniform disc, Johnson 1985 §3.4). r = a/2 is halfway between; it is 8 elements from
+  either at 32² and keeps a load-carrying stick island (radius ≈ 0.22 a0 at μ = 0.1, stick
+  fraction 0.05) on the axis side.
+- *surface* if z/a < ``SURFACE_DEPTH_FRACTION`` = 0.1, else *subsurface*. The edge
+  singularity decays within a few elements of the surface (0.1 a is 1.6 elements at 32², 3.2
+  at 64²), while the subsurface maxima of smooth pressures sit at z ≈ 0.5–0.7 a; 0.1 a is far
+  from both and is the depth the issue uses for the "deep" peak.
+
+Units: lengths mm, stresses MPa (tension positive, z into the half-space).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..grid import Grid
+from .subsurface import StressField, SubsurfaceStress
+
+__all__ = [
+    "AXIS_RADIUS_FRACTION",
+    "SURFACE_DEPTH_FRACTION",
+    "DEEP_DEPTH_FRACTION",
+    "REGIONS",
+    "PEAK_HISTORY_UNITS",
+    "PEAK_HISTORY_DESCRIPTIONS",
+    "classify_peak",
+    "region_code",
+    "region_name",
+    "first_region_change",
+    "PeakTracker",
+]
+
+AXIS_RADIUS_FRACTION = 0.5  # r/a below which a peak is "axis"
+SURFACE_DEPTH_FRACTION = 0.1  # z/a below which a peak is "surface"
+DEEP_DEPTH_FRACTION = 0.1  # z/a0 from which a peak is "deep" (vm_deep_max)
+
+REGIONS = ("edge-surface", "edge-subsurface", "axis-subsurface", "axis-surface")
+
+PEAK_HISTORY_UNITS = {
+    "vm_max": "MPa",
+    "vm_max_x": "mm",
+    "vm_max_z": "mm",
+    "vm_sub_max": "MPa",
+    "vm_sub_max_x": "mm",
+    "vm_sub_max_z": "mm",
+    "vm_deep_max": "MPa",
+    "vm_deep_max_x": "mm",
+    "vm_deep_max_z": "mm",
+    "vm_axis_max": "MPa",
+    "vm_axis_max_z": "mm",
+    "contact_radius": "mm",
+    "centre_pressure": "MPa",
+    "peak_region": "1",
+    "deep_region": "1",
+}
+
+_PLANE = "von Mises stress (Eq. 21) on the x-z plane through the axis at peak load"
+PEAK_HISTORY_DESCRIPTIONS = {
+    "vm_max": f"maximum {_PLANE}, surface layer included",
+    "vm_max_x": "x of vm_max",
+    "vm_max_z": "depth z of vm_max (into the half-space)",
+    "vm_sub_max": f"maximum {_PLANE}, below the surface layer (z >= depths[1])",
+    "vm_sub_max_x": "x of vm_sub_max",
+    "vm_sub_max_z": "depth z of vm_sub_max",
+    "vm_deep_max": f"maximum {_PLANE} at depth z >= {DEEP_DEPTH_FRACTION:g} a0",
+    "vm_deep_max_x": "x of vm_deep_max",
+    "vm_deep_max_z": "depth z of vm_deep_max",
+    "vm_axis_max": f"maximum {_PLANE} on the punch axis r = 0",
+    "vm_axis_max_z": "depth z of vm_axis_max",
+    "contact_radius": "area-equivalent contact radius sqrt(A_c/pi), A_c: elements with p > 0",
+    "centre_pressure": "contact pressure at the punch axis (elements nearest to r = 0)",
+    "peak_region": (
+        "where vm_max sits: "
+        + ", ".join(f"{code} {name}" for code, name in enumerate(REGIONS))
+        + f" (axis: r/a < {AXIS_RADIUS_FRACTION:g}; surface: z/a < {SURFACE_DEPTH_FRACTION:g};"
+        " a = contact_radius)"
+    ),
+    "deep_region": "where vm_deep_max sits, same codes and thresholds as peak_region",
+}
+
+
+def classify_peak(x: float, z: float, contact_radius: float) -> str:
+    """Region word of a peak at horizontal distance |x| (mm) from the axis and depth z (mm).
+
+    ``axis`` when |x|/a < AXIS_RADIUS_FRACTION, else ``edge``; ``surface`` when
+    z/a < SURFACE_DEPTH_FRACTION, else ``subsurface``; a = ``contact_radius`` (mm, > 0).
+    """
+    if not (math.isfinite(contact_radius) and contact_radius > 0.0):
+        raise ValueError(f"contact_radius must be a finite length > 0 mm, got {contact_radius!r}")
+    side = "axis" if abs(x) / contact_radius < AXIS_RADIUS_FRACTION else "edge"
+    depth = "surface" if z / contact_radius < SURFACE_DEPTH_FRACTION else "subsurface"
+    return f"{side}-{depth}"
+
+
+def region_code(name: str) -> int:
+    """Integer code of a region word (index in ``REGIONS``), as stored in ``history/``."""
+    return REGIONS.index(name)
+
+
+def region_name(code: float) -> str:
+    """Region word of an integer code; '' for NaN (no classification)."""
+    if code is None or (isinstance(code, float) and math.isnan(code)):
+        return ""
+    return REGIONS[int(code)]
+
+
+def first_region_change(cycles, codes) -> int | None:
+    """Real cycle N of the first history row whose region differs from the first row's.
+
+    With cycle jumping the change happened after the previous simulated cycle and by this
+    one. ``None`` when the region never changes (or the history is empty).
+    """
+    codes = np.asarray(codes, dtype=float)
+    cycles = np.asarray(cycles)
+    if codes.size == 0:
+        return None
+    changed = np.flatnonzero(codes != codes[0])
+    return int(cycles[changed[0]]) if changed.size else None
+
+
+@dataclass(frozen=True)
+class _PlaneMaximum:
+    value: float
+    x: float
+    z: float
+
+
+def _maximum(plane: StressField, mask: np.ndarray) -> _PlaneMaximum:
+    candidates = np.where(mask, plane.von_mises, -np.inf)
+    index = np.unravel_index(np.argmax(candidates), candidates.shape)
+    return _PlaneMaximum(
+        float(plane.von_mises[index]), float(plane.x[index]), float(plane.z[index])
+    )
+
+
+class PeakTracker:
+    """Peak-load von Mises peaks on the x–z plane, one call per simulated cycle.
+
+    ``stress``: the case's :class:`SubsurfaceStress` (its kernel spectra are cached, so after
+    the first call a cycle costs six inverse FFTs per depth layer of the plane lattice);
+    ``punch_radius`` a0 (mm). Calling ``tracker(pressure, traction_x, traction_y)`` (MPa, grid
+    shape) returns the history values of ``PEAK_HISTORY_UNITS`` (floats; ``peak_region`` as
+    its code) and keeps the plane in ``last_plane``.
+    """
+
+    def __init__(self, stress: SubsurfaceStress, punch_radius: float):
+        self.stress = stress
+        self.punch_radius = float(punch_radius)
+        depths = np.sort(stress.depths)
+        self.subsurface_depth = float(depths[1]) if depths.size > 1 else float(depths[0])
+        self.deep_depth = DEEP_DEPTH_FRACTION * self.punch_radius
+        if depths[-1] < self.deep_depth:
+            raise ValueError(
+                f"the deepest layer ({depths[-1]:g} mm) is above {DEEP_DEPTH_FRACTION:g} a0 "
+                f"= {self.deep_depth:g} mm; no deep peak can be found"
+            )
+        grid: Grid = stress.grid
+        distance = np.hypot(*np.meshgrid(grid.x, grid.y, indexing="ij"))
+        self._centre = distance <= distance.min() * (1.0 + 1e-9) + 1e-12
+        self._element_area = grid.element_area
+        self.last_plane: StressField | None = None
+
+    def contact_radius(self, pressure: np.ndarray) -> float:
+        """Area-equivalent contact radius √(A_c/π) (mm), A_c = area of elements with p > 0."""
+        area = np.count_nonzero(np.asarray(pressure) > 0.0) * self._element_area
+        return math.sqrt(area / math.pi)
+
+    def centre_pressure(self, pressure: np.ndarray) -> float:
+        """Mean pressure (MPa) of the elements nearest to the punch axis."""
+        return float(np.asarray(pressure)[self._centre].mean())
+
+    def __call__(self, pressure, traction_x=None, traction_y=None) -> dict[str, float]:
+        plane = self.stress.plane(pressure, traction_x, traction_y, angle=0.0)
+        self.last_plane = plane
+        overall = _maximum(plane, np.ones(plane.z.shape, dtype=bool))
+        below = _maximum(plane, plane.z >= self.subsurface_depth)
+        deep = _maximum(plane, plane.z >= self.deep_depth)
+        axis_column = np.abs(plane.x) == np.abs(plane.x).min()
+        axis = _maximum(plane, axis_column)
+        radius = self.contact_radius(pressure)
+        region = deep_region = None
+        if radius > 0.0:
+            region = classify_peak(overall.x, overall.z, radius)
+            deep_region = classify_peak(deep.x, deep.z, radius)
+        return {
+            "vm_max": overall.value,
+            "vm_max_x": overall.x,
+            "vm_max_z": overall.z,
+            "vm_sub_max": below.value,
+            "vm_sub_max_x": below.x,
+            "vm_sub_max_z": below.z,
+            "vm_deep_max": deep.value,
+            "vm_deep_max_x": deep.x,
+            "vm_deep_max_z": deep.z,
+            "vm_axis_max": axis.value,
+            "vm_axis_max_z": axis.z,
+            "contact_radius": radius,
+            "centre_pressure": self.centre_pressure(pressure),
+            "peak_region": math.nan if region is None else float(region_code(region)),
+            "deep_region": math.nan if deep_region is None else float(region_code(deep_region)),
+        }
