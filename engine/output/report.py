@@ -191,7 +191,7 @@ def _varying_parameters(cases: Sequence[CaseResults]) -> set[str]:
 
 
 def _trend(values: Sequence[float]) -> str:
-    """"decreasing" / "increasing" (strictly) or "not monotone" for values in sweep order."""
+    """Strictly decreasing, strictly increasing or not monotone, for values in sweep order."""
     steps = np.diff(np.asarray(values, dtype=float))
     if np.all(steps < 0):
         return "strictly decreasing"
