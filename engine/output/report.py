@@ -298,7 +298,8 @@ def cyclic_facts(study: StudyResults) -> list[str]:
             text += f"polar angle {angle:.0f}°"
             if not case.isotropic:
                 e2 = (case.beta + 90.0) % 180.0
-                text += f" (e2 axis at {e2:.0f}°)"
+                off = abs(angle - e2) % 180.0
+                text += f" (e2 axis at {e2:.0f}°, {min(off, 180.0 - off):.0f}° from it)"
             facts.append(text)
     return facts
 
