@@ -243,3 +243,20 @@ def test_dry_run_shows_what_resume_and_fresh_would_do(tiny_run):
     assert "--fresh would delete: out/tiny.h5, out/tiny.csv" in fresh.stdout
     assert "would run 2 cases on 1 rank; 0 complete and skipped" in fresh.stdout
     assert (root / "out" / "tiny.h5").read_bytes() == before  # a dry run changes nothing
+
+
+# ----------------------------------------------------------------------------- the README
+def test_readme_study_is_valid_and_the_readme_fits_on_a_screen():
+    from engine.study.config import parse_study
+    from engine.study.plan import make_plan
+
+    readme = (REPO / "README.md").read_text()
+    assert len(readme.splitlines()) <= 200
+    block = readme.split("```toml\n", 1)[1].split("```", 1)[0]
+    assert len(block.strip().splitlines()) <= 10
+    config = parse_study(block, source="README.md")
+    assert len(make_plan(config)) == 6
+    for link in ("study-file", "outputs", "validation", "performance", "results", "slurm",
+                 "parallel-hdf5"):  # fmt: skip
+        assert f"(docs/{link}.md)" in readme
+        assert (REPO / "docs" / f"{link}.md").exists()

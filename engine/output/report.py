@@ -1,6 +1,6 @@
 """Results tables of a study in Markdown: ``python -m engine report RESULTS.h5 [--cycles N …]``.
 
-The tables of the README's Results section are printed by this command, never typed by hand.
+The tables of docs/results.md are printed by this command (``--update``), never typed by hand.
 Per case:
 
 cyclic study   at each N (default: the recorded cycles): maximum wear depth (µm), wear volume
@@ -329,7 +329,7 @@ def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | Non
 
 def update_markdown(document: str | Path, name: str, report: str) -> None:
     """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
-    of ``document`` with ``report`` (how the README's Results tables are regenerated)."""
+    of ``document`` with ``report`` (how the tables of docs/results.md are regenerated)."""
     document = Path(document)
     text = document.read_text()
     begin, end = f"<!-- BEGIN report {name} -->", f"<!-- END report {name} -->"
