@@ -198,9 +198,10 @@ class ProgressReporter:
         return max(free_at, default=0.0)
 
     def status_text(self, *, short: bool = False) -> str:
-        """``3/9 cases done; running: …; elapsed 2 min 10 s; ETA 5 min 20 s``."""
+        """``3/9 cases done; running: …; elapsed 2 min 10 s; ETA 5 min 20 s`` (``short``: the
+        running cases without rank and time, and the ETA, for the postfix of the bar)."""
         now = self.clock()
-        parts = [f"{self.done}/{plural(self.total, 'case')} done"]
+        parts = [] if short else [f"{self.done}/{plural(self.total, 'case')} done"]  # bar: n/N
         running = sorted(self._running.values(), key=lambda item: item.rank)
         if running:
             listed = [self._describe(item, now, short) for item in running[:MAX_LISTED]]
