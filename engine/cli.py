@@ -44,17 +44,45 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2,
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 
 
+_USAGE = """\
+%(prog)s STUDY.toml [--dry-run] [--resume | --fresh] [--output PATH]
+            [--output-strategy {auto,single,mpio}] [--no-progress-bar] [--progress-interval S]
+       %(prog)s plot RESULTS.h5 [--out DIR]
+       %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]"""
+
+_DESCRIPTION = """\
+Run a fretting-wear parameter study (flat punch, FFT boundary elements) across all MPI ranks
+and gather the results in one HDF5 file with a CSV summary. Launch it with
+`mpiexec -n N python -m engine STUDY.toml` or `srun python -m engine STUDY.toml`.
+
+subcommands (serial, no MPI):
+  plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
+  report RESULTS.h5   print its results tables in Markdown; `report --help` for options"""
+
+_EPILOG = """\
+Relative paths ([study] output, --output) are taken from the working directory, not from the
+folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input
+(nothing computed or changed), 3 interrupted (rerun to resume), 70 internal error.
+Example: mpiexec -n 2 python -m engine studies/demo.toml --dry-run"""
+
+
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=prog,
-        description="Run a fretting-wear parameter study (flat punch, FFT boundary elements) "
-        "across all MPI ranks and gather the results in one HDF5 file with a CSV summary.",
-        epilog="Exit codes: 0 ok, 1 a case failed, 2 bad input, 3 interrupted (rerun to "
-        "resume). Example: mpiexec -n 2 python -m engine studies/demo.toml",
+        usage=_USAGE,
+        description=_DESCRIPTION,
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("study", type=Path, help="study file (TOML), see studies/*.toml")
+    parser.add_argument(
+        "--dry-run",
+        action="store_true",
+        help="show what a run would do (with --resume: which cases are complete and skipped, "
+        "which resume from a checkpoint; with --fresh: what would be deleted) and stop; "
+        "changes nothing",
+    )
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--dry-run", action="store_true", help="list the cases and stop")
     mode.add_argument(
         "--resume",
         dest="fresh",
@@ -69,7 +97,11 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         help="delete existing results, summary and checkpoints and start over",
     )
     parser.add_argument(
-        "--output", type=Path, default=None, help="results file to write instead of [study] output"
+        "--output",
+        type=Path,
+        default=None,
+        metavar="PATH",
+        help="results file to write instead of [study] output",
     )
     parser.add_argument(
         "--output-strategy",
@@ -88,7 +120,17 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument(
         "--no-progress-bar",
         action="store_true",
-        help="never draw the tqdm bar (lines per case are always printed)",
+        help="never draw the tqdm bar, even on a terminal (the lines per case and the "
+        "progress lines are printed anyway)",
+    )
+    parser.add_argument(
+        "--progress-interval",
+        type=float,
+        default=30.0,
+        metavar="S",
+        help="seconds between progress lines on stderr (cases done, cycles of the running "
+        "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
+        "0 turns them off (default 30)",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     return parser
@@ -200,6 +242,8 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     check_memory(config, ranks_on_node)
     strategy = choose_strategy(config.study.output_strategy, ranks)
     if args.dry_run:
+        if not args.fresh:  # read-only; a dry run reports the same mismatch a run would
+            inspect_existing(config.study.output, _metadata(config, ""), plan)
         return config, plan, strategy, None, None
     output = config.study.output
     check_output_path(output)
@@ -276,7 +320,7 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
             return EXIT_BAD_INPUT
         if args.dry_run:
             if rank == 0:
-                _print_plan(config, plan)
+                _print_plan(config, plan, args, comm.Get_size(), strategy)
             return EXIT_OK
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a signal during start-up
             if rank == 0:
@@ -338,12 +382,14 @@ def _settle_existing(config, plan, args, existing, command_line) -> None:
 
 def _compute(comm, config, plan, args, command_line, stop_event, existing) -> int:
     from engine.output.hdf5 import SingleWriter
+    from engine.output.progress import WorkerProgress
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
-    scheduler = Scheduler(
-        comm, CaseRunner(config), stop_event=stop_event, peers=_STOP_STATE["peers"]
-    )
+    runner = CaseRunner(config)
+    if comm.Get_rank() != 0:
+        runner.on_progress = WorkerProgress(comm)
+    scheduler = Scheduler(comm, runner, stop_event=stop_event, peers=_STOP_STATE["peers"])
     if comm.Get_rank() != 0:
         scheduler.run()
         return EXIT_OK  # replaced by rank 0's code in the final bcast
@@ -354,14 +400,10 @@ def _compute(comm, config, plan, args, command_line, stop_event, existing) -> in
     ) as writer:
         completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
         todo = plan.dispatch_order(skip=completed)
-        print(
-            f"study {config.study.name!r}: {len(plan)} cases, {len(completed)} already "
-            f"complete, {len(todo)} to run on {comm.Get_size()} rank(s) -> "
-            f"{config.study.output}",
-            flush=True,
-        )
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, args)
+        _announce(config, plan, completed, todo, comm.Get_size())
+        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
         statuses = [row["status"] for row in writer.rows()]
+    _remove_empty_checkpoint_dir(config)
     return _report(config, statuses, report)
 
 
@@ -372,6 +414,7 @@ def _compute_collective(
     import time
 
     from engine.output.collective import CollectiveWriter
+    from engine.output.progress import WorkerProgress
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
@@ -389,6 +432,8 @@ def _compute_collective(
     )
     completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
     runner = CaseRunner(config)
+    if rank != 0:
+        runner.on_progress = WorkerProgress(comm)
     scheduler = Scheduler(
         comm,
         runner if rank == 0 else writer.owner(runner),
@@ -401,15 +446,11 @@ def _compute_collective(
         return EXIT_OK  # replaced by rank 0's code in the final bcast
 
     todo = plan.dispatch_order(skip=completed)
-    print(
-        f"study {config.study.name!r}: {len(plan)} cases, {len(completed)} already complete, "
-        f"{len(todo)} to run on {comm.Get_size()} rank(s) -> {config.study.output} "
-        "(collective mpio output)",
-        flush=True,
-    )
-    report = _run_with_progress(scheduler, writer, plan, completed, todo, args)
+    _announce(config, plan, completed, todo, comm.Get_size(), " (collective mpio output)")
+    report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
     start = time.perf_counter()
     writer.close()
+    _remove_empty_checkpoint_dir(config)
     print(
         f"output (mpio): {writer.write_seconds_total:.2f} s writing data over all ranks, "
         f"{writer.commit_seconds:.2f} s collective prepare/commit "
@@ -419,22 +460,76 @@ def _compute_collective(
     return _report(config, [row["status"] for row in writer.rows()], report)
 
 
-def _run_with_progress(scheduler, writer, plan, completed, todo, args):
-    """Hand out ``todo``; every outcome goes to the writer, then to the progress display."""
-    from engine.output.progress import ProgressReporter
+def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
+    """The start line on stdout, and a warning on stderr when ranks would stay idle."""
+    from engine.output.progress import plural
 
-    progress = ProgressReporter(
-        len(plan), len(completed), bar=False if args.no_progress_bar else None
+    print(
+        f"study {config.study.name!r}: {plural(len(plan), 'case')}, {len(completed)} already "
+        f"complete, {len(todo)} to run on {plural(ranks, 'rank')} -> {config.study.output}"
+        + suffix,
+        flush=True,
     )
+    warning = _idle_ranks_warning(len(todo), ranks)
+    if warning:
+        print(warning, file=sys.stderr, flush=True)
+
+
+def _idle_ranks_warning(cases: int, ranks: int) -> str | None:
+    """Every rank, rank 0 included, computes one case at a time: ranks beyond the number of
+    cases to run have nothing to do."""
+    from engine.output.progress import plural
+
+    if cases == 0 or ranks <= cases:
+        return None
+    return (
+        f"warning: {plural(ranks, 'rank')} for {plural(cases, 'case')} to run: "
+        f"{plural(ranks - cases, 'rank')} will stay idle (each rank computes one case at a "
+        f"time; use at most {cases})"
+    )
+
+
+def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner):
+    """Hand out ``todo``; every outcome goes to the writer, then to the progress display.
+
+    Rank 0's own cases report their progress through a queue, the workers' by MPI
+    (``engine.output.progress``); the dispatcher drains both at every pass of its loop.
+    """
+    from engine.output.progress import ProgressChannel, ProgressReporter
+
+    measured = [
+        (float(row.get("runtime_s") or 0.0), plan.by_id(row["case_id"]).expected_cost)
+        for row in writer.rows()
+        if row.get("status") == "completed"
+    ]
+    progress = ProgressReporter(
+        len(plan),
+        len(completed),
+        todo=todo,
+        ranks=comm.Get_size(),
+        measured=measured,
+        bar=False if args.no_progress_bar else None,
+        interval=args.progress_interval,
+    )
+    channel = ProgressChannel(comm, progress)
+    runner.on_progress = channel.local
 
     def on_outcome(outcome):
         writer.write(outcome)
         progress.update(outcome)
 
     try:
-        return scheduler.run(todo, on_outcome)
+        return scheduler.run(todo, on_outcome, on_poll=channel.drain)
     finally:
+        channel.drain()  # reports that arrived with the last results
         progress.close()
+
+
+def _remove_empty_checkpoint_dir(config) -> None:
+    """``<output>.checkpoints/`` holds the state of interrupted cases (and, with mpio, the
+    write journals); once the run leaves it empty it goes too."""
+    with contextlib.suppress(OSError):  # not there, or not empty: keep it
+        config.study.checkpoint_dir.rmdir()
 
 
 def _report(config, statuses: list[str], report) -> int:
@@ -451,18 +546,68 @@ def _report(config, statuses: list[str], report) -> int:
     return EXIT_FAILED if failed else EXIT_OK
 
 
-def _print_plan(config, plan) -> None:
+def _print_plan(config, plan, args, ranks: int, strategy: str) -> None:
+    """--dry-run: what a run with the same options would do; reads, never writes."""
+    from engine.output.progress import plural
+
     loading = config.loading
     what = (
-        f"cyclic, P = {loading.load:g} N, {loading.cycles} cycles"
+        f"cyclic, P = {loading.load:g} N, {loading.cycles:,} cycles"
         if config.is_cyclic
         else f"static, P = {loading.load:g} N"
     )
-    print(f"study {config.study.name!r} ({config.source}): {len(plan)} cases, {what}")
-    print(f"output {config.study.output} (summary {config.study.summary_path})")
-    print(f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}")
+    output = config.study.output
+    print(f"study {config.study.name!r} ({config.source}): {plural(len(plan), 'case')}, {what}")
+    print(
+        f"output {output} = {output.resolve()} (summary {config.study.summary_path}), "
+        f"{strategy} writer"
+    )
+    states = _planned_states(config, plan, args.fresh)
+    if args.fresh:
+        existing = [
+            str(path)
+            for path in (output, config.study.summary_path, config.study.checkpoint_dir)
+            if path.exists()
+        ]
+        deleted = ", ".join(existing) if existing else "nothing (none exists)"
+        print(f"--fresh would delete: {deleted}")
+    todo = [case for case in plan.dispatch_order() if states[case.case_id] != "complete: skip"]
+    print(
+        f"would run {plural(len(todo), 'case')} on {plural(ranks, 'rank')}; "
+        f"{len(plan) - len(todo)} complete and skipped"
+    )
+    warning = _idle_ranks_warning(len(todo), ranks)
+    if warning:
+        print(warning, file=sys.stderr, flush=True)
+    order = {case.case_id: number for number, case in enumerate(todo, start=1)}
+    print(
+        f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}"
+        "  order  action"
+    )
     for case in plan:
+        number = order.get(case.case_id)
         print(
             f"{case.case_id:<40s} {case.mu1:6g} {case.mu2:6g} {case.wear1:10.4g} "
-            f"{case.wear2:10.4g} {case.beta:6g}"
+            f"{case.wear2:10.4g} {case.beta:6g}  {number if number else '-':>5}  "
+            f"{states[case.case_id]}"
         )
+
+
+def _planned_states(config, plan, fresh: bool) -> dict[str, str]:
+    """Per case: "run", "resume from its checkpoint", "complete: skip" (read-only)."""
+    import h5py
+
+    states = dict.fromkeys(plan.case_ids, "run")
+    if fresh:
+        return states
+    output = config.study.output
+    if output.exists():
+        with h5py.File(output, "r") as file:
+            cases = file.get("cases", {})
+            for case_id in plan.case_ids:
+                if case_id in cases and cases[case_id].attrs.get("status", "") == "completed":
+                    states[case_id] = "complete: skip"
+    for case_id, state in states.items():
+        if state == "run" and (config.study.checkpoint_dir / f"{case_id}.npz").exists():
+            states[case_id] = "resume from its checkpoint"
+    return states

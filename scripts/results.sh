@@ -1,24 +1,28 @@
 #!/usr/bin/env bash
-# Regenerate the "Results" section of README.md: run the three paper studies, draw their figures
-# into docs/figures/<study>/ and rewrite the tables of README.md (between its
+# Regenerate docs/results.md: run the paper's Section 7 studies, draw their figures into
+# docs/figures/<study>/ and rewrite the tables of docs/results.md (between its
 # <!-- BEGIN report NAME --> / <!-- END report NAME --> markers) with `python -m engine report`.
 #
 # Usage:  bash scripts/results.sh [RANKS]        (RANKS: MPI ranks per study, default 2)
-# Time here (2 ranks, idle machine, measured): 7 s (Section 7.1, 64²), 86 s (Section 7.2, 64²),
-#   14 s (Section 7.2, 32²), ~9.5 min (Section 7.3, 64²), 86 s (Section 7.3, 32²): about 13
-#   minutes in all.
-#   Existing complete results are reused
-#   (the engine resumes); delete results/ or pass FRESH=1 to recompute.
+#         FRESH=1 bash scripts/results.sh        (recompute instead of reusing complete results)
+#         STUDIES="section_7_1_static" bash scripts/results.sh   (a subset)
+# Time here (2 ranks, 2 cores shared with other jobs, 2026-11-23, FRESH): 4 s (Section 7.1),
+#   77 s (7.2, 64²), 15 s (7.2, 32²), 141 s (7.3, 64²), 45 s (7.3, 32²): about 5 minutes.
+#   Existing complete results are reused (the engine resumes); the figures and tables are
+#   redrawn every time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ranks="${1:-2}"
 fresh=()
 [[ "${FRESH:-0}" == "1" ]] && fresh=(--fresh)
 python=.venv/bin/python
-for study in section_7_1_static section_7_2_cyclic section_7_2_cyclic_32 \
-    section_7_3_orthotropic section_7_3_orthotropic_32; do
+studies=${STUDIES:-"section_7_1_static section_7_2_cyclic section_7_2_cyclic_32 \
+section_7_3_orthotropic section_7_3_orthotropic_32"}
+for study in $studies; do
+    start=$SECONDS
     .venv/bin/mpiexec -n "$ranks" "$python" -m engine "studies/$study.toml" \
         --no-progress-bar "${fresh[@]}"
+    echo "results.sh: $study computed in $((SECONDS - start)) s"
     "$python" -m engine plot "results/$study.h5" --out "docs/figures/$study"
-    "$python" -m engine report "results/$study.h5" --update README.md
+    "$python" -m engine report "results/$study.h5" --update docs/results.md
 done

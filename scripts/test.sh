@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The project's test command (README "Tests"; CI runs exactly this through .ci/run).
+# The project's test command (README "Install and the two commands"; CI runs exactly this
+# through .ci/run). Needs root or sudo for apt-get (scripts/build_parallel_h5py.sh) and network
+# access to PyPI and the Debian mirrors.
 # From a fresh clone: creates .venv, installs the package with its test tools from PyPI
 # (the `mpich` wheel provides mpiexec), lints, runs the serial tests, then the MPI tests,
 # which run for real under `mpiexec -n 2`.

@@ -20,6 +20,9 @@ import numpy as np
 import pytest
 from matplotlib import image
 
+from engine.output.figures import MAX_WIDTH_PX, case_styles
+from engine.output.reader import CaseResults
+
 REPO = Path(__file__).resolve().parents[1]
 
 COMMON = """
@@ -126,6 +129,7 @@ def test_plot_writes_every_figure_non_blank(study_results):
         assert path.stat().st_size > MIN_BYTES, name
         pixels = image.imread(path)[..., :3]
         assert pixels.ndim == 3 and min(pixels.shape[:2]) > 200, name
+        assert pixels.shape[1] <= MAX_WIDTH_PX, name  # readable at 100 % without scrolling
         assert float(np.std(pixels)) > MIN_PIXEL_STD, name
 
 
@@ -144,3 +148,50 @@ def test_plot_missing_file_is_an_error(tmp_path):
     run = _engine("plot", str(tmp_path / "missing.h5"), cwd=tmp_path)
     assert run.returncode == 2
     assert "no such file" in run.stderr
+
+
+def test_cases_differing_only_in_beta_share_a_colour_but_not_a_line_style():
+    # The demo's shape: μ = 0.1, 0.4 at β = 0°, 90°; isotropic, so the β = 0° and 90° curves
+    # coincide and must differ in style to stay visible.
+    cases = [
+        CaseResults(f"c{mu}-{beta}", 0, mu, mu, 1.33e-7, 1.33e-7, beta, {})
+        for mu in (0.1, 0.4)
+        for beta in (0.0, 90.0)
+    ]
+    styles = case_styles(cases)
+    for mu in (0.1, 0.4):
+        at_0, at_90 = styles[f"c{mu}-0.0"], styles[f"c{mu}-90.0"]
+        assert at_0["color"] == at_90["color"]
+        assert (at_0["ls"], at_0["marker"], at_0["lw"]) != (
+            at_90["ls"],
+            at_90["marker"],
+            at_90["lw"],
+        )
+    assert styles["c0.1-0.0"]["color"] != styles["c0.4-0.0"]["color"]
+    # a study where only β varies (Section 7.3): colours differ too
+    orthotropic = [CaseResults(f"o{b}", 0, 0.1, 0.4, 1e-7, 4e-7, b, {}) for b in (0, 45, 90)]
+    assert len({style["color"] for style in case_styles(orthotropic).values()}) == 3
+
+
+def test_no_text_below_the_minimum_font_size(study_results):
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    from engine.output import figures
+    from engine.output.reader import read_results
+
+    _, results, _ = study_results
+    study = read_results(results)
+    with plt.rc_context(figures._STYLE):
+        drawn = (
+            figures._cyclic_figures(study) if study.is_cyclic else figures._static_figures(study)
+        )
+        for name, figure in drawn:
+            figure.canvas.draw()  # tick labels exist only once drawn
+            small = {
+                (text.get_text(), text.get_fontsize())
+                for text in figure.findobj(Text)
+                if text.get_visible() and text.get_text() and text.get_fontsize() < 9.0
+            }
+            plt.close(figure)
+            assert not small, (name, small)

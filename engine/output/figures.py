@@ -22,6 +22,13 @@ z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps th
 dependent edge singularity of the flat punch) and ○ the peak below the surface layer.
 The colour scale of σ_VM/p0 is capped at ``VM_LEVEL_MAX`` (values above are drawn in the
 top colour) so that the singular edge does not wash out the rest of the plane.
+
+Legibility rules (issue 15): no text below ``MIN_FONT_SIZE`` points (at ``DPI``, as the PNG
+is seen at 100 %); no figure wider than ``MAX_WIDTH_PX``; cases that differ only in β get the
+same colour and differ in line style, width and marker (``case_styles``), so curves that
+coincide — an isotropic law at β = 0° and 90° — stay visible; surface maps use one colour
+scale per wear panel (wear magnitudes differ by decades between friction coefficients); the
+x–z panels are sized from the aspect ratio of the plane, so no blank band is left.
 """
 
 from __future__ import annotations
@@ -52,6 +59,26 @@ __all__ = ["plot_study", "main", "VM_LEVEL_MAX"]
 
 VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
 DPI = 95
+MIN_FONT_SIZE = 9.0  # points
+MAX_WIDTH_PX = 1600
+MAX_COLUMNS = 3  # panels (cases) per row in the multi-case figures
+_STYLE = {
+    "font.size": 10.0,
+    "axes.titlesize": 10.0,
+    "axes.labelsize": 10.0,
+    "xtick.labelsize": 9.0,
+    "ytick.labelsize": 9.0,
+    "legend.fontsize": 9.0,
+    "figure.titlesize": 11.0,
+}
+# Per β (in the order met): line style, width, marker, marker size, filled, opacity. The first
+# is a wide pale band, the later ones thinner and dashed on top of it, with other markers.
+_BETA_STYLES = (
+    {"ls": "-", "lw": 3.2, "marker": "o", "ms": 7, "mfc": "none", "alpha": 0.45},
+    {"ls": "--", "lw": 1.6, "marker": "^", "ms": 5, "alpha": 1.0},
+    {"ls": ":", "lw": 1.6, "marker": "x", "ms": 6, "alpha": 1.0},
+    {"ls": "-.", "lw": 1.2, "marker": "s", "ms": 4, "alpha": 1.0},
+)
 _MARKERS = ("s", "o", "^", "D", "v", "P", "X", "<", ">")
 
 
@@ -63,17 +90,42 @@ def plot_study(results: str | Path | StudyResults, out_dir: str | Path) -> list[
         raise ValueError(f"{study.path}: no completed case to plot")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    if study.is_cyclic:
-        figures = _cyclic_figures(study)
-    else:
-        figures = _static_figures(study)
     written = []
-    for name, figure in figures:
-        path = out / name
-        figure.savefig(path, dpi=DPI)
-        plt.close(figure)
-        written.append(path)
+    with plt.rc_context(_STYLE):
+        figures = _cyclic_figures(study) if study.is_cyclic else _static_figures(study)
+        for name, figure in figures:
+            path = out / name
+            figure.savefig(path, dpi=DPI)
+            plt.close(figure)
+            written.append(path)
     return written
+
+
+def case_styles(cases: Sequence[CaseResults]) -> dict[str, dict]:
+    """Line style of each case (by case id) for the curves of several cases in one axis.
+
+    Cases that differ only in β share a colour and get the β style of ``_BETA_STYLES`` (wide
+    pale solid line, dashed, dotted …, each with its own marker), so identical curves remain
+    distinguishable. When all cases belong to one group (Section 7.3: β alone varies), the
+    colour follows β as well.
+    """
+    betas = sorted({case.beta for case in cases})
+    groups: list[tuple] = []
+    for case in cases:
+        key = (case.mu1, case.mu2, case.wear1, case.wear2)
+        if key not in groups:
+            groups.append(key)
+    styles = {}
+    for case in cases:
+        beta_index = betas.index(case.beta)
+        group_index = groups.index((case.mu1, case.mu2, case.wear1, case.wear2))
+        colour = f"C{(beta_index if len(groups) == 1 else group_index) % 10}"
+        style = dict(_BETA_STYLES[beta_index % len(_BETA_STYLES)]) if len(betas) > 1 else {
+            "ls": "-", "lw": 1.6, "marker": _MARKERS[group_index % len(_MARKERS)], "ms": 4,
+        }  # fmt: skip
+        style["color"] = colour
+        styles[case.case_id] = style
+    return styles
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
@@ -128,6 +180,7 @@ def _sneddon_curve(study: StudyResults, offset: float) -> tuple[np.ndarray, np.n
 
 
 def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns: int = 3):
+    """``count`` panels in rows of at most ``max_columns``, each ``width`` × ``height`` in."""
     columns = min(count, max_columns)
     rows = -(-count // columns)
     figure, axes = plt.subplots(
@@ -145,27 +198,22 @@ def _draw_von_mises(axis, study: StudyResults, x, z, von_mises, title: str, peak
     levels = np.linspace(0.0, VM_LEVEL_MAX, 21)
     filled = axis.contourf(x / a, z / a, ratio, levels=levels, cmap="turbo", extend="max")
     axis.contour(x / a, z / a, ratio, levels=[1.0], colors="k", linewidths=1.2)
-    if peaks:
+    if peaks:  # the values go to the title, so no box covers the plane
         index = np.unravel_index(np.argmax(ratio), ratio.shape)
         axis.plot(x[index] / a, z[index] / a, "*", ms=14, mfc="w", mec="k", clip_on=False)
-        text = f"max {ratio[index]:.2f} at r/a0={abs(x[index]) / a:.2f}, z/a0={z[index] / a:.3f}"
+        title += f"\n★ max {ratio[index]:.2f} at ({abs(x[index]) / a:.2f}, {z[index] / a:.3f})"
         depths = z[0]
         if len(depths) > 1:
             below = np.where(z >= depths[1], ratio, -np.inf)
             sub = np.unravel_index(np.argmax(below), below.shape)
             axis.plot(x[sub] / a, z[sub] / a, "o", ms=8, mfc="none", mec="w", mew=2)
-            text += (
-                f"\nbelow surface {ratio[sub]:.2f} at r/a0={abs(x[sub]) / a:.2f}, "
-                f"z/a0={z[sub] / a:.3f}"
-            )
-        axis.text(
-            0.02, 0.02, text, transform=axis.transAxes, fontsize=7, color="w", va="bottom",
-            bbox={"facecolor": "k", "alpha": 0.5, "pad": 2, "edgecolor": "none"},
-        )  # fmt: skip
+            title += f"\n○ below surface {ratio[sub]:.2f} at ({abs(x[sub]) / a:.2f}, "
+            title += f"{z[sub] / a:.3f})"
     axis.set_ylim(float(np.max(z)) / a, 0.0)
+    axis.set_xticks([-1.0, -0.5, 0.0, 0.5, 1.0])
     axis.set_xlabel("x/a0")
     axis.set_ylabel("z/a0 (depth)")
-    axis.set_title(title, fontsize=10)
+    axis.set_title(title, fontsize=MIN_FONT_SIZE)
     axis.set_aspect("equal")
     return filled
 
@@ -184,7 +232,10 @@ def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]
 def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = False):
     panels = [case for case in study.cases if key in case.planes]
     count = len(panels) + int(analytic)
-    figure, axes = _panel_grid(count, width=4.6, height=3.6)
+    plane = panels[0].planes[key]
+    span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
+    width = 4.6
+    figure, axes = _panel_grid(count, width=width, height=(width - 0.9) / span + 1.45)
     filled = None
     axes_iter = iter(axes)
     if analytic:
@@ -200,8 +251,10 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
         filled = _draw_von_mises(
             next(axes_iter), study, plane.x, plane.z, plane.von_mises, case.label
         )
-    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=0.6)
-    figure.suptitle(suptitle)
+    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=min(0.9, 0.4 + 0.2 * len(axes)))
+    figure.suptitle(
+        suptitle + "\npeaks ★ (whole plane) and ○ (below the surface layer) at (r/a0, z/a0)"
+    )
     return figure
 
 
@@ -241,7 +294,6 @@ def _pressure_frictionless(study: StudyResults, case: CaseResults):
     axis.set_title(
         _title(study, f"frictionless pressure, {case.case_id}")
         + f"\nalong x at y/a0 = {offset / a:.3f} (grid line nearest the axis)",
-        fontsize=9,
     )
     return figure
 
@@ -279,13 +331,12 @@ def _stiffness_ratio(study: StudyResults):
     axis.set_ylabel("k_n|μ / k_n|frictionless")
     span = max(limit - 1.0, float(np.max(ratio)) - 1.0, 1e-3)
     axis.set_ylim(1.0 - 0.15 * span, 1.0 + 1.25 * span)
-    axis.legend(fontsize=8, loc="lower right")
+    axis.legend(loc="lower right")
     axis.grid(alpha=0.3)
     nu = study.material.poisson_ratio
     axis.set_title(
         _title(study, "normal stiffness vs friction")
         + f"\nν = {nu:.3f}, Dundurs β = {study.material.dundurs_beta:.5f}",
-        fontsize=9,
     )
     return figure
 
@@ -311,10 +362,10 @@ def _traction_profiles(study: StudyResults):
         axis.set_xlabel("x/a0")
         axis.set_ylabel("traction / p0")
         stick = case.summary.get("stick_fraction", float("nan"))
-        axis.set_title(f"{case.label}  (stick fraction {stick:.2f})", fontsize=9)
+        axis.set_title(f"{case.label}  (stick fraction {stick:.2f})")
         axis.grid(alpha=0.3)
-    axes[0].legend(fontsize=7, loc="upper center")
-    figure.suptitle(_title(study, f"tractions along x at y/a0 = {offset / a:.3f}"), fontsize=10)
+    axes[0].legend(loc="upper center")
+    figure.suptitle(_title(study, f"tractions along x at y/a0 = {offset / a:.3f}"))
     return figure
 
 
@@ -345,22 +396,23 @@ def _cyclic_figures(study: StudyResults):
 
 def _wear_history(study: StudyResults):
     figure, (depth_axis, volume_axis) = plt.subplots(
-        1, 2, figsize=(11.0, 4.2), layout="constrained"
+        1, 2, figsize=(13.0, 4.6), layout="constrained"
     )
-    for number, case in enumerate(study.cases):
+    styles = case_styles(study.cases)
+    for case in study.cases:
         cycles = np.asarray(case.history["cycle"], dtype=float)
         depth = np.asarray(case.history["max_wear_depth"]) * 1e3  # mm -> µm
         volume = np.asarray(case.history["wear_volume"])
         keep = (cycles > 0) & (depth > 0) & (volume > 0)
-        style = {"marker": _MARKERS[number % len(_MARKERS)], "ms": 3, "label": case.label}
-        depth_axis.loglog(cycles[keep], depth[keep], "-", **style)
-        volume_axis.loglog(cycles[keep], volume[keep], "-", **style)
+        style = {**styles[case.case_id], "label": case.label}
+        depth_axis.loglog(cycles[keep], depth[keep], **style)
+        volume_axis.loglog(cycles[keep], volume[keep], **style)
     depth_axis.set_ylabel("maximum wear depth (µm)")
     volume_axis.set_ylabel("wear volume (mm³)")
     for axis in (depth_axis, volume_axis):
         axis.set_xlabel("load cycles N")
         axis.grid(alpha=0.3, which="both")
-        axis.legend(fontsize=8)
+    _legend_beside(figure, volume_axis, len(study.cases))
     figure.suptitle(_title(study, "wear history (markers: simulated cycles, cycle jumping)"))
     return figure
 
@@ -375,23 +427,24 @@ def _pressure_profiles(study: StudyResults):
     cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
     directions = _profile_axes(study)
     columns = max(len(cycles), 1)
+    width = min(4.4, (MAX_WIDTH_PX / DPI - 3.0) / columns)  # room for the legend beside
     figure, axes = plt.subplots(
-        len(directions), columns, figsize=(4.4 * columns, 3.5 * len(directions)),
+        len(directions), columns, figsize=(width * columns + 3.0, 3.6 * len(directions)),
         squeeze=False, layout="constrained", sharey=True,
     )  # fmt: skip
+    styles = case_styles(study.cases)
     for row, direction in enumerate(directions):
         coordinate = study.grid_x if direction == "x" else study.grid_y
         for column, cycle in enumerate(cycles):
             axis = axes[row, column]
             offset = 0.0
-            for number, case in enumerate(study.cases):
+            for case in study.cases:
                 if cycle not in case.fields:
                     continue
                 pressure, offset = _central_row(case.fields[cycle]["pressure"], study, direction)
-                axis.plot(
-                    coordinate / a, pressure / p0, "-", marker=_MARKERS[number % len(_MARKERS)],
-                    ms=3, label=case.label,
-                )  # fmt: skip
+                style = {**styles[case.case_id], "label": case.label}
+                style["ms"] = style["ms"] * 0.6  # 64 points per curve
+                axis.plot(coordinate / a, pressure / p0, **style)
             s, curve = _sneddon_curve(study, offset)
             axis.plot(s, curve, "--", color="0.5", lw=1, label="Sneddon, unworn")
             other = "y" if direction == "x" else "x"
@@ -400,7 +453,7 @@ def _pressure_profiles(study: StudyResults):
             axis.set_ylabel("p / p0")
             axis.set_ylim(0.0, 4.0)
             axis.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, loc="upper center")
+    _legend_beside(figure, axes[0, -1], len(study.cases) + 1)
     figure.suptitle(_title(study, "pressure at peak load of recorded cycles"))
     return figure
 
@@ -411,27 +464,54 @@ def _draw_axes_of_anisotropy(axis, case: CaseResults) -> None:
     for angle, style, name in ((beta, "-", "e1"), (beta + np.pi / 2, "--", "e2")):
         dx, dy = np.cos(angle), np.sin(angle)
         axis.plot([-dx, dx], [-dy, dy], style, color="w", lw=0.9)
-        axis.text(1.08 * dx, 1.08 * dy, name, color="k", fontsize=8, ha="center", va="center")
+        axis.text(
+            0.72 * dx, 0.72 * dy, name, color="w", fontsize=MIN_FONT_SIZE, ha="center",
+            va="center", bbox={"facecolor": "k", "alpha": 0.5, "pad": 1, "edgecolor": "none"},
+        )  # fmt: skip
+
+
+def _legend_beside(figure, axis, entries: int) -> None:
+    """The legend to the right of ``axis`` (outside the data), one column."""
+    handles, labels = axis.get_legend_handles_labels()
+    axis.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+
+
+def _columns_for(count: int, max_columns: int = MAX_COLUMNS) -> int:
+    """Columns (max_columns − 1 or max_columns, fewer only for fewer panels) leaving the
+    fewest empty cells in the last row; ties go to more columns."""
+    if count <= max_columns:
+        return max(count, 1)
+    return min(
+        range(max_columns - 1, max_columns + 1),
+        key=lambda columns: (-(-count // columns) * columns - count, -columns),
+    )
 
 
 def _surface_maps(study: StudyResults, cycle: int):
+    """Wear depth and p/p0 of every case, in blocks of two rows (wear above pressure) of up
+    to ``MAX_COLUMNS`` cases. Each wear panel has its own colour scale (between μ = 0.1 and
+    0.4 the wear differs by an order of magnitude, and a shared scale hides the small one);
+    the pressure panels share one scale (same magnitude; the edge elements set its top)."""
     a, p0 = study.radius, study.p0
     cases = [case for case in study.cases if cycle in case.fields]
     extent = study.grid_x / a, study.grid_y / a
-    wear = [case.fields[cycle]["wear"] * 1e3 for case in cases]  # µm
     pressure = [case.fields[cycle]["pressure"] / p0 for case in cases]
-    wear_max = max(float(np.max(w)) for w in wear) or 1.0
     pressure_max = max(float(np.max(p)) for p in pressure) or 1.0
+    columns = _columns_for(len(cases))
+    blocks = -(-len(cases) // columns)
     figure, axes = plt.subplots(
-        2, len(cases), figsize=(3.9 * len(cases) + 1.0, 7.0), squeeze=False, layout="constrained"
-    )
-    for column, case in enumerate(cases):
+        2 * blocks, columns, figsize=(4.1 * columns, 3.15 * 2 * blocks), squeeze=False,
+        layout="constrained",
+    )  # fmt: skip
+    for number, case in enumerate(cases):
+        block, column = divmod(number, columns)
+        wear = case.fields[cycle]["wear"] * 1e3  # µm
         rows = (
-            (wear[column], "viridis", wear_max, "wear depth"),
-            (pressure[column], "magma", pressure_max, "p/p0"),
+            (wear, "viridis", float(np.max(wear)) or 1.0, "wear depth (µm)"),
+            (pressure[number], "magma", pressure_max, "p / p0"),
         )
         for row, (values, cmap, top, what) in enumerate(rows):
-            axis = axes[row, column]
+            axis = axes[2 * block + row, column]
             mesh = axis.pcolormesh(
                 *extent, values.T, cmap=cmap, vmin=0.0, vmax=top, shading="nearest"
             )
@@ -441,11 +521,16 @@ def _surface_maps(study: StudyResults, cycle: int):
             axis.set_aspect("equal")
             axis.set_xlabel("x/a0")
             axis.set_ylabel("y/a0")
-            axis.set_title(f"{what}, {case.label}", fontsize=9)
-            if column == len(cases) - 1:
-                label = "wear depth (µm)" if row == 0 else "p / p0"
-                figure.colorbar(mesh, ax=axes[row, :], label=label)
-    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles (dotted: r = a0)"))
+            axis.set_title(f"{'wear' if row == 0 else 'p/p0'}, {case.label}")
+            figure.colorbar(mesh, ax=axis, label=what, shrink=0.9)
+    for number in range(len(cases), blocks * columns):
+        block, column = divmod(number, columns)
+        axes[2 * block, column].set_visible(False)
+        axes[2 * block + 1, column].set_visible(False)
+    figure.suptitle(
+        _title(study, f"surface after N = {cycle:,} cycles")
+        + "\ndotted: r = a0; wear: colour scale per panel"
+    )
     return figure
 
 

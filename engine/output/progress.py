@@ -1,39 +1,158 @@
-"""Progress on rank 0: one line per finished case, and a tqdm bar with ETA on a terminal."""
+"""Progress of a study on rank 0: a line per finished case, and a status line with an ETA.
+
+What rank 0 prints while a study runs:
+
+- one line per finished case on stdout: ``[k/N] case_id rank r  t s  status``;
+- a *status line* on stderr every ``interval`` seconds (default 30) and after each finished
+  case: cases done/total, the running cases with the cycle they reached, elapsed time, and
+  the ETA. Plain lines, so that they work under ``mpiexec``/``srun`` where stderr is a file;
+- on a terminal (stderr a tty) a tqdm bar instead of the status lines, with the same
+  running cases and ETA in its postfix.
+
+Where the numbers come from. Each rank's case runner reports the start of a case and every
+simulated cycle (``CaseRunner.on_progress``): rank 0's computing thread through a queue,
+the other ranks by a small MPI message (tag ``TAG_PROGRESS``, at most one per
+``WorkerProgress.min_interval`` seconds per rank besides the start). Rank 0's dispatcher
+drains both between its other duties (``ProgressChannel.drain``), so no extra thread touches
+MPI.
+
+The ETA. Each case has a relative cost guess (``Case.expected_cost``: low friction slips
+more and takes longer). The measured seconds per unit of that cost, over the cases completed
+so far (in this run and in the runs it resumes), give a predicted time per case; a running
+case needs its prediction minus the time it has already run (at least 0), and the cases not
+yet started are handed, in dispatch order, to whichever rank frees up first — as the
+scheduler does. The ETA is when the last rank finishes. Before the first case completes
+there is no measurement and the line says so.
+"""
 
 from __future__ import annotations
 
+import heapq
+import queue
 import sys
 import time
-from typing import TextIO
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any, TextIO
+
+__all__ = [
+    "ProgressReporter",
+    "ProgressChannel",
+    "WorkerProgress",
+    "plural",
+    "format_duration",
+    "TAG_PROGRESS",
+]
+
+TAG_PROGRESS = 73  # worker -> rank 0: ("start" | "cycle", case_id, cycle, cycles)
+MAX_LISTED = 4  # running cases named in a status line; the rest are counted
+
+
+def plural(count: int, singular: str, plural_form: str | None = None) -> str:
+    """``"1 case"``, ``"2 cases"``, ``"0 cases"``."""
+    word = singular if count == 1 else (plural_form or singular + "s")
+    return f"{count} {word}"
+
+
+def format_duration(seconds: float) -> str:
+    """``"42 s"``, ``"3 min 05 s"``, ``"2 h 07 min"`` (rounded down to the unit shown)."""
+    seconds = max(0.0, float(seconds))
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    minutes, rest = divmod(int(seconds), 60)
+    if minutes < 60:
+        return f"{minutes} min {rest:02d} s"
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours} h {minutes:02d} min"
+
+
+@dataclass
+class _Running:
+    case_id: str
+    rank: int
+    started: float  # clock time when rank 0 learnt of the start
+    cost: float
+    cycle: int | None = None
+    cycles: int | None = None
 
 
 class ProgressReporter:
-    """``update(outcome)`` after each case; lines go to ``stream``, the bar to stderr (tty only)."""
+    """Rank 0's display. ``started``/``cycle`` as reports arrive, ``update(outcome)`` when a
+    case finishes, ``tick()`` often (it prints only every ``interval`` seconds).
+
+    ``todo``: the cases still to run, in dispatch order (objects with ``case_id`` and
+    ``expected_cost``); ``measured``: (runtime in s, expected cost) of cases completed by
+    earlier runs of the study; ``ranks``: how many ranks compute. ``bar``: None draws a tqdm
+    bar when stderr is a terminal; ``interval`` 0 turns the periodic status lines off.
+    """
 
     def __init__(
-        self, total: int, done: int = 0, *, stream: TextIO | None = None, bar: bool | None = None
+        self,
+        total: int,
+        done: int = 0,
+        *,
+        todo: Iterable[Any] = (),
+        ranks: int = 1,
+        measured: Iterable[tuple[float, float]] = (),
+        stream: TextIO | None = None,
+        status_stream: TextIO | None = None,
+        bar: bool | None = None,
+        interval: float = 30.0,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.total = total
         self.done = done
+        self.ranks = max(1, ranks)
         self.stream = stream or sys.stdout
-        self.start = time.perf_counter()
+        self.status_stream = status_stream or sys.stderr
+        self.interval = interval
+        self.clock = clock
+        self.start = clock()
+        self._last_status = self.start
+        self._costs = {case.case_id: float(case.expected_cost) for case in todo}
+        self._waiting = list(self._costs)  # not started yet, dispatch order
+        self._running: dict[str, _Running] = {}
+        self._finished: set[str] = set()
+        self._measured_seconds = 0.0
+        self._measured_cost = 0.0
+        for runtime, cost in measured:
+            self._measure(runtime, cost)
         use_bar = sys.stderr.isatty() if bar is None else bar
         self._bar = None
         if use_bar and total > done:
             from tqdm import tqdm
 
             self._bar = tqdm(
-                total=total, initial=done, unit="case", dynamic_ncols=True, file=sys.stderr
-            )
+                total=total, initial=done, unit="case", dynamic_ncols=True, file=sys.stderr,
+                bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
+            )  # fmt: skip
 
-    def line(self, text: str) -> None:
-        if self._bar is not None:
-            self._bar.write(text, file=self.stream)
-        else:
-            print(text, file=self.stream, flush=True)
+    # ------------------------------------------------------------------ reports
+    def started(self, case_id: str, rank: int) -> None:
+        if case_id in self._finished or case_id in self._running:
+            return
+        if case_id in self._waiting:
+            self._waiting.remove(case_id)
+        cost = self._costs.get(case_id, 1.0)
+        self._running[case_id] = _Running(case_id, rank, self.clock(), cost)
+
+    def cycle(self, case_id: str, rank: int, cycle: int, cycles: int) -> None:
+        if case_id in self._finished:
+            return  # a late report of a case that has finished meanwhile
+        if case_id not in self._running:
+            self.started(case_id, rank)
+        running = self._running[case_id]
+        running.cycle, running.cycles = int(cycle), int(cycles)
 
     def update(self, outcome) -> None:
+        """A case finished (any status): its line on ``stream``, then a status line."""
         self.done += 1
+        self._finished.add(outcome.case_id)
+        self._running.pop(outcome.case_id, None)
+        if outcome.case_id in self._waiting:
+            self._waiting.remove(outcome.case_id)
+        if outcome.status == "completed":
+            self._measure(outcome.runtime_s, self._costs.get(outcome.case_id, 1.0))
         width = len(str(self.total))
         text = (
             f"[{self.done:{width}d}/{self.total}] {outcome.case_id:<40s} "
@@ -44,8 +163,149 @@ class ProgressReporter:
         self.line(text)
         if self._bar is not None:
             self._bar.update(1)
+        self._show_status(force=True)
+
+    def tick(self) -> None:
+        """Print (or refresh the bar with) the status if ``interval`` has passed."""
+        self._show_status(force=False)
+
+    # ------------------------------------------------------------------ numbers
+    def _measure(self, runtime_s: float, cost: float) -> None:
+        if runtime_s > 0 and cost > 0:
+            self._measured_seconds += float(runtime_s)
+            self._measured_cost += float(cost)
+
+    def seconds_per_cost(self) -> float | None:
+        """Measured seconds per unit of ``expected_cost`` (None before any completed case)."""
+        if self._measured_cost <= 0:
+            return None
+        return self._measured_seconds / self._measured_cost
+
+    def eta_seconds(self) -> float | None:
+        """Seconds until the last case should finish (None without a measured case)."""
+        rate = self.seconds_per_cost()
+        if rate is None:
+            return None if (self._running or self._waiting) else 0.0
+        now = self.clock()
+        free_at = [
+            max(running.cost * rate - (now - running.started), 0.0)
+            for running in self._running.values()
+        ]
+        free_at += [0.0] * max(self.ranks - len(free_at), 0)
+        heapq.heapify(free_at)
+        for case_id in self._waiting:
+            heapq.heappush(free_at, heapq.heappop(free_at) + self._costs[case_id] * rate)
+        return max(free_at, default=0.0)
+
+    def status_text(self, *, short: bool = False) -> str:
+        """``3/9 cases done; running: …; elapsed 2 min 10 s; ETA 5 min 20 s`` (``short``: the
+        running cases without rank and time, and the ETA, for the postfix of the bar)."""
+        now = self.clock()
+        parts = [] if short else [f"{self.done}/{plural(self.total, 'case')} done"]  # bar: n/N
+        running = sorted(self._running.values(), key=lambda item: item.rank)
+        if running:
+            listed = [self._describe(item, now, short) for item in running[:MAX_LISTED]]
+            if len(running) > MAX_LISTED:
+                listed.append(f"+{len(running) - MAX_LISTED} more")
+            parts.append("running: " + ", ".join(listed))
+        if not short:
+            parts.append(f"elapsed {format_duration(now - self.start)}")
+        eta = self.eta_seconds()
+        parts.append(
+            "ETA after the first completed case" if eta is None else f"ETA {format_duration(eta)}"
+        )
+        return "; ".join(parts)
+
+    @staticmethod
+    def _describe(item: _Running, now: float, short: bool) -> str:
+        where = "" if short else f" (rank {item.rank}, {format_duration(now - item.started)})"
+        if item.cycle is None:
+            return f"{item.case_id}{where}"
+        return f"{item.case_id} cycle {item.cycle:,}/{item.cycles:,}{where}"
+
+    # ------------------------------------------------------------------ output
+    def line(self, text: str) -> None:
+        if self._bar is not None:
+            self._bar.write(text, file=self.stream)
+        else:
+            print(text, file=self.stream, flush=True)
+
+    def _show_status(self, *, force: bool) -> None:
+        now = self.clock()
+        if self._bar is not None:
+            if force or now - self._last_status >= 1.0:
+                self._bar.set_postfix_str(self.status_text(short=True), refresh=True)
+                self._last_status = now
+            return
+        if self.interval <= 0 or (not force and now - self._last_status < self.interval):
+            return
+        self._last_status = now
+        print(f"progress: {self.status_text()}", file=self.status_stream, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:
             self._bar.close()
             self._bar = None
+
+
+class WorkerProgress:
+    """A rank > 0's ``CaseRunner.on_progress``: reports to rank 0 by MPI (main thread only).
+
+    The start of a case always; simulated cycles at most every ``min_interval`` seconds.
+    """
+
+    def __init__(self, comm, min_interval: float = 5.0, clock=time.monotonic) -> None:
+        self.comm = comm
+        self.min_interval = min_interval
+        self.clock = clock
+        self._last = -float("inf")
+
+    def __call__(self, case, cycle: int | None = None, cycles: int | None = None) -> None:
+        now = self.clock()
+        if cycle is None:
+            message = ("start", case.case_id, None, None)
+        elif now - self._last >= self.min_interval:
+            message = ("cycle", case.case_id, int(cycle), int(cycles))
+        else:
+            return
+        self._last = now
+        self.comm.send(message, dest=0, tag=TAG_PROGRESS)
+
+
+class ProgressChannel:
+    """Rank 0's side: the local computing thread's reports (a queue) and the workers' (MPI),
+    delivered to a :class:`ProgressReporter` by ``drain()`` from the main thread."""
+
+    def __init__(self, comm, reporter: ProgressReporter) -> None:
+        self.comm = comm
+        self.reporter = reporter
+        self.rank = comm.Get_rank()
+        self._local: queue.SimpleQueue = queue.SimpleQueue()
+
+    def local(self, case, cycle: int | None = None, cycles: int | None = None) -> None:
+        """``CaseRunner.on_progress`` of rank 0's computing thread (no MPI here)."""
+        self._local.put((case.case_id, cycle, cycles))
+
+    def drain(self) -> None:
+        """Deliver every pending report, then let the reporter print if it is time."""
+        while True:
+            try:
+                case_id, cycle, cycles = self._local.get_nowait()
+            except queue.Empty:
+                break
+            self._deliver(case_id, self.rank, cycle, cycles)
+        if self.comm.Get_size() > 1:
+            from mpi4py import MPI
+
+            status = MPI.Status()
+            while self.comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_PROGRESS, status=status):
+                source = status.Get_source()
+                _, case_id, cycle, cycles = self.comm.recv(source=source, tag=TAG_PROGRESS)
+                self._deliver(case_id, source, cycle, cycles)
+        self.reporter.tick()
+
+    def _deliver(self, case_id: str, rank: int, cycle, cycles) -> None:
+        if cycle is None:
+            self.reporter.started(case_id, rank)
+        else:
+            self.reporter.cycle(case_id, rank, cycle, cycles)

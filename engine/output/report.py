@@ -1,6 +1,6 @@
 """Results tables of a study in Markdown: ``python -m engine report RESULTS.h5 [--cycles N …]``.
 
-The tables of the README's Results section are printed by this command, never typed by hand.
+The tables of docs/results.md are printed by this command (``--update``), never typed by hand.
 Per case:
 
 cyclic study   at each N (default: the recorded cycles): maximum wear depth (µm), wear volume
@@ -164,29 +164,119 @@ def _pressure_peak_angle(study: StudyResults, case: CaseResults, cycle) -> tuple
     return float(np.hypot(x, y) / study.radius), float(np.degrees(np.arctan2(y, x)) % 180.0)
 
 
+def _groups(cases: Sequence[CaseResults], key) -> list[list[CaseResults]]:
+    """Cases sharing ``key(case)``, in order of first appearance."""
+    groups: dict = {}
+    for case in cases:
+        groups.setdefault(key(case), []).append(case)
+    return list(groups.values())
+
+
+def _group_label(case: CaseResults, names: Sequence[str], varying: set[str]) -> str:
+    """``"β = 90°"``-style label of the parameters ``names`` that take several values in the
+    study (``varying``); empty when none does (one group, nothing to tell apart)."""
+    units = {"beta": "°", "wear1": " 1/MPa", "wear2": " 1/MPa"}
+    symbols = {"mu1": "μ1", "mu2": "μ2", "wear1": "i1", "wear2": "i2", "beta": "β"}
+    parts = [
+        f"{symbols[name]} = {getattr(case, name):g}{units.get(name, '')}"
+        for name in names
+        if name in varying
+    ]
+    return ", ".join(parts)
+
+
+def _varying_parameters(cases: Sequence[CaseResults]) -> set[str]:
+    names = ("mu1", "mu2", "wear1", "wear2", "beta")
+    return {name for name in names if len({getattr(case, name) for case in cases}) > 1}
+
+
+def _trend(values: Sequence[float]) -> str:
+    """Strictly decreasing, strictly increasing or not monotone, for values in sweep order."""
+    steps = np.diff(np.asarray(values, dtype=float))
+    if np.all(steps < 0):
+        return "strictly decreasing"
+    if np.all(steps > 0):
+        return "strictly increasing"
+    return "not monotone"
+
+
+def _trend_fact(cycle, cases, parameter: str, symbol: str, label: str) -> str | None:
+    """Trend of wear depth and volume at ``cycle`` along ``parameter`` within one group of cases
+    that differ only in that parameter (and in what follows from it, e.g. a proportional i2).
+
+    Stated for depth and volume separately, with the values, so it can be checked against the
+    table line by line; ``None`` when the group has fewer than two values of the parameter.
+    """
+    cases = sorted(cases, key=lambda case: getattr(case, parameter))
+    values = [getattr(case, parameter) for case in cases]
+    if len(set(values)) < 2 or len(set(values)) != len(values):
+        return None
+    depths = [case.history_at("max_wear_depth", cycle) * 1e3 for case in cases]
+    volumes = [case.history_at("wear_volume", cycle) for case in cases]
+    depth_trend, volume_trend = _trend(depths), _trend(volumes)
+    where = f"N = {cycle:,}" + (f", {label}" if label else "")
+    listed = ", ".join(f"{value:g}" for value in values)
+    if depth_trend == volume_trend:
+        verdict = f"wear depth and volume {depth_trend} with {symbol} = {listed}"
+    else:
+        verdict = (
+            f"with {symbol} = {listed}: wear depth {depth_trend} "
+            f"({', '.join(f'{d:.4g}' for d in depths)} µm), wear volume {volume_trend} "
+            f"({', '.join(f'{v:.3e}' for v in volumes)} mm³)"
+        )
+    return f"{where}: {verdict}"
+
+
+def _spread_fact(cycle, cases, label: str) -> str | None:
+    """Spread (max − min)/mean of wear depth and volume over β within one group of cases that
+    differ only in β; ``None`` with fewer than two angles."""
+    betas = sorted({case.beta for case in cases})
+    if len(betas) < 2:
+        return None
+    depths = [case.history_at("max_wear_depth", cycle) for case in cases]
+    volumes = [case.history_at("wear_volume", cycle) for case in cases]
+    spread_depth = (max(depths) - min(depths)) / max(float(np.mean(depths)), 1e-300)
+    spread_volume = (max(volumes) - min(volumes)) / max(float(np.mean(volumes)), 1e-300)
+    where = f"N = {cycle:,}" + (f", {label}" if label else "")
+    angles = ", ".join(f"{beta:g}" for beta in betas)
+    return (
+        f"{where}: spread over β = {angles}° (max − min)/mean: wear depth "
+        f"{100 * spread_depth:.2f} %, wear volume {100 * spread_volume:.2f} %"
+    )
+
+
+def wear_trend_facts(study: StudyResults, cycle: int) -> list[str]:
+    """The wear facts at one recorded cycle, each within a group of comparable cases.
+
+    - isotropic cases (μ1 = μ2, i1 = i2), grouped by β and i: trend with μ (Section 7.2);
+    - orthotropic cases grouped by μ1, i1 and β: trend with μ2 (i2 may follow μ2);
+    - all cases grouped by μ1, μ2, i1, i2: spread over β (Section 7.3: invariance with β).
+
+    Duplicates of a μ at other angles β (the demo's β = 0°, 90°) therefore never enter one
+    comparison together.
+    """
+    cases = [case for case in study.cases if cycle in case.fields]
+    varying = _varying_parameters(cases)
+    facts: list[str | None] = []
+    isotropic = [case for case in cases if case.isotropic]
+    for group in _groups(isotropic, lambda case: (case.beta, case.wear1)):
+        label = _group_label(group[0], ("beta", "wear1"), varying)
+        facts.append(_trend_fact(cycle, group, "mu1", "μ", label))
+    orthotropic = [case for case in cases if not case.isotropic]
+    for group in _groups(orthotropic, lambda case: (case.mu1, case.wear1, case.beta)):
+        label = _group_label(group[0], ("mu1", "wear1", "beta"), varying)
+        facts.append(_trend_fact(cycle, group, "mu2", "μ2", label))
+    for group in _groups(cases, lambda case: (case.mu1, case.mu2, case.wear1, case.wear2)):
+        label = _group_label(group[0], ("mu1", "mu2", "wear1", "wear2"), varying)
+        facts.append(_spread_fact(cycle, group, label))
+    return [fact for fact in facts if fact is not None]
+
+
 def cyclic_facts(study: StudyResults) -> list[str]:
     facts = []
     cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
     for cycle in cycles:
-        cases = [case for case in study.cases if cycle in case.fields]
-        depths = [case.history_at("max_wear_depth", cycle) for case in cases]
-        volumes = [case.history_at("wear_volume", cycle) for case in cases]
-        if study.isotropic and len(cases) > 1:
-            order = np.argsort([case.mu1 for case in cases])
-            decreasing = all(np.diff(np.asarray(depths)[order]) < 0) and all(
-                np.diff(np.asarray(volumes)[order]) < 0
-            )
-            facts.append(
-                f"N = {cycle:,}: wear depth and volume strictly decreasing with μ: "
-                f"{'yes' if decreasing else 'no'}"
-            )
-        elif len(cases) > 1:
-            spread_depth = (max(depths) - min(depths)) / max(np.mean(depths), 1e-300)
-            spread_volume = (max(volumes) - min(volumes)) / max(np.mean(volumes), 1e-300)
-            facts.append(
-                f"N = {cycle:,}: spread over the cases (max − min)/mean: wear depth "
-                f"{100 * spread_depth:.2f} %, wear volume {100 * spread_volume:.2f} %"
-            )
+        facts += wear_trend_facts(study, cycle)
     if cycles:
         last = cycles[-1]
         for case in study.cases:
@@ -208,7 +298,8 @@ def cyclic_facts(study: StudyResults) -> list[str]:
             text += f"polar angle {angle:.0f}°"
             if not case.isotropic:
                 e2 = (case.beta + 90.0) % 180.0
-                text += f" (e2 axis at {e2:.0f}°)"
+                off = abs(angle - e2) % 180.0
+                text += f" (e2 axis at {e2:.0f}°, {min(off, 180.0 - off):.0f}° from it)"
             facts.append(text)
     return facts
 
@@ -238,7 +329,7 @@ def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | Non
 
 def update_markdown(document: str | Path, name: str, report: str) -> None:
     """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
-    of ``document`` with ``report`` (how the README's Results tables are regenerated)."""
+    of ``document`` with ``report`` (how the tables of docs/results.md are regenerated)."""
     document = Path(document)
     text = document.read_text()
     begin, end = f"<!-- BEGIN report {name} -->", f"<!-- END report {name} -->"

@@ -105,7 +105,7 @@ def summary_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:
         if column in _INTEGER_COLUMNS:
             frame[column] = frame[column].astype("Float64").round().astype("Int64")
         elif column not in _TEXT_COLUMNS:
-            frame[column] = frame[column].astype(float)
+            frame[column] = frame[column].astype(float) + 0.0  # -0.0 -> 0.0 (IEEE: -0 + 0 = +0)
     return frame
 
 

@@ -167,19 +167,33 @@ class Scheduler:
         self.watch = PeerWatch(self.rank, peers)
 
     def run(
-        self, cases: Iterable[Any] | None = None, on_outcome: Callable[[Any], None] | None = None
+        self,
+        cases: Iterable[Any] | None = None,
+        on_outcome: Callable[[Any], None] | None = None,
+        on_poll: Callable[[], None] | None = None,
     ) -> SchedulerReport:
-        """Rank 0: pass the cases (dispatch order) and the outcome handler; others: nothing."""
+        """Rank 0: pass the cases (dispatch order) and the outcome handler; others: nothing.
+
+        ``on_poll()`` (rank 0, main thread) is called once per pass of the dispatch loop, i.e.
+        about every ``poll_interval`` seconds: the progress display drains its reports there.
+        """
         start = time.perf_counter()
         if self.rank == 0:
-            report = self._dispatch(list(cases or []), on_outcome or (lambda outcome: None))
+            report = self._dispatch(
+                list(cases or []), on_outcome or (lambda outcome: None), on_poll
+            )
         else:
             report = self._work()
         report.wall_time_s = time.perf_counter() - start
         return report
 
     # ------------------------------------------------------------------ rank 0
-    def _dispatch(self, cases: list[Any], on_outcome: Callable[[Any], None]) -> SchedulerReport:
+    def _dispatch(
+        self,
+        cases: list[Any],
+        on_outcome: Callable[[Any], None],
+        on_poll: Callable[[], None] | None = None,
+    ) -> SchedulerReport:
         from mpi4py import MPI
 
         report = SchedulerReport(self.rank, self.size)
@@ -247,6 +261,8 @@ class Scheduler:
         feed_local()
         status = MPI.Status()
         while local_alive or self.rank in busy or workers_alive:
+            if on_poll is not None:
+                on_poll()
             if self.stop_event.is_set():
                 for rank in [r for r in busy if r != self.rank and r not in stop_sent]:
                     self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)

@@ -74,6 +74,12 @@ _HISTORY_UNITS = {
 }
 
 
+def _without_negative_zeros(row: dict[str, Any]) -> dict[str, Any]:
+    """-0.0 → 0.0 in a summary row (a coordinate on the plane y = 0 can come out as -0.0;
+    adding +0.0 maps only -0.0 to 0.0 in IEEE arithmetic and leaves NaN as it is)."""
+    return {key: value + 0.0 if isinstance(value, float) else value for key, value in row.items()}
+
+
 class InjectedFailure(RuntimeError):
     """Raised on purpose for cases listed in ``[testing] fail_cases``."""
 
@@ -116,6 +122,9 @@ class CaseRunner:
         self.checkpoint_dir = config.study.checkpoint_dir
         # Operators, plans and stress kernels shared by the cases of this rank (issue 17).
         self.operators = OperatorCache()
+        # Progress hook: on_progress(case) when a case starts, on_progress(case, N, cycles)
+        # after each simulated cycle (engine.output.progress; None: no reports).
+        self.on_progress: Callable[..., None] | None = None
 
     # ---------------------------------------------------------------- public entry point
     def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
@@ -123,6 +132,8 @@ class CaseRunner:
         start = time.perf_counter()
         cpu_start = time.thread_time()  # CPU of the computing thread (rank 0 computes in one)
         previous = self._load_progress(case)
+        if self.on_progress is not None:
+            self.on_progress(case)
         try:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
@@ -147,6 +158,7 @@ class CaseRunner:
         outcome.attrs["cpu_s"] = time.thread_time() - cpu_start  # this run only
         outcome.row["runtime_s"] = outcome.runtime_s
         outcome.row["status"] = outcome.status
+        outcome.row = _without_negative_zeros(outcome.row)
         return outcome
 
     # ---------------------------------------------------------------- solver objects
@@ -253,7 +265,10 @@ class CaseRunner:
         analysis = CyclicAnalysis(solver, wear_law, settings, peak_probe=tracker)
         checkpoint = self._checkpoint_path(case)
         state = CyclicState.load(checkpoint) if checkpoint.exists() else None
-        result = analysis.run(state=state, should_stop=should_stop)
+        on_cycle = None
+        if self.on_progress is not None:
+            on_cycle = lambda cycle, cycles: self.on_progress(case, cycle, cycles)  # noqa: E731
+        result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
         if not result.completed:
             checkpoint.parent.mkdir(parents=True, exist_ok=True)
             result.state.save(checkpoint)  # atomic (temporary file + rename)
