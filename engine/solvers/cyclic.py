@@ -184,6 +184,13 @@ class CyclicState:
             )
 
 
+def _starting_point(state: ContactState, zeros: np.ndarray | None = None) -> ContactState:
+    """What a warm start needs of a converged increment: its pressure and tractions (MPa);
+    the displacements (unused by a start) are one shared array of zeros."""
+    zeros = np.zeros_like(state.pressure) if zeros is None else zeros
+    return ContactState(state.pressure, state.traction_x, state.traction_y, zeros, zeros)
+
+
 def _load_warm(data) -> list[list[ContactState]]:
     """The warm-start increments of a checkpoint, per cycle (empty when it has none)."""
     if "warm_pressure" not in data.files:
@@ -191,7 +198,7 @@ def _load_warm(data) -> list[list[ContactState]]:
     fields = [data[f"warm_{key}"] for key in WARM_KEYS]
     zeros = np.zeros(fields[0].shape[2:])
     return [
-        [ContactState(p, tx, ty, zeros, zeros.copy()) for p, tx, ty in zip(*cycle, strict=True)]
+        [ContactState(p, tx, ty, zeros, zeros) for p, tx, ty in zip(*cycle, strict=True)]
         for cycle in zip(*fields, strict=True)
     ]
 
@@ -253,11 +260,11 @@ class CyclicAnalysis:
         wear_increment = np.zeros_like(wear)
         peak = None
         failures = []
-        increments = []
+        increments, zeros = [], np.zeros_like(wear)
         for index, load in enumerate(self.loads()):
             guess = None if guesses is None else guesses[index]
             result = self.solver.solve_load(load, state, wear=wear, guess=guess)
-            increments.append(result.state)
+            increments.append(_starting_point(result.state, zeros))
             if not result.converged:
                 failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
             wear_increment += self.wear_law.depth_increment(
