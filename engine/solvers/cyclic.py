@@ -199,6 +199,13 @@ class CyclicState:
             )
 
 
+def _starting_point(state: ContactState, zeros: np.ndarray | None = None) -> ContactState:
+    """What a warm start needs of a converged increment: its pressure and tractions (MPa);
+    the displacements (unused by a start) are one shared array of zeros."""
+    zeros = np.zeros_like(state.pressure) if zeros is None else zeros
+    return ContactState(state.pressure, state.traction_x, state.traction_y, zeros, zeros)
+
+
 def _load_warm(data) -> list[list[ContactState]]:
     """The warm-start increments of a checkpoint, per cycle (empty when it has none)."""
     if "warm_pressure" not in data.files:
@@ -206,7 +213,7 @@ def _load_warm(data) -> list[list[ContactState]]:
     fields = [data[f"warm_{key}"] for key in WARM_KEYS]
     zeros = np.zeros(fields[0].shape[2:])
     return [
-        [ContactState(p, tx, ty, zeros, zeros.copy()) for p, tx, ty in zip(*cycle, strict=True)]
+        [ContactState(p, tx, ty, zeros, zeros) for p, tx, ty in zip(*cycle, strict=True)]
         for cycle in zip(*fields, strict=True)
     ]
 
@@ -273,18 +280,18 @@ class CyclicAnalysis:
         wear: np.ndarray,
         state: ContactState,
         on_increment: Callable[[IncrementResult], None] | None = None,
-        guesses: list[ContactState] | None = None,
+        guesses: Callable[[int], ContactState] | None = None,
     ) -> _CycleOutcome:
         """One load–unload cycle at fixed wear; returns its peak solution and its wear.
-        ``guesses``: starting points per increment (the previous cycle's increments)."""
+        ``guesses(k)``: where increment k starts (from the previous cycles' increments)."""
         wear_increment = np.zeros_like(wear)
         peak = None
         failures = []
-        increments = []
+        increments, zeros = [], np.zeros_like(wear)
         for index, load in enumerate(self.loads()):
-            guess = None if guesses is None else guesses[index]
+            guess = None if guesses is None else guesses(index)
             result = self.solver.solve_load(load, state, wear=wear, guess=guess)
-            increments.append(result.state)
+            increments.append(_starting_point(result.state, zeros))
             if not result.converged:
                 failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
             wear_increment += self.wear_law.depth_increment(
@@ -302,18 +309,17 @@ class CyclicAnalysis:
             peak=peak, wear_increment=wear_increment, end_state=state, increments=increments
         )
 
-    def _starting_points(self, state: CyclicState) -> list[ContactState] | None:
-        """Per increment, where the iteration of the coming simulated cycle starts: the last
-        simulated cycle's solution, linearly extrapolated in N when there are two."""
+    def _starting_points(self, state: CyclicState) -> Callable[[int], ContactState] | None:
+        """Where increment k of the coming simulated cycle starts: the last simulated cycle's
+        increment k, linearly extrapolated in N when there are two (computed when needed, so
+        no extra cycle of fields is held)."""
         if not state.warm:
             return None
-        if len(state.warm) == 1 or state.warm_jump <= 0:
-            return state.warm[0]
+        warm = state.warm
+        if len(warm) == 1 or state.warm_jump <= 0:
+            return lambda k: warm[0][k]
         ratio = state.jump / state.warm_jump
-        return [
-            self._extrapolate(last, before, ratio)
-            for last, before in zip(state.warm[0], state.warm[1], strict=True)
-        ]
+        return lambda k: self._extrapolate(warm[0][k], warm[1][k], ratio)
 
     def _extrapolate(self, last: ContactState, before: ContactState, ratio: float):
         """last + ratio (last − before), pressure ≥ 0, tractions inside its friction ellipse."""
