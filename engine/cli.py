@@ -337,7 +337,7 @@ def _settle_existing(config, plan, args, existing, command_line) -> None:
 
 
 def _compute(comm, config, plan, args, command_line, stop_event, existing) -> int:
-    from engine.output.hdf5 import SingleWriter
+    from engine.output.hdf5 import SingleWriter, StoppedDuringSetUp
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
@@ -350,9 +350,17 @@ def _compute(comm, config, plan, args, command_line, stop_event, existing) -> in
 
     _settle_existing(config, plan, args, existing, command_line)
     with SingleWriter(
-        config.study.output, config.study.summary_path, drop_stale=args.drop_stale
+        config.study.output,
+        config.study.summary_path,
+        drop_stale=args.drop_stale,
+        should_stop=stop_event.is_set,
     ) as writer:
-        completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+        try:
+            completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+        except StoppedDuringSetUp as stopped:
+            print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
+            scheduler.run([], lambda outcome: None)  # tell the workers to exit
+            return EXIT_INTERRUPTED
         todo = plan.dispatch_order(skip=completed)
         print(
             f"study {config.study.name!r}: {len(plan)} cases, {len(completed)} already "
