@@ -7,21 +7,27 @@ results tables in Markdown (:mod:`engine.output.report`).
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
 communicator. The flow:
 
-1. every rank parses the command line; rank 0 validates the study file, expands the plan and
-   checks that an existing results file belongs to the same study — before any file is created
-   or changed — and broadcasts the verdict (bad input: exit code 2 on every rank);
+1. every rank installs the stop-signal handlers (first thing) and parses the command line;
+   rank 0 validates the study file, expands the plan, checks the memory a case needs, the
+   output path, takes the lock on the output (``engine.output.lock``: a second run, also a
+   ``--fresh`` one, exits 2 naming the first run's pid and host) and inspects an existing
+   results file (same study? damaged? see ``engine.output.identity``) — before any file is
+   created or changed — and broadcasts the verdict (bad input: exit code 2 on every rank);
 2. the output strategy is chosen (``--output-strategy`` / ``[study] output_strategy``): the
    single writer (rank 0 owns the file; default with the PyPI h5py wheel) or collective mpio
    (every rank writes its own cases; automatic when h5py is MPI-enabled and ranks > 1, see
    ``engine.output.collective``); the writer prepares the file and learns which cases are
    complete;
 3. the scheduler hands the remaining cases out dynamically; rank 0 computes as well;
-4. SIGTERM / SIGUSR1 / SIGINT set a stop flag: no new cases, running cyclic cases save their
-   state, the file is closed cleanly, exit code 3; the next run resumes.
+4. SIGTERM / SIGUSR1 / SIGINT — on any rank, at any time from start-up to shutdown — set a
+   stop flag: no new cases, running cyclic cases save their state, the file is closed
+   cleanly, exit code 3; the next run resumes. A dead peer on the same host ends the job
+   (exit 70, ``engine.parallel.scheduler.PeerWatch``). See docs/reliability.md.
 
-Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input (nothing computed,
-no output created or changed); 3 interrupted by a signal (rerun to resume); 70 internal error
-(the communicator is aborted so no rank waits forever).
+Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
+path, output in use by another run or holding another study (nothing computed, no output of
+another run created or changed); 3 interrupted by a signal (rerun to resume); 70 internal
+error or a dead peer (the communicator is aborted so no rank waits forever).
 """
 
 from __future__ import annotations
