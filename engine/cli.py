@@ -7,21 +7,27 @@ results tables in Markdown (:mod:`engine.output.report`).
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
 communicator. The flow:
 
-1. every rank parses the command line; rank 0 validates the study file, expands the plan and
-   checks that an existing results file belongs to the same study — before any file is created
-   or changed — and broadcasts the verdict (bad input: exit code 2 on every rank);
+1. every rank installs the stop-signal handlers (first thing) and parses the command line;
+   rank 0 validates the study file, expands the plan, checks the memory a case needs, the
+   output path, takes the lock on the output (``engine.output.lock``: a second run, also a
+   ``--fresh`` one, exits 2 naming the first run's pid and host) and inspects an existing
+   results file (same study? damaged? see ``engine.output.identity``) — before any file is
+   created or changed — and broadcasts the verdict (bad input: exit code 2 on every rank);
 2. the output strategy is chosen (``--output-strategy`` / ``[study] output_strategy``): the
    single writer (rank 0 owns the file; default with the PyPI h5py wheel) or collective mpio
    (every rank writes its own cases; automatic when h5py is MPI-enabled and ranks > 1, see
    ``engine.output.collective``); the writer prepares the file and learns which cases are
    complete;
 3. the scheduler hands the remaining cases out dynamically; rank 0 computes as well;
-4. SIGTERM / SIGUSR1 / SIGINT set a stop flag: no new cases, running cyclic cases save their
-   state, the file is closed cleanly, exit code 3; the next run resumes.
+4. SIGTERM / SIGUSR1 / SIGINT — on any rank, at any time from start-up to shutdown — set a
+   stop flag: no new cases, running cyclic cases save their state, the file is closed
+   cleanly, exit code 3; the next run resumes. A dead peer on the same host ends the job
+   (exit 70, ``engine.parallel.scheduler.PeerWatch``). See docs/reliability.md.
 
-Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input (nothing computed,
-no output created or changed); 3 interrupted by a signal (rerun to resume); 70 internal error
-(the communicator is aborted so no rank waits forever).
+Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
+path, output in use by another run or holding another study (nothing computed, no output of
+another run created or changed); 3 interrupted by a signal (rerun to resume); 70 internal
+error or a dead peer (the communicator is aborted so no rank waits forever).
 """
 
 from __future__ import annotations
@@ -381,7 +387,7 @@ def _settle_existing(config, plan, args, existing, command_line) -> None:
 
 
 def _compute(comm, config, plan, args, command_line, stop_event, existing) -> int:
-    from engine.output.hdf5 import SingleWriter
+    from engine.output.hdf5 import SingleWriter, StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
@@ -396,9 +402,17 @@ def _compute(comm, config, plan, args, command_line, stop_event, existing) -> in
 
     _settle_existing(config, plan, args, existing, command_line)
     with SingleWriter(
-        config.study.output, config.study.summary_path, drop_stale=args.drop_stale
+        config.study.output,
+        config.study.summary_path,
+        drop_stale=args.drop_stale,
+        should_stop=stop_event.is_set,
     ) as writer:
-        completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+        try:
+            completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+        except StoppedDuringSetUp as stopped:
+            print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
+            scheduler.run([], lambda outcome: None)  # tell the workers to exit
+            return EXIT_INTERRUPTED
         todo = plan.dispatch_order(skip=completed)
         _announce(config, plan, completed, todo, comm.Get_size())
         report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)

@@ -67,6 +67,10 @@ FORMAT = "fretting-engine-results/1"
 _PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
 
 
+class StoppedDuringSetUp(RuntimeError):
+    """A stop signal arrived while the new results file was being built (no file left)."""
+
+
 class ResultsMismatch(ValueError):
     """The existing results file belongs to another study; resuming it would mix results."""
 
@@ -201,8 +205,10 @@ class SingleWriter:
         summary_path: str | Path | None = None,
         *,
         drop_stale: bool = False,
+        should_stop=None,
     ) -> None:
         self.path = Path(path)
+        self.should_stop = should_stop or (lambda: False)  # a stop signal during creation
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.drop_stale = drop_stale
         self._file: h5py.File | None = None
@@ -248,11 +254,17 @@ class SingleWriter:
     def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
         """New file: built under a temporary name, renamed when its structure is complete."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        with h5py.File(creating_path(self.path), "w") as file:
+        temporary = creating_path(self.path)
+        with h5py.File(temporary, "w") as file:
             write_root(file, metadata)
             cases = file.create_group("cases")
-            for case in plan:
+            for number, case in enumerate(plan):
+                if number % 64 == 0 and self.should_stop():
+                    break
                 self._reset_group(cases, case)
+        if self.should_stop():  # thousands of cases take seconds: stop without the file
+            temporary.unlink(missing_ok=True)
+            raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
         publish_created(self.path)
 
     def _stale_cases(self, cases: h5py.Group, plan: Plan) -> list[str]:
