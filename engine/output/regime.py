@@ -9,14 +9,17 @@ Drawn by ``python -m engine plot`` for a cyclic study whose cases carry the peak
     final state, marker and colour the region of the overall σ_VM peak, annotated with the
     depth z/a0 of the deep peak (z >= 0.1 a0) and whether it is on the axis or at the edge;
     small markers behind them: the region along the history of the case of each μ that wears
-    most (every simulated cycle). (b) the depth z/a0 of the deep peak along those histories,
+    most (every simulated cycle). (b) the depth z/a0 of the deep peak along those histories
+    (linear severity, where the narrow transition shows),
     filled markers where it is on the axis; the band z/a0 ∈ [0.6, 0.8] is the paper's μ = 0.1
     finding (Fig. 8b). (c) for the lowest μ: the overall, deep and axis σ_VM peaks and the
     centre pressure along the same history, over p0.
 ``peak_regime_von_mises_mu<μ>.png``
     σ_VM/p0 in the x–z plane at the cycles where the region (overall or deep peak) changes,
-    for the lowest μ, case that wears most; one shared colour scale capped at
-    ``VM_LEVEL_MAX`` so that the panels compare; ★ overall peak, ○ deep peak.
+    for the lowest μ, case that wears most; each panel its own colour scale (topped at 1.6 ×
+    its deep peak, at most ``VM_LEVEL_MAX``: the whole field falls several-fold with wear, a
+    shared scale would hide the worn panels' lobes), thin contours every 0.1 p0; ★ overall
+    peak, ○ deep peak.
 
 Wear coefficient and cycle count enter the wear only through their product when the wear
 law is linear (Archard, Eq. 14): cases of one μ follow the same path in severity, the more
@@ -41,6 +44,7 @@ REGION_STYLE = {  # marker, colour (colour-blind safe, Okabe–Ito); keys: REGIO
     "axis-subsurface": ("o", "#0072B2"),
     "axis-surface": ("^", "#009E73"),
 }
+FRICTION_COLOURS = ("k", "#0072B2", "#D55E00", "#009E73", "#CC79A7")  # per μ in (b)
 PAPER_DEPTH_BAND = (0.6, 0.8)  # z/a0 of the paper's μ = 0.1 peak after 10⁵ cycles (Fig. 8b)
 VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale (as engine.output.figures)
 
@@ -145,6 +149,8 @@ def _draw_map(axis, study: StudyResults) -> None:
             textcoords="offset points", ha="center", va="bottom", fontsize=8,
         )  # fmt: skip
     axis.set_xscale("log")
+    finals = [_final_severity(case) for case in study.cases]
+    axis.set_xlim(min(finals) / 4.0, max(finals) * 2.0)
     axis.set_yscale("log")
     axis.set_yticks(frictions, [f"{mu:g}" for mu in frictions])
     axis.minorticks_off()
@@ -162,7 +168,7 @@ def _draw_map(axis, study: StudyResults) -> None:
 
 
 def _draw_deep_depth(axis, study: StudyResults) -> None:
-    colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(_frictions(study))))
+    colours = [FRICTION_COLOURS[i % len(FRICTION_COLOURS)] for i in range(len(_frictions(study)))]
     axis.axhspan(*PAPER_DEPTH_BAND, color="0.85", zorder=0)
     axis.text(
         0.98, np.mean(PAPER_DEPTH_BAND), "paper, μ = 0.1 (Fig. 8b)", ha="right", va="center",
@@ -170,16 +176,16 @@ def _draw_deep_depth(axis, study: StudyResults) -> None:
     )  # fmt: skip
     for mu, colour in zip(_frictions(study), colours, strict=True):
         case = _most_worn(study, mu)
-        severity = _positive_floor(wear_severity_history(case))
+        severity = wear_severity_history(case)
         depth = np.asarray(case.history["vm_deep_max_z"]) / study.radius
         radius = np.asarray(case.history["contact_radius"])
         on_axis = np.abs(case.history["vm_deep_max_x"]) < AXIS_RADIUS_FRACTION * radius
         axis.plot(severity, depth, "-", color=colour, lw=1.2, label=f"μ = {mu:g}")
         axis.plot(severity[on_axis], depth[on_axis], "o", color=colour, ms=5)
         axis.plot(severity[~on_axis], depth[~on_axis], "o", mfc="none", mec=colour, ms=5)
-    axis.set_xscale("log")
+    axis.set_xlim(left=0.0)
     axis.set_ylim(1.6, 0.0)
-    axis.set_xlabel("wear severity ω_max / δ0")
+    axis.set_xlabel("wear severity ω_max / δ0 (linear)")
     axis.set_ylabel("depth of the deep peak z/a0 (down)")
     axis.set_title("(b) deep σ_VM peak: ● on the axis, ○ at the edge", fontsize=10)
     axis.grid(True, alpha=0.3)
@@ -188,7 +194,7 @@ def _draw_deep_depth(axis, study: StudyResults) -> None:
 
 def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
     case = _most_worn(study, mu)
-    severity = _positive_floor(wear_severity_history(case))
+    severity = wear_severity_history(case)
     p0 = study.p0
     curves = (
         ("vm_max", "σ_VM max, whole plane", "k", "-"),
@@ -199,11 +205,11 @@ def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
     for key, label, colour, style in curves:
         axis.plot(severity, np.asarray(case.history[key]) / p0, style, color=colour, lw=1.6,
                   label=label)  # fmt: skip
-    axis.set_xscale("log")
+    axis.set_xlim(left=0.0)
     axis.set_yscale("log")
     axis.yaxis.set_major_formatter(ticker.FormatStrFormatter("%g"))
     axis.yaxis.set_minor_formatter(ticker.FormatStrFormatter("%g"))
-    axis.set_xlabel("wear severity ω_max / δ0")
+    axis.set_xlabel("wear severity ω_max / δ0 (linear)")
     axis.set_ylabel("stress / p0 (log)")
     axis.set_title(f"(c) μ = {mu:g}, i = {case.wear1:g} 1/MPa: peaks along the history",
                    fontsize=10)  # fmt: skip
@@ -222,24 +228,29 @@ def _change_maps(study: StudyResults, case: CaseResults):
     columns = min(len(cycles), 3)
     rows = -(-len(cycles) // columns)
     figure, axes = plt.subplots(
-        rows, columns, figsize=(5.2 * columns, 3.6 * rows), squeeze=False, layout="constrained"
+        rows, columns, figsize=(5.6 * columns, 4.1 * rows), squeeze=False, layout="constrained"
     )
     for axis in axes.flat[len(cycles):]:
         axis.set_visible(False)
     a, p0 = study.radius, study.p0
     severity = wear_severity_history(case)
-    filled = None
     for axis, cycle in zip(axes.flat, cycles, strict=False):
         plane = case.change_planes[cycle]
         row = _row_at(case, cycle)
         ratio = plane.von_mises / p0
-        levels = np.linspace(0.0, VM_LEVEL_MAX, 21)
-        filled = axis.contourf(plane.x / a, plane.z / a, ratio, levels=levels, cmap="turbo",
-                               extend="max")  # fmt: skip
-        axis.contour(plane.x / a, plane.z / a, ratio, levels=[1.0], colors="k", linewidths=1.0)
         overall = np.unravel_index(np.argmax(ratio), ratio.shape)
         deep = np.where(plane.z >= DEEP_DEPTH_FRACTION * a, ratio, -np.inf)
         deep_index = np.unravel_index(np.argmax(deep), deep.shape)
+        # each panel its own scale, topped at 1.6 × its deep peak (at most VM_LEVEL_MAX): the
+        # lobes stay visible as the whole field falls with wear; contours every 0.1 p0
+        top = min(VM_LEVEL_MAX, 1.6 * float(ratio[deep_index]))
+        levels = np.linspace(0.0, top, 17)
+        filled = axis.contourf(plane.x / a, plane.z / a, ratio, levels=levels, cmap="turbo",
+                               extend="max")  # fmt: skip
+        lines = np.arange(0.1, top, 0.1)
+        axis.contour(plane.x / a, plane.z / a, ratio, levels=lines, colors="k",
+                     linewidths=0.4, alpha=0.5)  # fmt: skip
+        figure.colorbar(filled, ax=axis, label="σ_VM / p0", shrink=0.8, format="%.1f")
         axis.plot(plane.x[overall] / a, plane.z[overall] / a, "*", ms=15, mfc="w", mec="k",
                   clip_on=False)  # fmt: skip
         axis.plot(plane.x[deep_index] / a, plane.z[deep_index] / a, "o", ms=9, mfc="none",
@@ -258,8 +269,6 @@ def _change_maps(study: StudyResults, case: CaseResults):
         axis.set_xlabel("x/a0")
         axis.set_ylabel("z/a0 (depth)")
         axis.set_title(f"N = {cycle:,}, ω_max/δ0 = {severity[row]:.3f}", fontsize=10)
-    figure.colorbar(filled, ax=axes, label=f"σ_VM / p0 (capped at {VM_LEVEL_MAX:g})",
-                    shrink=0.7)  # fmt: skip
     figure.suptitle(
         f"{study.name}: σ_VM/p0 where the peak region changes — μ = {case.mu1:g}, "
         f"i = {case.wear1:g} 1/MPa ({study.mesh_label})",
