@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from matplotlib import image
 
-from engine.output.figures import MAX_WIDTH_PX, case_styles
+from engine.output.figures import MAX_WIDTH_PX, MIN_FONT_SIZE, case_styles
 from engine.output.reader import CaseResults
 
 REPO = Path(__file__).resolve().parents[1]
@@ -118,10 +118,32 @@ def study_results(request, tmp_path_factory):
     return folder, folder / f"{name}.h5", expected
 
 
-def test_plot_writes_every_figure_non_blank(study_results):
+def test_plot_writes_every_figure_non_blank(study_results, monkeypatch):
+    """In process (`python -m engine plot` calls the same main): every figure is written,
+    non-blank, at most MAX_WIDTH_PX wide, and has no text below MIN_FONT_SIZE (checked on
+    each figure just before it is closed, after it was drawn for saving)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    from engine.output import figures
+
     folder, results, expected = study_results
-    run = _engine("plot", str(results), "--out", "figures", cwd=folder)
-    assert run.returncode == 0, run.stdout + run.stderr
+    small: dict[str, set] = {}
+    close = plt.close
+
+    def checked_close(figure):
+        texts = {
+            (text.get_text(), text.get_fontsize())
+            for text in figure.findobj(Text)
+            if text.get_visible() and text.get_text() and text.get_fontsize() < MIN_FONT_SIZE
+        }
+        if texts:
+            small[figure.get_suptitle()] = texts
+        close(figure)
+
+    monkeypatch.setattr(figures.plt, "close", checked_close)
+    assert figures.main([str(results), "--out", str(folder / "figures")]) == 0
+    assert not small, small
     written = sorted(path.name for path in (folder / "figures").glob("*.png"))
     assert written == sorted(expected)
     for name in expected:
@@ -171,27 +193,3 @@ def test_cases_differing_only_in_beta_share_a_colour_but_not_a_line_style():
     # a study where only β varies (Section 7.3): colours differ too
     orthotropic = [CaseResults(f"o{b}", 0, 0.1, 0.4, 1e-7, 4e-7, b, {}) for b in (0, 45, 90)]
     assert len({style["color"] for style in case_styles(orthotropic).values()}) == 3
-
-
-def test_no_text_below_the_minimum_font_size(study_results):
-    import matplotlib.pyplot as plt
-    from matplotlib.text import Text
-
-    from engine.output import figures
-    from engine.output.reader import read_results
-
-    _, results, _ = study_results
-    study = read_results(results)
-    with plt.rc_context(figures._STYLE):
-        drawn = (
-            figures._cyclic_figures(study) if study.is_cyclic else figures._static_figures(study)
-        )
-        for name, figure in drawn:
-            figure.canvas.draw()  # tick labels exist only once drawn
-            small = {
-                (text.get_text(), text.get_fontsize())
-                for text in figure.findobj(Text)
-                if text.get_visible() and text.get_text() and text.get_fontsize() < 9.0
-            }
-            plt.close(figure)
-            assert not small, (name, small)

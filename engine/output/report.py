@@ -123,13 +123,13 @@ def static_facts(study: StudyResults) -> list[str]:
         + (f"{first:g}" if first is not None else "none of the cases")
         + "; stick fractions: "
         + ", ".join(
-            f"μ={case.mu1:g}: {case.summary['stick_fraction']:.3f}"
-            for case in sorted(study.cases, key=lambda case: case.mu1)
+            f"{case.label.replace(' = ', '=')}: {case.summary['stick_fraction']:.3f}"
+            for case in sorted(study.cases, key=lambda case: (case.mu1, case.beta))
         )
     )
-    for case in sorted(study.cases, key=lambda case: case.mu1):
+    for case in sorted(study.cases, key=lambda case: (case.mu1, case.beta)):
         if case.mu1 > 0 and "final" in case.fields:
-            facts.append(f"μ = {case.mu1:g}: {_slip_zone(study, case)}")
+            facts.append(f"{case.label}: {_slip_zone(study, case)}")
     frictionless = [case for case in study.cases if case.mu1 == 0.0]
     if frictionless:
         expected = sneddon_approach(study.load, study.radius, study.material.contact_modulus)
