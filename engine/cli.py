@@ -146,7 +146,7 @@ def _prepare_on_root(args, ranks: int):
     from engine.output.collective import choose_strategy
     from engine.output.hdf5 import check_resumable
     from engine.study.config import load_study
-    from engine.study.layout import case_layout
+    from engine.study.layout import plan_layout
     from engine.study.plan import make_plan
 
     config = load_study(args.study)
@@ -159,16 +159,19 @@ def _prepare_on_root(args, ranks: int):
     plan = make_plan(config)
     strategy = choose_strategy(config.study.output_strategy, ranks)
     if not args.fresh and not args.dry_run:
-        check_resumable(config.study.output, _metadata(config, ""))
-    layout = case_layout(config) if strategy == "mpio" and not args.dry_run else None
+        check_resumable(config.study.output, _metadata(config, "", plan))
+    layout = plan_layout(config, plan) if strategy == "mpio" and not args.dry_run else None
     return config, plan, strategy, layout
 
 
-def _metadata(config, command_line: str):
+def _metadata(config, command_line: str, plan):
+    """Root metadata; the root grid only when every case of the plan shares it (otherwise
+    each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
     from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
 
-    grid = Grid.square(config.mesh.n, config.mesh.half_width)
+    mesh = plan.shared_mesh()
+    grid = Grid.square(*mesh) if mesh is not None else None
     return StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -177,8 +180,8 @@ def _metadata(config, command_line: str):
         fingerprint=config.fingerprint(),
         command_line=command_line,
         version=__version__,
-        grid_x=grid.x,
-        grid_y=grid.y,
+        grid_x=grid.x if grid is not None else None,
+        grid_y=grid.y if grid is not None else None,
     )
 
 
@@ -239,7 +242,7 @@ def _compute(comm, config, plan, args, command_line, stop_event) -> int:
     if args.fresh:
         remove_outputs(config.study.output, config.study.checkpoint_dir)
     with SingleWriter(config.study.output, config.study.summary_path) as writer:
-        completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+        completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
         todo = plan.dispatch_order(skip=completed)
         print(
             f"study {config.study.name!r}: {len(plan)} cases, {len(completed)} already "
@@ -272,7 +275,7 @@ def _compute_collective(comm, config, plan, layout, args, command_line, stop_eve
         summary_path=config.study.summary_path,
         journal_dir=config.study.checkpoint_dir,
     )
-    completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+    completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
     runner = CaseRunner(config)
     scheduler = Scheduler(
         comm, runner if rank == 0 else writer.owner(runner), stop_event=stop_event

@@ -125,6 +125,11 @@ class StudyResults:
         return self.config["loading"]["kind"] == "cyclic"
 
     @property
+    def swept_keys(self) -> list[str]:
+        """Dotted keys swept in ``[sweep]`` ("loading.load", "mesh.n", …), file order."""
+        return [key for key in self.config.get("sweep", {}) if "." in key]
+
+    @property
     def radius(self) -> float:
         """a0 (mm)."""
         return float(self.config["punch"]["radius"])
@@ -170,12 +175,23 @@ def read_results(path: str | Path) -> StudyResults:
             path=path,
             name=str(file.attrs.get("study_name", path.stem)),
             config=config,
-            grid_x=np.asarray(file["grid/x"]),
-            grid_y=np.asarray(file["grid/y"]),
+            grid_x=_grid(file, "x"),
+            grid_y=_grid(file, "y"),
             cases=sorted(cases, key=lambda case: case.index),
             skipped=skipped,
         )
     return study
+
+
+def _grid(file: h5py.File, name: str) -> np.ndarray:
+    """The study's grid coordinates: the root grid, or (grid swept from case to case) the
+    first case's own grid; ``/cases/<case_id>/grid`` has every case's."""
+    if "grid" in file:
+        return np.asarray(file["grid"][name])
+    for group in file["cases"].values():
+        if "grid" in group:
+            return np.asarray(group["grid"][name])
+    return np.zeros(0)
 
 
 def _group_key(name: str):

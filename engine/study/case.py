@@ -34,7 +34,14 @@ import numpy as np
 from .config import StudyConfig
 from .plan import Case
 
-__all__ = ["DatasetRecord", "CaseOutcome", "CaseRunner", "InjectedFailure"]
+__all__ = [
+    "DatasetRecord",
+    "CaseOutcome",
+    "CaseRunner",
+    "InjectedFailure",
+    "BorderCheckedSolver",
+    "nominal_mean_pressure",
+]
 
 COMPLETED, FAILED, INTERRUPTED = "completed", "failed", "interrupted"
 
@@ -66,6 +73,55 @@ _HISTORY_UNITS = {
     "approach": "mm",
     "load": "N",
 }
+
+
+def nominal_mean_pressure(cfg: StudyConfig) -> float:
+    """The summary's p0 (MPa): P/(π a0²) with a0 the punch radius (flat: Eq. 19; rounded:
+    the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
+    contact radius (engine.reference.hertz)."""
+    from engine.reference.flat_punch import mean_pressure
+
+    return mean_pressure(cfg.loading.load, cfg.contact_length)
+
+
+class BorderCheckedSolver:
+    """A contact solver whose every increment is checked for contact on the grid's border.
+
+    Delegates everything (attributes read and set) to the wrapped solver; ``solve_load`` and
+    ``solve_approach`` raise :class:`engine.geometry.ContactReachesBorder` when the pressure
+    is positive on the outermost ring of elements: the contact would continue beyond the
+    grid, so the solution is truncated and wrong (enlarge ``[mesh] half_width``).
+    """
+
+    def __init__(self, solver) -> None:
+        object.__setattr__(self, "_solver", solver)
+
+    def __getattr__(self, name: str):
+        return getattr(self._solver, name)
+
+    def __setattr__(self, name: str, value) -> None:
+        setattr(self._solver, name, value)
+
+    def _checked(self, result, what: str):
+        from engine.geometry import ContactReachesBorder, border_contact
+
+        touching = border_contact(result.pressure)
+        if touching:
+            grid = self._solver.grid
+            raise ContactReachesBorder(
+                f"the contact reaches the mesh border at {what} ({touching} border elements "
+                f"loaded, half_width = {grid.half_width_x:g} mm): the solution would be "
+                "truncated; increase [mesh] half_width"
+            )
+        return result
+
+    def solve_load(self, load, state=None, wear=None):
+        result = self._solver.solve_load(load, state, wear=wear)
+        return self._checked(result, f"P = {load:g} N")
+
+    def solve_approach(self, approach, state=None, wear=None):
+        result = self._solver.solve_approach(approach, state, wear=wear)
+        return self._checked(result, f"approach = {approach:g} mm")
 
 
 class InjectedFailure(RuntimeError):
@@ -106,6 +162,13 @@ class CaseRunner:
     def __init__(self, config: StudyConfig) -> None:
         self.config = config
         self.checkpoint_dir = config.study.checkpoint_dir
+        self._case_configs: dict[tuple, StudyConfig] = {}
+
+    def config_for(self, case: Case) -> StudyConfig:
+        """The case's configuration: the study with its swept values (cached per settings)."""
+        if case.settings not in self._case_configs:
+            self._case_configs[case.settings] = self.config.for_case(case.settings)
+        return self._case_configs[case.settings]
 
     # ---------------------------------------------------------------- public entry point
     def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
@@ -116,10 +179,11 @@ class CaseRunner:
         try:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
-            if self.config.is_cyclic:
-                outcome = self._run_cyclic(case, should_stop)
+            config = self.config_for(case)
+            if config.is_cyclic:
+                outcome = self._run_cyclic(case, config, should_stop)
             else:
-                outcome = self._run_static(case)
+                outcome = self._run_static(case, config)
         except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
             outcome = CaseOutcome(
                 case,
@@ -140,19 +204,22 @@ class CaseRunner:
         return outcome
 
     # ---------------------------------------------------------------- solver objects
-    def _solver(self, case: Case):
-        from engine.geometry import FlatPunch
+    def _solver(self, case: Case, cfg: StudyConfig):
+        """The one place where a case's contact solver is built (profile, grid, material,
+        friction, options). For profiles with a surface beyond the grid (sphere, a rounded
+        edge cut by the mesh) it is wrapped so that a contact touching the grid's border
+        fails the case (engine.geometry.ContactReachesBorder) instead of being truncated."""
+        from engine.geometry import may_reach_border
         from engine.grid import Grid
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
 
-        cfg = self.config
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
         grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
-        punch = FlatPunch(cfg.punch.radius)
+        punch = cfg.punch.profile()
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         options: dict[str, Any] = {
@@ -162,14 +229,16 @@ class CaseRunner:
         }
         if cfg.solver.maxiter is not None:
             options["maxiter"] = cfg.solver.maxiter
-        return ContactSolver(grid, material, punch, friction, **options), grid, material
+        solver = ContactSolver(grid, material, punch, friction, **options)
+        if may_reach_border(punch, grid):
+            solver = BorderCheckedSolver(solver)
+        return solver, grid, material
 
-    def _subsurface(self, grid, material):
+    def _subsurface(self, grid, material, cfg: StudyConfig):
         from engine.solvers.subsurface import SubsurfaceStress, depth_layers
 
-        cfg = self.config
         depths = np.asarray(
-            depth_layers(cfg.subsurface.depth * cfg.punch.radius, cfg.subsurface.layers),
+            depth_layers(cfg.subsurface.depth * cfg.contact_length, cfg.subsurface.layers),
             dtype=float,
         )
         stress = SubsurfaceStress(
@@ -179,11 +248,10 @@ class CaseRunner:
         return stress, depths
 
     # ---------------------------------------------------------------- static
-    def _run_static(self, case: Case) -> CaseOutcome:
+    def _run_static(self, case: Case, cfg: StudyConfig) -> CaseOutcome:
         from engine.solvers.static import static_analysis
 
-        cfg = self.config
-        solver, grid, material = self._solver(case)
+        solver, grid, material = self._solver(case, cfg)
         result = static_analysis(solver, cfg.loading.load, cfg.loading.steps)
         if not result.converged:
             return CaseOutcome(
@@ -196,8 +264,9 @@ class CaseRunner:
             ),
         }
         datasets.update(self._final_fields(result.final))
-        stress, depths = self._subsurface(grid, material)
-        row = self._final_row(case, result.final, stress, depths, datasets, "final")
+        datasets.update(self._grid_datasets(grid))
+        stress, depths = self._subsurface(grid, material, cfg)
+        row = self._final_row(case, cfg, result.final, stress, depths, datasets, "final")
         row.update(
             cycles=0,
             max_wear_depth=0.0,
@@ -214,12 +283,11 @@ class CaseRunner:
         )
 
     # ---------------------------------------------------------------- cyclic
-    def _run_cyclic(self, case: Case, should_stop) -> CaseOutcome:
+    def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
         from engine.solvers.friction import WearLaw
 
-        cfg = self.config
-        solver, grid, material = self._solver(case)
+        solver, grid, material = self._solver(case, cfg)
         wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
         options: dict[str, Any] = {}
         if cfg.loading.max_wear_fraction is not None:
@@ -254,7 +322,8 @@ class CaseRunner:
             datasets[f"history/{key}"] = DatasetRecord(
                 np.asarray(values), _HISTORY_UNITS.get(key, ""), f"{key} per simulated cycle"
             )
-        stress, depths = self._subsurface(grid, material)
+        datasets.update(self._grid_datasets(grid))
+        stress, depths = self._subsurface(grid, material, cfg)
         for cycle in sorted(result.records):
             fields = result.records[cycle]
             group = f"cycle_{cycle:07d}"
@@ -270,7 +339,7 @@ class CaseRunner:
             datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         datasets.update(self._final_fields(final))
         history = result.history
-        row = self._final_row(case, final, stress, depths, datasets, "final")
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
         row.update(
             cycles=int(history["cycle"][-1])
             if len(history.get("cycle", []))
@@ -311,10 +380,17 @@ class CaseRunner:
             )
         return datasets
 
-    def _final_row(self, case, final, stress, depths, datasets, group) -> dict[str, Any]:
-        from engine.reference.flat_punch import mean_pressure
+    @staticmethod
+    def _grid_datasets(grid) -> dict[str, DatasetRecord]:
+        """The case's own grid (cases of a study may differ in mesh.n or half_width)."""
+        return {
+            f"grid/{name}": DatasetRecord(
+                np.asarray(values), "mm", f"element-centre {name} coordinates of this case"
+            )
+            for name, values in (("x", grid.x), ("y", grid.y))
+        }
 
-        cfg = self.config
+    def _final_row(self, case, cfg, final, stress, depths, datasets, group) -> dict[str, Any]:
         plane = stress.plane(final.pressure, final.traction_x, final.traction_y, angle=0.0)
         datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         peak = plane.peak()
@@ -327,7 +403,7 @@ class CaseRunner:
         row.update(
             load=float(final.load),
             approach=float(final.approach),
-            p0=float(mean_pressure(cfg.loading.load, cfg.punch.radius)),
+            p0=float(nominal_mean_pressure(cfg)),
             vm_max=float(peak.value),
             vm_max_x=float(peak.x),
             vm_max_y=float(peak.y),
