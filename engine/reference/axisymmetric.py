@@ -33,16 +33,17 @@ __all__ = ["AxisymmetricContact", "rounded_punch_contact", "sphere_contact"]
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(96)
 
 
-def _gauss(function: Callable[[np.ndarray], np.ndarray], lower: float, upper: float, panels=8):
-    """∫ function over [lower, upper] by composite 96-point Gauss–Legendre."""
-    if upper <= lower:
-        return 0.0
-    edges = np.linspace(lower, upper, panels + 1)
-    total = 0.0
-    for left, right in zip(edges[:-1], edges[1:], strict=True):
-        half = 0.5 * (right - left)
-        points = left + half * (_NODES + 1.0)
-        total += half * float(np.dot(_WEIGHTS, function(points)))
+def _gauss(function: Callable[[np.ndarray], np.ndarray], lower, upper, panels: int = 8):
+    """∫ function over [lower, upper] by composite 96-point Gauss–Legendre; ``lower`` and
+    ``upper`` may be arrays (one integral per entry, evaluated in one vectorised call)."""
+    lower, upper = np.broadcast_arrays(np.asarray(lower, float), np.asarray(upper, float))
+    width = np.clip(upper - lower, 0.0, None)
+    total = np.zeros(lower.shape)
+    for panel in range(panels):
+        left = lower + width * panel / panels
+        half = 0.5 * width / panels
+        points = left[..., None] + half[..., None] * (_NODES + 1.0)
+        total += half * (function(points) @ _WEIGHTS)
     return total
 
 
@@ -50,7 +51,7 @@ def _gauss(function: Callable[[np.ndarray], np.ndarray], lower: float, upper: fl
 class AxisymmetricContact:
     """Profile slope ``slope(r)`` = f'(r) and curvature ``curvature(r)`` = f''(r) (vectorised,
     r in mm); ``flat_radius`` b: f' = 0 for r ≤ b (a kink of f' at b is then handled exactly);
-    ``contact_modulus`` E* (MPa)."""
+    ``outer_radius``: where the profile ends; ``contact_modulus`` E* (MPa)."""
 
     slope: Callable[[np.ndarray], np.ndarray]
     curvature: Callable[[np.ndarray], np.ndarray]
@@ -58,38 +59,42 @@ class AxisymmetricContact:
     flat_radius: float = 0.0
     outer_radius: float = math.inf
 
-    def _theta_start(self, t: float) -> float:
-        return math.asin(min(1.0, self.flat_radius / t)) if t > self.flat_radius else math.pi / 2
+    def _theta_start(self, t: np.ndarray) -> np.ndarray:
+        """θ below which t sin θ ≤ b (where f' = 0): arcsin(b/t), π/2 for t ≤ b."""
+        ratio = np.where(t > self.flat_radius, self.flat_radius / np.maximum(t, 1e-300), 1.0)
+        return np.arcsin(np.clip(ratio, 0.0, 1.0))
 
-    def h(self, t: float) -> float:
-        """h(t) = t ∫ f'(t sin θ) dθ (mm)."""
-        if t <= self.flat_radius:
-            return 0.0
-        return t * _gauss(lambda th: self.slope(t * np.sin(th)), self._theta_start(t), math.pi / 2)
+    def h(self, t):
+        """h(t) = t ∫ f'(t sin θ) dθ (mm); ``t`` scalar or array."""
+        t = np.asarray(t, dtype=float)
+        scale = t[..., None] if t.ndim else t
+        integral = _gauss(
+            lambda th: self.slope(scale * np.sin(th)), self._theta_start(t), math.pi / 2
+        )
+        return t * integral
 
-    def h_prime(self, t: float) -> float:
-        """dh/dt (dimensionless)."""
-        if t <= self.flat_radius:
-            return 0.0
+    def h_prime(self, t):
+        """dh/dt (dimensionless); ``t`` scalar or array."""
+        t = np.asarray(t, dtype=float)
 
         def integrand(th):
-            x = t * np.sin(th)
+            x = (t[..., None] if t.ndim else t) * np.sin(th)
             return self.slope(x) + x * self.curvature(x)
 
         return _gauss(integrand, self._theta_start(t), math.pi / 2)
 
     def approach(self, a: float) -> float:
         """δ(a) = h(a), mm."""
-        return self.h(a)
+        return float(self.h(a))
 
     def load(self, a: float) -> float:
-        """P(a) = 2 E* (a h(a) − ∫₀^a h dt), N."""
+        """P(a) = 2 E* (a h(a) − ∫₀^a h dt), N (h = 0 below the flat radius)."""
         start = min(self.flat_radius, a)
-        integral = _gauss(np.vectorize(self.h), start, a, panels=8)
-        return 2.0 * self.contact_modulus * (a * self.h(a) - integral)
+        integral = float(_gauss(self.h, start, a, panels=8))
+        return 2.0 * self.contact_modulus * (a * float(self.h(a)) - integral)
 
     def contact_radius(self, load: float) -> float:
-        """a such that P(a) = ``load`` (bisection-safe Brent root), mm."""
+        """a such that P(a) = ``load`` (Brent's root bracketing), mm."""
         lower = self.flat_radius * (1.0 + 1e-12) if self.flat_radius > 0 else 1e-9
         upper = min(self.outer_radius * (1.0 - 1e-9), 1e3 * max(self.flat_radius, 1.0))
         return brentq(lambda a: self.load(a) - load, lower, upper, xtol=1e-14, rtol=1e-13)
@@ -102,10 +107,15 @@ class AxisymmetricContact:
         end = math.sqrt(a - r)
 
         def integrand(u):
-            t = r + u**2
-            return np.array([self.h_prime(v) for v in t]) * 2.0 / np.sqrt(2.0 * r + u**2)
+            return self.h_prime(r + u**2) * 2.0 / np.sqrt(2.0 * r + u**2)
 
-        return self.contact_modulus / math.pi * _gauss(integrand, start, end, panels=4)
+        return self.contact_modulus / math.pi * float(_gauss(integrand, start, end, panels=4))
+
+    def pressures(self, radii, a: float) -> np.ndarray:
+        """p at each of ``radii`` (MPa)."""
+        return np.array([self.pressure(float(r), a) for r in np.ravel(radii)]).reshape(
+            np.shape(radii)
+        )
 
 
 def rounded_punch_contact(
