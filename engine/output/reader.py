@@ -82,6 +82,7 @@ class CaseResults:
     history: dict[str, np.ndarray] = field(default_factory=dict)
     fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
     planes: dict[Any, StressPlane] = field(default_factory=dict)
+    settings: dict[str, Any] = field(default_factory=dict)  # swept dotted keys -> values
 
     @property
     def isotropic(self) -> bool:
@@ -90,10 +91,13 @@ class CaseResults:
     @property
     def label(self) -> str:
         """Short name of the case for legends and titles (μ, and μ2, β when orthotropic)."""
+        swept = "".join(
+            f", {key.rsplit('.', 1)[-1]} = {value:g}" for key, value in self.settings.items()
+        )
         if self.isotropic:
             text = f"μ = {self.mu1:g}"
-            return text + (f", β = {self.beta:g}°" if self.beta else "")
-        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°"
+            return text + (f", β = {self.beta:g}°" if self.beta else "") + swept
+        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°" + swept
 
     @property
     def recorded_cycles(self) -> list[int]:
@@ -131,8 +135,15 @@ class StudyResults:
 
     @property
     def radius(self) -> float:
-        """a0 (mm)."""
-        return float(self.config["punch"]["radius"])
+        """a0 (mm): the punch radius (rounded: of the flat face); for a sphere, Hertz's
+        contact radius at the load (the summary's p0 uses the same a0)."""
+        punch = self.config["punch"]
+        if punch.get("shape") == "sphere":
+            from engine.reference.hertz import hertz_contact_radius
+
+            modulus = self.material.contact_modulus
+            return hertz_contact_radius(self.load, float(punch["radius"]), modulus)
+        return float(punch["radius"])
 
     @property
     def load(self) -> float:
@@ -210,6 +221,7 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
         wear2=float(attrs["wear2"]),
         beta=float(attrs["beta"]),
         summary=json.loads(attrs["summary"]),
+        settings={key: attrs[key].item() for key in attrs if "." in key},
     )
     if "history" in group:
         case.history = {name: np.asarray(data) for name, data in group["history"].items()}
