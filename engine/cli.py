@@ -233,7 +233,7 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     from engine.output.identity import inspect_existing
     from engine.output.lock import OutputLock, check_output_path, check_summary_path
     from engine.study.config import load_study
-    from engine.study.layout import case_layout
+    from engine.study.layout import plan_layout
     from engine.study.plan import make_plan
     from engine.study.resources import check_memory
 
@@ -249,7 +249,7 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     strategy = choose_strategy(config.study.output_strategy, ranks)
     if args.dry_run:
         if not args.fresh:  # read-only; a dry run reports the same mismatch a run would
-            inspect_existing(config.study.output, _metadata(config, ""), plan)
+            inspect_existing(config.study.output, _metadata(config, "", plan), plan)
         return config, plan, strategy, None, None
     output = config.study.output
     check_output_path(output)
@@ -266,17 +266,20 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     check_summary_path(output, config.study.summary_path)
     existing = None
     if not args.fresh:
-        existing = inspect_existing(output, _metadata(config, ""), plan)
-    layout = case_layout(config) if strategy == "mpio" else None
+        existing = inspect_existing(output, _metadata(config, "", plan), plan)
+    layout = plan_layout(config, plan) if strategy == "mpio" else None
     return config, plan, strategy, layout, existing
 
 
-def _metadata(config, command_line: str):
+def _metadata(config, command_line: str, plan):
+    """Root metadata; the root grid only when every case of the plan shares it (otherwise
+    each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
     from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
     from engine.output.identity import study_identity
 
-    grid = Grid.square(config.mesh.n, config.mesh.half_width)
+    mesh = plan.shared_mesh()
+    grid = Grid.square(*mesh) if mesh is not None else None
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -285,8 +288,8 @@ def _metadata(config, command_line: str):
         fingerprint=config.fingerprint(),
         command_line=command_line,
         version=__version__,
-        grid_x=grid.x,
-        grid_y=grid.y,
+        grid_x=grid.x if grid is not None else None,
+        grid_y=grid.y if grid is not None else None,
     )
     metadata.attrs["study_identity"] = study_identity(config.resolved())
     return metadata
@@ -382,7 +385,7 @@ def _settle_existing(config, plan, args, existing, command_line) -> None:
         remove_outputs(config.study.output, config.study.checkpoint_dir)
     elif existing is not None:
         apply_existing(
-            existing, plan, _metadata(config, command_line), config.study.checkpoint_dir
+            existing, plan, _metadata(config, command_line, plan), config.study.checkpoint_dir
         )
 
 
@@ -408,7 +411,8 @@ def _compute(comm, config, plan, args, command_line, stop_event, existing) -> in
         should_stop=stop_event.is_set,
     ) as writer:
         try:
-            completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+            metadata = _metadata(config, command_line, plan)
+            completed = writer.prepare(plan, metadata, fresh=args.fresh)
         except StoppedDuringSetUp as stopped:
             print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
             scheduler.run([], lambda outcome: None)  # tell the workers to exit
@@ -444,7 +448,7 @@ def _compute_collective(
         journal_dir=config.study.checkpoint_dir,
         drop_stale=args.drop_stale,
     )
-    completed = writer.prepare(plan, _metadata(config, command_line), fresh=args.fresh)
+    completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
     runner = CaseRunner(config)
     if rank != 0:
         runner.on_progress = WorkerProgress(comm)

@@ -13,7 +13,7 @@ so this writer keeps all structural calls at two collective points:
 ``prepare`` (all ranks, before the scheduler starts)
     Open the file with ``driver="mpio"``, commit cases left by a killed run (see journal
     below), reset every incomplete case group and pre-create its datasets from the plan
-    (:func:`engine.study.layout.case_layout`: shapes known from the study, contiguous, no fill
+    (:func:`engine.study.layout.plan_layout`: shapes known from the study, contiguous, no fill
     values), flush.
 between (independent only)
     The rank that computed a case writes its fields and stresses into the pre-created
@@ -111,16 +111,18 @@ class _Written:
 class CollectiveWriter:
     """All ranks share the file (``driver="mpio"``); each writes the cases it computed.
 
-    ``layout``: path -> :class:`DatasetShape` of the datasets pre-created in every incomplete
-    case group (identical on all ranks). ``prepare`` and ``close`` are collective; ``write``
-    (rank 0, outcomes of all ranks) and ``write_own`` (any rank, its own outcome) are not.
+    ``layout``: case_id -> (path -> :class:`DatasetShape`) of the datasets pre-created in each
+    incomplete case group (:func:`engine.study.layout.plan_layout`; identical on all ranks),
+    or one path -> :class:`DatasetShape` mapping shared by every case. ``prepare`` and
+    ``close`` are collective; ``write`` (rank 0, outcomes of all ranks) and ``write_own``
+    (any rank, its own outcome) are not.
     """
 
     def __init__(
         self,
         path: str | Path,
         comm,
-        layout: dict[str, DatasetShape],
+        layout: dict[str, DatasetShape] | dict[str, dict[str, DatasetShape]],
         *,
         summary_path: str | Path | None = None,
         journal_dir: str | Path | None = None,
@@ -130,6 +132,7 @@ class CollectiveWriter:
         self.comm = comm
         self.rank = comm.Get_rank()
         self.layout = dict(layout)
+        self._per_case = any(isinstance(spec, dict) for spec in self.layout.values())
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.journal_dir = (
             Path(journal_dir)
@@ -201,7 +204,7 @@ class CollectiveWriter:
 
     def _pending_group(self, cases: h5py.Group, case) -> None:
         group = SingleWriter._reset_group(cases, case)
-        for path, spec in self.layout.items():
+        for path, spec in self.layout_of(case.case_id).items():
             group.create_dataset(path, shape=spec.shape, dtype=spec.dtype, fill_time="never")
 
     def _reset_incomplete(self, cases: h5py.Group, plan: Plan) -> set[str]:
@@ -268,7 +271,9 @@ class CollectiveWriter:
         light = dict(outcome.datasets)
         if outcome.status == COMPLETED:
             for path, record in outcome.datasets.items():
-                if isinstance(record, _Written) or not self._fits_layout(path, record):
+                if isinstance(record, _Written) or not self._fits_layout(
+                    outcome.case_id, path, record
+                ):
                     continue  # not pre-created: created and written at the commit
                 group[path].write_direct(np.ascontiguousarray(record.data))
                 light[path] = _Written(record.units, record.description)
@@ -311,7 +316,7 @@ class CollectiveWriter:
     def _commit(self, cases: h5py.Group, group: h5py.Group, record: dict[str, Any]) -> None:
         """Collective, identical on all ranks: the structural part of SingleWriter.write."""
         written = {path for path, item in record["datasets"].items() if item["written"]}
-        if record["status"] != COMPLETED or set(self.layout) - written:
+        if record["status"] != COMPLETED or set(self.layout_of(record["case_id"])) - written:
             group = _drop_unwritten(cases, group, written, record)
         for path, item in record["datasets"].items():
             if item["written"]:
@@ -331,8 +336,12 @@ class CollectiveWriter:
         group.attrs["status"] = record["status"]  # the completion flag, written last
         self._file.flush()
 
-    def _fits_layout(self, path: str, record: DatasetRecord) -> bool:
-        spec = self.layout.get(path)
+    def layout_of(self, case_id: str) -> dict[str, DatasetShape]:
+        """Path -> shape of the datasets pre-created for ``case_id``."""
+        return self.layout.get(case_id, {}) if self._per_case else self.layout
+
+    def _fits_layout(self, case_id: str, path: str, record: DatasetRecord) -> bool:
+        spec = self.layout_of(case_id).get(path)
         data = np.asarray(record.data)
         return spec is not None and data.shape == spec.shape and data.dtype == np.dtype(spec.dtype)
 

@@ -4,12 +4,16 @@ Layout (``format = "fretting-engine-results/1"``)::
 
     /                       attrs: format, engine_version, command_line, study_name,
                                    study_toml (resolved study, defaults filled in), study_json,
-                                   study_fingerprint, source (study file)
-    /grid/x, /grid/y        element-centre coordinates (mm)
+                                   study_fingerprint, source (study file), grid_location
+    /grid/x, /grid/y        element-centre coordinates (mm), when every case shares the grid
+                            (grid_location = "/grid"); absent when a swept key (mesh.n,
+                            mesh.half_width, punch.radius, …) changes it from case to case
     /cases/<case_id>/       attrs: case_id, index, mu1, mu2, wear1, wear2, beta (degree),
+                                   every swept dotted key (e.g. "loading.load", N),
                                    parameter_units (JSON), status, message, traceback,
                                    rank, runtime_s, cpu_s (CPU s of this run's computing
                                    thread), summary (JSON row of the summary table)
+        grid/x, grid/y      the case's own element-centre coordinates (mm)
         history/<name>      per simulated cycle (cyclic) or per load increment (static)
         fields/cycle_NNNNNNN/<name>   surface fields at peak load of a recorded cycle
         fields/final/<name>           surface fields at peak load of the last cycle
@@ -88,8 +92,8 @@ class StudyMetadata:
         fingerprint: str,
         command_line: str,
         version: str,
-        grid_x: np.ndarray,
-        grid_y: np.ndarray,
+        grid_x: np.ndarray | None,
+        grid_y: np.ndarray | None,
     ) -> None:
         self.attrs = {
             "format": FORMAT,
@@ -100,9 +104,10 @@ class StudyMetadata:
             "study_toml": study_toml,
             "study_json": study_json,
             "study_fingerprint": fingerprint,
+            "grid_location": "/grid" if grid_x is not None else "/cases/<case_id>/grid",
         }
-        self.grid_x = np.asarray(grid_x, dtype=float)
-        self.grid_y = np.asarray(grid_y, dtype=float)
+        self.grid_x = None if grid_x is None else np.asarray(grid_x, dtype=float)
+        self.grid_y = None if grid_y is None else np.asarray(grid_y, dtype=float)
 
     @property
     def fingerprint(self) -> str:
@@ -184,6 +189,8 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
     """Root attributes and the grid coordinates; identical calls in every strategy (in mpio
     mode they are collective, so every rank makes them with the same arguments)."""
     file.attrs.update(metadata.attrs)
+    if metadata.grid_x is None:
+        return  # the grid differs between cases: each case group holds its own
     grid = file.require_group("grid")
     for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
         if name not in grid:
@@ -350,7 +357,7 @@ class SingleWriter:
         group = cases.create_group(case.case_id)
         group.attrs["status"] = "pending"
         group.attrs.update(case.parameters())
-        group.attrs["parameter_units"] = json.dumps(_PARAMETER_UNITS)
+        group.attrs["parameter_units"] = json.dumps(_parameter_units(case))
         group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
         return group
 
@@ -398,6 +405,15 @@ class SummaryTable:
         self._last_end = time.perf_counter()
         self._last_cost = self._last_end - now
         self.dirty = False
+
+
+def _parameter_units(case: Case) -> dict[str, str]:
+    """Units of the case's parameter attributes, swept dotted keys included."""
+    from engine.study.config import SWEEPABLE
+
+    units = dict(_PARAMETER_UNITS)
+    units.update({key: SWEEPABLE[key] for key, _ in case.settings})
+    return units
 
 
 def _json_safe(row: dict[str, Any]) -> dict[str, Any]:

@@ -83,6 +83,7 @@ class CaseResults:
     fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
     planes: dict[Any, StressPlane] = field(default_factory=dict)
     change_planes: dict[int, StressPlane] = field(default_factory=dict)  # peak_changes/, by N
+    settings: dict[str, Any] = field(default_factory=dict)  # swept dotted keys -> values
 
     @property
     def isotropic(self) -> bool:
@@ -91,10 +92,13 @@ class CaseResults:
     @property
     def label(self) -> str:
         """Short name of the case for legends and titles (μ, and μ2, β when orthotropic)."""
+        swept = "".join(
+            f", {key.rsplit('.', 1)[-1]} = {value:g}" for key, value in self.settings.items()
+        )
         if self.isotropic:
             text = f"μ = {self.mu1:g}"
-            return text + (f", β = {self.beta:g}°" if self.beta else "")
-        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°"
+            return text + (f", β = {self.beta:g}°" if self.beta else "") + swept
+        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°" + swept
 
     @property
     def recorded_cycles(self) -> list[int]:
@@ -126,9 +130,21 @@ class StudyResults:
         return self.config["loading"]["kind"] == "cyclic"
 
     @property
+    def swept_keys(self) -> list[str]:
+        """Dotted keys swept in ``[sweep]`` ("loading.load", "mesh.n", …), file order."""
+        return [key for key in self.config.get("sweep", {}) if "." in key]
+
+    @property
     def radius(self) -> float:
-        """a0 (mm)."""
-        return float(self.config["punch"]["radius"])
+        """a0 (mm): the punch radius (rounded: of the flat face); for a sphere, Hertz's
+        contact radius at the load (the summary's p0 uses the same a0)."""
+        punch = self.config["punch"]
+        if punch.get("shape") == "sphere":
+            from engine.reference.hertz import hertz_contact_radius
+
+            modulus = self.material.contact_modulus
+            return hertz_contact_radius(self.load, float(punch["radius"]), modulus)
+        return float(punch["radius"])
 
     @property
     def load(self) -> float:
@@ -171,12 +187,23 @@ def read_results(path: str | Path) -> StudyResults:
             path=path,
             name=str(file.attrs.get("study_name", path.stem)),
             config=config,
-            grid_x=np.asarray(file["grid/x"]),
-            grid_y=np.asarray(file["grid/y"]),
+            grid_x=_grid(file, "x"),
+            grid_y=_grid(file, "y"),
             cases=sorted(cases, key=lambda case: case.index),
             skipped=skipped,
         )
     return study
+
+
+def _grid(file: h5py.File, name: str) -> np.ndarray:
+    """The study's grid coordinates: the root grid, or (grid swept from case to case) the
+    first case's own grid; ``/cases/<case_id>/grid`` has every case's."""
+    if "grid" in file:
+        return np.asarray(file["grid"][name])
+    for group in file["cases"].values():
+        if "grid" in group:
+            return np.asarray(group["grid"][name])
+    return np.zeros(0)
 
 
 def _group_key(name: str):
@@ -195,6 +222,7 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
         wear2=float(attrs["wear2"]),
         beta=float(attrs["beta"]),
         summary=json.loads(attrs["summary"]),
+        settings={key: attrs[key].item() for key in attrs if "." in key},
     )
     if "history" in group:
         case.history = {name: np.asarray(data) for name, data in group["history"].items()}

@@ -307,6 +307,8 @@ def cyclic_facts(study: StudyResults) -> list[str]:
 def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
     study = results if isinstance(results, StudyResults) else read_results(results)
+    if study.swept_keys:
+        return _swept_report(study, cycles)
     config = study.config
     lines = [
         f"### {study.name}",
@@ -325,6 +327,24 @@ def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | Non
     if study.skipped:
         lines += ["", "Not completed: " + ", ".join(f"{c} ({s})" for c, s in study.skipped)]
     return "\n".join(lines) + "\n"
+
+
+_STUDY_WIDE = {"punch.radius", "loading.load", "mesh.n", "mesh.half_width", "loading.cycles",
+               "subsurface.depth", "subsurface.layers", "material.E_A", "material.nu_A",
+               "material.E_B", "material.nu_B"}  # fmt: skip
+
+
+def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
+    """Studies with swept dotted keys (engine.output.sweep_report); the per-case tables too
+    when no swept key changes the study-wide normalisation (a0, P, mesh, material)."""
+    from .summary import load_summary
+    from .sweep_report import sweep_report
+
+    text = sweep_report(load_summary(study.path), study.swept_keys, study.name)
+    if set(study.swept_keys) & _STUDY_WIDE:
+        return text
+    lines = ["", *(cyclic_table(study, cycles) if study.is_cyclic else static_table(study))]
+    return text + "\n".join(lines) + "\n"
 
 
 def update_markdown(document: str | Path, name: str, report: str) -> None:

@@ -36,6 +36,11 @@ load_steps         –       load increments solved
 matvecs            –       influence-operator applications in the case
 runtime_s          s       wall time of the case (summed over resumed runs)
 =================  ======  ===========================================================
+
+Every dotted key swept in ``[sweep]`` (``"loading.load"``, ``"mesh.n"``, …) adds a column of
+that name after these, in the units of its study-file key (:func:`column_unit`).
+For a sphere, p0 is Hertz's mean pressure P/(π a²) (a: Hertz's contact radius); for a
+rounded punch a0 is the radius of its flat face.
 """
 
 from __future__ import annotations
@@ -57,6 +62,7 @@ __all__ = [
     "write_summary_csv",
     "load_summary",
     "pending_row",
+    "column_unit",
 ]
 
 SUMMARY_COLUMNS = [
@@ -85,10 +91,19 @@ _INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle
 _TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
 
 
+def column_unit(column: str) -> str:
+    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included."""
+    from engine.study.config import SWEEPABLE
+
+    unit = COLUMN_UNITS.get(column) or SWEEPABLE.get(column, "")
+    return "" if unit == "1" else unit
+
+
 def pending_row(parameters: dict[str, Any], status: str = "pending") -> dict[str, Any]:
-    """Row of a case without results: its parameters, the status and NaN elsewhere."""
+    """Row of a case without results: its parameters (swept dotted keys included), the
+    status and NaN elsewhere."""
     row = {column: math.nan for column in SUMMARY_COLUMNS}
-    row.update({k: v for k, v in parameters.items() if k in row})
+    row.update({k: v for k, v in parameters.items() if k in row or "." in k})
     row["status"] = status
     return row
 

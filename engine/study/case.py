@@ -39,7 +39,14 @@ import numpy as np
 from .config import StudyConfig
 from .plan import Case
 
-__all__ = ["DatasetRecord", "CaseOutcome", "CaseRunner", "InjectedFailure"]
+__all__ = [
+    "DatasetRecord",
+    "CaseOutcome",
+    "CaseRunner",
+    "InjectedFailure",
+    "BorderCheckedSolver",
+    "nominal_mean_pressure",
+]
 
 COMPLETED, FAILED, INTERRUPTED = "completed", "failed", "interrupted"
 
@@ -78,6 +85,55 @@ def _without_negative_zeros(row: dict[str, Any]) -> dict[str, Any]:
     """-0.0 → 0.0 in a summary row (a coordinate on the plane y = 0 can come out as -0.0;
     adding +0.0 maps only -0.0 to 0.0 in IEEE arithmetic and leaves NaN as it is)."""
     return {key: value + 0.0 if isinstance(value, float) else value for key, value in row.items()}
+
+
+def nominal_mean_pressure(cfg: StudyConfig) -> float:
+    """The summary's p0 (MPa): P/(π a0²) with a0 the punch radius (flat: Eq. 19; rounded:
+    the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
+    contact radius (engine.reference.hertz)."""
+    from engine.reference.flat_punch import mean_pressure
+
+    return mean_pressure(cfg.loading.load, cfg.contact_length)
+
+
+class BorderCheckedSolver:
+    """A contact solver whose every increment is checked for contact on the grid's border.
+
+    Delegates everything (attributes read and set) to the wrapped solver; ``solve_load`` and
+    ``solve_approach`` raise :class:`engine.geometry.ContactReachesBorder` when the pressure
+    is positive on the outermost ring of elements: the contact would continue beyond the
+    grid, so the solution is truncated and wrong (enlarge ``[mesh] half_width``).
+    """
+
+    def __init__(self, solver) -> None:
+        object.__setattr__(self, "_solver", solver)
+
+    def __getattr__(self, name: str):
+        return getattr(self._solver, name)
+
+    def __setattr__(self, name: str, value) -> None:
+        setattr(self._solver, name, value)
+
+    def _checked(self, result, what: str):
+        from engine.geometry import ContactReachesBorder, border_contact
+
+        touching = border_contact(result.pressure)
+        if touching:
+            grid = self._solver.grid
+            raise ContactReachesBorder(
+                f"the contact reaches the mesh border at {what} ({touching} border elements "
+                f"loaded, half_width = {grid.half_width_x:g} mm): the solution would be "
+                "truncated; increase [mesh] half_width"
+            )
+        return result
+
+    def solve_load(self, load, state=None, wear=None):
+        result = self._solver.solve_load(load, state, wear=wear)
+        return self._checked(result, f"P = {load:g} N")
+
+    def solve_approach(self, approach, state=None, wear=None):
+        result = self._solver.solve_approach(approach, state, wear=wear)
+        return self._checked(result, f"approach = {approach:g} mm")
 
 
 class InjectedFailure(RuntimeError):
@@ -125,6 +181,13 @@ class CaseRunner:
         # Progress hook: on_progress(case) when a case starts, on_progress(case, N, cycles)
         # after each simulated cycle (engine.output.progress; None: no reports).
         self.on_progress: Callable[..., None] | None = None
+        self._case_configs: dict[tuple, StudyConfig] = {}
+
+    def config_for(self, case: Case) -> StudyConfig:
+        """The case's configuration: the study with its swept values (cached per settings)."""
+        if case.settings not in self._case_configs:
+            self._case_configs[case.settings] = self.config.for_case(case.settings)
+        return self._case_configs[case.settings]
 
     # ---------------------------------------------------------------- public entry point
     def __call__(self, case: Case, should_stop: Callable[[], bool] | None = None) -> CaseOutcome:
@@ -137,10 +200,11 @@ class CaseRunner:
         try:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
-            if self.config.is_cyclic:
-                outcome = self._run_cyclic(case, should_stop)
+            config = self.config_for(case)
+            if config.is_cyclic:
+                outcome = self._run_cyclic(case, config, should_stop)
             else:
-                outcome = self._run_static(case)
+                outcome = self._run_static(case, config)
         except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
             outcome = CaseOutcome(
                 case,
@@ -162,19 +226,22 @@ class CaseRunner:
         return outcome
 
     # ---------------------------------------------------------------- solver objects
-    def _solver(self, case: Case):
-        from engine.geometry import FlatPunch
+    def _solver(self, case: Case, cfg: StudyConfig):
+        """The one place where a case's contact solver is built (profile, grid, material,
+        friction, options). For profiles with a surface beyond the grid (sphere, a rounded
+        edge cut by the mesh) it is wrapped so that a contact touching the grid's border
+        fails the case (engine.geometry.ContactReachesBorder) instead of being truncated."""
+        from engine.geometry import may_reach_border
         from engine.grid import Grid
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
 
-        cfg = self.config
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
         grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
-        punch = FlatPunch(cfg.punch.radius)
+        punch = cfg.punch.profile()
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         options: dict[str, Any] = {
@@ -187,14 +254,16 @@ class CaseRunner:
         options["operator"] = self.operators.operator(
             grid, material, threads=cfg.solver.threads, planner_effort=cfg.solver.planner_effort
         )
-        return ContactSolver(grid, material, punch, friction, **options), grid, material
+        solver = ContactSolver(grid, material, punch, friction, **options)
+        if may_reach_border(punch, grid):
+            solver = BorderCheckedSolver(solver)
+        return solver, grid, material
 
-    def _subsurface(self, grid, material):
+    def _subsurface(self, grid, material, cfg: StudyConfig):
         from engine.solvers.subsurface import depth_layers
 
-        cfg = self.config
         depths = np.asarray(
-            depth_layers(cfg.subsurface.depth * cfg.punch.radius, cfg.subsurface.layers),
+            depth_layers(cfg.subsurface.depth * cfg.contact_length, cfg.subsurface.layers),
             dtype=float,
         )
         stress = self.operators.stress(
@@ -207,11 +276,10 @@ class CaseRunner:
         return stress, depths
 
     # ---------------------------------------------------------------- static
-    def _run_static(self, case: Case) -> CaseOutcome:
+    def _run_static(self, case: Case, cfg: StudyConfig) -> CaseOutcome:
         from engine.solvers.static import static_analysis
 
-        cfg = self.config
-        solver, grid, material = self._solver(case)
+        solver, grid, material = self._solver(case, cfg)
         result = static_analysis(solver, cfg.loading.load, cfg.loading.steps)
         if not result.converged:
             return CaseOutcome(
@@ -224,8 +292,9 @@ class CaseRunner:
             ),
         }
         datasets.update(self._final_fields(result.final))
-        stress, depths = self._subsurface(grid, material)
-        row = self._final_row(case, result.final, stress, depths, datasets, "final")
+        datasets.update(self._grid_datasets(grid))
+        stress, depths = self._subsurface(grid, material, cfg)
+        row = self._final_row(case, cfg, result.final, stress, depths, datasets, "final")
         row.update(
             cycles=0,
             max_wear_depth=0.0,
@@ -242,13 +311,12 @@ class CaseRunner:
         )
 
     # ---------------------------------------------------------------- cyclic
-    def _run_cyclic(self, case: Case, should_stop) -> CaseOutcome:
+    def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
         from engine.solvers.friction import WearLaw
         from engine.solvers.peak import PeakTracker
 
-        cfg = self.config
-        solver, grid, material = self._solver(case)
+        solver, grid, material = self._solver(case, cfg)
         wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
         options: dict[str, Any] = {}
         if cfg.loading.max_wear_fraction is not None:
@@ -260,8 +328,8 @@ class CaseRunner:
             record=cfg.loading.record,
             **options,
         )
-        stress, depths = self._subsurface(grid, material)
-        tracker = PeakTracker(stress, cfg.punch.radius)
+        stress, depths = self._subsurface(grid, material, cfg)
+        tracker = PeakTracker(stress, cfg.contact_length)
         analysis = CyclicAnalysis(solver, wear_law, settings, peak_probe=tracker)
         checkpoint = self._checkpoint_path(case)
         state = CyclicState.load(checkpoint) if checkpoint.exists() else None
@@ -285,6 +353,7 @@ class CaseRunner:
 
         datasets = self._history_datasets(result.history)
         datasets.update(self._region_change_datasets(stress, result.state.region_changes))
+        datasets.update(self._grid_datasets(grid))
         for cycle in sorted(result.records):
             fields = result.records[cycle]
             group = f"cycle_{cycle:07d}"
@@ -300,7 +369,7 @@ class CaseRunner:
             datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         datasets.update(self._final_fields(final))
         history = result.history
-        row = self._final_row(case, final, stress, depths, datasets, "final")
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
         row.update(self._peak_row(tracker, final, history))
         row.update(
             cycles=int(history["cycle"][-1])
@@ -400,10 +469,17 @@ class CaseRunner:
             )
         return datasets
 
-    def _final_row(self, case, final, stress, depths, datasets, group) -> dict[str, Any]:
-        from engine.reference.flat_punch import mean_pressure
+    @staticmethod
+    def _grid_datasets(grid) -> dict[str, DatasetRecord]:
+        """The case's own grid (cases of a study may differ in mesh.n or half_width)."""
+        return {
+            f"grid/{name}": DatasetRecord(
+                np.asarray(values), "mm", f"element-centre {name} coordinates of this case"
+            )
+            for name, values in (("x", grid.x), ("y", grid.y))
+        }
 
-        cfg = self.config
+    def _final_row(self, case, cfg, final, stress, depths, datasets, group) -> dict[str, Any]:
         plane = stress.plane(final.pressure, final.traction_x, final.traction_y, angle=0.0)
         datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         peak = plane.peak()
@@ -416,7 +492,7 @@ class CaseRunner:
         row.update(
             load=float(final.load),
             approach=float(final.approach),
-            p0=float(mean_pressure(cfg.loading.load, cfg.punch.radius)),
+            p0=float(nominal_mean_pressure(cfg)),
             vm_max=float(peak.value),
             vm_max_x=float(peak.x),
             vm_max_y=float(peak.y),

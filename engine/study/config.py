@@ -16,17 +16,25 @@ Sections and keys (``*`` = required; defaults in brackets):
                   ("single": rank 0 writes; "mpio": every rank writes its cases through
                   parallel HDF5; "auto": mpio when h5py is MPI-enabled and ranks > 1)
 ``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
-``[punch]``       radius*                                                                mm
-``[mesh]``        n* (elements per side), half_width [1.05·radius]                       mm
+``[punch]``       shape ["flat"] ("flat" | "rounded" | "sphere"), radius* (flat: punch radius;
+                  rounded: radius of the flat face; sphere: sphere radius), edge_radius*
+                  (rounded only: toroidal edge radius, >= 0; 0 is the sharp flat punch)  mm
+``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
+                  1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
 ``[loading]``     kind* ("static" | "cyclic"), load* (N), steps [10] (increments per half
                   cycle; for static: load increments), cycles* (cyclic only), record
                   [[cycles]] (cycles at which fields and stresses are stored, 0 = unworn;
                   cyclic only),
                   max_wear_fraction [solver default] (cycle-jump control, cyclic only)
-``[subsurface]``  depth [1.5] (in punch radii), layers [16]
+``[subsurface]``  depth [1.5] (in punch radii; sphere: in Hertz contact radii), layers [16]
 ``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
                   "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
                   Each is a list (a single number is accepted); every combination is a case.
+                  Any scalar of the other sections is a sweep axis under its quoted dotted
+                  key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0]; swept keys must
+                  not also be set in their own section. zip = [["loading.load",
+                  "mesh.n"], ...] makes the keys of each group vary together (equal list
+                  lengths) instead of forming their product. See engine.study.plan.
 ``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [solver default], threads [1]
                   (FFT threads per rank), fft_planner ["estimate"] ("estimate": the same FFTW
                   plans in every process, so runs and rank counts give bit-identical results;
@@ -59,9 +67,34 @@ __all__ = [
     "load_study",
     "parse_study",
     "PROPORTIONAL",
+    "PUNCH_SHAPES",
+    "SWEEPABLE",
+    "SweepAxis",
 ]
 
 PROPORTIONAL = "proportional"
+PUNCH_SHAPES = ("flat", "rounded", "sphere")
+HERTZ_MARGIN = 1.5  # default sphere mesh half-width / Hertz contact radius at the load
+
+# Scalars that [sweep] accepts under their dotted key, with their units (summary columns).
+SWEEPABLE = {
+    "material.E_A": "MPa",
+    "material.nu_A": "1",
+    "material.E_B": "MPa",
+    "material.nu_B": "1",
+    "punch.radius": "mm",
+    "punch.edge_radius": "mm",
+    "mesh.n": "1",
+    "mesh.half_width": "mm",
+    "loading.load": "N",
+    "loading.steps": "1",
+    "loading.cycles": "1",
+    "loading.max_wear_fraction": "1",
+    "subsurface.depth": "punch radii",
+    "subsurface.layers": "1",
+    "solver.tol": "1",
+    "solver.maxiter": "1",
+}
 
 
 class StudyConfigError(ValueError):
@@ -107,6 +140,18 @@ class MaterialConfig:
 @dataclass(frozen=True)
 class PunchConfig:
     radius: float
+    shape: str = "flat"
+    edge_radius: float | None = None  # rounded only
+
+    def profile(self):
+        """The :mod:`engine.geometry` profile of this punch."""
+        from engine.geometry import FlatPunch, RoundedPunch, SphericalPunch
+
+        if self.shape == "rounded":
+            return RoundedPunch(self.radius, self.edge_radius or 0.0)
+        if self.shape == "sphere":
+            return SphericalPunch(self.radius)
+        return FlatPunch(self.radius)
 
 
 @dataclass(frozen=True)
@@ -132,12 +177,45 @@ class SubsurfaceConfig:
 
 
 @dataclass(frozen=True)
+class SweepAxis:
+    """One axis of the product: a single dotted key, or a zip group of keys varying together.
+    ``values[i]`` holds one value per key at list position i."""
+
+    keys: tuple[str, ...]
+    values: tuple[tuple[float | int, ...], ...]
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+
+@dataclass(frozen=True)
 class SweepConfig:
     mu1: tuple[float, ...]
     mu2: tuple[float, ...] | None
     wear1: tuple[float, ...]
     wear2: tuple[float, ...] | str | None
     beta: tuple[float, ...]
+    axes: tuple[SweepAxis, ...] = ()
+
+    @property
+    def swept_keys(self) -> tuple[str, ...]:
+        """Dotted keys of the other sections swept here, in axis order."""
+        return tuple(key for axis in self.axes for key in axis.keys)
+
+    def resolved(self) -> dict[str, Any]:
+        """TOML-able: the friction/wear lists, then every dotted key, then the zip groups."""
+        out: dict[str, Any] = {}
+        for name in ("mu1", "mu2", "wear1", "wear2", "beta"):
+            value = getattr(self, name)
+            if value is not None:
+                out[name] = list(value) if isinstance(value, tuple) else value
+        for axis in self.axes:
+            for position, key in enumerate(axis.keys):
+                out[key] = [values[position] for values in axis.values]
+        groups = [list(axis.keys) for axis in self.axes if len(axis.keys) > 1]
+        if groups:
+            out["zip"] = groups
+        return out
 
 
 @dataclass(frozen=True)
@@ -173,21 +251,60 @@ class StudyConfig:
     sweep: SweepConfig
     solver: SolverConfig
     testing: TestingConfig
+    # The parsed TOML tables (JSON text, swept keys absent) from which for_case() derives a
+    # case's configuration, and the dotted keys whose default derives from other keys.
+    raw: str = dataclasses.field(default="", repr=False, compare=False)
+    derived_defaults: tuple[str, ...] = ()
 
     @property
     def is_cyclic(self) -> bool:
         return self.loading.kind == "cyclic"
 
+    @property
+    def contact_length(self) -> float:
+        """a0 (mm), the length unit of ``[subsurface] depth`` and of the summary's p0: the
+        punch radius (rounded: of the flat face) or, for a sphere, Hertz's contact radius
+        at the peak load."""
+        if self.punch.shape == "sphere":
+            from engine.reference.hertz import hertz_contact_radius
+
+            return hertz_contact_radius(
+                self.loading.load, self.punch.radius, _contact_modulus(self.material)
+            )
+        return self.punch.radius
+
+    def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
+        """The configuration of one case: the swept ``settings`` ({dotted key: value})
+        substituted into the study file and validated again (derived defaults such as
+        ``mesh.half_width`` follow the swept values). Without settings: ``self``."""
+        settings = dict(settings)
+        if not settings:
+            return self
+        data = json.loads(self.raw)
+        for key, value in settings.items():
+            section, name = key.split(".", 1)
+            data.setdefault(section, {})[name] = value
+        case = _parse_tables(data, self.source)
+        return dataclasses.replace(case, study=self.study, sweep=self.sweep, raw=self.raw)
+
     def resolved(self) -> dict[str, dict[str, Any]]:
         """The configuration with every default filled in, as plain TOML-able data."""
         out: dict[str, dict[str, Any]] = {}
+        swept = set(self.sweep.swept_keys)
+        if swept:  # defaults computed from swept keys belong to each case, not to the study
+            swept |= set(self.derived_defaults)
         for field in dataclasses.fields(self):
-            if field.name == "source":
+            if field.name in ("source", "raw", "derived_defaults"):
+                continue
+            if field.name == "sweep":
+                out["sweep"] = self.sweep.resolved()
                 continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
-                if value is None:
+                if value is None or f"{field.name}.{key}" in swept:
                     continue  # TOML has no null: an absent key means "solver default"
+                if field.name == "punch" and key == "shape" and value == "flat":
+                    continue  # the default, left out so that older results files resume
                 if isinstance(value, Path):
                     value = str(value)
                 if isinstance(value, tuple):
@@ -213,6 +330,8 @@ class StudyConfig:
         resolved.pop("testing")
         resolved.pop("sweep")
         resolved["solver"].pop("threads", None)
+        if self.sweep.swept_keys:  # which keys vary is part of the study's identity
+            resolved["swept_keys"] = sorted(self.sweep.swept_keys)
         return json.dumps(resolved, sort_keys=True)
 
 
@@ -329,12 +448,162 @@ def load_study(path: str | Path) -> StudyConfig:
 
 
 def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
-    """Validate study TOML ``text``; ``source`` names the file in error messages."""
+    """Validate study TOML ``text``; ``source`` names the file in error messages.
+
+    Every value of every swept key is validated on its own (with the other axes at their
+    first value) before anything else happens; a bad one raises a :class:`StudyConfigError`
+    naming the key, its list position and the value. Combinations are validated by
+    :func:`engine.study.plan.make_plan`.
+    """
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise _toml_error(source, text, error) from None
+    axes, tables = _split_sweep(source, data)
+    raw = json.dumps(tables, default=str)
+    first = {key: axis.values[0][i] for axis in axes for i, key in enumerate(axis.keys)}
+    swept = set(first)
+    try:
+        config = _parse_tables(_substituted(tables, first), source)
+    except StudyConfigError as error:
+        if error.key not in swept:
+            raise
+        axis = next(axis for axis in axes if error.key in axis.keys)
+        raise _axis_error(source, axis, 0, error) from None
+    for axis in axes:
+        for position in range(1, len(axis)):
+            settings = dict(first)
+            settings.update(zip(axis.keys, axis.values[position], strict=True))
+            try:
+                _parse_tables(_substituted(tables, settings), source)
+            except StudyConfigError as error:
+                raise _axis_error(source, axis, position, error) from None
+    sweep = dataclasses.replace(config.sweep, axes=axes)
+    return dataclasses.replace(config, sweep=sweep, raw=raw)
 
+
+def _axis_error(source: str, axis: SweepAxis, position: int, error: StudyConfigError):
+    """Re-word a section's error for the swept value that caused it."""
+    key = error.key if error.key in axis.keys else axis.keys[0]
+    value = axis.values[position][axis.keys.index(key)]
+    section, _, name = error.key.partition(".")
+    shown = "" if error.value is _MISSING else f" = {error.value!r}"
+    where = "" if error.key == key else f" (then [{section}] {name}{shown}: {error.problem})"
+    problem = error.problem if error.key == key else "invalid"
+    return StudyConfigError(
+        source,
+        f"sweep.{key}",
+        value,
+        f"list position {position + 1} of {len(axis)}: {problem}{where}",
+    )
+
+
+def _substituted(tables: dict[str, Any], settings: dict[str, Any]) -> dict[str, Any]:
+    """A copy of the TOML tables with the dotted ``settings`` written into their sections."""
+    data = {name: dict(t) if isinstance(t, dict) else t for name, t in tables.items()}
+    for key, value in settings.items():
+        section, name = key.split(".", 1)
+        data.setdefault(section, {})[name] = value
+    return data
+
+
+def _split_sweep(source: str, data: dict[str, Any]) -> tuple[tuple[SweepAxis, ...], dict]:
+    """Take the dotted keys and ``zip`` out of ``[sweep]``: (axes, tables without them).
+
+    ``"loading.load" = [...]`` and the unquoted ``loading.load = [...]`` (a TOML sub-table)
+    are the same key.
+    """
+    table = data.get("sweep")
+    if not isinstance(table, dict):
+        return (), data
+    friction: dict[str, Any] = {}
+    lists: dict[str, list] = {}
+    zip_raw: Any = None
+    for name, value in table.items():
+        if name == "zip":
+            zip_raw = value
+        elif isinstance(value, dict) and name in _SECTIONS_REQUIRED + _SECTIONS_OPTIONAL:
+            for inner, inner_value in value.items():
+                lists[f"{name}.{inner}"] = inner_value
+        elif "." in name:
+            lists[name] = value
+        else:
+            friction[name] = value
+    for key, value in lists.items():
+        _check_sweep_list(source, key, value, data)
+        lists[key] = value if isinstance(value, list) else [value]
+    groups = _zip_groups(source, zip_raw, lists)
+    axes = []
+    placed: set[str] = set()
+    for key in lists:
+        if key in placed:
+            continue
+        group = next((g for g in groups if key in g), (key,))
+        placed.update(group)
+        values = tuple(zip(*(lists[k] for k in group), strict=True))
+        axes.append(SweepAxis(tuple(group), values))
+    tables = dict(data)
+    tables["sweep"] = friction
+    return tuple(axes), tables
+
+
+def _check_sweep_list(source: str, key: str, value: Any, data: dict[str, Any]) -> None:
+    error_key = f"sweep.{key}"
+    if key not in SWEEPABLE:
+        raise StudyConfigError(
+            source, error_key, value, "not a sweepable key (known: " + ", ".join(SWEEPABLE) + ")"
+        )
+    section, name = key.split(".", 1)
+    if isinstance(data.get(section), dict) and name in data[section]:
+        raise StudyConfigError(
+            source, error_key, value, f"also set in [{section}]: give it in one place only"
+        )
+    values = value if isinstance(value, list) else [value]
+    if not values:
+        raise StudyConfigError(source, error_key, value, "must list at least one value")
+    for position, item in enumerate(values):
+        if isinstance(item, bool) or not isinstance(item, (int, float)):
+            raise StudyConfigError(
+                source,
+                error_key,
+                item,
+                f"list position {position + 1} of {len(values)}: must be a number",
+            )
+    if len(set(values)) != len(values):
+        raise StudyConfigError(source, error_key, value, "values must not repeat")
+
+
+def _zip_groups(source: str, raw: Any, lists: dict[str, list]) -> list[tuple[str, ...]]:
+    """Validate ``zip = [["a.b", "c.d"], ...]``: swept keys, each in one group, equal lengths."""
+    if raw is None:
+        return []
+    if not isinstance(raw, list) or not all(
+        isinstance(group, list) and all(isinstance(key, str) for key in group) for group in raw
+    ):
+        raise StudyConfigError(source, "sweep.zip", raw, "must be a list of lists of keys")
+    groups, seen = [], set()
+    for group in raw:
+        if len(group) < 2:
+            raise StudyConfigError(source, "sweep.zip", raw, "each group needs two keys or more")
+        for key in group:
+            if key not in lists:
+                raise StudyConfigError(
+                    source, "sweep.zip", raw, f"{key!r} is not a dotted key swept in [sweep]"
+                )
+            if key in seen:
+                raise StudyConfigError(source, "sweep.zip", raw, f"{key!r} is in two groups")
+            seen.add(key)
+        lengths = {key: len(lists[key]) for key in group}
+        if len(set(lengths.values())) != 1:
+            raise StudyConfigError(
+                source, "sweep.zip", raw, f"zipped lists must have equal lengths, got {lengths}"
+            )
+        groups.append(tuple(group))
+    return groups
+
+
+def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
+    """Validate the TOML tables (``[sweep]`` without dotted keys) into a StudyConfig."""
     for name in data:
         if name not in _SECTIONS_REQUIRED + _SECTIONS_OPTIONAL:
             raise StudyConfigError(
@@ -355,15 +624,33 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     study = _parse_study_info(section("study"))
     material = _parse_material(section("material"))
     punch = _parse_punch(section("punch"))
-    mesh = _parse_mesh(section("mesh"), punch)
     loading = _parse_loading(section("loading"))
+    mesh = _parse_mesh(section("mesh"), punch, material, loading)
     subsurface = _parse_subsurface(section("subsurface"))
     sweep = _parse_sweep(section("sweep"), loading)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
     check_physical_ranges(source, material, punch, loading, sweep)
+    derived = tuple(
+        key
+        for key, section_name, name in (
+            ("mesh.half_width", "mesh", "half_width"),
+            ("loading.record", "loading", "record"),
+        )
+        if name not in data.get(section_name, {})
+    )
     return StudyConfig(
-        source, study, material, punch, mesh, loading, subsurface, sweep, solver, testing
+        source,
+        study,
+        material,
+        punch,
+        mesh,
+        loading,
+        subsurface,
+        sweep,
+        solver,
+        testing,
+        derived_defaults=derived,
     )
 
 
@@ -390,17 +677,51 @@ def _parse_material(s: _Section) -> MaterialConfig:
 
 
 def _parse_punch(s: _Section) -> PunchConfig:
-    s.check_known({"radius"})
-    return PunchConfig(radius=s.number("radius", minimum=0.0, strict=True, unit="mm"))
+    s.check_known({"shape", "radius", "edge_radius"})
+    shape = s.string("shape", "flat")
+    if shape not in PUNCH_SHAPES:
+        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PUNCH_SHAPES))
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    edge_radius = None
+    if shape == "rounded":
+        edge_radius = s.number("edge_radius", minimum=0.0, unit="mm")
+    elif "edge_radius" in s.table:
+        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded"')
+    return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
 
 
-def _parse_mesh(s: _Section, punch: PunchConfig) -> MeshConfig:
+def _parse_mesh(
+    s: _Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
+) -> MeshConfig:
+    """The mesh must cover the contact: the punch face (flat, rounded) or, for a sphere,
+    Hertz's contact radius at the peak load (a default half-width of HERTZ_MARGIN times it).
+    A contact reaching the mesh border at run time fails the case (engine.geometry)."""
     s.check_known({"n", "half_width"})
     n = s.integer("n", minimum=8)
-    half_width = s.number("half_width", 1.05 * punch.radius, minimum=punch.radius, unit="mm")
-    if n * punch.radius / half_width < 4:
-        raise s.error("n", n, "fewer than 4 elements across the punch; increase n")
+    if punch.shape == "sphere":
+        from engine.reference.hertz import hertz_contact_radius
+
+        contact = hertz_contact_radius(loading.load, punch.radius, _contact_modulus(material))
+        default, what = HERTZ_MARGIN * contact, "Hertz contact radius"
+    else:
+        contact = punch.radius
+        default = 1.05 * (punch.radius + (punch.edge_radius or 0.0))
+        what = "punch face radius"
+    if "half_width" in s.table and s.number("half_width", unit="mm") < contact:
+        raise s.error(
+            "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
+        )
+    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    if n * contact / half_width < 4:
+        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
     return MeshConfig(n=n, half_width=half_width)
+
+
+def _contact_modulus(material: MaterialConfig) -> float:
+    """E* = ((1−ν_A²)/E_A + (1−ν_B²)/E_B)⁻¹, MPa."""
+    return 1.0 / (
+        (1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B
+    )
 
 
 def _parse_loading(s: _Section) -> LoadingConfig:
@@ -639,10 +960,16 @@ def _toml_value(value: Any) -> str:
     raise TypeError(f"cannot write {value!r} as TOML")
 
 
+def _toml_key(key: str) -> str:
+    """Bare key when possible, else a quoted one (dotted sweep keys)."""
+    bare = key.replace("_", "").replace("-", "").isalnum()
+    return key if bare else json.dumps(key)
+
+
 def dump_toml(data: dict[str, dict[str, Any]]) -> str:
     lines = []
     for section, table in data.items():
         lines.append(f"[{section}]")
-        lines.extend(f"{key} = {_toml_value(value)}" for key, value in table.items())
+        lines.extend(f"{_toml_key(key)} = {_toml_value(value)}" for key, value in table.items())
         lines.append("")
     return "\n".join(lines)

@@ -2,8 +2,11 @@
 
 A collective (mpio) writer must create every dataset with identical arguments on all ranks
 before any rank writes into it, so it needs, per case, the path, shape and dtype of what
-:class:`~engine.study.case.CaseRunner` will produce. Every case of a study has the same
-layout (the sweep changes values, never shapes):
+:class:`~engine.study.case.CaseRunner` will produce. The layout of a case follows from its own
+configuration (:meth:`StudyConfig.for_case`): sweeping ``mesh.n``, ``loading.cycles`` or
+``subsurface.layers`` changes shapes from case to case (:func:`plan_layout`):
+
+- ``grid/x``, ``grid/y``: the case's element centres, shape ``(n,)``, float64;
 
 - ``fields/final/<name>`` (pressure, tractions, slip increments, status) and, for cyclic
   studies, ``fields/cycle_NNNNNNN/<name>`` (wear, pressure, tractions, status) for every
@@ -27,7 +30,7 @@ import numpy as np
 
 from .config import StudyConfig
 
-__all__ = ["DatasetShape", "case_layout", "recorded_cycles"]
+__all__ = ["DatasetShape", "case_layout", "plan_layout", "recorded_cycles"]
 
 FINAL_FIELDS = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
 RECORDED_FIELDS = ("wear", "pressure", "traction_x", "traction_y", "status")  # CyclicAnalysis
@@ -46,13 +49,29 @@ def recorded_cycles(config: StudyConfig) -> list[int]:
     return sorted({int(c) for c in config.loading.record} | {int(config.loading.cycles)})
 
 
+def plan_layout(config: StudyConfig, plan) -> dict[str, dict[str, DatasetShape]]:
+    """case_id -> :func:`case_layout` of the case's configuration (shared between cases
+    with equal swept values)."""
+    layouts: dict[tuple, dict[str, DatasetShape]] = {}
+    result = {}
+    for case in plan:
+        if case.settings not in layouts:
+            layouts[case.settings] = case_layout(config.for_case(case.settings))
+        result[case.case_id] = layouts[case.settings]
+    return result
+
+
 def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
-    """Path (relative to the case group) -> shape and dtype of every pre-creatable dataset."""
+    """Path (relative to the case group) -> shape and dtype of every pre-creatable dataset
+    of a case whose configuration is ``config``."""
     n_x, n_y = _grid(config).shape
     plane = _plane_layout(config)
     groups = {"final": FINAL_FIELDS}
     groups.update({f"cycle_{c:07d}": RECORDED_FIELDS for c in recorded_cycles(config)})
-    layout: dict[str, DatasetShape] = {}
+    layout: dict[str, DatasetShape] = {
+        "grid/x": DatasetShape((n_x,), "float64"),
+        "grid/y": DatasetShape((n_y,), "float64"),
+    }
     for group, names in groups.items():
         for name in names:
             dtype = "int8" if name == "status" else "float64"
@@ -74,7 +93,7 @@ def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
 
     grid = _grid(config)
     depths = np.asarray(
-        depth_layers(config.subsurface.depth * config.punch.radius, config.subsurface.layers),
+        depth_layers(config.subsurface.depth * config.contact_length, config.subsurface.layers),
         dtype=float,
     )
     # The study's planner effort: a timed plan here would leave FFTW wisdom that the cases'

@@ -4,10 +4,19 @@ Every combination of ``mu1 × mu2 × wear1 × wear2 × beta`` is a case (``mu2``
 ``mu1`` and ``wear2`` to ``wear1`` element-wise, i.e. isotropic laws; ``wear2 =
 "proportional"`` gives ``wear1·mu2/mu1``, paper Section 7.3).
 
+Dotted keys swept in ``[sweep]`` (``"loading.load" = [...]``, ``"mesh.n" = [...]``, any key of
+:data:`~engine.study.config.SWEEPABLE`) add axes: the plan is the product of the friction/wear
+combinations above with every axis (a ``zip`` group of keys is one axis whose keys vary
+together). Axes are the outer loops, in the order of the file.
+
 The case id is built from the parameter values only (never from the position in the sweep), so
 adding a value to a list keeps the ids — and the completed results — of every other case::
 
     mu0.1-0.4_w1.33e-07-5.32e-07_b45
+    mu0.1_w1.33e-07_b0_load750_n64        # with "loading.load" and "mesh.n" swept
+
+Each swept key appends ``_<name><value>``, ``name`` being the last part of the dotted key
+(the whole key with ``-`` for ``.`` should two swept keys share it).
 
 Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in degrees.
 """
@@ -15,15 +24,28 @@ Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
+from typing import Any
 
-from .config import PROPORTIONAL, StudyConfig, StudyConfigError
+from .config import _MISSING, PROPORTIONAL, StudyConfig, StudyConfigError
 
-__all__ = ["Case", "Plan", "make_plan", "case_id_for"]
+__all__ = ["Case", "Plan", "make_plan", "case_id_for", "cost_scale", "setting_names"]
 
 
 def _format(value: float) -> str:
+    if isinstance(value, int):
+        return str(value)
     return format(value, ".10g")
+
+
+def setting_names(keys: tuple[str, ...]) -> dict[str, str]:
+    """Short names of swept dotted keys in case ids: the last part, unless two share it."""
+    last = [key.rsplit(".", 1)[-1] for key in keys]
+    return {
+        key: name if last.count(name) == 1 else key.replace(".", "-")
+        for key, name in zip(keys, last, strict=True)
+    }
 
 
 def case_id_for(mu1: float, mu2: float, wear1: float, wear2: float, beta: float) -> str:
@@ -44,9 +66,13 @@ class Case:
     wear1: float
     wear2: float
     beta: float
+    settings: tuple[tuple[str, Any], ...] = ()  # swept dotted keys and their values
+    cost_scale: float = 1.0  # size of the case relative to the study's first values
+    mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
 
     def parameters(self) -> dict[str, float | int | str]:
-        return {
+        """Case attributes and the parameter columns of its summary row."""
+        parameters: dict[str, Any] = {
             "case_id": self.case_id,
             "index": self.index,
             "mu1": self.mu1,
@@ -55,14 +81,17 @@ class Case:
             "wear2": self.wear2,
             "beta": self.beta,
         }
+        parameters.update(self.settings)
+        return parameters
 
     @property
     def expected_cost(self) -> float:
         """Relative cost guess for scheduling: low friction slips more and takes longer
         (more slip, more wear, more simulated cycles); frictionless cases are a single
-        normal solve per increment and the cheapest."""
+        normal solve per increment and the cheapest. Times ``cost_scale`` (mesh, steps,
+        cycles, layers of swept keys, see :func:`cost_scale`)."""
         friction = min(self.mu1, self.mu2)
-        return 0.5 if friction == 0.0 else 1.0 / (0.05 + friction)
+        return (0.5 if friction == 0.0 else 1.0 / (0.05 + friction)) * self.cost_scale
 
 
 @dataclass(frozen=True)
@@ -85,6 +114,11 @@ class Plan:
                 return case
         raise KeyError(case_id)
 
+    def shared_mesh(self) -> tuple[int, float] | None:
+        """(n, half_width) when every case has the same grid, else None."""
+        meshes = {case.mesh for case in self.cases}
+        return meshes.pop() if len(meshes) == 1 else None
+
     def dispatch_order(self, skip: set[str] | frozenset[str] = frozenset()) -> list[Case]:
         """Cases still to run, most expensive first (longest-processing-time-first).
 
@@ -96,8 +130,23 @@ class Plan:
         return sorted(pending, key=lambda case: (-case.expected_cost, case.index))
 
 
-def make_plan(config: StudyConfig) -> Plan:
-    """Expand the sweep into cases (plan order: mu1, mu2, wear1, wear2, beta, as nested loops)."""
+def cost_scale(case: StudyConfig, study: StudyConfig) -> float:
+    """Cost of a case's configuration relative to the study's (first swept values): an FFT
+    operator application grows as n² log n, every increment costs a few of them, the number
+    of simulated cycles grows like the logarithm of the real ones (cycle jumps), and each
+    subsurface layer costs an FFT pair."""
+
+    def size(config: StudyConfig) -> float:
+        n = config.mesh.n
+        cycles = math.log10(10.0 + config.loading.cycles) if config.is_cyclic else 1.0
+        work = n * n * math.log2(n * n) * config.loading.steps * cycles
+        return work * (1.0 + 0.05 * config.subsurface.layers)
+
+    return size(case) / size(study)
+
+
+def _friction_combinations(config: StudyConfig) -> list[tuple[float, float, float, float, float]]:
+    """(mu1, mu2, wear1, wear2, beta) in plan order (nested loops)."""
     sweep = config.sweep
     combos = []
     if sweep.mu2 is None:
@@ -113,15 +162,53 @@ def make_plan(config: StudyConfig) -> Plan:
             wear_pairs = list(itertools.product(sweep.wear1, sweep.wear2))
         for (wear1, wear2), beta in itertools.product(wear_pairs, sweep.beta):
             combos.append((mu1, mu2, wear1, wear2, beta))
+    return combos
 
+
+def _settings_combinations(config: StudyConfig) -> list[tuple[tuple[str, Any], ...]]:
+    """Every combination of the swept axes as ((key, value), ...), first axis outermost."""
+    axes = config.sweep.axes
+    combos = []
+    for positions in itertools.product(*(axis.values for axis in axes)):
+        settings = []
+        for axis, values in zip(axes, positions, strict=True):
+            settings.extend(zip(axis.keys, values, strict=True))
+        combos.append(tuple(settings))
+    return combos
+
+
+def make_plan(config: StudyConfig) -> Plan:
+    """Expand the sweep into cases (plan order: swept axes, then mu1, mu2, wear1, wear2,
+    beta, as nested loops). Every combination of swept values is validated here (exit 2
+    before anything is computed), naming the case and its values."""
+    names = setting_names(config.sweep.swept_keys)
     cases = []
     seen: dict[str, tuple] = {}
-    for index, (mu1, mu2, wear1, wear2, beta) in enumerate(combos):
-        case_id = case_id_for(mu1, mu2, wear1, wear2, beta)
-        if case_id in seen:
-            raise _collision(config.source, case_id, seen[case_id], combos[index])
-        seen[case_id] = combos[index]
-        cases.append(Case(index, case_id, mu1, mu2, wear1, wear2, beta))
+    index = 0
+    for settings in _settings_combinations(config):
+        try:
+            case_config = config.for_case(settings)
+        except StudyConfigError as error:
+            shown = ", ".join(f"{key} = {value!r}" for key, value in settings)
+            raise StudyConfigError(
+                config.source,
+                "sweep",
+                _MISSING,
+                f"the combination {shown} is invalid: {str(error)[len(error.source) + 2 :]}",
+            ) from None
+        scale = cost_scale(case_config, config) if settings else 1.0
+        mesh = (case_config.mesh.n, case_config.mesh.half_width)
+        suffix = "".join(f"_{names[key]}{_format(value)}" for key, value in settings)
+        for combo in _friction_combinations(config):
+            case_id = case_id_for(*combo) + suffix
+            if case_id in seen:
+                first_combo, first_settings = seen[case_id]
+                if first_combo != combo:
+                    raise _collision(config.source, case_id, first_combo, combo)
+                raise _setting_collision(config.source, case_id, first_settings, settings)
+            seen[case_id] = (combo, settings)
+            cases.append(Case(index, case_id, *combo, settings, scale, mesh))
+            index += 1
     unknown = set(config.testing.fail_cases) - set(seen)
     if unknown:
         raise StudyConfigError(
@@ -131,6 +218,22 @@ def make_plan(config: StudyConfig) -> Plan:
 
 
 _PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+
+
+def _setting_collision(
+    source: str, case_id: str, first: tuple, second: tuple
+) -> StudyConfigError:
+    """Two combinations of swept settings with the same id: name the swept key whose values
+    differ only beyond the 10 significant digits of the id."""
+    differing = [(key, a, b) for (key, a), (_, b) in zip(first, second, strict=True) if a != b]
+    key, a, b = differing[0] if differing else (first[0][0], first[0][1], second[0][1])
+    return StudyConfigError(
+        source,
+        f"sweep.{key}",
+        [a, b],
+        f"two cases get the same id {case_id!r}: the values differ only beyond 10 "
+        "significant digits",
+    )
 
 
 def _collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:

@@ -1,0 +1,85 @@
+"""Hertz's frictionless contact of a sphere (parabolic profile g = r²/(2R)) on a half-space.
+
+Closed forms (Johnson, *Contact Mechanics*, 1985, Eqs. 4.22–4.23 and 3.45), with the contact
+modulus E* = ((1−ν_A²)/E_A + (1−ν_B²)/E_B)⁻¹ (MPa), load P (N), sphere radius R (mm):
+
+- contact radius a = (3 P R / (4 E*))^(1/3)                     (mm)
+- approach       δ = a² / R                                     (mm)
+- peak pressure  p_max = 3 P / (2 π a²) = 2 E* a / (π R)         (MPa)
+- pressure       p(r) = p_max √(1 − r²/a²)
+- stresses on the axis r = 0 at depth z (compression negative):
+  σ_z = −p_max / (1 + z²/a²),
+  σ_r = σ_θ = p_max [−(1 + ν)(1 − (z/a) arctan(a/z)) + 1 / (2 (1 + z²/a²))],
+  σ_VM = |σ_r − σ_z| (two equal principal stresses).
+
+For ν = 0.3 the axis σ_VM has its maximum 0.6200 p_max at z = 0.4809 a
+(:func:`axis_von_mises_peak` finds it numerically for any ν).
+With dissimilar materials (K ≠ 0) and no friction the normal problem is uncoupled from the
+tangential one, so these formulas hold unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+__all__ = [
+    "hertz_contact_radius",
+    "hertz_approach",
+    "hertz_peak_pressure",
+    "hertz_pressure",
+    "axis_stresses",
+    "axis_von_mises",
+    "axis_von_mises_peak",
+]
+
+
+def hertz_contact_radius(load: float, radius: float, contact_modulus: float) -> float:
+    """a = (3 P R / (4 E*))^(1/3), mm."""
+    return (3.0 * load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
+
+
+def hertz_approach(load: float, radius: float, contact_modulus: float) -> float:
+    """δ = a²/R, mm."""
+    return hertz_contact_radius(load, radius, contact_modulus) ** 2 / radius
+
+
+def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> float:
+    """p_max = 3 P / (2 π a²), MPa."""
+    a = hertz_contact_radius(load, radius, contact_modulus)
+    return 3.0 * load / (2.0 * math.pi * a**2)
+
+
+def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: float):
+    """p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside (MPa)."""
+    a = hertz_contact_radius(load, radius, contact_modulus)
+    p_max = hertz_peak_pressure(load, radius, contact_modulus)
+    r = np.asarray(r, dtype=float)
+    return p_max * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+
+
+def axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """(σ_r, σ_z)/p_max on the axis at depth ``z`` given in units of a (z > 0)."""
+    z = np.asarray(z, dtype=float)
+    sigma_z = -1.0 / (1.0 + z**2)
+    sigma_r = -(1.0 + nu) * (1.0 - z * np.arctan(1.0 / z)) + 0.5 / (1.0 + z**2)
+    return sigma_r, sigma_z
+
+
+def axis_von_mises(z: np.ndarray, nu: float) -> np.ndarray:
+    """σ_VM/p_max on the axis at depth ``z``/a."""
+    sigma_r, sigma_z = axis_stresses(z, nu)
+    return np.abs(sigma_r - sigma_z)
+
+
+def axis_von_mises_peak(nu: float) -> tuple[float, float]:
+    """(σ_VM/p_max, z/a) of the axis maximum, found to 1e-10 by bounded minimisation."""
+    result = minimize_scalar(
+        lambda z: -float(axis_von_mises(z, nu)),
+        bounds=(0.05, 2.0),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
+    return float(-result.fun), float(result.x)
