@@ -260,3 +260,15 @@ def test_readme_study_is_valid_and_the_readme_fits_on_a_screen():
                  "parallel-hdf5"):  # fmt: skip
         assert f"(docs/{link}.md)" in readme
         assert (REPO / "docs" / f"{link}.md").exists()
+
+
+def test_results_doc_has_a_block_for_every_study_of_the_results_script():
+    script = (REPO / "scripts" / "results.sh").read_text()
+    results = (REPO / "docs" / "results.md").read_text()
+    studies = script.split('studies=${STUDIES:-"', 1)[1].split('"}', 1)[0].replace("\\\n", " ")
+    assert len(studies.split()) == 5
+    for study in studies.split():
+        assert (REPO / "studies" / f"{study}.toml").exists()
+        assert f"<!-- BEGIN report {study} -->" in results
+        assert f"<!-- END report {study} -->" in results
+    assert "--update docs/results.md" in script

@@ -119,3 +119,24 @@ def test_facts_agree_with_the_table_rows():
         assert depths[1] < depths[0]
     report = study_report(study)
     assert "not monotone" not in report and "increasing" not in report
+
+
+def test_update_replaces_only_its_block_and_names_a_missing_one(tmp_path):
+    from engine.output.report import update_markdown
+
+    document = tmp_path / "results.md"
+    document.write_text(
+        "intro\n<!-- BEGIN report a -->\nold a\n<!-- END report a -->\n"
+        "<!-- BEGIN report b -->\nold b\n<!-- END report b -->\n"
+    )
+    update_markdown(document, "a", "new a\n")
+    assert document.read_text() == (
+        "intro\n<!-- BEGIN report a -->\nnew a\n<!-- END report a -->\n"
+        "<!-- BEGIN report b -->\nold b\n<!-- END report b -->\n"
+    )
+    try:
+        update_markdown(document, "c", "x\n")
+    except ValueError as error:
+        assert "BEGIN report c" in str(error)
+    else:
+        raise AssertionError("a missing block must be an error")

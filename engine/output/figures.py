@@ -235,7 +235,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
     plane = panels[0].planes[key]
     span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
     width = 4.6
-    figure, axes = _panel_grid(count, width=width, height=(width - 0.9) / span + 1.45)
+    figure, axes = _panel_grid(count, width=width, height=(width - 1.1) / span + 1.35)
     filled = None
     axes_iter = iter(axes)
     if analytic:
@@ -251,7 +251,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
         filled = _draw_von_mises(
             next(axes_iter), study, plane.x, plane.z, plane.von_mises, case.label
         )
-    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=min(0.9, 0.4 + 0.2 * len(axes)))
+    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=0.9, fraction=0.03, aspect=30)
     figure.suptitle(
         suptitle + "\npeaks ★ (whole plane) and ○ (below the surface layer) at (r/a0, z/a0)"
     )

@@ -389,7 +389,11 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         if args.update is None:
             print(report)
         else:
-            update_markdown(args.update, study.name, report)
+            try:
+                update_markdown(args.update, study.name, report)
+            except (OSError, ValueError) as error:  # no such document, or no block to replace
+                print(f"error: {error}", file=sys.stderr)
+                return 2
             print(f"{args.update}: updated the report of {study.name}")
     return 0
 
