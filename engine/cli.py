@@ -343,6 +343,8 @@ def _print_plan(config, plan) -> None:
         if config.is_cyclic
         else f"static, P = {loading.load:g} N"
     )
+    if config.sweep.swept_keys:  # the values above are the first of each swept key
+        what += "; swept: " + ", ".join(config.sweep.swept_keys)
     print(f"study {config.study.name!r} ({config.source}): {len(plan)} cases, {what}")
     print(f"output {config.study.output} (summary {config.study.summary_path})")
     print(f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}")
