@@ -18,9 +18,13 @@ SWEPT = '"mesh.n" = [16, 24]\n"loading.load" = [500.0, 750.0]\n'
 
 
 def write_swept_study(tmp_path, name):
-    text = STUDY.format(
-        name=name, output=tmp_path / f"{name}.h5", cycles=2000, mu1="[0.4]", beta="[0.0]"
-    ).replace("[mesh]\nn = 32\n", "[mesh]\n").replace("load = 750.0\n", "")
+    text = (
+        STUDY.format(
+            name=name, output=tmp_path / f"{name}.h5", cycles=2000, mu1="[0.4]", beta="[0.0]"
+        )
+        .replace("[mesh]\nn = 32\n", "[mesh]\n")
+        .replace("load = 750.0\n", "")
+    )
     path = tmp_path / f"{name}.toml"
     path.write_text(text + SWEPT)
     return path
