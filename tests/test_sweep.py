@@ -227,3 +227,30 @@ def test_sweep_report_power_law_and_convergence_verdicts():
     assert lines["| vm_max (MPa)"].endswith("| not converging |")
     assert lines["| p0 (MPa)"].endswith("| constant |")
     assert "Convergence with the mesh" in sweep_report(summary, ["mesh.n"], "t")
+
+
+def test_adding_a_swept_value_resumes_and_keeps_completed_cases(tmp_path):
+    """Resume: a second run with one more load keeps the completed case (same fingerprint,
+    same id) and computes only the new one."""
+    from engine.cli import main
+
+    output = tmp_path / "resume.h5"
+    path = tmp_path / "resume.toml"
+
+    def write(loads):
+        text = BASE.format(
+            sweep=f'"loading.load" = {loads}', mesh="n = 16", loading="", punch="radius = 1.8",
+            output=output,
+        )  # fmt: skip
+        path.write_text(text.replace("mu1 = [0.2, 0.4]", "mu1 = [0.4]"))
+
+    write("[500.0]")
+    assert main([str(path), "--no-progress-bar"]) == 0
+    with h5py.File(output, "r") as file:
+        first = file["cases/mu0.4_w1.33e-07_b0_load500"].attrs["runtime_s"]
+    write("[500.0, 750.0]")
+    assert main([str(path), "--no-progress-bar"]) == 0
+    summary = load_summary(output)
+    assert list(summary["status"]) == ["completed", "completed"]
+    with h5py.File(output, "r") as file:
+        assert file["cases/mu0.4_w1.33e-07_b0_load500"].attrs["runtime_s"] == first
