@@ -92,9 +92,11 @@ def rounded_table(sizes):
         flat = solve(grid, UNIT_CONTACT_MODULUS, FlatPunch(FACE), load)
         flat_surface, _ = edge_stress(grid, flat, 1.5 * FACE)
         row = (surface, below, flat_surface)
-        deltas = ["–"] * 3 if previous is None else [
-            f"{(value / old - 1.0):+.3f}" for value, old in zip(row, previous, strict=True)
-        ]
+        deltas = (
+            ["–"] * 3
+            if previous is None
+            else [f"{(value / old - 1.0):+.3f}" for value, old in zip(row, previous, strict=True)]
+        )
         previous = row
         print(
             f"| {n} | {result.approach / approach - 1:+.4f} | "

@@ -574,6 +574,8 @@ def _print_plan(config, plan, args, ranks: int, strategy: str) -> None:
         if config.is_cyclic
         else f"static, P = {loading.load:g} N"
     )
+    if config.sweep.swept_keys:  # the values above are the first of each swept key
+        what += "; swept: " + ", ".join(config.sweep.swept_keys)
     output = config.study.output
     print(f"study {config.study.name!r} ({config.source}): {plural(len(plan), 'case')}, {what}")
     print(

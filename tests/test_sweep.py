@@ -202,3 +202,55 @@ def test_per_case_layout_grid_and_summary_columns(tmp_path):
     row = summary.set_index("case_id").loc[case.case_id]
     assert outcome.row["wear_volume"] == row["wear_volume"]
     assert np.isfinite(row["vm_sub_max"])
+
+
+def test_sweep_report_power_law_and_convergence_verdicts():
+    """Exact: a fitted exponent of y = 3 x² is 2 (round-off); verdicts from made-up columns."""
+    import pandas as pd
+
+    from engine.output.sweep_report import convergence_table, power_law_exponent, sweep_report
+
+    assert power_law_exponent([250.0, 500.0, 1000.0], [3 * 250.0**2, 3 * 500.0**2, 3e6]) == (
+        pytest.approx(2.0, abs=1e-12)
+    )
+    rows = []
+    meshes = ((16, 1.0, 1.0), (32, 1.5, 2.0), (64, 1.6, 3.5), (128, 1.62, 6.0))
+    for n, converging, growing in meshes:
+        rows.append(
+            dict(case_id=f"c{n}", mu1=0.2, mu2=0.2, wear1=1e-7, wear2=1e-7, beta=0.0,
+                 status="completed", cycles=10, approach=converging, vm_max=growing,
+                 p0=7.0, **{"mesh.n": n})
+        )  # fmt: skip
+    summary = pd.DataFrame(rows)
+    lines = {line.split(" |")[0]: line for line in convergence_table(summary, ["mesh.n"])}
+    assert lines["| approach (mm)"].endswith("| converging |")
+    assert lines["| vm_max (MPa)"].endswith("| not converging |")
+    assert lines["| p0 (MPa)"].endswith("| constant |")
+    assert "Convergence with the mesh" in sweep_report(summary, ["mesh.n"], "t")
+
+
+def test_adding_a_swept_value_resumes_and_keeps_completed_cases(tmp_path):
+    """Resume: a second run with one more load keeps the completed case (same fingerprint,
+    same id) and computes only the new one."""
+    from engine.cli import main
+
+    output = tmp_path / "resume.h5"
+    path = tmp_path / "resume.toml"
+
+    def write(loads):
+        text = BASE.format(
+            sweep=f'"loading.load" = {loads}', mesh="n = 16", loading="", punch="radius = 1.8",
+            output=output,
+        )  # fmt: skip
+        path.write_text(text.replace("mu1 = [0.2, 0.4]", "mu1 = [0.4]"))
+
+    write("[500.0]")
+    assert main([str(path), "--no-progress-bar"]) == 0
+    with h5py.File(output, "r") as file:
+        first = file["cases/mu0.4_w1.33e-07_b0_load500"].attrs["runtime_s"]
+    write("[500.0, 750.0]")
+    assert main([str(path), "--no-progress-bar"]) == 0
+    summary = load_summary(output)
+    assert list(summary["status"]) == ["completed", "completed"]
+    with h5py.File(output, "r") as file:
+        assert file["cases/mu0.4_w1.33e-07_b0_load500"].attrs["runtime_s"] == first

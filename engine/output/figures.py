@@ -148,6 +148,17 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if not args.results.exists():
         print(f"error: {args.results}: no such file", file=sys.stderr)
         return 2
+    from .report import _STUDY_WIDE, swept_keys
+
+    swept = set(swept_keys(args.results)) & _STUDY_WIDE
+    if swept:  # the figures normalise every case by one a0, p0 and grid
+        print(
+            f"error: {args.results}: the figures need one load, punch radius, mesh and "
+            f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "
+            "use `python -m engine report` (docs/study_sweeps_and_profiles.md)",
+            file=sys.stderr,
+        )
+        return 2
     out = args.out or args.results.with_name(f"{args.results.stem}_figures")
     for path in plot_study(args.results, out):
         print(path)

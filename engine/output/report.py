@@ -334,6 +334,17 @@ _STUDY_WIDE = {"punch.radius", "loading.load", "mesh.n", "mesh.half_width", "loa
                "material.E_B", "material.nu_B"}  # fmt: skip
 
 
+def swept_keys(path: str | Path) -> list[str]:
+    """Dotted keys swept in the study of the results file ``path`` (root attributes only)."""
+    import json
+
+    import h5py
+
+    with h5py.File(path, "r") as file:
+        sweep = json.loads(file.attrs["study_json"]).get("sweep", {})
+    return [key for key in sweep if "." in key]
+
+
 def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
     """Studies with swept dotted keys (engine.output.sweep_report); the per-case tables too
     when no swept key changes the study-wide normalisation (a0, P, mesh, material)."""

@@ -10,7 +10,7 @@ keys (``"loading.load"``, ``"mesh.n"``, ``"punch.edge_radius"``, …):
 - ``mesh.n`` swept: every numeric summary column against n, the relative change between
   successive meshes and the observed order p = log2(|Δ_coarse| / |Δ_fine|) for halved
   elements, with a verdict: "constant", "settled" (the last two changes below 0.5 %),
-  "converging" (the changes shrink), "not converging" (the sharp punch's edge values), "–"
+  "converging" (the absolute changes shrink), "not converging" (the sharp punch's edge values), "–"
   with too few meshes (:func:`convergence_table`).
 
 The columns' units are those of the summary (engine/output/summary.py); lengths in mm,
@@ -118,17 +118,19 @@ def load_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
 SETTLED = 0.005  # relative change below which a column counts as settled
 
 
-def _verdict(changes: list[float]) -> str:
-    """constant | settled (last two changes < 0.5 %) | converging (changes shrink) |
-    not converging | – (fewer than two changes)."""
-    finite = [abs(c) for c in changes if math.isfinite(c)]
-    if len(finite) < 2:
+def _verdict(values: list[float]) -> str:
+    """constant | settled (last two relative changes < 0.5 %) | converging (the absolute
+    changes shrink) | not converging | – (fewer than three finite values)."""
+    finite = [v for v in values if math.isfinite(v)]
+    if len(finite) < 3:
         return "–"
-    if all(c == 0.0 for c in finite):
+    steps = [abs(b - a) for a, b in zip(finite[:-1], finite[1:], strict=True)]
+    if all(step == 0.0 for step in steps):
         return "constant"
-    if all(c < SETTLED for c in finite[-2:]):
+    relative = [step / abs(b) if b else math.inf for step, b in zip(steps, finite[1:], strict=True)]
+    if all(change < SETTLED for change in relative[-2:]):
         return "settled (< 0.5 %)"
-    shrinking = all(b < a for a, b in zip(finite[:-1], finite[1:], strict=True))
+    shrinking = all(b < a for a, b in zip(steps[:-1], steps[1:], strict=True))
     return "converging" if shrinking else "not converging"
 
 
@@ -166,7 +168,7 @@ def convergence_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
             lines.append(
                 f"| {_named(column)} | " + " | ".join(_number(v) for v in values) + " | "
                 + " | ".join("–" if not math.isfinite(c) else f"{c:+.2%}" for c in changes)
-                + f" | {_number(order)} | {'cost' if cost else _verdict(changes)} |"
+                + f" | {_number(order)} | {'cost' if cost else _verdict(values)} |"
             )  # fmt: skip
         lines.append("")
     lines += [

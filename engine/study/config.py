@@ -719,9 +719,7 @@ def _parse_mesh(
 
 def _contact_modulus(material: MaterialConfig) -> float:
     """E* = ((1−ν_A²)/E_A + (1−ν_B²)/E_B)⁻¹, MPa."""
-    return 1.0 / (
-        (1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B
-    )
+    return 1.0 / ((1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B)
 
 
 def _parse_loading(s: _Section) -> LoadingConfig:
