@@ -5,7 +5,7 @@ chose earlier in the same process for the same problem; the timed choice adds in
 order, so results moved by a few ulps depending on the history of the process. In the mpio
 phase of CI that history differed between an interrupted + resumed study and an uninterrupted
 one (rank 0 planned the subsurface lattice with FFTW_MEASURE to pre-create the file layout),
-and one σ_xx value differed by 1 ulp. Measured here: for 10 of 12 shapes from 36 × 18 to
+and one σ_xx value differed by 1 ulp. Measured here: for 11 of 12 shapes from 36 × 18 to
 128 × 64, an estimate plan made after a measured one gave other bits in 4 or 5 runs of 5.
 
 Tolerance: none. Equality is exact, bit for bit (``np.array_equal``).
