@@ -242,7 +242,8 @@ def test_sigterm_to_rank_one_alone_ends_the_job(tmp_path):
 
 
 def test_sigterm_during_start_up_exits_3_within_5_seconds(tmp_path):
-    """Issue 16.3/16.7: a stop signal as soon as the ranks can catch it: exit 3, fast."""
+    """Issue 16.3/16.7: a stop signal as soon as the ranks can catch it, and a second one
+    50 ms later: exit 3 (not a signal death), within 5 s."""
     study = tiny_study(tmp_path)
     process = start(study)
     assert wait_for(lambda: len(rank_pids(study)) == 2, 60)
@@ -250,10 +251,27 @@ def test_sigterm_during_start_up_exits_3_within_5_seconds(tmp_path):
     assert wait_for(lambda: all(catches_sigterm(pid) for pid in pids.values()), 30)
     signalled = time.monotonic()
     kill_ranks(study, signal.SIGTERM)
+    time.sleep(0.05)
+    kill_ranks(study, signal.SIGTERM)
     out, err = process.communicate(timeout=30)
     assert process.returncode == 3, err
     assert time.monotonic() - signalled < 5
     assert "Traceback" not in err
+
+
+def test_sigterm_during_shutdown_is_not_a_signal_death(tmp_path):
+    """Issue 16.7: SIGTERM to both ranks once the last line is printed (file closing, MPI and
+    the interpreter shutting down): exit code 3 or 0, never the signal's 143/15."""
+    study = tiny_study(tmp_path)
+    process = start(study)
+    for line in process.stdout:
+        if "completed, 0 failed" in line:
+            kill_ranks(study, signal.SIGTERM)
+            break
+    out, err = process.communicate(timeout=30)
+    assert process.returncode in (0, 3), err
+    assert "Traceback" not in err
+    assert len(completed_cases(tmp_path / "tiny.h5")) == 16
 
 
 # ------------------------------------------------------------------------------ 16.5 / 18.2
