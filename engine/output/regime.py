@@ -96,7 +96,7 @@ def _legend_handles(axis) -> None:
     ]
     axis.legend(
         handles=handles, title="overall σ_VM peak", fontsize=9, title_fontsize=9,
-        loc="upper left", framealpha=0.9,
+        loc="upper right", framealpha=0.9,
     )  # fmt: skip
 
 
@@ -169,6 +169,7 @@ def _draw_map(axis, study: StudyResults) -> None:
 
 def _draw_deep_depth(axis, study: StudyResults) -> None:
     colours = [FRICTION_COLOURS[i % len(FRICTION_COLOURS)] for i in range(len(_frictions(study)))]
+    right = _settled_severity(study)
     axis.axhspan(*PAPER_DEPTH_BAND, color="0.85", zorder=0)
     axis.text(
         0.98, np.mean(PAPER_DEPTH_BAND), "paper, μ = 0.1 (Fig. 8b)", ha="right", va="center",
@@ -183,13 +184,34 @@ def _draw_deep_depth(axis, study: StudyResults) -> None:
         axis.plot(severity, depth, "-", color=colour, lw=1.2, label=f"μ = {mu:g}")
         axis.plot(severity[on_axis], depth[on_axis], "o", color=colour, ms=5)
         axis.plot(severity[~on_axis], depth[~on_axis], "o", mfc="none", mec=colour, ms=5)
-    axis.set_xlim(left=0.0)
+    axis.set_xlim(0.0, right)
+    if right < max(_final_severity(case) for case in study.cases):
+        axis.text(
+            0.98, 0.03, "beyond the right edge: every deep peak\nstays where it is, to the end",
+            transform=axis.transAxes, ha="right", va="bottom", fontsize=8,
+        )  # fmt: skip
     axis.set_ylim(1.6, 0.0)
     axis.set_xlabel("wear severity ω_max / δ0 (linear)")
     axis.set_ylabel("depth of the deep peak z/a0 (down)")
     axis.set_title("(b) deep σ_VM peak: ● on the axis, ○ at the edge", fontsize=10)
     axis.grid(True, alpha=0.3)
     axis.legend(fontsize=9, loc="lower left")
+
+
+def _settled_severity(study: StudyResults) -> float:
+    """Right end of panel (b): the whole range, unless every track has long since settled
+    (same deep region and depth to its end); then 1.3 × the last severity where any track
+    still changes, so that the transition is not squeezed into a corner."""
+    last_change, end = 0.0, 0.0
+    for mu in _frictions(study):
+        case = _most_worn(study, mu)
+        severity = wear_severity_history(case)
+        state = np.stack([case.history["deep_region"], case.history["vm_deep_max_z"]])
+        changes = np.flatnonzero(np.any(state[:, 1:] != state[:, :-1], axis=0))
+        if changes.size:
+            last_change = max(last_change, float(severity[changes[-1] + 1]))
+        end = max(end, float(severity[-1]))
+    return end if last_change <= 0.0 else min(end, 1.3 * last_change)
 
 
 def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
@@ -207,8 +229,9 @@ def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
                   label=label)  # fmt: skip
     axis.set_xlim(left=0.0)
     axis.set_yscale("log")
+    axis.yaxis.set_major_locator(ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
     axis.yaxis.set_major_formatter(ticker.FormatStrFormatter("%g"))
-    axis.yaxis.set_minor_formatter(ticker.FormatStrFormatter("%g"))
+    axis.yaxis.set_minor_formatter(ticker.NullFormatter())
     axis.set_xlabel("wear severity ω_max / δ0 (linear)")
     axis.set_ylabel("stress / p0 (log)")
     axis.set_title(f"(c) μ = {mu:g}, i = {case.wear1:g} 1/MPa: peaks along the history",

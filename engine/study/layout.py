@@ -18,7 +18,9 @@ configuration (:meth:`StudyConfig.for_case`): sweeping ``mesh.n``, ``loading.cyc
   so it cannot drift from the solver's sampling rule.
 
 Not in the layout: ``history/*`` (one entry per *simulated* cycle, whose number the adaptive
-cycle jump decides at run time). They are small and are written at the collective commit.
+cycle jump decides at run time) and ``peak_changes/cycle_NNNNNNN/*`` (the x–z plane at each
+change of the peak region, engine.solvers.peak: how many is known only at run time). They are
+small and are written at the collective commit.
 """
 
 from __future__ import annotations
