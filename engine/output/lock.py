@@ -68,16 +68,26 @@ class LockOwner:
             return False
         except PermissionError:
             pass  # exists, belongs to another user
-        return self.start in ("?", _start_ticks(self.pid))
+        state, start = _process_state(self.pid)
+        if state in ("Z", "X"):  # killed, not yet reaped by its parent: gone all the same
+            return False
+        return self.start in ("?", start)
+
+
+def _process_state(pid: int) -> tuple[str, str]:
+    """(state, start time in clock ticks after boot) of ``pid`` from fields 3 and 22 of
+    /proc/PID/stat, or ("?", "?") where /proc is absent."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return "?", "?"
+    fields = stat.rpartition(")")[2].split()
+    return fields[0], fields[19]
 
 
 def _start_ticks(pid: int) -> str:
     """Start time of ``pid`` in clock ticks after boot (field 22 of /proc/PID/stat), or "?"."""
-    try:
-        stat = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return "?"
-    return stat.rpartition(")")[2].split()[19]
+    return _process_state(pid)[1]
 
 
 def _describe(error: OSError) -> str:
