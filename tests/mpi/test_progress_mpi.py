@@ -67,16 +67,63 @@ def run(tmp_path: Path, mu1: str, *options: str) -> subprocess.CompletedProcess:
     )  # fmt: skip
 
 
-def test_progress_lines_name_the_cases_of_both_ranks(tmp_path):
+def test_progress_lines_of_a_real_run(tmp_path):
+    """End to end, what holds whatever the timing: a status line after every finished case,
+    with an ETA while cases remain, and the last one says all are done."""
     result = run(tmp_path, "[0.1, 0.2, 0.4]", "--progress-interval", "0.2")
     assert result.returncode == 0, result.stdout + result.stderr
     lines = [line for line in result.stderr.splitlines() if line.startswith("progress: ")]
-    assert lines, result.stderr
-    assert any("(rank 1," in line for line in lines), lines  # reported by MPI message
-    assert any("cycle " in line and "(rank 0," in line for line in lines), lines
     assert any(line.startswith("progress: 1/3 cases done") and "ETA " in line for line in lines)
     assert lines[-1].startswith("progress: 3/3 cases done")
     assert "warning" not in result.stderr
+
+
+CHANNEL_SCRIPT = """
+import io, sys, time
+from types import SimpleNamespace
+from mpi4py import MPI
+from engine.output.progress import ProgressChannel, ProgressReporter, WorkerProgress
+
+comm = MPI.COMM_WORLD
+case = SimpleNamespace(case_id=f"case_of_rank_{comm.Get_rank()}", expected_cost=1.0)
+if comm.Get_rank() == 1:
+    report = WorkerProgress(comm, min_interval=0.0)
+    report(case)
+    report(case, 7, 10)
+    comm.Barrier()
+else:
+    status = io.StringIO()
+    todo = [case, SimpleNamespace(case_id="case_of_rank_1", expected_cost=1.0)]
+    reporter = ProgressReporter(2, todo=todo, ranks=2, stream=io.StringIO(),
+                                status_stream=status, bar=False, interval=1e-9)
+    channel = ProgressChannel(comm, reporter)
+    channel.local(case)
+    channel.local(case, 3, 10)
+    comm.Barrier()
+    deadline = time.monotonic() + 30
+    while "cycle 7" not in reporter.status_text() and time.monotonic() < deadline:
+        channel.drain()
+        time.sleep(0.01)
+    text = reporter.status_text()
+    print(text)
+    sys.exit(0 if "(rank 1," in text and "(rank 0," in text else 1)
+"""
+
+
+def test_progress_channel_names_the_cases_of_both_ranks(tmp_path):
+    """Rank 1's reports travel by MPI message, rank 0's computing thread's through a queue;
+    one status text names both running cases with their cycles (deterministic: the reports
+    are sent before a barrier and drained until they have arrived)."""
+    script = tmp_path / "channel.py"
+    script.write_text(CHANNEL_SCRIPT)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    result = subprocess.run(
+        [MPIEXEC, "-n", "2", PYTHON, str(script)],
+        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "cycle 7" in result.stdout and "cycle 3" in result.stdout, result.stdout
 
 
 def test_more_ranks_than_cases_warns(tmp_path):
