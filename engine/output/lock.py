@@ -68,16 +68,29 @@ class LockOwner:
             return False
         except PermissionError:
             pass  # exists, belongs to another user
+        if _state(self.pid) in ("Z", "X"):
+            return False  # killed, not yet reaped (a container's init may never reap it)
         return self.start in ("?", _start_ticks(self.pid))
+
+
+def _stat_fields(pid: int) -> list[str]:
+    """Fields of /proc/PID/stat after the command name (state first), or [] without /proc."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return []
+    return stat.rpartition(")")[2].split()
+
+
+def _state(pid: int) -> str:
+    fields = _stat_fields(pid)
+    return fields[0] if fields else "?"
 
 
 def _start_ticks(pid: int) -> str:
     """Start time of ``pid`` in clock ticks after boot (field 22 of /proc/PID/stat), or "?"."""
-    try:
-        stat = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return "?"
-    return stat.rpartition(")")[2].split()[19]
+    fields = _stat_fields(pid)
+    return fields[19] if len(fields) > 19 else "?"
 
 
 def _describe(error: OSError) -> str:
