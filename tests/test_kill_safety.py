@@ -304,3 +304,26 @@ def test_peer_watch_notices_a_dead_rank_of_this_host():
         watch.check({1})
     remote = PeerWatch(0, [(os.getpid(), host), (child.pid, "another-node")], interval=0.0)
     remote.check({1})  # another host: left to the launcher
+
+
+def test_lock_of_a_killed_but_unreaped_process_is_stale(tmp_path):
+    """A rank killed with SIGKILL stays a zombie until reaped (in a container, PID 1 may never
+    reap it); its lock is stale all the same."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    output = tmp_path / "r.h5"
+    ticks = open(f"/proc/{child.pid}/stat").read().rpartition(")")[2].split()[19]
+    lock_path_for(output).write_text(f"{child.pid} {socket.gethostname()} {ticks}\n")
+    with pytest.raises(OutputInUse):
+        OutputLock(output).acquire()  # alive: in use
+    os.kill(child.pid, signal.SIGKILL)
+    time.sleep(0.2)  # dead, not reaped (no wait()): a zombie
+    lock = OutputLock(output)
+    lock.acquire()
+    assert lock.replaced is not None and lock.replaced.pid == child.pid
+    lock.release()
+    child.wait()

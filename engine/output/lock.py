@@ -68,26 +68,29 @@ class LockOwner:
             return False
         except PermissionError:
             pass  # exists, belongs to another user
-        state, start = _process_state(self.pid)
-        if state in ("Z", "X"):  # killed, not yet reaped by its parent: gone all the same
-            return False
-        return self.start in ("?", start)
+        if _state(self.pid) in ("Z", "X"):
+            return False  # killed, not yet reaped (a container's init may never reap it)
+        return self.start in ("?", _start_ticks(self.pid))
 
 
-def _process_state(pid: int) -> tuple[str, str]:
-    """(state, start time in clock ticks after boot) of ``pid`` from fields 3 and 22 of
-    /proc/PID/stat, or ("?", "?") where /proc is absent."""
+def _stat_fields(pid: int) -> list[str]:
+    """Fields of /proc/PID/stat after the command name (state first), or [] without /proc."""
     try:
         stat = Path(f"/proc/{pid}/stat").read_text()
     except OSError:
-        return "?", "?"
-    fields = stat.rpartition(")")[2].split()
-    return fields[0], fields[19]
+        return []
+    return stat.rpartition(")")[2].split()
+
+
+def _state(pid: int) -> str:
+    fields = _stat_fields(pid)
+    return fields[0] if fields else "?"
 
 
 def _start_ticks(pid: int) -> str:
     """Start time of ``pid`` in clock ticks after boot (field 22 of /proc/PID/stat), or "?"."""
-    return _process_state(pid)[1]
+    fields = _stat_fields(pid)
+    return fields[19] if len(fields) > 19 else "?"
 
 
 def _describe(error: OSError) -> str:

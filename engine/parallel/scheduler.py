@@ -288,10 +288,13 @@ class Scheduler:
                 service_local()  # rank 0's own computing is never starved by the workers
             if not progressed:
                 self.watch.check(busy_or_alive=set(busy) | workers_alive)
+                # a worker waiting for its next case idles: answer within ~2 ms (an Iprobe
+                # costs microseconds); with no workers left, only rank 0's own case matters
+                wait = min(self.poll_interval, 0.002) if workers_alive else self.poll_interval
                 if self.rank in busy:  # wake as soon as rank 0's own case is done
-                    service_local(timeout=self.poll_interval)
+                    service_local(timeout=wait)
                 else:
-                    time.sleep(self.poll_interval)
+                    time.sleep(wait)
         local.join()
         report.stopped = self.stop_event.is_set()
         report.not_started = [case.case_id for case in pending]
