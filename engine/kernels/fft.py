@@ -45,49 +45,61 @@ def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DE
 
 
 class PaddedRealFFT:
-    """Real FFTs of ``batch`` fields of shape ``(n_x, n_y)`` zero-padded to ``(2n_x, 2n_y)``,
-    and the inverse restricted to the first ``(n_x, n_y)`` block (DC-FFT, Liu et al. 2000).
+    """Real FFTs of ``batch`` fields of shape ``(n_x, n_y)`` zero-padded to ``(2n_x, 2n_y)``
+    (``direction="forward"``), or the inverse restricted to the first ``(n_x, n_y)`` block
+    (``"inverse"``) (DC-FFT, Liu et al. 2000).
 
     Pruned: the forward transform runs the row FFTs (last axis) on the ``n_x`` rows that hold
     data only (the others are zero) and then the column FFTs; the inverse runs all column
-    FFTs and the row FFTs of the ``n_x`` rows that are kept. This saves a quarter of the
-    work of each full 2-D transform. Unnormalised in both directions: fold 1/(4 n_x n_y) into
-    the kernel. ``fields`` (batch, n_x, n_y) is where the input goes; ``forward()`` returns
-    the spectrum buffer (batch, 2n_x, n_y + 1); ``inverse()`` transforms that buffer and
-    returns a view (batch, n_x, n_y) of the result (valid until the next call).
+    FFTs (in place) and the row FFTs of the ``n_x`` rows that are kept. This saves a quarter
+    of the work of each full 2-D transform. Unnormalised: fold 1/(4 n_x n_y) into the
+    kernel. Forward: write into ``fields`` (batch, n_x, n_y), ``forward()`` returns the
+    ``spectrum`` buffer (batch, 2n_x, n_y + 1). Inverse: write into ``spectrum``,
+    ``inverse()`` returns a view (batch, n_x, n_y) of the result (valid until the next call;
+    the spectrum is overwritten). Buffers: 21·batch·n_x·n_y·8 bytes (forward), 12·… (inverse),
+    as much as the unpruned transforms of the same batch.
     """
 
-    def __init__(self, batch: int, shape: tuple[int, int], *, threads=1, effort=DEFAULT_EFFORT):
+    def __init__(
+        self,
+        batch: int,
+        shape: tuple[int, int],
+        direction: str = "forward",
+        *,
+        threads=1,
+        effort=DEFAULT_EFFORT,
+    ):
+        if direction not in ("forward", "inverse"):
+            raise ValueError(f"direction must be 'forward' or 'inverse', got {direction!r}")
         nx, ny = (int(n) for n in shape)
         self.shape = (nx, ny)
         options = dict(threads=threads, effort=effort)
-        self._rows = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
-        self._half = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
         self.spectrum = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
-        self._columns = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
-        self._output = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
-        self._row_forward = plan(self._rows, self._half[:, :nx, :], (2,), **options)
-        self._column_forward = plan(self._half, self.spectrum, (1,), **options)
-        self._column_inverse = plan(
-            self.spectrum, self._columns, (1,), direction="FFTW_BACKWARD", **options
-        )
-        self._row_inverse = plan(
-            self._columns[:, :nx, :], self._output, (2,), direction="FFTW_BACKWARD", **options
-        )
-        for buffer in (self._rows, self._half, self.spectrum, self._columns, self._output):
-            buffer[...] = 0.0  # the padding of _rows and _half stays zero from now on
-        self.fields = self._rows[:, :, :ny]
+        if direction == "forward":
+            self._rows = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
+            self._half = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
+            self._row_plan = plan(self._rows, self._half[:, :nx, :], (2,), **options)
+            self._column_plan = plan(self._half, self.spectrum, (1,), **options)
+            self._rows[...] = 0.0  # the padding of _rows and _half stays zero from now on
+            self._half[...] = 0.0
+            self.fields = self._rows[:, :, :ny]
+        else:
+            self._output = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
+            backward = dict(direction="FFTW_BACKWARD", **options)
+            self._column_plan = plan(self.spectrum, self.spectrum, (1,), **backward)
+            self._row_plan = plan(self.spectrum[:, :nx, :], self._output, (2,), **backward)
+        self.spectrum[...] = 0.0
 
     def forward(self) -> np.ndarray:
         """``spectrum`` ← unnormalised FFT of the zero-padded ``fields``."""
-        self._row_forward.execute()
-        self._column_forward.execute()
+        self._row_plan.execute()
+        self._column_plan.execute()
         return self.spectrum
 
     def inverse(self) -> np.ndarray:
         """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectrum``."""
-        self._column_inverse.execute()
-        self._row_inverse.execute()
+        self._column_plan.execute()
+        self._row_plan.execute()
         return self._output[:, :, : self.shape[1]]
 
 

@@ -94,10 +94,11 @@ class HalfSpaceOperator:
         return self._preconditioner
 
     def _fft(self, batch: int, store: dict) -> PaddedRealFFT:
-        """Plans and buffers per batch size (inputs and outputs in separate objects)."""
+        """Plans and buffers per batch size, forward (``_ffts``) or inverse."""
         if batch not in store:
+            direction = "forward" if store is self._ffts else "inverse"
             store[batch] = PaddedRealFFT(
-                batch, self.grid.shape, threads=self.threads, effort=self._effort
+                batch, self.grid.shape, direction, threads=self.threads, effort=self._effort
             )
         return store[batch]
 

@@ -45,7 +45,7 @@ from .tangential import ON_BOUND, solve_tangential
 NO_CONTACT, STICK, SLIP = 0, 1, 2
 POWER_ITERATIONS = 40  # operator applications of the one-time step-size estimate (per solver)
 MAX_OUTER = 60  # normal/tangential alternations before the accelerated gradient takes over
-INNER_FACTOR = 0.1  # inner tolerance: this fraction of the last outer residual
+INNER_FACTOR = 0.03  # inner tolerance: this fraction of the last outer residual (0.1: 9 % slower)
 
 
 @dataclass
