@@ -277,24 +277,34 @@ def test_sigterm_during_shutdown_is_not_a_signal_death(tmp_path):
 # ------------------------------------------------------------------------------ 16.5 / 18.2
 def test_second_run_and_fresh_run_on_a_busy_output_exit_2(tmp_path):
     """Issues 16.5 and 18.2: while a run computes, a second run and a ``--fresh`` run on the
-    same output exit 2 naming the first run; the first run's results are intact."""
-    study = tiny_study(tmp_path, cyclic=True, mu1="[0.1]", beta="[0.0, 90.0]")
+    same output exit 2 naming the first run; the first run's results are intact.
+
+    Deterministic whatever the machine's speed: of the first run's two cases one is short and
+    one runs for hours (10⁸ cycles), so the run still holds the output while the contenders
+    start; it is then stopped by SIGTERM (exit 3) and its completed case must be there."""
+    study = tiny_study(tmp_path, cyclic=True, mu1="[0.1]", beta="[0.0]", n=16)
+    text = study.read_text().replace("cycles = 3000000\n", "")
+    study.write_text(text + '"loading.cycles" = [1000, 100000000]\n')
     first = start(study)
+    lines = []
     for line in first.stdout:
-        if line.startswith("study "):  # the file is prepared, cases are running
+        lines.append(line)
+        if line.startswith("[1/2]"):  # the short case is complete, the long one computes
             break
+    assert "completed" in lines[-1], "".join(lines)
     lock_owner = rank_pids(study)[0]
     contenders = [start(study), start(study, "--fresh")]
-    results = [process.communicate(timeout=60) for process in contenders]
-    out, err = first.communicate(timeout=120)
+    results = [process.communicate(timeout=120) for process in contenders]
     for process, (_, contender_err) in zip(contenders, results, strict=True):
         assert process.returncode == 2, contender_err
         assert f"in use by another run (pid {lock_owner}, host " in contender_err
         assert "Traceback" not in contender_err
-    assert first.returncode == 0, err
-    assert "[2/2]" in out and "completed" in out
+    assert first.poll() is None, "the long case must still be running"
+    kill_ranks(study, signal.SIGTERM)
+    out, err = first.communicate(timeout=120)
+    assert first.returncode == 3, err
     output = tmp_path / "tiny.h5"
-    assert len(completed_cases(output)) == 2
+    assert len(completed_cases(output)) == 1  # the --fresh contender deleted nothing
     with h5py.File(output, "r") as file:
         assert sorted(int(g.attrs["index"]) for g in file["cases"].values()) == [0, 1]
     assert not (tmp_path / "tiny.h5.lock").exists()
