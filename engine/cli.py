@@ -51,14 +51,14 @@ _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 
 
 _USAGE = """\
-%(prog)s STUDY.toml [--dry-run] [--resume | --fresh] [--output PATH]
+%(prog)s STUDY.toml [--dry-run] [--resume | --fresh] [--drop-stale] [--output PATH]
             [--output-strategy {auto,single,mpio}] [--no-progress-bar] [--progress-interval S]
        %(prog)s plot RESULTS.h5 [--out DIR]
        %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]"""
 
 _DESCRIPTION = """\
-Run a fretting-wear parameter study (flat punch, FFT boundary elements) across all MPI ranks
-and gather the results in one HDF5 file with a CSV summary. Launch it with
+Run a fretting-wear parameter study (flat, rounded or spherical punch; FFT boundary elements)
+across all MPI ranks and gather the results in one HDF5 file with a CSV summary. Launch it with
 `mpiexec -n N python -m engine STUDY.toml` or `srun python -m engine STUDY.toml`.
 
 subcommands (serial, no MPI):
@@ -67,8 +67,10 @@ subcommands (serial, no MPI):
 
 _EPILOG = """\
 Relative paths ([study] output, --output) are taken from the working directory, not from the
-folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input
-(nothing computed or changed), 3 interrupted (rerun to resume), 70 internal error.
+folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input,
+unusable output path, or output in use by another run or holding another study (nothing
+computed or changed), 3 interrupted by a signal (rerun to resume), 70 internal error or a
+dead rank.
 Example: mpiexec -n 2 python -m engine studies/demo.toml --dry-run"""
 
 
@@ -622,11 +624,14 @@ def _planned_states(config, plan, fresh: bool) -> dict[str, str]:
         return states
     output = config.study.output
     if output.exists():
-        with h5py.File(output, "r") as file:
-            cases = file.get("cases", {})
-            for case_id in plan.case_ids:
-                if case_id in cases and cases[case_id].attrs.get("status", "") == "completed":
-                    states[case_id] = "complete: skip"
+        try:
+            with h5py.File(output, "r") as file:
+                cases = file.get("cases", {})
+                for case_id in plan.case_ids:
+                    if case_id in cases and cases[case_id].attrs.get("status", "") == "completed":
+                        states[case_id] = "complete: skip"
+        except (OSError, KeyError) as error:  # damaged: a run would salvage it (output.salvage)
+            print(f"note: {output} cannot be read ({error}); a run would salvage what it can")
     for case_id, state in states.items():
         if state == "run" and (config.study.checkpoint_dir / f"{case_id}.npz").exists():
             states[case_id] = "resume from its checkpoint"
