@@ -15,8 +15,8 @@ other, alternating the order per size, on one core (OMP/OpenBLAS threads = 1, FF
 simulated cycles, operator applications per increment, max wear depth, wear volume, the
 von Mises peak of the final x–z plane (all layers and below the surface layer) and the peak
 RSS; then the ratios today/new. The solve's CPU time (``time.process_time``) is printed
-beside its wall time: on a shared machine it is the steadier of the two. Targets (issue 17): 64² ≤ 10 s and ≥ 2.9× today in the same
-run, 128² ≤ 45 s, results within 1 %.
+beside its wall time: on a shared machine it is the steadier of the two. Targets (issue
+17): 64² ≤ 10 s and ≥ 2.9× today in the same run, 128² ≤ 45 s, results within 1 %.
 
 ``--static-cases K`` also runs a study of K static frictional 128² cases through the case
 runner, with the per-rank operator cache and without it (today), and prints set-up vs total.
