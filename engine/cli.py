@@ -434,6 +434,7 @@ def _compute_collective(
     import time
 
     from engine.output.collective import CollectiveWriter
+    from engine.output.hdf5 import StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
@@ -449,8 +450,14 @@ def _compute_collective(
         summary_path=config.study.summary_path,
         journal_dir=config.study.checkpoint_dir,
         drop_stale=args.drop_stale,
+        should_stop=stop_event.is_set,
     )
-    completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
+    try:
+        completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
+    except StoppedDuringSetUp as stopped:  # raised on every rank at the same point
+        if rank == 0:
+            print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
+        return EXIT_INTERRUPTED
     runner = CaseRunner(config)
     if rank != 0:
         runner.on_progress = WorkerProgress(comm)

@@ -49,6 +49,7 @@ from engine.study.plan import Case, Plan
 
 from .hdf5 import (
     SingleWriter,
+    StoppedDuringSetUp,
     StudyMetadata,
     SummaryTable,
     _attribute_safe,
@@ -127,9 +128,11 @@ class CollectiveWriter:
         summary_path: str | Path | None = None,
         journal_dir: str | Path | None = None,
         drop_stale: bool = False,
+        should_stop=None,
     ) -> None:
         self.path = Path(path)
         self.comm = comm
+        self.should_stop = should_stop or (lambda: False)  # this rank's stop signal
         self.rank = comm.Get_rank()
         self.layout = dict(layout)
         self._per_case = any(isinstance(spec, dict) for spec in self.layout.values())
@@ -193,14 +196,31 @@ class CollectiveWriter:
     def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
         """Collective: structure of a new file under the temporary name, then the rename."""
         temporary = creating_path(self.path)
+        stopped = False
         with h5py.File(temporary, "w", driver="mpio", comm=self.comm) as file:
             write_root(file, metadata)
             cases = file.create_group("cases")
-            for case in plan:
+            for number, case in enumerate(plan):
+                if number % 64 == 0 and self._stop_agreed():
+                    stopped = True
+                    break
                 self._pending_group(cases, case)
+        stopped = stopped or self._stop_agreed()
+        if stopped:  # thousands of cases take seconds: stop without the file, on every rank
+            if self.rank == 0:
+                temporary.unlink(missing_ok=True)
+            self.comm.Barrier()
+            raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
         if self.rank == 0:
             publish_created(self.path)
         self.comm.Barrier()
+
+    def _stop_agreed(self) -> bool:
+        """Collective: whether any rank has seen a stop signal (the same answer everywhere, so
+        every rank leaves the structural writes at the same point)."""
+        from mpi4py import MPI
+
+        return bool(self.comm.allreduce(bool(self.should_stop()), op=MPI.LOR))
 
     def _pending_group(self, cases: h5py.Group, case) -> None:
         group = SingleWriter._reset_group(cases, case)

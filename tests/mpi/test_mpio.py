@@ -22,6 +22,7 @@ import pytest
 
 import engine
 from tests.mpi.test_engine_mpi import (
+    MPIEXEC,
     PYTHON,
     assert_same_results,
     engine_command,
@@ -152,3 +153,83 @@ def test_mpio_without_parallel_h5py_is_a_clear_error(tmp_path):
     study.write_text(study.read_text().replace("[study]\n", '[study]\noutput_strategy = "mpio"\n'))
     result = run_engine(study, timeout=60)
     assert result.returncode == 2 and "build_parallel_h5py.sh" in result.stderr
+
+
+STOP_DURING_CREATION = """
+import sys
+from pathlib import Path
+from mpi4py import MPI
+from engine.cli import _metadata
+from engine.output.collective import CollectiveWriter
+from engine.output.hdf5 import StoppedDuringSetUp, creating_path
+from engine.study.config import parse_study
+from engine.study.layout import plan_layout
+from engine.study.plan import make_plan
+
+comm = MPI.COMM_WORLD
+output = Path(sys.argv[1])
+text = Path(sys.argv[2]).read_text().replace("OUTPUT", str(output))
+config = parse_study(text, source="stop.toml")
+plan = make_plan(config)
+calls = []
+
+def should_stop():  # a stop signal seen by rank 1 only, at its third check (case 128)
+    calls.append(1)
+    return comm.Get_rank() == 1 and len(calls) > 2
+
+writer = CollectiveWriter(output, comm, plan_layout(config, plan), should_stop=should_stop)
+try:
+    writer.prepare(plan, _metadata(config, "", plan))
+except StoppedDuringSetUp:
+    comm.Barrier()
+    left = output.exists() or creating_path(output).exists()
+    print(f"rank {comm.Get_rank()} stopped; file left: {left}", flush=True)
+    sys.exit(0 if not left else 1)
+print(f"rank {comm.Get_rank()} was not stopped", flush=True)
+sys.exit(1)
+"""
+
+
+@needs_parallel_h5py
+def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_path):
+    """Issue 16.3 on the mpio path: a stop seen by one rank while the new file's structure is
+    being created (every 64 cases the ranks agree by an allreduce) stops the creation on every
+    rank at the same point, and neither the file nor its temporary is left. Deterministic: the
+    "signal" is a should_stop() that turns true on rank 1 at its third check."""
+    study = tmp_path / "stop.toml"
+    sweep = ", ".join(f"{0.001 * k:.3f}" for k in range(1, 201))  # 200 cases
+    study.write_text(STUDY_MINIMAL.replace("MU1", f"[{sweep}]"))
+    script = tmp_path / "stop.py"
+    script.write_text(STOP_DURING_CREATION)
+    output = tmp_path / "stop.h5"
+    result = subprocess.run(
+        [MPIEXEC, "-n", "2", PYTHON, str(script), str(output), str(study)],
+        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.count("stopped; file left: False") == 2, result.stdout
+
+
+STUDY_MINIMAL = """
+[study]
+name = "stop"
+output = "OUTPUT"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+[punch]
+radius = 1.8
+[mesh]
+n = 8
+[loading]
+kind = "static"
+load = 750.0
+steps = 2
+[subsurface]
+depth = 1.0
+layers = 4
+[sweep]
+mu1 = MU1
+"""
