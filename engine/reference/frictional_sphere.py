@@ -16,7 +16,8 @@ only flips the direction of slip). Exchanging the order of integration, with the
 Weber–Schafheitlin integrals
 
     ∫₀^∞ J₀(ξr) J₀(ξs) dξ = 2 K(k) / (π (r + s)),       k² = 4rs / (r + s)²
-    ∫₀^∞ J₁(ξr) J₁(ξs) dξ = [χ k K(k) − √(2(1 + χ)) E(k)] / (π √(rs)),   χ = (r² + s²)/(2rs)
+    ∫₀^∞ J₁(ξr) J₁(ξs) dξ = [χ k K(k) − √(2(1 + χ)) E(k)] / (π √(rs)),   χ = (r² + s²)/(2rs),
+                                                          (the same k: k² = 2/(1 + χ))
     ∫₀^∞ J₁(ξs) J₀(ξr) dξ = 1/s for s > r, 0 for s < r
     ∫₀^∞ J₀(ξs) J₁(ξr) dξ = 1/r for s < r, 0 for s > r
 
@@ -25,8 +26,10 @@ Weber–Schafheitlin integrals
     w(r) = C [ ∫ p(s) s M₀(r, s) ds + β ∫_r^∞ q(s) ds ]
     u(r) = C [ ∫ q(s) s M₁(r, s) ds + (β / r) ∫₀^r p(s) s ds ]
 
-The ring integrals of the logarithmically singular M₀, M₁ are done by adaptive quadrature
-next to the collocation point (ring midpoints) and by Gauss–Legendre elsewhere.
+The ring integrals of the logarithmically singular M₀, M₁ are done by 12-point Gauss–Legendre
+on far rings and, on the ring of the collocation point r and two either side, by 48-point
+Gauss–Legendre after s = x₀ + (end − x₀) t² from the point x₀ of the ring nearest r (the log
+becomes a smooth t log t).
 
 Loading is monotonic, in increments of the approach δ: in contact w = δ − f(r) and p ≥ 0;
 a contact ring sticks (its radial displacement u does not change during the increment) while
