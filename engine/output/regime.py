@@ -111,7 +111,7 @@ def _positive_floor(values: np.ndarray) -> np.ndarray:
 # ----------------------------------------------------------------------------- the map
 def _regime_map(study: StudyResults):
     figure, (map_axis, depth_axis, peak_axis) = plt.subplots(
-        1, 3, figsize=(17.0, 5.4), layout="constrained"
+        1, 3, figsize=(16.4, 5.4), layout="constrained"
     )
     _draw_map(map_axis, study)
     _draw_deep_depth(depth_axis, study)
