@@ -249,10 +249,11 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     plan = make_plan(config)
     check_memory(config, ranks_on_node)
     strategy = choose_strategy(config.study.output_strategy, ranks)
-    if args.dry_run:
-        if not args.fresh:  # read-only; a dry run reports the same mismatch a run would
-            inspect_existing(config.study.output, _metadata(config, "", plan), plan)
-        return config, plan, strategy, None, None
+    if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
+        existing = None
+        if not args.fresh:
+            existing = inspect_existing(config.study.output, _metadata(config, "", plan), plan)
+        return config, plan, strategy, None, existing
     output = config.study.output
     check_output_path(output)
     lock = OutputLock(output)
@@ -331,7 +332,7 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
             return EXIT_BAD_INPUT
         if args.dry_run:
             if rank == 0:
-                _print_plan(config, plan, args, comm.Get_size(), strategy)
+                _print_plan(config, plan, args, comm.Get_size(), strategy, existing)
             return EXIT_OK
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a signal during start-up
             if rank == 0:
@@ -573,7 +574,7 @@ def _report(config, statuses: list[str], report) -> int:
     return EXIT_FAILED if failed else EXIT_OK
 
 
-def _print_plan(config, plan, args, ranks: int, strategy: str) -> None:
+def _print_plan(config, plan, args, ranks: int, strategy: str, existing) -> None:
     """--dry-run: what a run with the same options would do; reads, never writes."""
     from engine.output.progress import plural
 
@@ -591,7 +592,9 @@ def _print_plan(config, plan, args, ranks: int, strategy: str) -> None:
         f"output {output} = {output.resolve()} (summary {config.study.summary_path}), "
         f"{strategy} writer"
     )
-    states = _planned_states(config, plan, args.fresh)
+    if existing is not None and existing.kind != "resume":
+        existing.report(sys.stdout)  # damaged: what a run would do with it
+    states = _planned_states(config, plan, existing, args.fresh)
     if args.fresh:
         existing = [
             str(path)
@@ -622,24 +625,18 @@ def _print_plan(config, plan, args, ranks: int, strategy: str) -> None:
         )
 
 
-def _planned_states(config, plan, fresh: bool) -> dict[str, str]:
-    """Per case: "run", "resume from its checkpoint", "complete: skip" (read-only)."""
-    import h5py
-
-    states = dict.fromkeys(plan.case_ids, "run")
+def _planned_states(config, plan, existing, fresh: bool) -> dict[str, str]:
+    """Per case: "run", "resume from its checkpoint", "complete: skip", from the look at the
+    existing file already taken (``existing``: None without a file); --fresh runs all."""
     if fresh:
-        return states
-    output = config.study.output
-    if output.exists():
-        try:
-            with h5py.File(output, "r") as file:
-                cases = file.get("cases", {})
-                for case_id in plan.case_ids:
-                    if case_id in cases and cases[case_id].attrs.get("status", "") == "completed":
-                        states[case_id] = "complete: skip"
-        except (OSError, KeyError) as error:  # damaged: a run would salvage it (output.salvage)
-            print(f"note: {output} cannot be read ({error}); a run would salvage what it can")
-    for case_id, state in states.items():
-        if state == "run" and (config.study.checkpoint_dir / f"{case_id}.npz").exists():
+        return dict.fromkeys(plan.case_ids, "run")
+    completed = set(existing.completed) if existing is not None else set()
+    states = {}
+    for case_id in plan.case_ids:
+        if case_id in completed:
+            states[case_id] = "complete: skip"
+        elif (config.study.checkpoint_dir / f"{case_id}.npz").exists():
             states[case_id] = "resume from its checkpoint"
+        else:
+            states[case_id] = "run"
     return states

@@ -58,7 +58,7 @@ from .hdf5 import (
     creating_path,
     publish_created,
     renumber_cases,
-    stale_row,
+    settle_stale_cases,
     write_root,
 )
 from .summary import pending_row
@@ -180,7 +180,7 @@ class CollectiveWriter:
             write_root(file, metadata)
             self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
             completed = self._reset_incomplete(cases, plan)
-            stale = self._stale_cases(cases, plan)
+            stale = settle_stale_cases(cases, plan, self._rows, drop_stale=self.drop_stale)
             renumber_cases(cases, plan, stale)
         else:
             self._rows = {case.case_id: pending_row(case.parameters()) for case in plan}
@@ -239,18 +239,6 @@ class CollectiveWriter:
             self._pending_group(cases, case)
             self._rows[case.case_id] = pending_row(case.parameters())
         return completed
-
-    def _stale_cases(self, cases: h5py.Group, plan: Plan) -> list[str]:
-        """As :meth:`SingleWriter._stale_cases` (collective: identical on all ranks)."""
-        planned = set(plan.case_ids)
-        stale = sorted(name for name in cases if name not in planned)
-        if self.drop_stale:
-            for name in stale:
-                del cases[name]
-            return []
-        for name in stale:
-            self._rows[name] = stale_row(cases[name])
-        return stale
 
     def close(self) -> None:
         """Collective: commit the cases written this run, empty incomplete groups, close."""

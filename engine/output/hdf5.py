@@ -199,6 +199,23 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
             dataset.attrs["description"] = f"element-centre {name} coordinates"
 
 
+def settle_stale_cases(
+    cases: h5py.Group, plan: Plan, rows: dict[str, dict], *, drop_stale: bool
+) -> list[str]:
+    """Groups of cases no longer in the plan (a shrunk sweep), for both writers: deleted
+    (``drop_stale``) or kept, their stored summary rows put in ``rows``, and listed after the
+    plan's cases. Names in sorted order, so every rank of the collective writer agrees."""
+    planned = set(plan.case_ids)
+    stale = sorted(name for name in cases if name not in planned)
+    if drop_stale:
+        for name in stale:
+            del cases[name]
+        return []
+    for name in stale:
+        rows[name] = stale_row(cases[name])
+    return stale
+
+
 class SingleWriter:
     """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
 
@@ -251,7 +268,7 @@ class SingleWriter:
                 continue
             self._reset_group(cases, case)
             self._rows[case.case_id] = pending_row(case.parameters())
-        stale = self._stale_cases(cases, plan)
+        stale = settle_stale_cases(cases, plan, self._rows, drop_stale=self.drop_stale)
         renumber_cases(cases, plan, stale)
         self._order = list(plan.case_ids) + stale
         file.flush()
@@ -273,19 +290,6 @@ class SingleWriter:
             temporary.unlink(missing_ok=True)
             raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
         publish_created(self.path)
-
-    def _stale_cases(self, cases: h5py.Group, plan: Plan) -> list[str]:
-        """Groups of cases no longer in the plan: deleted (``drop_stale``) or kept and listed
-        in the summary after the plan's cases, with their stored rows."""
-        planned = set(plan.case_ids)
-        stale = [name for name in cases if name not in planned]
-        if self.drop_stale:
-            for name in stale:
-                del cases[name]
-            return []
-        for name in stale:
-            self._rows[name] = stale_row(cases[name])
-        return stale
 
     def close(self) -> None:
         if self._file is not None:

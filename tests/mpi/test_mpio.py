@@ -32,6 +32,7 @@ from tests.mpi.test_engine_mpi import (
     signal_ranks,
     write_study,
 )
+from tests.mpi.test_kill_safety import tiny_study
 
 pytestmark = pytest.mark.mpi
 
@@ -167,9 +168,8 @@ from engine.study.layout import plan_layout
 from engine.study.plan import make_plan
 
 comm = MPI.COMM_WORLD
-output = Path(sys.argv[1])
-text = Path(sys.argv[2]).read_text().replace("OUTPUT", str(output))
-config = parse_study(text, source="stop.toml")
+config = parse_study(Path(sys.argv[1]).read_text(), source=sys.argv[1])
+output = config.study.output
 plan = make_plan(config)
 calls = []
 
@@ -196,40 +196,14 @@ def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_pat
     being created (every 64 cases the ranks agree by an allreduce) stops the creation on every
     rank at the same point, and neither the file nor its temporary is left. Deterministic: the
     "signal" is a should_stop() that turns true on rank 1 at its third check."""
-    study = tmp_path / "stop.toml"
-    sweep = ", ".join(f"{0.001 * k:.3f}" for k in range(1, 201))  # 200 cases
-    study.write_text(STUDY_MINIMAL.replace("MU1", f"[{sweep}]"))
+    mu1 = ", ".join(f"{0.001 * k:.3f}" for k in range(1, 201))  # 200 cases
+    study = tiny_study(tmp_path, "stop", mu1=f"[{mu1}]", beta="[0.0]")
     script = tmp_path / "stop.py"
     script.write_text(STOP_DURING_CREATION)
-    output = tmp_path / "stop.h5"
     result = subprocess.run(
-        [MPIEXEC, "-n", "2", PYTHON, str(script), str(output), str(study)],
+        [MPIEXEC, "-n", "2", PYTHON, str(script), str(study)],
         cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("stopped; file left: False") == 2, result.stdout
 
-
-STUDY_MINIMAL = """
-[study]
-name = "stop"
-output = "OUTPUT"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 8
-[loading]
-kind = "static"
-load = 750.0
-steps = 2
-[subsurface]
-depth = 1.0
-layers = 4
-[sweep]
-mu1 = MU1
-"""
