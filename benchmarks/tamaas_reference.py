@@ -252,18 +252,25 @@ def _main() -> None:  # pragma: no cover - benchmark driver
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
-    parser.add_argument("--repeats", type=int, default=3,
-                        help="fresh solves per size; the table shows the fastest")
+    parser.add_argument(
+        "--repeats", type=int, default=3, help="fresh solves per size; the table shows the fastest"
+    )
     parser.add_argument("--tol", type=float, default=1e-8)
     parser.add_argument("--depth", type=float, default=None)
     parser.add_argument("--threads", type=int, default=1)
-    parser.add_argument("--budget", type=float, default=120.0,
-                        help="skip n = 512 unless n = 256 predicts a solve under this (s)")
+    parser.add_argument(
+        "--budget",
+        type=float,
+        default=120.0,
+        help="skip n = 512 unless n = 256 predicts a solve under this (s)",
+    )
     args = parser.parse_args()
 
-    print(f"{'n':>5} {'setup s':>8} {'solve s':>9} {'iters':>6} {'tamaas err':>10} "
-          f"{'force err':>10} {'approach/Sn-1':>13} {'face resid':>10} {'Sneddon dev':>11} "
-          f"{'contact':>8}")
+    print(
+        f"{'n':>5} {'setup s':>8} {'solve s':>9} {'iters':>6} {'tamaas err':>10} "
+        f"{'force err':>10} {'approach/Sn-1':>13} {'face resid':>10} {'Sneddon dev':>11} "
+        f"{'contact':>8}"
+    )
     last = None
     for n in args.sizes:
         if n >= 512 and last is not None:
@@ -272,20 +279,26 @@ def _main() -> None:  # pragma: no cover - benchmark driver
             if predicted > args.budget:
                 print(f"{n:>5} skipped: predicted {predicted:.0f} s > budget {args.budget:.0f} s")
                 continue
-        runs = [solve_flat_punch_tamaas(n, tol=args.tol, depth=args.depth, threads=args.threads)
-                for _ in range(max(1, args.repeats))]
+        runs = [
+            solve_flat_punch_tamaas(n, tol=args.tol, depth=args.depth, threads=args.threads)
+            for _ in range(max(1, args.repeats))
+        ]
         res = min(runs, key=lambda d: d["solve_time_s"])
         last = res
-        print(f"{n:>5} {res['setup_time_s']:>8.3f} {res['solve_time_s']:>9.4f} "
-              f"{res['iterations']!s:>6} {res['error']:>10.2e} {res['force_rel_error']:>10.1e} "
-              f"{res['approach'] / res['approach_sneddon'] - 1:>13.2e} "
-              f"{res['face_residual']:>10.1e} {res['sneddon_max_rel_dev']:>11.4f} "
-              f"{res['n_contact']:>8d}{'' if res['outside_contact'] == 0 else ' OUTSIDE!'}",
-              flush=True)
+        print(
+            f"{n:>5} {res['setup_time_s']:>8.3f} {res['solve_time_s']:>9.4f} "
+            f"{res['iterations']!s:>6} {res['error']:>10.2e} {res['force_rel_error']:>10.1e} "
+            f"{res['approach'] / res['approach_sneddon'] - 1:>13.2e} "
+            f"{res['face_residual']:>10.1e} {res['sneddon_max_rel_dev']:>11.4f} "
+            f"{res['n_contact']:>8d}{'' if res['outside_contact'] == 0 else ' OUTSIDE!'}",
+            flush=True,
+        )
     if last is not None:
-        print(f"tamaas {last['tamaas_version']} backend={last['tamaas_backend']} "
-              f"threads={last['threads']} tol={args.tol:g} depth={last['depth']:.3e} mm "
-              f"repeats={args.repeats} (min solve time shown)")
+        print(
+            f"tamaas {last['tamaas_version']} backend={last['tamaas_backend']} "
+            f"threads={last['threads']} tol={args.tol:g} depth={last['depth']:.3e} mm "
+            f"repeats={args.repeats} (min solve time shown)"
+        )
 
 
 if __name__ == "__main__":

@@ -10,7 +10,8 @@ cd "$(dirname "$0")/.."
 python3 -m venv .venv
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet -e '.[test]'
-.venv/bin/ruff check engine tests benchmarks
+.venv/bin/ruff check engine tests benchmarks scripts
+.venv/bin/ruff format --check engine tests benchmarks scripts
 .venv/bin/python -m pytest tests --ignore=tests/mpi -q
 # MPI tests: each test launches `mpiexec -n 2 python -m engine ...` (real ranks, real files,
 # real signals), and the collective tests run the test module itself on two ranks.

@@ -25,6 +25,7 @@ def test_kernels_match_the_bessel_integrals():
 
     for r, s in ((0.3, 0.7), (1.0, 0.5)):
         for kernel, bessel in ((rings._kernel_normal, j0), (rings._kernel_radial, j1)):
+
             def integrand(x, bessel=bessel, r=r, s=s):
                 return bessel(x * r) * bessel(x * s) * math.exp(-1e-3 * x)
 

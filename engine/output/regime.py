@@ -253,7 +253,7 @@ def _change_maps(study: StudyResults, case: CaseResults):
     figure, axes = plt.subplots(
         rows, columns, figsize=(5.6 * columns, 4.1 * rows), squeeze=False, layout="constrained"
     )
-    for axis in axes.flat[len(cycles):]:
+    for axis in axes.flat[len(cycles) :]:
         axis.set_visible(False)
     a, p0 = study.radius, study.p0
     severity = wear_severity_history(case)
@@ -298,4 +298,3 @@ def _change_maps(study: StudyResults, case: CaseResults):
         fontsize=12,
     )
     return figure
-

@@ -70,8 +70,10 @@ __all__ = [
 
 HERTZ_LOAD = 8.0 / 3.0  # Hertz's load at δ = R = 1, per unit C = 2/E*
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
-_NEAR_NODES, _NEAR_WEIGHTS = (0.5 * (x + 1.0) if k == 0 else 0.5 * x for k, x in
-                              enumerate(np.polynomial.legendre.leggauss(48)))  # on [0, 1]
+_NEAR_NODES, _NEAR_WEIGHTS = (
+    0.5 * (x + 1.0) if k == 0 else 0.5 * x
+    for k, x in enumerate(np.polynomial.legendre.leggauss(48))
+)  # on [0, 1]
 
 
 def _kernel_normal(r, s):

@@ -220,9 +220,7 @@ def make_plan(config: StudyConfig) -> Plan:
 _PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
 
 
-def _setting_collision(
-    source: str, case_id: str, first: tuple, second: tuple
-) -> StudyConfigError:
+def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:
     """Two combinations of swept settings with the same id: name the swept key whose values
     differ only beyond the 10 significant digits of the id."""
     differing = [(key, a, b) for (key, a), (_, b) in zip(first, second, strict=True) if a != b]

@@ -206,4 +206,3 @@ def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_pat
     )  # fmt: skip
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("stopped; file left: False") == 2, result.stdout
-
