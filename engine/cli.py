@@ -45,6 +45,7 @@ import traceback
 from pathlib import Path
 
 from engine import __version__
+from engine.schema import CaseStatus
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
@@ -528,7 +529,7 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, run
     measured = [
         (float(row.get("runtime_s") or 0.0), plan.by_id(row["case_id"]).expected_cost)
         for row in writer.rows()
-        if row.get("status") == "completed"
+        if row.get("status") == CaseStatus.COMPLETED
     ]
     progress = ProgressReporter(
         len(plan),
@@ -561,8 +562,8 @@ def _remove_empty_checkpoint_dir(config) -> None:
 
 
 def _report(config, statuses: list[str], report) -> int:
-    failed = statuses.count("failed")
-    done = statuses.count("completed")
+    failed = statuses.count(CaseStatus.FAILED)
+    done = statuses.count(CaseStatus.COMPLETED)
     print(
         f"study {config.study.name!r}: {done} completed, {failed} failed, "
         f"{len(statuses) - done - failed} not completed; wall time "

@@ -43,7 +43,8 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.study.case import COMPLETED, FAILED, CaseOutcome, DatasetRecord
+from engine.schema import CaseStatus, DatasetRecord, pending_row
+from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
 
@@ -61,7 +62,6 @@ from .hdf5 import (
     settle_stale_cases,
     write_root,
 )
-from .summary import pending_row
 
 __all__ = [
     "STRATEGIES",
@@ -249,7 +249,7 @@ class CollectiveWriter:
         cases = self._file["cases"]
         self._commit_all(cases, journals)
         for case in self._plan or []:
-            if cases[case.case_id].attrs.get("status", "") in ("pending", ""):
+            if cases[case.case_id].attrs.get("status", "") in (CaseStatus.PENDING, ""):
                 SingleWriter._reset_group(cases, case)  # drop the unwritten pre-created data
         self._file.flush()
         self._file.close()

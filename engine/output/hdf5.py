@@ -19,7 +19,8 @@ Layout (``format = "fretting-engine-results/1"``)::
         fields/final/<name>           surface fields at peak load of the last cycle
         subsurface/cycle_NNNNNNN/ and subsurface/final/
                             x, y, z (mm), von_mises and sigma_<ij> (MPa) in the x–z plane
-    every dataset carries ``units`` and ``description`` attributes.
+    every dataset carries ``units`` and ``description`` attributes (paths, units and
+    descriptions: :mod:`engine.schema`, the one table the writers and the reader share).
 
 Every case group is created from the plan when the file is prepared (status ``pending``), so
 the structure is known before any computation — the shape a collective (mpio) strategy needs,
@@ -51,6 +52,7 @@ from typing import Any, Protocol
 import h5py
 import numpy as np
 
+from engine.schema import PARAMETER_UNITS, CaseStatus
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.plan import Case, Plan
 
@@ -68,7 +70,7 @@ __all__ = [
 ]
 
 FORMAT = "fretting-engine-results/1"
-_PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
+_PARAMETER_UNITS = PARAMETER_UNITS
 
 
 class StoppedDuringSetUp(RuntimeError):
@@ -313,7 +315,7 @@ class SingleWriter:
             raise RuntimeError("prepare() the writer before writing")
         cases = self._file["cases"]
         group = cases[outcome.case_id] if outcome.case_id in cases else None
-        if group is None or len(group) or group.attrs.get("status") != "pending":
+        if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
             group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         for path, record in outcome.datasets.items():
             dataset = group.create_dataset(path, data=np.asarray(record.data))
@@ -359,7 +361,7 @@ class SingleWriter:
         if case.case_id in cases:
             del cases[case.case_id]
         group = cases.create_group(case.case_id)
-        group.attrs["status"] = "pending"
+        group.attrs["status"] = str(CaseStatus.PENDING)
         group.attrs.update(case.parameters())
         group.attrs["parameter_units"] = json.dumps(_parameter_units(case))
         group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
@@ -376,7 +378,7 @@ def stale_row(group: h5py.Group) -> dict[str, Any]:
     """Summary row of a stored case no longer in the plan (its stored row, current status)."""
     case_id = group.name.rsplit("/", 1)[-1]
     row = json.loads(group.attrs.get("summary", "{}")) or pending_row({"case_id": case_id})
-    row["status"] = str(group.attrs.get("status", row.get("status", "pending")))
+    row["status"] = str(group.attrs.get("status", row.get("status", CaseStatus.PENDING)))
     return row
 
 

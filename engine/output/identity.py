@@ -28,7 +28,7 @@ from typing import Any, TextIO
 
 import h5py
 
-from engine.study.case import COMPLETED
+from engine.schema import CaseStatus
 from engine.study.plan import Plan
 
 from .hdf5 import FORMAT, ResultsMismatch, StudyMetadata
@@ -149,7 +149,7 @@ def inspect_existing(path: Path, metadata: StudyMetadata, plan: Plan) -> Existin
     return ExistingResults(
         path,
         "resume",
-        completed=[case_id for case_id, status in cases.items() if status == COMPLETED],
+        completed=[case_id for case_id, status in cases.items() if status == CaseStatus.COMPLETED],
         stale=[case_id for case_id in cases if case_id not in planned],
         new_cases=len(planned - set(cases)),
     )
@@ -164,7 +164,7 @@ def _case_statuses(file: h5py.File) -> dict[str, str]:
     for name in cases:
         attrs = cases[name].attrs
         statuses[name] = str(attrs.get("status", ""))
-        if statuses[name] == COMPLETED:
+        if statuses[name] == CaseStatus.COMPLETED:
             json.loads(attrs["summary"])
     return statuses
 

@@ -35,6 +35,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, TextIO
 
+from engine.schema import CaseStatus
+
 __all__ = [
     "ProgressReporter",
     "ProgressChannel",
@@ -151,14 +153,14 @@ class ProgressReporter:
         self._running.pop(outcome.case_id, None)
         if outcome.case_id in self._waiting:
             self._waiting.remove(outcome.case_id)
-        if outcome.status == "completed":
+        if outcome.status == CaseStatus.COMPLETED:
             self._measure(outcome.runtime_s, self._costs.get(outcome.case_id, 1.0))
         width = len(str(self.total))
         text = (
             f"[{self.done:{width}d}/{self.total}] {outcome.case_id:<40s} "
             f"rank {outcome.rank:<3d} {outcome.runtime_s:9.2f} s  {outcome.status}"
         )
-        if outcome.status == "failed" and outcome.message:
+        if outcome.status == CaseStatus.FAILED and outcome.message:
             text += f": {outcome.message.splitlines()[0]}"
         self.line(text)
         if self._bar is not None:

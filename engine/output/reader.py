@@ -1,4 +1,4 @@
-"""Read a study's results file (layout: :mod:`engine.output.hdf5`) into plain in-memory objects.
+"""Read a study's results file (layout: :mod:`engine.schema`) into plain in-memory objects.
 
 Used by the figures and the report; nothing here writes. Units as stored: mm, N, MPa; the
 objects add the normalisations the paper uses (a0 = punch radius, p0 = P/(π a0²), Eq. 19).
@@ -8,7 +8,6 @@ Only completed cases are loaded; the others are listed in ``StudyResults.skipped
 from __future__ import annotations
 
 import json
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -18,10 +17,9 @@ import numpy as np
 
 from engine.material import MaterialPair
 from engine.reference.flat_punch import mean_pressure
+from engine.schema import CaseStatus, cycle_of_group
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
-
-_CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
 
 
 @dataclass
@@ -179,7 +177,7 @@ def read_results(path: str | Path) -> StudyResults:
         cases, skipped = [], []
         for case_id, group in file["cases"].items():
             status = str(group.attrs.get("status", ""))
-            if status != "completed":
+            if status != CaseStatus.COMPLETED:
                 skipped.append((case_id, status))
                 continue
             cases.append(_read_case(case_id, group))
@@ -207,8 +205,8 @@ def _grid(file: h5py.File, name: str) -> np.ndarray:
 
 
 def _group_key(name: str):
-    match = _CYCLE_GROUP.match(name)
-    return int(match.group(1)) if match else name
+    cycle = cycle_of_group(name)
+    return name if cycle is None else cycle
 
 
 def _read_case(case_id: str, group: h5py.Group) -> CaseResults:

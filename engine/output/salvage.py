@@ -29,7 +29,7 @@ from pathlib import Path
 
 import h5py
 
-from engine.study.case import COMPLETED
+from engine.schema import CaseStatus
 from engine.study.plan import Plan
 
 from .hdf5 import ResultsMismatch, StudyMetadata, write_root
@@ -72,7 +72,7 @@ def _complete_and_readable(file: h5py.File, name: str) -> bool:
     try:
         group = file["cases"][name]
         attrs = dict(group.attrs)
-        if attrs.get("status") != COMPLETED:
+        if attrs.get("status") != CaseStatus.COMPLETED:
             return False
         json.loads(attrs["summary"])
 

@@ -46,7 +46,6 @@ rounded punch a0 is the radius of its flat face.
 from __future__ import annotations
 
 import json
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -54,6 +53,14 @@ from typing import Any
 import h5py
 import numpy as np
 import pandas as pd
+
+from engine.schema import (
+    COLUMN_UNITS,
+    INTEGER_COLUMNS,
+    SUMMARY_COLUMNS,
+    TEXT_COLUMNS,
+    pending_row,
+)
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -65,30 +72,8 @@ __all__ = [
     "column_unit",
 ]
 
-SUMMARY_COLUMNS = [
-    "case_id", "mu1", "mu2", "wear1", "wear2", "beta", "status", "cycles", "load",
-    "approach", "p0", "max_wear_depth", "wear_volume",
-    "vm_max", "vm_max_x", "vm_max_y", "vm_max_z",
-    "vm_sub_max", "vm_sub_max_x", "vm_sub_max_y", "vm_sub_max_z",
-    "stick_fraction", "load_steps", "matvecs", "runtime_s",
-    "vm_deep_max", "vm_deep_max_x", "vm_deep_max_z", "vm_axis_max", "vm_axis_max_z",
-    "contact_radius", "centre_pressure", "elastic_approach", "wear_severity",
-    "peak_region", "peak_region_change_cycle", "deep_region",
-]  # fmt: skip
-
-COLUMN_UNITS = {
-    "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree", "load": "N", "approach": "mm",
-    "p0": "MPa", "max_wear_depth": "mm", "wear_volume": "mm^3",
-    "vm_max": "MPa", "vm_max_x": "mm", "vm_max_y": "mm", "vm_max_z": "mm",
-    "vm_sub_max": "MPa", "vm_sub_max_x": "mm", "vm_sub_max_y": "mm", "vm_sub_max_z": "mm",
-    "runtime_s": "s",
-    "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
-    "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
-    "centre_pressure": "MPa", "elastic_approach": "mm",
-}  # fmt: skip
-
-_INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
-_TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
+# Columns, units, the integer/text columns and the pending row: the results schema.
+_INTEGER_COLUMNS, _TEXT_COLUMNS = INTEGER_COLUMNS, TEXT_COLUMNS
 
 
 def column_unit(column: str) -> str:
@@ -97,15 +82,6 @@ def column_unit(column: str) -> str:
 
     unit = COLUMN_UNITS.get(column) or SWEEPABLE.get(column, "")
     return "" if unit == "1" else unit
-
-
-def pending_row(parameters: dict[str, Any], status: str = "pending") -> dict[str, Any]:
-    """Row of a case without results: its parameters (swept dotted keys included), the
-    status and NaN elsewhere."""
-    row = {column: math.nan for column in SUMMARY_COLUMNS}
-    row.update({k: v for k, v in parameters.items() if k in row or "." in k})
-    row["status"] = status
-    return row
 
 
 def summary_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:

@@ -25,7 +25,9 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from .summary import SUMMARY_COLUMNS, column_unit
+from engine.schema import SUMMARY_COLUMNS, CaseStatus
+
+from .summary import column_unit
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
@@ -38,7 +40,7 @@ _NOT_CONVERGENCE = {"case_id", "status", "mu1", "mu2", "wear1", "wear2", "beta",
 
 
 def _completed(summary: pd.DataFrame) -> pd.DataFrame:
-    return summary[summary["status"] == "completed"]
+    return summary[summary["status"] == str(CaseStatus.COMPLETED)]
 
 
 def _groups(summary: pd.DataFrame, key: str, swept: Sequence[str]):

@@ -44,11 +44,13 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
+from engine.schema import CaseStatus
+
 __all__ = ["Scheduler", "SchedulerReport", "PeerDied"]
 
 TAG_TO_MASTER = 71
 TAG_TO_WORKER = 72
-INTERRUPTED = "interrupted"
+INTERRUPTED = CaseStatus.INTERRUPTED
 
 
 @dataclass

@@ -41,33 +41,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..schema import CYCLIC_HISTORY_KEYS, HISTORY, RECORDED_FIELDS
 from ..validation import require_positive
 from .contact import SLIP, STICK, ContactSolver, ContactState, IncrementResult
 from .friction import WearLaw
 
-HISTORY_KEYS = (
-    "cycle",
-    "jump",
-    "max_wear_depth",
-    "wear_volume",
-    "peak_pressure",
-    "stick_area",
-    "slip_area",
-    "approach",
-)
-HISTORY_UNITS = {
-    "cycle": "1",
-    "jump": "1",
-    "max_wear_depth": "mm",
-    "wear_volume": "mm^3",
-    "peak_pressure": "MPa",
-    "stick_area": "mm^2",
-    "slip_area": "mm^2",
-    "approach": "mm",
-}
+# History keys and their units: the results schema (history/<key> of a cyclic case).
+HISTORY_KEYS = CYCLIC_HISTORY_KEYS
+HISTORY_UNITS = {key: HISTORY[key].units for key in HISTORY_KEYS}
 WARM_STARTS = ("previous_cycle", "previous_increment")
 WARM_KEYS = ("pressure", "traction_x", "traction_y")
-RECORD_KEYS = ("wear", "pressure", "traction_x", "traction_y", "status")
+RECORD_KEYS = RECORDED_FIELDS
 
 
 @dataclass(frozen=True)

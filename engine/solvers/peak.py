@@ -43,6 +43,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..grid import Grid
+from ..schema import (
+    AXIS_RADIUS_FRACTION,
+    DEEP_DEPTH_FRACTION,
+    PEAK_HISTORY_DESCRIPTIONS,
+    PEAK_HISTORY_UNITS,
+    REGIONS,
+    SURFACE_DEPTH_FRACTION,
+)
 from .subsurface import StressField, SubsurfaceStress
 
 __all__ = [
@@ -59,53 +67,8 @@ __all__ = [
     "PeakTracker",
 ]
 
-AXIS_RADIUS_FRACTION = 0.5  # r/a below which a peak is "axis"
-SURFACE_DEPTH_FRACTION = 0.1  # z/a below which a peak is "surface"
-DEEP_DEPTH_FRACTION = 0.1  # z/a0 from which a peak is "deep" (vm_deep_max)
-
-REGIONS = ("edge-surface", "edge-subsurface", "axis-subsurface", "axis-surface")
-
-PEAK_HISTORY_UNITS = {
-    "vm_max": "MPa",
-    "vm_max_x": "mm",
-    "vm_max_z": "mm",
-    "vm_sub_max": "MPa",
-    "vm_sub_max_x": "mm",
-    "vm_sub_max_z": "mm",
-    "vm_deep_max": "MPa",
-    "vm_deep_max_x": "mm",
-    "vm_deep_max_z": "mm",
-    "vm_axis_max": "MPa",
-    "vm_axis_max_z": "mm",
-    "contact_radius": "mm",
-    "centre_pressure": "MPa",
-    "peak_region": "1",
-    "deep_region": "1",
-}
-
-_PLANE = "von Mises stress (Eq. 21) on the x-z plane through the axis at peak load"
-PEAK_HISTORY_DESCRIPTIONS = {
-    "vm_max": f"maximum {_PLANE}, surface layer included",
-    "vm_max_x": "x of vm_max",
-    "vm_max_z": "depth z of vm_max (into the half-space)",
-    "vm_sub_max": f"maximum {_PLANE}, below the surface layer (z >= depths[1])",
-    "vm_sub_max_x": "x of vm_sub_max",
-    "vm_sub_max_z": "depth z of vm_sub_max",
-    "vm_deep_max": f"maximum {_PLANE} at depth z >= {DEEP_DEPTH_FRACTION:g} a0",
-    "vm_deep_max_x": "x of vm_deep_max",
-    "vm_deep_max_z": "depth z of vm_deep_max",
-    "vm_axis_max": f"maximum {_PLANE} on the punch axis r = 0",
-    "vm_axis_max_z": "depth z of vm_axis_max",
-    "contact_radius": "area-equivalent contact radius sqrt(A_c/pi), A_c: elements with p > 0",
-    "centre_pressure": "contact pressure at the punch axis (elements nearest to r = 0)",
-    "peak_region": (
-        "where vm_max sits: "
-        + ", ".join(f"{code} {name}" for code, name in enumerate(REGIONS))
-        + f" (axis: r/a < {AXIS_RADIUS_FRACTION:g}; surface: z/a < {SURFACE_DEPTH_FRACTION:g};"
-        " a = contact_radius)"
-    ),
-    "deep_region": "where vm_deep_max sits, same codes and thresholds as peak_region",
-}
+# The region codes and thresholds are part of the results (the stored ``peak_region`` codes
+# mean them), so they and the history units and descriptions live in the schema.
 
 
 def classify_peak(x: float, z: float, contact_radius: float) -> str:

@@ -36,6 +36,19 @@ from typing import Any
 
 import numpy as np
 
+from engine.schema import (
+    FINAL_FIELDS,
+    PEAK_CHANGE_FIELDS,
+    CaseStatus,
+    DatasetRecord,
+    cycle_group,
+    field_dataset,
+    grid_dataset,
+    history_dataset,
+    pending_row,
+    plane_dataset,
+)
+
 from .config import StudyConfig
 from .plan import Case
 
@@ -48,37 +61,12 @@ __all__ = [
     "nominal_mean_pressure",
 ]
 
-COMPLETED, FAILED, INTERRUPTED = "completed", "failed", "interrupted"
-
-_FIELD_UNITS = {
-    "wear": "mm",
-    "pressure": "MPa",
-    "traction_x": "MPa",
-    "traction_y": "MPa",
-    "slip_x": "mm",
-    "slip_y": "mm",
-    "status": "1",
-}
-_FIELD_DESCRIPTIONS = {
-    "wear": "accumulated wear depth, shape (n_x, n_y), ij indexing",
-    "pressure": "normal contact pressure, positive in compression, shape (n_x, n_y)",
-    "traction_x": "tangential traction x, shape (n_x, n_y)",
-    "traction_y": "tangential traction y, shape (n_x, n_y)",
-    "slip_x": "slip increment x of the last load step, shape (n_x, n_y)",
-    "slip_y": "slip increment y of the last load step, shape (n_x, n_y)",
-    "status": "contact status: 0 no contact, 1 stick, 2 slip",
-}
-_HISTORY_UNITS = {
-    "cycle": "1",
-    "jump": "1",
-    "max_wear_depth": "mm",
-    "wear_volume": "mm^3",
-    "peak_pressure": "MPa",
-    "stick_area": "mm^2",
-    "slip_area": "mm^2",
-    "approach": "mm",
-    "load": "N",
-}
+# Status values, dataset paths, units and descriptions: the results schema (engine.schema).
+COMPLETED, FAILED, INTERRUPTED = (
+    CaseStatus.COMPLETED,
+    CaseStatus.FAILED,
+    CaseStatus.INTERRUPTED,
+)
 
 
 def _without_negative_zeros(row: dict[str, Any]) -> dict[str, Any]:
@@ -141,20 +129,11 @@ class InjectedFailure(RuntimeError):
 
 
 @dataclass
-class DatasetRecord:
-    """An array with its units (UDUNITS-style string, "1" = dimensionless) and a description."""
-
-    data: np.ndarray
-    units: str
-    description: str = ""
-
-
-@dataclass
 class CaseOutcome:
     """What a case produced. Picklable: workers send it to the writing rank."""
 
     case: Case
-    status: str
+    status: str  # a CaseStatus value, kept as plain text (h5py stores str, not str enums)
     row: dict[str, Any] = field(default_factory=dict)
     datasets: dict[str, DatasetRecord] = field(default_factory=dict)
     attrs: dict[str, Any] = field(default_factory=dict)
@@ -162,6 +141,9 @@ class CaseOutcome:
     traceback: str = ""
     runtime_s: float = 0.0
     rank: int = -1
+
+    def __post_init__(self) -> None:
+        self.status = str(CaseStatus(self.status))  # an unknown status raises ValueError
 
     @property
     def case_id(self) -> str:
@@ -286,10 +268,8 @@ class CaseRunner:
                 case, FAILED, message=f"static analysis did not converge: {result.message}"
             )
         datasets = {
-            "history/load": DatasetRecord(np.asarray(result.loads), "N", "load per increment"),
-            "history/approach": DatasetRecord(
-                np.asarray(result.approaches), "mm", "rigid approach per increment"
-            ),
+            "history/load": history_dataset("load", cyclic=False).record(result.loads),
+            "history/approach": history_dataset("approach", cyclic=False).record(result.approaches),
         }
         datasets.update(self._final_fields(result.final))
         datasets.update(self._grid_datasets(grid))
@@ -356,13 +336,9 @@ class CaseRunner:
         datasets.update(self._grid_datasets(grid))
         for cycle in sorted(result.records):
             fields = result.records[cycle]
-            group = f"cycle_{cycle:07d}"
+            group = cycle_group(cycle)
             for name, values in fields.items():
-                datasets[f"fields/{group}/{name}"] = DatasetRecord(
-                    np.asarray(values),
-                    _FIELD_UNITS.get(name, ""),
-                    _FIELD_DESCRIPTIONS.get(name, name) + f", peak load of cycle {cycle}",
-                )
+                datasets[f"fields/{group}/{name}"] = field_dataset(name, group).record(values)
             plane = stress.plane(
                 fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
             )
@@ -385,18 +361,13 @@ class CaseRunner:
     # ---------------------------------------------------------------- peak history
     @staticmethod
     def _history_datasets(history: dict[str, np.ndarray]) -> dict[str, DatasetRecord]:
-        from engine.solvers.peak import PEAK_HISTORY_DESCRIPTIONS, PEAK_HISTORY_UNITS
-
+        """``history/<key>`` of a cyclic case; a key the schema does not know raises."""
         datasets = {}
         for key, values in history.items():
             values = np.asarray(values)
             if key in ("peak_region", "deep_region") and not np.any(np.isnan(values)):
                 values = values.astype(np.int8)
-            units = PEAK_HISTORY_UNITS.get(key, _HISTORY_UNITS.get(key, ""))
-            description = PEAK_HISTORY_DESCRIPTIONS.get(key, key)
-            datasets[f"history/{key}"] = DatasetRecord(
-                values, units, f"{description}, per simulated cycle (after N = cycle)"
-            )
+            datasets[f"history/{key}"] = history_dataset(key).record(values)
         return datasets
 
     def _region_change_datasets(self, stress, changes) -> dict[str, DatasetRecord]:
@@ -405,17 +376,14 @@ class CaseRunner:
         datasets = {}
         for cycle in sorted(changes):
             fields = changes[cycle]
-            prefix = f"peak_changes/cycle_{cycle:07d}"
+            group = cycle_group(cycle)
+            prefix = f"peak_changes/{group}"
             plane = stress.plane(
                 fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
             )
             datasets.update(self._plane_datasets(plane, prefix))
-            for name in ("pressure", "traction_x", "traction_y"):
-                datasets[f"{prefix}/{name}"] = DatasetRecord(
-                    np.asarray(fields[name]),
-                    _FIELD_UNITS[name],
-                    _FIELD_DESCRIPTIONS[name] + f", peak load of cycle {cycle}",
-                )
+            for name in PEAK_CHANGE_FIELDS:
+                datasets[f"{prefix}/{name}"] = field_dataset(name, group).record(fields[name])
         return datasets
 
     @staticmethod
@@ -443,40 +411,25 @@ class CaseRunner:
     # ---------------------------------------------------------------- shared pieces
     def _final_fields(self, final) -> dict[str, DatasetRecord]:
         datasets = {}
-        for name in ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status"):
-            datasets[f"fields/final/{name}"] = DatasetRecord(
-                np.asarray(getattr(final, name)),
-                _FIELD_UNITS[name],
-                _FIELD_DESCRIPTIONS[name] + ", peak load of the last simulated cycle",
-            )
+        for name in FINAL_FIELDS:
+            datasets[f"fields/final/{name}"] = field_dataset(name).record(getattr(final, name))
         return datasets
 
     @staticmethod
     def _plane_datasets(plane, prefix: str) -> dict[str, DatasetRecord]:
-        datasets = {
-            f"{prefix}/x": DatasetRecord(np.asarray(plane.x), "mm", "x coordinates of the plane"),
-            f"{prefix}/y": DatasetRecord(np.asarray(plane.y), "mm", "y coordinates of the plane"),
-            f"{prefix}/z": DatasetRecord(
-                np.asarray(plane.z), "mm", "depth below the surface (into the half-space)"
-            ),
-            f"{prefix}/von_mises": DatasetRecord(
-                np.asarray(plane.von_mises), "MPa", "von Mises stress, Eq. (21)"
-            ),
+        arrays = {"x": plane.x, "y": plane.y, "z": plane.z, "von_mises": plane.von_mises}
+        arrays.update({f"sigma_{name}": values for name, values in plane.components.items()})
+        return {
+            f"{prefix}/{name}": plane_dataset(name).record(values)
+            for name, values in arrays.items()
         }
-        for name, values in plane.components.items():
-            datasets[f"{prefix}/sigma_{name}"] = DatasetRecord(
-                np.asarray(values), "MPa", f"stress component {name}, compression negative"
-            )
-        return datasets
 
     @staticmethod
     def _grid_datasets(grid) -> dict[str, DatasetRecord]:
         """The case's own grid (cases of a study may differ in mesh.n or half_width)."""
         return {
-            f"grid/{name}": DatasetRecord(
-                np.asarray(values), "mm", f"element-centre {name} coordinates of this case"
-            )
-            for name, values in (("x", grid.x), ("y", grid.y))
+            f"grid/{axis}": grid_dataset(axis).record(values)
+            for axis, values in (("x", grid.x), ("y", grid.y))
         }
 
     def _final_row(self, case, cfg, final, stress, depths, datasets, group) -> dict[str, Any]:
@@ -506,9 +459,7 @@ class CaseRunner:
         return row
 
     @staticmethod
-    def _parameters_row(case: Case, status: str) -> dict[str, Any]:
-        from engine.output.summary import pending_row
-
+    def _parameters_row(case: Case, status: CaseStatus) -> dict[str, Any]:
         return pending_row(case.parameters(), status)
 
     # ---------------------------------------------------------------- checkpoints

@@ -1,5 +1,8 @@
 """Datasets of a completed case, known from the study before anything is computed.
 
+Paths, units and descriptions are the results schema's (:mod:`engine.schema`); this module
+adds the shapes and dtypes that follow from a case's configuration.
+
 A collective (mpio) writer must create every dataset with identical arguments on all ranks
 before any rank writes into it, so it needs, per case, the path, shape and dtype of what
 :class:`~engine.study.case.CaseRunner` will produce. The layout of a case follows from its own
@@ -30,12 +33,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from engine.schema import FIELD_DTYPES, FINAL_FIELDS, RECORDED_FIELDS, cycle_group
+
 from .config import StudyConfig
 
 __all__ = ["DatasetShape", "case_layout", "plan_layout", "recorded_cycles"]
-
-FINAL_FIELDS = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
-RECORDED_FIELDS = ("wear", "pressure", "traction_x", "traction_y", "status")  # CyclicAnalysis
 
 
 @dataclass(frozen=True)
@@ -69,14 +71,14 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     n_x, n_y = _grid(config).shape
     plane = _plane_layout(config)
     groups = {"final": FINAL_FIELDS}
-    groups.update({f"cycle_{c:07d}": RECORDED_FIELDS for c in recorded_cycles(config)})
+    groups.update({cycle_group(c): RECORDED_FIELDS for c in recorded_cycles(config)})
     layout: dict[str, DatasetShape] = {
         "grid/x": DatasetShape((n_x,), "float64"),
         "grid/y": DatasetShape((n_y,), "float64"),
     }
     for group, names in groups.items():
         for name in names:
-            dtype = "int8" if name == "status" else "float64"
+            dtype = FIELD_DTYPES.get(name, "float64")
             layout[f"fields/{group}/{name}"] = DatasetShape((n_x, n_y), dtype)
         for name, shape in plane.items():
             layout[f"subsurface/{group}/{name}"] = shape

@@ -1,0 +1,322 @@
+"""The results schema: what a case produces, where it is stored, in which units.
+
+One table for everything the other layers must agree on (issue 14.1): the case status values,
+the dataset paths of a case group with their units and descriptions, the peak-region codes
+stored in the histories, the summary columns and the row of a case without results. The case
+runner (:mod:`engine.study.case`), the layout (:mod:`engine.study.layout`), the solvers'
+histories (:mod:`engine.solvers.cyclic`, :mod:`engine.solvers.peak`), the writers
+(:mod:`engine.output.hdf5`, :mod:`engine.output.collective`), the summary, the scheduler, the
+CLI and the reader (:mod:`engine.analysis.reader`) all take them from here. This module sits
+below every layer and imports nothing of the engine.
+
+Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dimensionless)::
+
+    grid/x, grid/y                    element-centre coordinates of the case (mm), shape (n,)
+    history/<key>                     cyclic: one entry per simulated cycle (HISTORY);
+                                      static: one entry per load increment (STATIC_HISTORY)
+    fields/final/<name>               surface fields at peak load of the last cycle
+                                      (FINAL_FIELDS), shape (n_x, n_y), ij indexing
+    fields/cycle_NNNNNNN/<name>       the same at each recorded cycle (RECORDED_FIELDS)
+    subsurface/final/<name>,          the x-z plane through the punch axis (PLANE), shape
+    subsurface/cycle_NNNNNNN/<name>   (n_s, n_z): x, y, z (mm), von_mises, sigma_<ij> (MPa)
+    peak_changes/cycle_NNNNNNN/<name> the plane and PEAK_CHANGE_FIELDS at the first cycle and
+                                      each change of the peak region (cyclic)
+
+and at the root ``/grid/x``, ``/grid/y`` (ROOT_GRID) when every case shares the grid. Every
+dataset carries ``units`` and ``description`` attributes; :func:`case_dataset` gives both for
+any path of a case group, so a test can check a written file against this table.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "CaseStatus",
+    "DatasetRecord",
+    "DatasetSpec",
+    "FIELDS",
+    "FIELD_DTYPES",
+    "FINAL_FIELDS",
+    "RECORDED_FIELDS",
+    "PEAK_CHANGE_FIELDS",
+    "HISTORY",
+    "CYCLIC_HISTORY_KEYS",
+    "STATIC_HISTORY",
+    "PEAK_HISTORY_UNITS",
+    "PEAK_HISTORY_DESCRIPTIONS",
+    "PLANE",
+    "STRESS_COMPONENTS",
+    "CASE_GRID",
+    "ROOT_GRID",
+    "REGIONS",
+    "AXIS_RADIUS_FRACTION",
+    "SURFACE_DEPTH_FRACTION",
+    "DEEP_DEPTH_FRACTION",
+    "PARAMETER_UNITS",
+    "SUMMARY_COLUMNS",
+    "COLUMN_UNITS",
+    "INTEGER_COLUMNS",
+    "TEXT_COLUMNS",
+    "CYCLE_GROUP",
+    "cycle_group",
+    "cycle_of_group",
+    "field_dataset",
+    "history_dataset",
+    "plane_dataset",
+    "grid_dataset",
+    "case_dataset",
+    "pending_row",
+]
+
+
+class CaseStatus(enum.StrEnum):
+    """Status of a case, as stored in the ``status`` attribute and the summary column.
+
+    A ``str`` enum: ``CaseStatus.COMPLETED == "completed"`` and it is written as that text."""
+
+    PENDING = "pending"  # created from the plan, nothing computed yet
+    COMPLETED = "completed"  # every dataset and the summary row written
+    FAILED = "failed"  # message and traceback say why (non-convergence included)
+    INTERRUPTED = "interrupted"  # stopped on request; the cyclic state is checkpointed
+
+
+@dataclass
+class DatasetRecord:
+    """An array with its units (UDUNITS-style string, "1" = dimensionless) and a description."""
+
+    data: np.ndarray
+    units: str
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class DatasetSpec:
+    """Units and description of a dataset (the ``units`` and ``description`` attributes)."""
+
+    units: str
+    description: str
+
+    def record(self, data) -> DatasetRecord:
+        """``data`` as a :class:`DatasetRecord` carrying this spec's attributes."""
+        return DatasetRecord(np.asarray(data), self.units, self.description)
+
+
+# ------------------------------------------------------------------ surface fields
+FIELDS = {
+    "wear": DatasetSpec("mm", "accumulated wear depth, shape (n_x, n_y), ij indexing"),
+    "pressure": DatasetSpec(
+        "MPa", "normal contact pressure, positive in compression, shape (n_x, n_y)"
+    ),
+    "traction_x": DatasetSpec("MPa", "tangential traction x, shape (n_x, n_y)"),
+    "traction_y": DatasetSpec("MPa", "tangential traction y, shape (n_x, n_y)"),
+    "slip_x": DatasetSpec("mm", "slip increment x of the last load step, shape (n_x, n_y)"),
+    "slip_y": DatasetSpec("mm", "slip increment y of the last load step, shape (n_x, n_y)"),
+    "status": DatasetSpec("1", "contact status: 0 no contact, 1 stick, 2 slip"),
+}
+FINAL_FIELDS = ("pressure", "traction_x", "traction_y", "slip_x", "slip_y", "status")
+RECORDED_FIELDS = ("wear", "pressure", "traction_x", "traction_y", "status")  # CyclicAnalysis
+PEAK_CHANGE_FIELDS = ("pressure", "traction_x", "traction_y")
+FIELD_DTYPES = {"status": "int8"}  # every other field is float64
+
+# ------------------------------------------------------------------ peak regions (Issue 11)
+REGIONS = ("edge-surface", "edge-subsurface", "axis-subsurface", "axis-surface")
+AXIS_RADIUS_FRACTION = 0.5  # r/a below which a peak is "axis"
+SURFACE_DEPTH_FRACTION = 0.1  # z/a below which a peak is "surface"
+DEEP_DEPTH_FRACTION = 0.1  # z/a0 from which a peak is "deep" (vm_deep_max)
+
+# ------------------------------------------------------------------ histories
+_CYCLIC_HISTORY_UNITS = {
+    "cycle": "1",
+    "jump": "1",
+    "max_wear_depth": "mm",
+    "wear_volume": "mm^3",
+    "peak_pressure": "MPa",
+    "stick_area": "mm^2",
+    "slip_area": "mm^2",
+    "approach": "mm",
+}
+CYCLIC_HISTORY_KEYS = tuple(_CYCLIC_HISTORY_UNITS)  # engine.solvers.cyclic, in this order
+
+PEAK_HISTORY_UNITS = {
+    "vm_max": "MPa",
+    "vm_max_x": "mm",
+    "vm_max_z": "mm",
+    "vm_sub_max": "MPa",
+    "vm_sub_max_x": "mm",
+    "vm_sub_max_z": "mm",
+    "vm_deep_max": "MPa",
+    "vm_deep_max_x": "mm",
+    "vm_deep_max_z": "mm",
+    "vm_axis_max": "MPa",
+    "vm_axis_max_z": "mm",
+    "contact_radius": "mm",
+    "centre_pressure": "MPa",
+    "peak_region": "1",
+    "deep_region": "1",
+}
+
+_PLANE_PEAK = "von Mises stress (Eq. 21) on the x-z plane through the axis at peak load"
+PEAK_HISTORY_DESCRIPTIONS = {
+    "vm_max": f"maximum {_PLANE_PEAK}, surface layer included",
+    "vm_max_x": "x of vm_max",
+    "vm_max_z": "depth z of vm_max (into the half-space)",
+    "vm_sub_max": f"maximum {_PLANE_PEAK}, below the surface layer (z >= depths[1])",
+    "vm_sub_max_x": "x of vm_sub_max",
+    "vm_sub_max_z": "depth z of vm_sub_max",
+    "vm_deep_max": f"maximum {_PLANE_PEAK} at depth z >= {DEEP_DEPTH_FRACTION:g} a0",
+    "vm_deep_max_x": "x of vm_deep_max",
+    "vm_deep_max_z": "depth z of vm_deep_max",
+    "vm_axis_max": f"maximum {_PLANE_PEAK} on the punch axis r = 0",
+    "vm_axis_max_z": "depth z of vm_axis_max",
+    "contact_radius": "area-equivalent contact radius sqrt(A_c/pi), A_c: elements with p > 0",
+    "centre_pressure": "contact pressure at the punch axis (elements nearest to r = 0)",
+    "peak_region": (
+        "where vm_max sits: "
+        + ", ".join(f"{code} {name}" for code, name in enumerate(REGIONS))
+        + f" (axis: r/a < {AXIS_RADIUS_FRACTION:g}; surface: z/a < {SURFACE_DEPTH_FRACTION:g};"
+        " a = contact_radius)"
+    ),
+    "deep_region": "where vm_deep_max sits, same codes and thresholds as peak_region",
+}
+
+_PER_CYCLE = ", per simulated cycle (after N = cycle)"
+#: history/<key> of a cyclic case: the solver's keys (units only: the description is the key)
+#: and the peak tracker's (engine.solvers.peak).
+HISTORY = {
+    key: DatasetSpec(units, key + _PER_CYCLE) for key, units in _CYCLIC_HISTORY_UNITS.items()
+} | {
+    key: DatasetSpec(units, PEAK_HISTORY_DESCRIPTIONS[key] + _PER_CYCLE)
+    for key, units in PEAK_HISTORY_UNITS.items()
+}
+#: history/<key> of a static case (one entry per load increment).
+STATIC_HISTORY = {
+    "load": DatasetSpec("N", "load per increment"),
+    "approach": DatasetSpec("mm", "rigid approach per increment"),
+}
+
+# ------------------------------------------------------------------ x-z plane, grids
+STRESS_COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
+PLANE = {
+    "x": DatasetSpec("mm", "x coordinates of the plane"),
+    "y": DatasetSpec("mm", "y coordinates of the plane"),
+    "z": DatasetSpec("mm", "depth below the surface (into the half-space)"),
+    "von_mises": DatasetSpec("MPa", "von Mises stress, Eq. (21)"),
+} | {
+    f"sigma_{name}": DatasetSpec("MPa", f"stress component {name}, compression negative")
+    for name in STRESS_COMPONENTS
+}
+CASE_GRID = {
+    axis: DatasetSpec("mm", f"element-centre {axis} coordinates of this case") for axis in "xy"
+}
+ROOT_GRID = {axis: DatasetSpec("mm", f"element-centre {axis} coordinates") for axis in "xy"}
+
+# ------------------------------------------------------------------ cycle groups
+CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
+
+
+def cycle_group(cycle: int) -> str:
+    """Name of the group of a recorded cycle: ``cycle_0001000`` (seven digits)."""
+    return f"cycle_{int(cycle):07d}"
+
+
+def cycle_of_group(name: str) -> int | None:
+    """The cycle N of a group named ``cycle_<N>``, None for any other name (``final``)."""
+    match = CYCLE_GROUP.match(name)
+    return int(match.group(1)) if match else None
+
+
+def _moment(group: str) -> str:
+    cycle = cycle_of_group(group)
+    if cycle is None:
+        return "the last simulated cycle"
+    return f"cycle {cycle}"
+
+
+def field_dataset(name: str, group: str = "final") -> DatasetSpec:
+    """Surface field ``name`` at peak load of ``group`` ("final" or ``cycle_group(N)``)."""
+    spec = FIELDS[name]
+    return DatasetSpec(spec.units, f"{spec.description}, peak load of {_moment(group)}")
+
+
+def history_dataset(key: str, cyclic: bool = True) -> DatasetSpec:
+    """``history/<key>`` of a cyclic (per simulated cycle) or static (per increment) case."""
+    return (HISTORY if cyclic else STATIC_HISTORY)[key]
+
+
+def plane_dataset(name: str) -> DatasetSpec:
+    """Dataset ``name`` of an x-z plane group (``subsurface/*``, ``peak_changes/*``)."""
+    return PLANE[name]
+
+
+def grid_dataset(axis: str, per_case: bool = True) -> DatasetSpec:
+    """``grid/<axis>`` of a case group (``per_case``) or of the file's root."""
+    return (CASE_GRID if per_case else ROOT_GRID)[axis]
+
+
+def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
+    """Units and description of the dataset at ``path`` relative to a case group.
+
+    Raises KeyError for a path the schema does not know."""
+    parts = path.split("/")
+    if len(parts) == 2 and parts[0] == "grid":
+        return grid_dataset(parts[1])
+    if len(parts) == 2 and parts[0] == "history":
+        return history_dataset(parts[1], cyclic)
+    if len(parts) == 3 and parts[0] == "fields":
+        allowed = FINAL_FIELDS if parts[1] == "final" else RECORDED_FIELDS
+        if (parts[1] == "final" or cycle_of_group(parts[1]) is not None) and parts[2] in allowed:
+            return field_dataset(parts[2], parts[1])
+    if len(parts) == 3 and parts[0] == "subsurface":
+        if parts[1] == "final" or cycle_of_group(parts[1]) is not None:
+            return plane_dataset(parts[2])
+    if len(parts) == 3 and parts[0] == "peak_changes" and cycle_of_group(parts[1]) is not None:
+        if parts[2] in PEAK_CHANGE_FIELDS:
+            return field_dataset(parts[2], parts[1])
+        return plane_dataset(parts[2])
+    raise KeyError(f"no dataset {path!r} in the results schema")
+
+
+# ------------------------------------------------------------------ summary table
+#: Units of the case parameters stored as attributes of each case group.
+PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
+
+SUMMARY_COLUMNS = [
+    "case_id", "mu1", "mu2", "wear1", "wear2", "beta", "status", "cycles", "load",
+    "approach", "p0", "max_wear_depth", "wear_volume",
+    "vm_max", "vm_max_x", "vm_max_y", "vm_max_z",
+    "vm_sub_max", "vm_sub_max_x", "vm_sub_max_y", "vm_sub_max_z",
+    "stick_fraction", "load_steps", "matvecs", "runtime_s",
+    "vm_deep_max", "vm_deep_max_x", "vm_deep_max_z", "vm_axis_max", "vm_axis_max_z",
+    "contact_radius", "centre_pressure", "elastic_approach", "wear_severity",
+    "peak_region", "peak_region_change_cycle", "deep_region",
+]  # fmt: skip
+
+COLUMN_UNITS = {
+    "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree", "load": "N", "approach": "mm",
+    "p0": "MPa", "max_wear_depth": "mm", "wear_volume": "mm^3",
+    "vm_max": "MPa", "vm_max_x": "mm", "vm_max_y": "mm", "vm_max_z": "mm",
+    "vm_sub_max": "MPa", "vm_sub_max_x": "mm", "vm_sub_max_y": "mm", "vm_sub_max_z": "mm",
+    "runtime_s": "s",
+    "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
+    "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
+    "centre_pressure": "MPa", "elastic_approach": "mm",
+}  # fmt: skip
+
+INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
+TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
+
+
+def pending_row(parameters: dict[str, Any], status: str = CaseStatus.PENDING) -> dict[str, Any]:
+    """Row of a case without results: its parameters (swept dotted keys included), the
+    status (as plain text) and NaN elsewhere."""
+    row = {column: math.nan for column in SUMMARY_COLUMNS}
+    row.update({k: v for k, v in parameters.items() if k in row or "." in k})
+    row["status"] = str(status)
+    return row
