@@ -1,8 +1,8 @@
 """Entry point: ``python -m engine STUDY.toml`` (also under ``mpiexec -n N`` or ``srun``).
 
 Post-processing (serial, no MPI): ``python -m engine plot RESULTS.h5 [--out DIR]`` writes the
-figures (:mod:`engine.output.figures`), ``python -m engine report RESULTS.h5`` prints the
-results tables in Markdown (:mod:`engine.output.report`).
+figures (:mod:`engine.analysis.figures`), ``python -m engine report RESULTS.h5`` prints the
+results tables in Markdown (:mod:`engine.analysis.report`).
 
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
 communicator. The flow:
@@ -210,12 +210,12 @@ _OUTPUT_COMMANDS = ("plot", "report")  # post-processing of a results file: seri
 
 
 def _output_command(argv: list[str], prog: str | None) -> int:
-    """``plot RESULTS.h5 [--out DIR]`` (engine.output.figures), ``report RESULTS.h5 …``
-    (engine.output.report)."""
+    """``plot RESULTS.h5 [--out DIR]`` (engine.analysis.figures), ``report RESULTS.h5 …``
+    (engine.analysis.report)."""
     if argv[0] == "plot":
-        from engine.output.figures import main as command
+        from engine.analysis.figures import main as command
     else:
-        from engine.output.report import main as command
+        from engine.analysis.report import main as command
     try:
         return command(argv[1:], prog=f"{prog or 'python -m engine'} {argv[0]}")
     except SystemExit as exit_:  # --help, usage errors

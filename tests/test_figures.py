@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 from matplotlib import image
 
-from engine.output.figures import MAX_WIDTH_PX, MIN_FONT_SIZE, case_styles
-from engine.output.reader import CaseResults
+from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE, case_styles
+from engine.analysis.reader import CaseResults
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -125,7 +125,7 @@ def test_plot_writes_every_figure_non_blank(study_results, monkeypatch):
     import matplotlib.pyplot as plt
     from matplotlib.text import Text
 
-    from engine.output import figures
+    from engine.analysis import figures
 
     folder, results, expected = study_results
     small: dict[str, set] = {}

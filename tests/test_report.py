@@ -1,4 +1,4 @@
-"""`engine.output.report`: the "Measured" facts group comparable cases and agree with the table.
+"""`engine.analysis.report`: the "Measured" facts group comparable cases and agree with the table.
 
 Synthetic studies in memory (no solver): each case gets a wear history and a pressure field, so
 the facts are computed exactly as for a results file. The case that motivated this test is the
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.output.reader import CaseResults, StudyResults
-from engine.output.report import cyclic_facts, cyclic_table, study_report
+from engine.analysis.reader import CaseResults, StudyResults
+from engine.analysis.report import cyclic_facts, cyclic_table, study_report
 
 CYCLES = (1000, 10000)
 
@@ -122,7 +122,7 @@ def test_facts_agree_with_the_table_rows():
 
 
 def test_update_replaces_only_its_block_and_names_a_missing_one(tmp_path):
-    from engine.output.report import update_markdown
+    from engine.analysis.report import update_markdown
 
     document = tmp_path / "results.md"
     document.write_text(

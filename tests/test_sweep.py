@@ -208,7 +208,7 @@ def test_sweep_report_power_law_and_convergence_verdicts():
     """Exact: a fitted exponent of y = 3 x² is 2 (round-off); verdicts from made-up columns."""
     import pandas as pd
 
-    from engine.output.sweep_report import convergence_table, power_law_exponent, sweep_report
+    from engine.analysis.sweep_report import convergence_table, power_law_exponent, sweep_report
 
     assert power_law_exponent([250.0, 500.0, 1000.0], [3 * 250.0**2, 3 * 500.0**2, 3e6]) == (
         pytest.approx(2.0, abs=1e-12)

@@ -25,9 +25,8 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
+from engine.output.summary import column_unit
 from engine.schema import SUMMARY_COLUMNS, CaseStatus
-
-from .summary import column_unit
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 

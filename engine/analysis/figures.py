@@ -14,7 +14,7 @@ cyclic study (Sections 7.2, 7.3)
     ``surface_maps_N<N>.png``         wear depth and p/p0 in the x–y plane, last N   Figs. 7, 10
     ``von_mises_N<N>.png``            σ_VM/p0 in the x–z plane at each recorded N   Figs. 8, 11
     ``peak_regime_*.png``             peak region vs wear severity (studies sweeping
-                                      wear; :mod:`engine.output.regime`)
+                                      wear; :mod:`engine.analysis.regime`)
 
 Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
 z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps the black line is
@@ -48,12 +48,12 @@ from matplotlib.patches import Circle  # noqa: E402
 
 from engine.reference.flat_punch import (  # noqa: E402
     flat_punch_stress,
-    mossakovskii_ratio,
     sneddon_pressure,
     von_mises_cylindrical,
 )
 
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
+from .report import stiffness_ratios  # noqa: E402
 
 __all__ = ["plot_study", "main", "VM_LEVEL_MAX"]
 
@@ -309,26 +309,6 @@ def _pressure_frictionless(study: StudyResults, case: CaseResults):
     return figure
 
 
-def stiffness_ratios(study: StudyResults) -> tuple[np.ndarray, np.ndarray, float, str]:
-    """(μ, k_μ/k_0, Mossakovskii's ratio, what k_0 is) with k = P/g_n at peak load.
-
-    k_0 is the computed frictionless stiffness when the study has a μ = 0 case (so the
-    discretisation error of the stiffness cancels), else Sneddon's 2E*a0 (Eq. 18).
-    """
-    isotropic = [case for case in study.cases if case.isotropic]
-    mu = np.array([case.mu1 for case in isotropic])
-    stiffness = np.array([case.summary["load"] / case.summary["approach"] for case in isotropic])
-    frictionless = [k for m, k in zip(mu, stiffness, strict=True) if m == 0.0]
-    if frictionless:
-        reference, what = frictionless[0], "computed μ = 0 stiffness"
-    else:
-        reference = 2.0 * study.material.contact_modulus * study.radius
-        what = "Sneddon 2E*a0, Eq. (18)"
-    order = np.argsort(mu)
-    limit = mossakovskii_ratio(study.material.dundurs_beta)
-    return mu[order], stiffness[order] / reference, limit, what
-
-
 def _stiffness_ratio(study: StudyResults):
     mu, ratio, limit, what = stiffness_ratios(study)
     figure, axis = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
@@ -546,4 +526,4 @@ def _surface_maps(study: StudyResults, cycle: int):
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main(prog="python -m engine.output.figures"))
+    sys.exit(main(prog="python -m engine.analysis.figures"))

@@ -46,7 +46,7 @@ REGION_STYLE = {  # marker, colour (colour-blind safe, Okabe–Ito); keys: REGIO
 }
 FRICTION_COLOURS = ("k", "#0072B2", "#D55E00", "#009E73", "#CC79A7")  # per μ in (b)
 PAPER_DEPTH_BAND = (0.6, 0.8)  # z/a0 of the paper's μ = 0.1 peak after 10⁵ cycles (Fig. 8b)
-VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale (as engine.output.figures)
+VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale (as engine.analysis.figures)
 
 
 def has_peak_history(study: StudyResults) -> bool:

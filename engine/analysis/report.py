@@ -24,11 +24,33 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.reference.flat_punch import mossakovskii_ratio
+
 from .reader import CaseResults, StressPlane, StudyResults, read_results
 
 __all__ = ["study_report", "main", "INTERIOR_DEPTH"]
 
 INTERIOR_DEPTH = 0.1  # z/a0 below which the surface edge singularity dominates the σ_VM peak
+
+
+def stiffness_ratios(study: StudyResults) -> tuple[np.ndarray, np.ndarray, float, str]:
+    """(μ, k_μ/k_0, Mossakovskii's ratio, what k_0 is) with k = P/g_n at peak load.
+
+    k_0 is the computed frictionless stiffness when the study has a μ = 0 case (so the
+    discretisation error of the stiffness cancels), else Sneddon's 2E*a0 (Eq. 18).
+    """
+    isotropic = [case for case in study.cases if case.isotropic]
+    mu = np.array([case.mu1 for case in isotropic])
+    stiffness = np.array([case.summary["load"] / case.summary["approach"] for case in isotropic])
+    frictionless = [k for m, k in zip(mu, stiffness, strict=True) if m == 0.0]
+    if frictionless:
+        reference, what = frictionless[0], "computed μ = 0 stiffness"
+    else:
+        reference = 2.0 * study.material.contact_modulus * study.radius
+        what = "Sneddon 2E*a0, Eq. (18)"
+    order = np.argsort(mu)
+    limit = mossakovskii_ratio(study.material.dundurs_beta)
+    return mu[order], stiffness[order] / reference, limit, what
 
 
 def _format_peak(study: StudyResults, peak: tuple[float, float, float]) -> tuple[str, str]:
@@ -83,8 +105,6 @@ def cyclic_table(study: StudyResults, cycles: Sequence[int] | None = None) -> li
 
 
 def static_table(study: StudyResults) -> list[str]:
-    from .figures import stiffness_ratios
-
     mu, ratios, limit, what = stiffness_ratios(study)
     ratio_of = dict(zip(mu.tolist(), ratios.tolist(), strict=True))
     lines = _header(["case", "g_n (µm)", "k_μ/k_0", "stick fraction", *_PEAK_COLUMNS])
@@ -108,8 +128,6 @@ def static_table(study: StudyResults) -> list[str]:
 # ----------------------------------------------------------------------------- measured facts
 def static_facts(study: StudyResults) -> list[str]:
     from engine.reference.flat_punch import sneddon_approach
-
-    from .figures import stiffness_ratios
 
     mu, ratios, limit, _ = stiffness_ratios(study)
     facts = [
@@ -346,9 +364,10 @@ def swept_keys(path: str | Path) -> list[str]:
 
 
 def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
-    """Studies with swept dotted keys (engine.output.sweep_report); the per-case tables too
+    """Studies with swept dotted keys (engine.analysis.sweep_report); the per-case tables too
     when no swept key changes the study-wide normalisation (a0, P, mesh, material)."""
-    from .summary import load_summary
+    from engine.output.summary import load_summary
+
     from .sweep_report import sweep_report
 
     text = sweep_report(load_summary(study.path), study.swept_keys, study.name)
@@ -410,4 +429,4 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main(prog="python -m engine.output.report"))
+    sys.exit(main(prog="python -m engine.analysis.report"))

@@ -1,0 +1,128 @@
+"""The import layering of docs/architecture.md holds in engine/ (parsed with ast, nothing run).
+
+Each module of engine/ belongs to a unit (a subpackage such as ``solvers`` or a top-level
+module such as ``grid``); the table in docs/architecture.md says which layer each unit is in
+and which layers it may import. Every ``import``/``from … import`` of the engine, at module
+level or inside a function, must respect it. Also: only engine/cli.py touches
+``MPI.COMM_WORLD``; the analysis layer imports no writer; ``engine.analysis.report`` (and the
+reader) import without matplotlib.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+ENGINE = REPO / "engine"
+WRITERS = {"hdf5", "collective", "lock", "salvage", "identity", "progress"}
+
+
+def _layer_table() -> tuple[dict[str, str], dict[str, set[str]]]:
+    """(unit -> layer, layer -> layers it may import) from docs/architecture.md."""
+    text = (REPO / "docs" / "architecture.md").read_text()
+    section = text.split("# Architecture", 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in section.splitlines() if line.startswith("| ")][1:]
+    layer_of, allowed = {}, {}
+    for row in rows:
+        layer, modules, may_import = (cell.strip() for cell in row.strip("|").split("|"))
+        for unit in re.findall(r"`([\w.]+)`", modules):
+            layer_of[unit] = layer
+        words = [word.strip() for word in may_import.split(",")]
+        allowed[layer] = {layer} | {word for word in words if word != "nothing of the engine"}
+    return layer_of, allowed
+
+
+def _unit(module: str) -> str:
+    """Unit of a dotted module name: ``engine.solvers.contact`` -> ``solvers``."""
+    parts = module.split(".")
+    if len(parts) == 1:
+        return "__init__"
+    return parts[1]
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(REPO).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path) -> list[str]:
+    """Every engine module that ``path`` imports (absolute names, relative ones resolved)."""
+    module = _module_name(path)
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            found += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+                names = [f"{target}.{alias.name}" for alias in node.names]
+                found += [target] + [name for name in names if _is_module(name)]
+            else:
+                found.append(node.module or "")
+                found += [
+                    f"{node.module}.{a.name}"
+                    for a in node.names
+                    if _is_module(f"{node.module}.{a.name}")
+                ]
+    return [name for name in found if name == "engine" or name.startswith("engine.")]
+
+
+def _is_module(name: str) -> bool:
+    path = REPO.joinpath(*name.split("."))
+    return path.with_suffix(".py").exists() or (path / "__init__.py").exists()
+
+
+def _engine_files() -> list[Path]:
+    return sorted(ENGINE.rglob("*.py"))
+
+
+def test_the_table_names_every_unit_of_the_engine():
+    layer_of, allowed = _layer_table()
+    units = {_unit(_module_name(path)) for path in _engine_files()}
+    assert units == set(layer_of), "docs/architecture.md: units missing or unknown"
+    assert set().union(*allowed.values()) <= set(allowed), "may import: unknown layer name"
+
+
+def test_every_import_respects_the_layers():
+    layer_of, allowed = _layer_table()
+    broken = []
+    for path in _engine_files():
+        source = layer_of[_unit(_module_name(path))]
+        for target in _imports(path):
+            if target == "engine":
+                continue  # the package itself (engine.__version__)
+            if layer_of[_unit(target)] not in allowed[source]:
+                broken.append(f"{path.relative_to(REPO)} ({source}) imports {target}")
+    assert not broken, "\n".join(broken)
+
+
+def test_the_analysis_layer_imports_no_writer():
+    for path in sorted((ENGINE / "analysis").glob("*.py")):
+        for target in _imports(path):
+            assert not (target.startswith("engine.output.") and target.split(".")[2] in WRITERS), (
+                f"{path.name} imports the writer {target}"
+            )
+
+
+def test_only_the_entry_point_touches_comm_world():
+    for path in _engine_files():
+        tree = ast.parse(path.read_text())
+        touches = any(
+            isinstance(node, ast.Attribute) and node.attr == "COMM_WORLD" for node in ast.walk(tree)
+        )
+        assert not touches or path == ENGINE / "cli.py", f"{path} uses MPI.COMM_WORLD"
+
+
+@pytest.mark.parametrize("module", ["engine.analysis.report", "engine.analysis.reader"])
+def test_post_processing_tables_do_not_import_matplotlib(module):
+    code = f"import sys, {module}; assert 'matplotlib' not in sys.modules, 'matplotlib'"
+    result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
