@@ -111,29 +111,18 @@ def run_static_512() -> dict:
     return dict(time=time.perf_counter() - start, rss=_peak_rss_mb(), converged=result.converged)
 
 
-STATIC_STUDY = """
-[study]
-name = "bench_static"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = {n}
-[loading]
-kind = "static"
-load = 750.0
-steps = 1
-[subsurface]
-depth = 1.5
-layers = 16
-[sweep]
-mu1 = {mu}
-"""
+def static_study(output: Path, n: int, mu: list[float]) -> str:
+    """Static cases (P = 750 N, one increment) on an n x n mesh, 16 layers to 1.5 a0."""
+    from engine.study.examples import study_toml
+
+    return study_toml(
+        "bench_static",
+        output,
+        mesh={"n": n},
+        loading={"kind": "static", "steps": 1},
+        subsurface={"depth": 1.5, "layers": 16},
+        sweep={"mu1": mu},
+    )
 
 
 def run_static_cases(n: int, count: int, shared: bool) -> dict:
@@ -146,7 +135,7 @@ def run_static_cases(n: int, count: int, shared: bool) -> dict:
 
     mus = [round(0.05 + 0.45 * k / max(count - 1, 1), 4) for k in range(count)]
     with tempfile.TemporaryDirectory() as folder:
-        text = STATIC_STUDY.format(output=Path(folder) / "s.h5", n=n, mu=mus)
+        text = static_study(Path(folder) / "s.h5", n, mus)
         config = parse_study(text, source="bench")
         runner = CaseRunner(config)
         setup = 0.0

@@ -31,29 +31,21 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
-STUDY = """
-[study]
-name = "bench_output"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = {n}
-[loading]
-kind = "static"
-load = 750.0
-steps = 2
-[subsurface]
-depth = 1.0
-layers = {layers}
-[sweep]
-mu1 = {mu1}
-"""
+
+def study_text(output: str, n: int, layers: int, mu1: list[float]) -> str:
+    """Static cases (P = 750 N, 2 increments) on an n x n mesh with ``layers`` depth layers."""
+    from engine.study.examples import study_toml
+
+    return study_toml(
+        "bench_output",
+        output,
+        mesh={"n": n},
+        loading={"kind": "static"},
+        subsurface={"layers": layers},
+        sweep={"mu1": mu1},
+    )
+
+
 BLOCK = ("xx", "yy", "zz", "xy", "xz", "yz")
 
 
@@ -75,8 +67,8 @@ def main() -> None:
 
     comm = MPI.COMM_WORLD
     directory = comm.bcast(tempfile.mkdtemp(prefix="bench_output_") if comm.rank == 0 else None)
-    mu1 = "[" + ", ".join(f"{0.1 + 0.1 * k:.1f}" for k in range(args.cases)) + "]"
-    text = STUDY.format(output=f"{directory}/out.h5", n=args.n, layers=args.layers, mu1=mu1)
+    mu1 = [float(f"{0.1 + 0.1 * k:.1f}") for k in range(args.cases)]
+    text = study_text(f"{directory}/out.h5", args.n, args.layers, mu1)
     config = parse_study(text, source="bench_output")
     strategies = ["single"] + (["mpio"] if h5py_is_mpi_enabled() else [])
     best: dict[str, dict[str, float]] = {}

@@ -28,34 +28,21 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-STUDY = """
-[study]
-name = "bench_parallel"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = {n}
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = {steps}
-cycles = {cycles}
-record = [{cycles}]
-max_wear_fraction = 0.02
-[subsurface]
-depth = 1.0
-layers = 12
-[sweep]
-mu1 = [0.2]
-wear1 = [1.33e-7]
-beta = [0.0, 45.0, 90.0, 135.0]
-"""
+
+
+def study_text(output: Path, n: int, steps: int, cycles: int) -> str:
+    """Four equal cyclic cases (μ = 0.2, β = 0, 45, 90, 135°) on an n x n mesh, coarse jumps."""
+    from engine.study.examples import study_toml
+
+    loading = {"steps": steps, "cycles": cycles, "record": [cycles], "max_wear_fraction": 0.02}
+    return study_toml(
+        "bench_parallel",
+        output,
+        mesh={"n": n},
+        loading=loading,
+        subsurface={"layers": 12},
+        sweep={"mu1": [0.2], "wear1": [1.33e-7], "beta": [0.0, 45.0, 90.0, 135.0]},
+    )
 
 
 def _children_cpu() -> float:
@@ -123,9 +110,7 @@ def measure(n: int, steps: int, cycles: int, repeat: int) -> None:
     the per-case CPU and the fixed CPU of a run (start-up, set-up, writing)."""
     with tempfile.TemporaryDirectory() as folder:
         study = Path(folder) / "bench.toml"
-        study.write_text(
-            STUDY.format(output=Path(folder) / "bench.h5", n=n, steps=steps, cycles=cycles)
-        )
+        study.write_text(study_text(Path(folder) / "bench.h5", n, steps, cycles))
         times: dict[int, list[float]] = {1: [], 2: []}
         cpu: dict[int, list[float]] = {1: [], 2: []}
         estimates, fixed_cpu, case_cpu = [], [], []

@@ -37,30 +37,20 @@ from pathlib import Path
 import pandas as pd
 
 REPO = Path(__file__).resolve().parents[1]
-STUDY = """
-[study]
-name = "bench_scheduler"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 8
-[loading]
-kind = "static"
-load = 750.0
-steps = 1
-[subsurface]
-depth = 1.0
-layers = 2
-[sweep]
-mu1 = {mu1}
-beta = {beta}
-"""
+
+
+def study_text(output: Path, mu1: list[float], beta: list[float]) -> str:
+    """Tiny static cases (8 x 8, P = 750 N, one increment, 2 layers): scheduling dominates."""
+    from engine.study.examples import study_toml
+
+    return study_toml(
+        "bench_scheduler",
+        output,
+        mesh={"n": 8},
+        loading={"kind": "static", "steps": 1},
+        subsurface={"layers": 2},
+        sweep={"mu1": mu1, "beta": beta},
+    )
 
 
 def sweep_values(cases: int) -> tuple[list[float], list[float]]:
@@ -80,7 +70,7 @@ def run(directory: Path, cases: int, ranks: int) -> dict:
     mu1, beta = sweep_values(cases)
     output = directory / f"r{ranks}.h5"
     study = directory / f"r{ranks}.toml"
-    study.write_text(STUDY.format(output=output, mu1=mu1, beta=beta))
+    study.write_text(study_text(output, mu1, beta))
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
     command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "engine", str(study)]

@@ -21,41 +21,12 @@ import pytest
 import engine
 from engine.cli import _idle_ranks_warning, build_parser
 from engine.output.progress import ProgressReporter, format_duration, plural
+from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
 
-TINY = """
-[study]
-name = "tiny"
-output = "out/tiny.h5"          # relative: taken from the working directory
-
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-
-[punch]
-radius = 1.8
-
-[mesh]
-n = 16
-
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = 2
-cycles = 200
-record = [200]
-
-[subsurface]
-depth = 1.0
-layers = 4
-
-[sweep]
-mu1 = [0.1, 0.4]
-wear1 = [1.33e-7]
-"""
+# Cyclic, 16 x 16, two cases; the output is relative: taken from the working directory.
+TINY = study_toml("tiny", "out/tiny.h5", sweep={"mu1": [0.1, 0.4], "wear1": [1.33e-7]})
 
 
 def _engine(*args: str, cwd: Path) -> subprocess.CompletedProcess:

@@ -7,34 +7,17 @@ from pathlib import Path
 import pytest
 
 from engine.study.config import StudyConfigError, load_study, parse_study
+from engine.study.examples import study_toml
 
-VALID = """
-[study]
-name = "t"
-output = "out/t.h5"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 32
-[loading]
-kind = "cyclic"
-load = 750
-steps = 4
-cycles = 100
-record = [10, 100]
-[subsurface]
-depth = 1.0
-layers = 8
-[sweep]
-mu1 = [0.1, 0.4]
-wear1 = [1.33e-7]
-beta = [0, 45]
-"""
+# The study every test here starts from (text manipulations below rely on its lines).
+VALID = study_toml(
+    "t",
+    "out/t.h5",
+    mesh={"n": 32},
+    loading={"kind": "cyclic", "load": 750, "steps": 4, "cycles": 100, "record": [10, 100]},
+    subsurface={"depth": 1.0, "layers": 8},
+    sweep={"mu1": [0.1, 0.4], "wear1": [1.33e-7], "beta": [0, 45]},
+)
 
 
 def with_line(section: str, line: str, text: str = VALID) -> str:
@@ -104,7 +87,7 @@ def test_fingerprint_ignores_output_and_sweep_but_not_physics():
         (VALID.replace("load = 750\n", ""), "[loading] load", "required key is missing"),
         (VALID.replace('output = "out/t.h5"', 'output = "out/t.txt"'), "[study] output", ".h5"),
         (VALID + "\n[sweep]\nmu1 = 1\n", "[sweep]", "malformed TOML"),
-        (VALID.replace("E_A = 200e3", "E_A = "), "[material] E_A", "malformed TOML"),
+        (VALID.replace("E_A = 200000.0", "E_A = "), "[material] E_A", "malformed TOML"),
         (VALID.replace("[mesh]\n", "[mesh]\nn = 4\n"), "[mesh] n", "given twice"),
     ],
 )
@@ -122,7 +105,7 @@ def test_static_rejects_cyclic_keys_and_defaults_wear():
     with pytest.raises(StudyConfigError, match=r"\[loading\] cycles = 100: unknown key"):
         parse_study(static)
     static = static.replace("cycles = 100\n", "").replace("record = [10, 100]\n", "")
-    config = parse_study(static.replace("wear1 = [1.33e-7]\n", ""))
+    config = parse_study(static.replace("wear1 = [1.33e-07]\n", ""))
     assert config.sweep.wear1 == (0.0,)
     assert config.loading.cycles == 0
 

@@ -20,6 +20,7 @@ import pytest
 from engine.kernels.fft import RealFFTPair
 from engine.study.case import COMPLETED, CaseRunner
 from engine.study.config import parse_study
+from engine.study.examples import study_toml
 from engine.study.layout import case_layout
 from engine.study.plan import make_plan
 
@@ -55,29 +56,10 @@ def test_estimate_plan_does_not_reuse_wisdom_of_a_timed_plan(shape):
     assert np.array_equal(after[1], reference[1]), "inverse transform"
 
 
-STUDY = """
-[study]
-name = "bits"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 30
-[loading]
-kind = "static"
-load = 750.0
-steps = 2
-[subsurface]
-depth = 1.0
-layers = 6
-[sweep]
-mu1 = [0.3]
-"""
+def study_text(output, **changes) -> str:
+    """A static one-case study on a 30 x 30 mesh, 6 depth layers, with ``changes``."""
+    base = {"mesh": {"n": 30}, "loading": {"kind": "static"}, "subsurface": {"layers": 6}}
+    return study_toml("bits", output, base, **changes)
 
 
 def _case_datasets(config) -> dict[str, np.ndarray]:
@@ -90,13 +72,10 @@ def _case_datasets(config) -> dict[str, np.ndarray]:
 def test_case_results_do_not_depend_on_timed_plans_made_earlier(tmp_path):
     """A case computed after the process planned its lattices with FFTW_MEASURE (as the
     mpio layout did on rank 0, and a timed layout still does) gives the same bits."""
-    config = parse_study(STUDY.format(output=tmp_path / "bits.h5"), source="test")
+    config = parse_study(study_text(tmp_path / "bits.h5"), source="test")
     reference = _case_datasets(config)
     measured = parse_study(
-        STUDY.format(output=tmp_path / "bits.h5").replace(
-            "[subsurface]", '[solver]\nfft_planner = "measure"\n[subsurface]'
-        ),
-        source="test",
+        study_text(tmp_path / "bits.h5", solver={"fft_planner": "measure"}), source="test"
     )
     case_layout(measured)  # plans the x–z plane lattice with FFTW_MEASURE
     for shape in [(1, 60, 60), (2, 60, 60), (3, 60, 60)]:  # the operator's batches
@@ -111,8 +90,8 @@ def test_shared_operators_give_the_same_bits_in_any_case_order(tmp_path):
     """The case runner shares operators, plans and stress kernels between the cases of a
     rank (engine.study.operators): the order in which a rank meets its cases, and whether a
     case is the first one, must not change a bit."""
-    text = STUDY.format(output=tmp_path / "bits.h5").replace("n = 30", "n = 16")
-    config = parse_study(text.replace("mu1 = [0.3]", "mu1 = [0.1, 0.3]"), source="test")
+    text = study_text(tmp_path / "bits.h5", mesh={"n": 16}, sweep={"mu1": [0.1, 0.3]})
+    config = parse_study(text, source="test")
     cases = list(make_plan(config))
     forward, backward = CaseRunner(config), CaseRunner(config)
     first = {case.case_id: forward(case) for case in cases}

@@ -22,59 +22,26 @@ from matplotlib import image
 
 from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE, case_styles
 from engine.analysis.reader import CaseResults
+from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
 
-COMMON = """
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-
-[punch]
-radius = 1.8
-
-[mesh]
-n = 16
-
-[subsurface]
-depth = 1.0
-layers = 6
-"""
-
-CYCLIC = """
-[study]
-name = "tiny_cyclic"
-output = "tiny_cyclic.h5"
-
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = 2
-cycles = 200
-record = [20, 200]
-
-[sweep]
-mu1 = [0.1]
-mu2 = [0.1, 0.4]         # an isotropic and an orthotropic case
-wear1 = [1.33e-7]
-beta = [30.0]
-"""
-
-STATIC = """
-[study]
-name = "tiny_static"
-output = "tiny_static.h5"
-
-[loading]
-kind = "static"
-load = 714.0
-steps = 2
-
-[sweep]
-mu1 = [0.0, 0.4]
-"""
+COMMON = {"subsurface": {"layers": 6}}  # changes to engine.study.examples.BASE (16 x 16)
+CYCLIC = study_toml(
+    "tiny_cyclic",
+    "tiny_cyclic.h5",
+    COMMON,
+    loading={"kind": "cyclic", "record": [20, 200]},
+    # an isotropic and an orthotropic case
+    sweep={"mu1": [0.1], "mu2": [0.1, 0.4], "wear1": [1.33e-7], "beta": [30.0]},
+)
+STATIC = study_toml(
+    "tiny_static",
+    "tiny_static.h5",
+    COMMON,
+    loading={"kind": "static", "load": 714.0},
+    sweep={"mu1": [0.0, 0.4]},
+)
 
 CYCLIC_FIGURES = [
     "wear_history.png",
@@ -109,7 +76,7 @@ def _engine(*args: str, cwd: Path) -> subprocess.CompletedProcess:
 @pytest.fixture(scope="module", params=["cyclic", "static"])
 def study_results(request, tmp_path_factory):
     folder = tmp_path_factory.mktemp(request.param)
-    text = (CYCLIC if request.param == "cyclic" else STATIC) + COMMON
+    text = CYCLIC if request.param == "cyclic" else STATIC
     (folder / "study.toml").write_text(text)
     run = _engine("study.toml", "--no-progress-bar", cwd=folder)
     assert run.returncode == 0, run.stdout + run.stderr

@@ -12,44 +12,22 @@ import pytest
 
 from engine.study.case import COMPLETED, CaseRunner
 from engine.study.config import parse_study
+from engine.study.examples import study_toml
 from engine.study.layout import case_layout
 from engine.study.plan import make_plan
 
-STUDY = """
-[study]
-name = "layout"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 16
-[loading]
-{loading}
-[subsurface]
-depth = 1.0
-layers = 6
-[sweep]
-mu1 = [0.3]
-{wear}
-"""
-LOADINGS = {
-    "static": ('kind = "static"\nload = 750.0\nsteps = 3', ""),
-    "cyclic": (
-        'kind = "cyclic"\nload = 750.0\nsteps = 3\ncycles = 2000\nrecord = [0, 500]',
-        "wear1 = [1.33e-7]",
-    ),
+LOADINGS = {  # changes to engine.study.examples.BASE (16 x 16, mu1 = 0.3), by loading kind
+    "static": {"loading": {"kind": "static", "steps": 3}},
+    "cyclic": {
+        "loading": {"kind": "cyclic", "steps": 3, "cycles": 2000, "record": [0, 500]},
+        "sweep": {"wear1": [1.33e-7]},
+    },
 }
 
 
 @pytest.mark.parametrize("kind", sorted(LOADINGS))
 def test_layout_matches_the_datasets_of_a_completed_case(kind, tmp_path):
-    loading, wear = LOADINGS[kind]
-    text = STUDY.format(output=tmp_path / "layout.h5", loading=loading, wear=wear)
+    text = study_toml("layout", tmp_path / "layout.h5", LOADINGS[kind], subsurface={"layers": 6})
     config = parse_study(text, source="test")
     case = next(iter(make_plan(config)))
     outcome = CaseRunner(config)(case)

@@ -17,42 +17,17 @@ from matplotlib import image
 
 from engine import load_summary
 from engine.solvers.peak import PEAK_HISTORY_UNITS, REGIONS
+from engine.study.examples import study_toml
 from tests.test_figures import MIN_BYTES, MIN_PIXEL_STD, _engine
 
-MINI = """
-[study]
-name = "mini_regime"
-output = "mini_regime.h5"
-
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-
-[punch]
-radius = 1.8
-
-[mesh]
-n = 24
-half_width = 1.89
-
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = 4
-cycles = 100000
-record = [100000]
-max_wear_fraction = 0.02
-
-[subsurface]
-depth = 1.5
-layers = 12
-
-[sweep]
-mu1 = [0.1]
-wear1 = [1.33e-7, 1.33e-6]
-"""
+MINI = study_toml(
+    "mini_regime",
+    "mini_regime.h5",
+    mesh={"n": 24, "half_width": 1.89},
+    loading={"steps": 4, "cycles": 100000, "record": [100000], "max_wear_fraction": 0.02},
+    subsurface={"depth": 1.5, "layers": 12},
+    sweep={"mu1": [0.1], "wear1": [1.33e-7, 1.33e-6]},
+)
 
 
 @pytest.fixture(scope="module")

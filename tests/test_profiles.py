@@ -29,6 +29,7 @@ from engine.solvers.friction import FrictionLaw
 from engine.solvers.subsurface import SubsurfaceStress, depth_layers
 from engine.study.case import COMPLETED, FAILED, BorderCheckedSolver, CaseRunner
 from engine.study.config import parse_study
+from engine.study.examples import study_toml
 from engine.study.plan import make_plan
 
 NU = 0.3
@@ -311,41 +312,26 @@ def test_frictional_sphere_against_ring_reference(friction, n):
 # ------------------------------------------------------------------ mesh border
 
 
-STUDY = """
-[study]
-name = "border"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-shape = "sphere"
-radius = 10.0
-[mesh]
-n = 16
-{mesh}
-[loading]
-kind = "static"
-load = 750.0
-steps = 2
-[subsurface]
-layers = 4
-[sweep]
-mu1 = [0.0]
-"""
+def border_study(output, **mesh) -> str:
+    """A static frictionless sphere (R = 10 mm) on a 16 x 16 mesh, ``mesh`` keys added."""
+    return study_toml(
+        "border",
+        output,
+        punch={"shape": "sphere", "radius": 10.0},
+        mesh={"n": 16, **mesh},
+        loading={"kind": "static"},
+        subsurface={"depth": None},  # the default depth
+        sweep={"mu1": [0.0]},
+    )
 
 
 def test_contact_reaching_the_mesh_border_fails_the_case(tmp_path):
     a = hertz.hertz_contact_radius(750.0, 10.0, PAPER.contact_modulus)
-    tight = parse_study(
-        STUDY.format(output=tmp_path / "b.h5", mesh=f"half_width = {1.01 * a}"), source="t"
-    )
+    tight = parse_study(border_study(tmp_path / "b.h5", half_width=1.01 * a), source="t")
     outcome = CaseRunner(tight)(next(iter(make_plan(tight))))
     assert outcome.status == FAILED
     assert "ContactReachesBorder" in outcome.message and "mesh border" in outcome.message
-    roomy = parse_study(STUDY.format(output=tmp_path / "b.h5", mesh=""), source="t")
+    roomy = parse_study(border_study(tmp_path / "b.h5"), source="t")
     assert roomy.mesh.half_width == pytest.approx(1.5 * a)
     outcome = CaseRunner(roomy)(next(iter(make_plan(roomy))))
     assert outcome.status == COMPLETED, outcome.message

@@ -15,52 +15,43 @@ import pytest
 from engine.output.summary import column_unit, load_summary
 from engine.study.case import COMPLETED, CaseRunner
 from engine.study.config import StudyConfigError, load_study, parse_study
+from engine.study.examples import study_toml
 from engine.study.layout import plan_layout
 from engine.study.plan import make_plan
 
 ROOT = Path(__file__).resolve().parents[1]
 
-BASE = """
-[study]
-name = "sweep"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-{punch}
-[mesh]
-{mesh}
-[loading]
-kind = "cyclic"
-steps = 2
-cycles = 1000
-{loading}
-[subsurface]
-depth = 1.0
-layers = 4
-[sweep]
-mu1 = [0.2, 0.4]
-wear1 = [1.33e-7]
-{sweep}
-"""
+
+def study_text(sweep: str, *, mu1=(0.2, 0.4), output="out.h5", **sections) -> str:
+    """A cyclic study (16 x 16, 1000 cycles) whose ``[sweep]`` ends with the TOML lines
+    ``sweep`` (kept as text: the sweep syntax itself is under test); ``sections`` change the
+    others (a key set to None is left out)."""
+    base = {"loading": {"kind": "cyclic", "cycles": 1000, "record": None}}
+    sweep_base = {"mu1": list(mu1), "wear1": [1.33e-7]}
+    text = study_toml("sweep", output, base, {"sweep": sweep_base}, **sections)
+    return text + sweep + "\n"
 
 
-def study(sweep, *, mesh="n = 16", loading="load = 750.0", punch="radius = 1.8", output="out.h5"):
-    text = BASE.format(sweep=sweep, mesh=mesh, loading=loading, punch=punch, output=output)
-    return parse_study(text, source="s.toml")
+def study(sweep: str, **sections):
+    return parse_study(study_text(sweep, **sections), source="s.toml")
 
 
 def test_product_of_dotted_keys_with_short_stable_ids():
-    config = study('"loading.load" = [500.0, 750.0]\n"mesh.n" = [16, 32]', mesh="", loading="")
+    config = study(
+        '"loading.load" = [500.0, 750.0]\n"mesh.n" = [16, 32]',
+        mesh={"n": None},
+        loading={"load": None},
+    )
     plan = make_plan(config)
     assert len(plan) == 2 * 2 * 2
     assert plan.case_ids[0] == "mu0.2_w1.33e-07_b0_load500_n16"
     assert plan.case_ids[-1] == "mu0.4_w1.33e-07_b0_load750_n32"
     # adding a value keeps every other id
-    more = study('"loading.load" = [250.0, 500.0, 750.0]\n"mesh.n" = [16, 32]', mesh="", loading="")
+    more = study(
+        '"loading.load" = [250.0, 500.0, 750.0]\n"mesh.n" = [16, 32]',
+        mesh={"n": None},
+        loading={"load": None},
+    )
     assert set(plan.case_ids) < set(make_plan(more).case_ids)
     case = plan.by_id("mu0.4_w1.33e-07_b0_load750_n32")
     assert case.parameters()["loading.load"] == 750.0 and case.parameters()["mesh.n"] == 32
@@ -71,8 +62,8 @@ def test_product_of_dotted_keys_with_short_stable_ids():
 def test_zip_groups_vary_together_and_unquoted_keys_are_the_same():
     config = study(
         'loading.load = [500.0, 750.0]\nmesh.n = [16, 32]\nzip = [["loading.load", "mesh.n"]]',
-        mesh="",
-        loading="",
+        mesh={"n": None},
+        loading={"load": None},
     )
     assert make_plan(config).case_ids == (
         "mu0.2_w1.33e-07_b0_load500_n16",
@@ -83,7 +74,7 @@ def test_zip_groups_vary_together_and_unquoted_keys_are_the_same():
 
 
 def test_derived_defaults_follow_the_swept_value():
-    config = study('"punch.radius" = [1.0, 1.8]', punch="", mesh="n = 16")
+    config = study('"punch.radius" = [1.0, 1.8]', punch={"radius": None})
     configs = [config.for_case(case.settings) for case in make_plan(config)]
     assert sorted({c.mesh.half_width for c in configs}) == pytest.approx([1.05, 1.89])
     assert make_plan(config).shared_mesh() is None
@@ -110,9 +101,9 @@ def test_derived_defaults_follow_the_swept_value():
     ],
 )  # fmt: skip
 def test_bad_swept_value_names_key_position_and_value(sweep, expected):
-    punch = "" if "punch.radius" in sweep else "radius = 1.8"
-    loading = "" if "loading.load" in sweep else "load = 750.0"
-    mesh = "" if "mesh.n" in sweep else "n = 16\nhalf_width = 1.89"
+    punch = {"radius": None} if "punch.radius" in sweep else {}
+    loading = {"load": None} if "loading.load" in sweep else {}
+    mesh = {"n": None} if "mesh.n" in sweep else {"half_width": 1.89}
     with pytest.raises(StudyConfigError) as error:
         make_plan(study(sweep, punch=punch, loading=loading, mesh=mesh))
     assert expected in str(error.value)
@@ -123,12 +114,8 @@ def test_bad_value_exits_2_before_anything_is_computed(tmp_path):
     output = tmp_path / "bad.h5"
     path = tmp_path / "bad.toml"
     path.write_text(
-        BASE.format(
-            sweep='"loading.load" = [500.0, 750.0, 0.0]', mesh="n = 16", loading="",
-            punch="radius = 1.8",
-            output=output,
-        )
-    )  # fmt: skip
+        study_text('"loading.load" = [500.0, 750.0, 0.0]', loading={"load": None}, output=output)
+    )
     run = subprocess.run(
         [sys.executable, "-m", "engine", str(path)], capture_output=True, text=True, cwd=ROOT
     )
@@ -147,18 +134,26 @@ def test_existing_studies_keep_ids_fingerprint_and_resolved_text():
 
 
 def test_resolved_study_round_trips_and_fingerprint_ignores_values():
-    config = study('"loading.load" = [500.0, 750.0]\n"mesh.n" = [16, 32]', mesh="", loading="")
+    config = study(
+        '"loading.load" = [500.0, 750.0]\n"mesh.n" = [16, 32]',
+        mesh={"n": None},
+        loading={"load": None},
+    )
     again = parse_study(config.to_toml(), source="again")
     assert again.fingerprint() == config.fingerprint()
     assert make_plan(again).case_ids == make_plan(config).case_ids
-    more = study('"loading.load" = [100.0, 500.0, 750.0]\n"mesh.n" = [16, 32]', mesh="", loading="")
+    more = study(
+        '"loading.load" = [100.0, 500.0, 750.0]\n"mesh.n" = [16, 32]',
+        mesh={"n": None},
+        loading={"load": None},
+    )
     assert more.fingerprint() == config.fingerprint()  # adding a value resumes
-    other = study('"loading.load" = [500.0, 750.0]', mesh="n = 16", loading="")
+    other = study('"loading.load" = [500.0, 750.0]', loading={"load": None})
     assert other.fingerprint() != config.fingerprint()  # sweeping another key does not
 
 
 def test_dispatch_order_runs_bigger_meshes_first():
-    config = study('"mesh.n" = [16, 64, 32]', mesh="")
+    config = study('"mesh.n" = [16, 64, 32]', mesh={"n": None})
     order = [case.case_id for case in make_plan(config).dispatch_order()]
     assert [case_id.rsplit("_n", 1)[1] for case_id in order] == ["64", "64", "32", "32", "16", "16"]
     assert order[0].startswith("mu0.2")  # then friction as before (low μ first)
@@ -172,11 +167,14 @@ def test_per_case_layout_grid_and_summary_columns(tmp_path):
     output = tmp_path / "sweep.h5"
     path = tmp_path / "sweep.toml"
     path.write_text(
-        BASE.format(
-            sweep='"mesh.n" = [16, 24]\n"loading.load" = [500.0, 750.0]', mesh="", loading="",
-            punch="radius = 1.8", output=output,
-        ).replace("mu1 = [0.2, 0.4]", "mu1 = [0.3]")
-    )  # fmt: skip
+        study_text(
+            '"mesh.n" = [16, 24]\n"loading.load" = [500.0, 750.0]',
+            mu1=[0.3],
+            mesh={"n": None},
+            loading={"load": None},
+            output=output,
+        )
+    )
     assert main([str(path), "--no-progress-bar"]) == 0
     config = load_study(path)
     plan = make_plan(config)
@@ -238,11 +236,10 @@ def test_adding_a_swept_value_resumes_and_keeps_completed_cases(tmp_path):
     path = tmp_path / "resume.toml"
 
     def write(loads):
-        text = BASE.format(
-            sweep=f'"loading.load" = {loads}', mesh="n = 16", loading="", punch="radius = 1.8",
-            output=output,
-        )  # fmt: skip
-        path.write_text(text.replace("mu1 = [0.2, 0.4]", "mu1 = [0.4]"))
+        text = study_text(
+            f'"loading.load" = {loads}', mu1=[0.4], loading={"load": None}, output=output
+        )
+        path.write_text(text)
 
     write("[500.0]")
     assert main([str(path), "--no-progress-bar"]) == 0

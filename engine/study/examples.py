@@ -5,19 +5,23 @@ the loading kind, a sweep). Instead of pasting the same TOML block into each fil
 :func:`study_toml` with the sections they change::
 
     text = study_toml(
-        name="tiny",
-        output="out/tiny.h5",
+        "tiny",
+        "out/tiny.h5",
         mesh={"n": 16},
         loading={"kind": "static", "load": 750.0, "steps": 2},
         sweep={"mu1": [0.1, 0.4]},
     )
 
-Each keyword names a section of the study file; its dict is merged into the base section
-(:data:`BASE`), a value ``None`` removes the key, and a section given as ``None`` is left out.
-The ``loading`` section starts from :data:`CYCLIC_LOADING` or :data:`STATIC_LOADING` by its
-``kind``. The text is written by the study layer's TOML writer, so it parses to exactly the
-values given (floats by ``repr``). It lives in the package, not in tests/, so that tests,
-benchmarks and users import it the same way.
+Each keyword names a section of the study file; its dict is merged into that section of the
+base (:data:`BASE`): a value ``None`` removes the key, a section given as ``None`` is left
+out, a section the base lacks (``[solver]``, ``[testing]``) is added. Positional dicts of the
+same shape (section -> changes) are merged first, in order: a test module keeps the changes
+all its studies share in one dict and passes it before its per-test changes. The
+``[loading]`` section starts from :data:`CYCLIC_LOADING` or :data:`STATIC_LOADING` by the last
+``kind`` given. The text is written by the study layer's TOML writer, so it parses to exactly
+the values given (floats by ``repr``, ints stay ints). It lives in the package, not in tests/,
+so that tests, benchmarks and users import it the same way (benchmarks run as scripts and
+cannot import tests/).
 
 Base values: the paper's materials (steel on a nearly rigid indenter, Section 7), a flat punch
 of radius a0 = 1.8 mm, a 16 x 16 mesh, subsurface depth 1.0 a0 in 4 layers.
@@ -51,35 +55,44 @@ STATIC_LOADING: dict[str, Any] = {"kind": "static", "load": 750.0, "steps": 2}  
 _ORDER = ("study", "material", "punch", "mesh", "loading", "subsurface", "solver", "sweep")
 
 
-def _merged(base: dict[str, Any], changes: dict[str, Any]) -> dict[str, Any]:
-    merged = copy.deepcopy(base)
-    for key, value in changes.items():
-        if value is None:
-            merged.pop(key, None)
-        else:
-            merged[key] = value
-    return merged
+def _kind(layers: list[dict[str, Any]]) -> str:
+    kinds = [(layer.get("loading") or {}).get("kind") for layer in layers]
+    given = [kind for kind in kinds if kind is not None]
+    return given[-1] if given else "cyclic"
+
+
+def _apply(sections: dict[str, dict[str, Any]], layer: dict[str, Any]) -> None:
+    """Merge one layer (section -> changes) into ``sections`` in place."""
+    for section, changes in layer.items():
+        if changes is None:
+            sections.pop(section, None)
+            continue
+        table = sections.setdefault(section, {})
+        for key, value in changes.items():
+            if value is None:
+                table.pop(key, None)
+            else:
+                table[key] = copy.deepcopy(value)
 
 
 def study_sections(
-    name: str, output: str, **sections: dict[str, Any] | None
+    name: str, output: str, *layers: dict[str, Any], **sections: dict[str, Any] | None
 ) -> dict[str, dict[str, Any]]:
     """The study as nested dicts (section -> key -> value); see the module docstring."""
-    loading = sections.pop("loading", None) or {}
-    start = STATIC_LOADING if loading.get("kind") == "static" else CYCLIC_LOADING
-    study = _merged({"name": name, "output": output}, sections.pop("study", None) or {})
-    result: dict[str, dict[str, Any]] = {"study": study, "loading": _merged(start, loading)}
-    for section, base in BASE.items():
-        changes = sections.pop(section, {})
-        if changes is not None:
-            result[section] = _merged(base, changes)
-    for section, changes in sections.items():  # sections without a base ([solver], ...)
-        if changes is not None:
-            result[section] = dict(changes)
-    ranked = sorted(result, key=lambda s: _ORDER.index(s) if s in _ORDER else len(_ORDER))
-    return {section: result[section] for section in ranked}
+    layers = (*layers, sections)
+    loading = STATIC_LOADING if _kind(list(layers)) == "static" else CYCLIC_LOADING
+    result = {"study": {"name": name, "output": str(output)}, "loading": dict(loading)}
+    result.update(copy.deepcopy(BASE))
+    for layer in layers:
+        _apply(result, layer)
+    rank = {section: index for index, section in enumerate(_ORDER)}
+    ordered = sorted(result, key=lambda section: rank.get(section, len(_ORDER)))
+    return {section: result[section] for section in ordered}
 
 
-def study_toml(name: str, output: str, **sections: dict[str, Any] | None) -> str:
-    """Text of a study file: :data:`BASE` with ``sections`` merged in (module docstring)."""
-    return dump_toml(study_sections(name, output, **sections))
+def study_toml(
+    name: str, output: str, *layers: dict[str, Any], **sections: dict[str, Any] | None
+) -> str:
+    """Text of a study file: :data:`BASE` with ``layers`` and ``sections`` merged in (see the
+    module docstring)."""
+    return dump_toml(study_sections(name, output, *layers, **sections))

@@ -22,6 +22,7 @@ import pandas as pd
 import pytest
 
 import engine
+from engine.study.examples import study_toml
 
 pytestmark = pytest.mark.mpi
 
@@ -35,45 +36,31 @@ MPIEXEC = (
     or shutil.which("mpiexec", path=str(Path(PYTHON).parent))
     or shutil.which("mpiexec")
 )
-# Cyclic runs, P = 750 N, n = 32: one case takes 2–5 s here.
-STUDY = """
-[study]
-name = "{name}"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 32
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = 4
-cycles = {cycles}
-record = [1000, {cycles}]
-max_wear_fraction = 0.02  # coarse cycle jumping: fast enough for CI (accuracy: tests/test_cyclic*)
-[subsurface]
-depth = 1.0
-layers = 8
-[sweep]
-mu1 = {mu1}
-wear1 = [1.33e-7]
-beta = {beta}
-"""
 VOLATILE_ATTRS = {"rank", "runtime_s", "cpu_s", "command_line", "summary"}
 
 
-def write_study(
-    tmp_path: Path, name: str, *, cycles=10000, mu1="[0.1, 0.4]", beta="[0.0]", extra=""
-) -> Path:
+def study_text(name, output, *, cycles=10000, mu1=(0.1, 0.4), beta=(0.0,), **sections) -> str:
+    """Cyclic runs, P = 750 N, n = 32: one case takes 2–5 s here. ``sections``: changes
+    (engine.study.examples.study_toml)."""
+    base = {
+        "mesh": {"n": 32},
+        # coarse cycle jumping: fast enough for CI (accuracy: tests/test_cyclic*)
+        "loading": {
+            "steps": 4,
+            "cycles": cycles,
+            "record": [1000, cycles],
+            "max_wear_fraction": 0.02,
+        },
+        "subsurface": {"layers": 8},
+        "sweep": {"mu1": list(mu1), "wear1": [1.33e-7], "beta": list(beta)},
+    }
+    return study_toml(name, output, base, **sections)
+
+
+def write_study(tmp_path: Path, name: str, **changes) -> Path:
+    """``tmp_path/<name>.toml`` of :func:`study_text` writing ``tmp_path/<name>.h5``."""
     path = tmp_path / f"{name}.toml"
-    output = tmp_path / f"{name}.h5"
-    text = STUDY.format(name=name, output=output, cycles=cycles, mu1=mu1, beta=beta)
-    path.write_text(text + extra)
+    path.write_text(study_text(name, tmp_path / f"{name}.h5", **changes))
     return path
 
 
@@ -197,7 +184,7 @@ def assert_round_off_equal(actual, desired, scale: float, message: str) -> None:
 def reference_run(tmp_path_factory):
     """The demo-like study, uninterrupted, on two ranks (shared by several tests)."""
     tmp_path = tmp_path_factory.mktemp("reference")
-    study = write_study(tmp_path, "ref", cycles=100000, mu1="[0.1, 0.2, 0.4]", beta="[0.0, 90.0]")
+    study = write_study(tmp_path, "ref", cycles=100000, mu1=(0.1, 0.2, 0.4), beta=(0.0, 90.0))
     result = run_engine(study)
     assert result.returncode == 0, result.stderr
     return study, tmp_path / "ref.h5", result
@@ -278,8 +265,8 @@ def _statuses(stdout: str) -> list[str]:
 def test_failed_case_is_reported_and_the_rest_complete(tmp_path):
     """Acceptance 3: a case forced to fail ([testing] fail_cases) -> status failed, message and
     traceback stored, the other cases complete, exit code 1."""
-    extra = '\n[testing]\nfail_cases = ["mu0.2_w1.33e-07_b0"]\n'
-    study = write_study(tmp_path, "fail", mu1="[0.1, 0.2, 0.4]", extra=extra)
+    testing = {"fail_cases": ["mu0.2_w1.33e-07_b0"]}
+    study = write_study(tmp_path, "fail", mu1=(0.1, 0.2, 0.4), testing=testing)
     result = run_engine(study)
     assert result.returncode == 1, result.stderr
     assert "failed: InjectedFailure" in result.stdout
@@ -345,7 +332,7 @@ def test_bad_input_leaves_existing_results_unchanged(reference_run, tmp_path):
 
 
 def test_dry_run_lists_cases_and_creates_nothing(tmp_path):
-    study = write_study(tmp_path, "dry", mu1="[0.1, 0.2]", beta="[0.0, 45.0]")
+    study = write_study(tmp_path, "dry", mu1=(0.1, 0.2), beta=(0.0, 45.0))
     start = time.perf_counter()
     result = run_engine(study, "--dry-run", timeout=60)
     assert result.returncode == 0

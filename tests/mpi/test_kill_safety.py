@@ -21,37 +21,13 @@ import h5py
 import pytest
 
 import engine
+from engine.study.examples import study_toml
 from tests.mpi.test_engine_mpi import engine_command, environment, run_engine
 
 pytestmark = pytest.mark.mpi
 
-TINY = """
-[study]
-name = "{name}"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = {n}
-[loading]
-kind = "{kind}"
-load = 750.0
-steps = {steps}
-{cyclic}
-[subsurface]
-depth = 1.0
-layers = 4
-[sweep]
-mu1 = {mu1}
-beta = {beta}
-"""
 # n = 8, mu = 0.1: one case of 3e6 cycles takes ~6 s here
-CYCLIC = "cycles = 3000000\nmax_wear_fraction = 0.02\n"
+CYCLIC = {"cycles": 3000000, "record": None, "max_wear_fraction": 0.02}
 TRIALS = 20  # the issue's acceptance: 20+ kills, 20+ single-rank signals
 PARALLEL = 4
 
@@ -61,25 +37,20 @@ def tiny_study(
     name: str = "tiny",
     *,
     cyclic=False,
-    mu1="[0.1, 0.2, 0.3, 0.4]",
-    beta="[0.0, 30.0, 60.0, 90.0]",
+    mu1=(0.1, 0.2, 0.3, 0.4),
+    beta=(0.0, 30.0, 60.0, 90.0),
     n=8,
     steps=2,
 ):
+    """A static (or, ``cyclic``, a long cyclic) study of small cases in ``directory``."""
     directory.mkdir(parents=True, exist_ok=True)
     path = directory / f"{name}.toml"
-    text = TINY.format(
-        name=name,
-        output=directory / f"{name}.h5",
-        kind="cyclic" if cyclic else "static",
-        cyclic=CYCLIC if cyclic else "",
-        mu1=mu1,
-        beta=beta,
-        n=n,
-        steps=steps,
-    )
+    loading = {"kind": "cyclic", **CYCLIC} if cyclic else {"kind": "static"}
+    sweep = {"mu1": list(mu1), "beta": list(beta)}
     if cyclic:
-        text = text.replace("beta = [", "wear1 = [1.33e-7]\nbeta = [")
+        sweep["wear1"] = [1.33e-7]
+    loading["steps"] = steps
+    text = study_toml(name, directory / f"{name}.h5", mesh={"n": n}, loading=loading, sweep=sweep)
     path.write_text(text)
     return path
 
@@ -192,7 +163,7 @@ def _signal_study(directory: Path) -> Path:
     """Six static cases of ~0.3 s (n = 32): the issue's hang needed rank 1 stopped while it
     still had a case to start after rank 0's computing thread had finished — a window of one
     case at the end of the run, which short cases would make too narrow to hit."""
-    return tiny_study(directory, mu1="[0.1, 0.2, 0.3]", beta="[0.0, 90.0]", n=32, steps=4)
+    return tiny_study(directory, mu1=(0.1, 0.2, 0.3), beta=(0.0, 90.0), n=32, steps=4)
 
 
 def _signal_rank_one(directory: Path, delay: float) -> tuple[int, float, bool, str]:
@@ -282,7 +253,7 @@ def test_second_run_and_fresh_run_on_a_busy_output_exit_2(tmp_path):
     Deterministic whatever the machine's speed: of the first run's two cases one is short and
     one runs for hours (10⁸ cycles), so the run still holds the output while the contenders
     start; it is then stopped by SIGTERM (exit 3) and its completed case must be there."""
-    study = tiny_study(tmp_path, cyclic=True, mu1="[0.1]", beta="[0.0]", n=16)
+    study = tiny_study(tmp_path, cyclic=True, mu1=(0.1,), beta=(0.0,), n=16)
     text = study.read_text().replace("cycles = 3000000\n", "")
     study.write_text(text + '"loading.cycles" = [1000, 100000000]\n')
     first = start(study)

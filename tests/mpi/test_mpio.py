@@ -53,7 +53,7 @@ needs_parallel_h5py = pytest.mark.skipif(
 )
 # Four cases of 1.5–3 s each: both ranks compute two, so the kill test finds a case done and
 # others still pending.
-SWEEP = {"mu1": "[0.1, 0.2, 0.4]", "beta": "[0.0, 90.0]"}
+SWEEP = {"mu1": (0.1, 0.2, 0.4), "beta": (0.0, 90.0)}
 
 
 @needs_parallel_h5py
@@ -196,8 +196,8 @@ def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_pat
     being created (every 64 cases the ranks agree by an allreduce) stops the creation on every
     rank at the same point, and neither the file nor its temporary is left. Deterministic: the
     "signal" is a should_stop() that turns true on rank 1 at its third check."""
-    mu1 = ", ".join(f"{0.001 * k:.3f}" for k in range(1, 201))  # 200 cases
-    study = tiny_study(tmp_path, "stop", mu1=f"[{mu1}]", beta="[0.0]")
+    mu1 = [float(f"{0.001 * k:.3f}") for k in range(1, 201)]  # 200 cases
+    study = tiny_study(tmp_path, "stop", mu1=mu1, beta=[0.0])
     script = tmp_path / "stop.py"
     script.write_text(STOP_DURING_CREATION)
     result = subprocess.run(

@@ -9,68 +9,37 @@ it through the collective writer too. About 10 s on two cores.
 
 from __future__ import annotations
 
-import os
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from engine.study.examples import study_toml
+from tests.mpi.test_engine_mpi import MPIEXEC, PYTHON, environment
+
 pytestmark = pytest.mark.mpi
 
-REPO = Path(__file__).resolve().parents[2]
-PYTHON = os.environ.get("ENGINE_PYTHON") or sys.executable
-MPIEXEC = (
-    os.environ.get("ENGINE_MPIEXEC")
-    or shutil.which("mpiexec", path=str(Path(PYTHON).parent))
-    or shutil.which("mpiexec")
-)
 
-STUDY = """
-[study]
-name = "progress"
-output = "progress.h5"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-[punch]
-radius = 1.8
-[mesh]
-n = 24
-[loading]
-kind = "cyclic"
-load = 750.0
-steps = 2
-cycles = 10000
-record = [10000]
-max_wear_fraction = 0.02
-[subsurface]
-depth = 1.0
-layers = 4
-[sweep]
-mu1 = {mu1}
-wear1 = [1.33e-7]
-"""
-
-
-def run(tmp_path: Path, mu1: str, *options: str) -> subprocess.CompletedProcess:
-    (tmp_path / "study.toml").write_text(STUDY.format(mu1=mu1))
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
-    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+def run(tmp_path: Path, mu1: list[float], *options: str) -> subprocess.CompletedProcess:
+    """Run a cyclic study (24 x 24, 10⁴ cycles, coarse jumps) of the frictions ``mu1``."""
+    text = study_toml(
+        "progress",
+        "progress.h5",
+        mesh={"n": 24},
+        loading={"cycles": 10000, "record": [10000], "max_wear_fraction": 0.02},
+        sweep={"mu1": mu1, "wear1": [1.33e-7]},
+    )
+    (tmp_path / "study.toml").write_text(text)
     return subprocess.run(
         [MPIEXEC, "-n", "2", PYTHON, "-m", "engine", "study.toml", *options],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
+        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=180,
     )  # fmt: skip
 
 
 def test_progress_lines_of_a_real_run(tmp_path):
     """End to end, what holds whatever the timing: a status line after every finished case,
     with an ETA while cases remain, and the last one says all are done."""
-    result = run(tmp_path, "[0.1, 0.2, 0.4]", "--progress-interval", "0.2")
+    result = run(tmp_path, [0.1, 0.2, 0.4], "--progress-interval", "0.2")
     assert result.returncode == 0, result.stdout + result.stderr
     lines = [line for line in result.stderr.splitlines() if line.startswith("progress: ")]
     assert any(line.startswith("progress: 1/3 cases done") and "ETA " in line for line in lines)
@@ -116,18 +85,16 @@ def test_progress_channel_names_the_cases_of_both_ranks(tmp_path):
     are sent before a barrier and drained until they have arrived)."""
     script = tmp_path / "channel.py"
     script.write_text(CHANNEL_SCRIPT)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
     result = subprocess.run(
         [MPIEXEC, "-n", "2", PYTHON, str(script)],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120,
+        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     assert result.returncode == 0, result.stdout + result.stderr
     assert "cycle 7" in result.stdout and "cycle 3" in result.stdout, result.stdout
 
 
 def test_more_ranks_than_cases_warns(tmp_path):
-    dry = run(tmp_path, "[0.4]", "--dry-run")
+    dry = run(tmp_path, [0.4], "--dry-run")
     assert dry.returncode == 0, dry.stderr
     assert "warning: 2 ranks for 1 case to run: 1 rank will stay idle" in dry.stderr
     assert "would run 1 case on 2 ranks" in dry.stdout

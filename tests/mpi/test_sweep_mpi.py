@@ -7,27 +7,21 @@ from __future__ import annotations
 import h5py
 import pytest
 
-from tests.mpi.test_engine_mpi import STUDY, assert_same_results, run_engine
+from tests.mpi.test_engine_mpi import assert_same_results, run_engine, write_study
 from tests.mpi.test_mpio import engine_h5py_is_mpi_enabled, needs_parallel_h5py
 
 __all__ = ["engine_h5py_is_mpi_enabled"]  # evaluated by the skipif condition
 
 pytestmark = pytest.mark.mpi
 
-SWEPT = '"mesh.n" = [16, 24]\n"loading.load" = [500.0, 750.0]\n'
+SWEPT = {"mesh.n": [16, 24], "loading.load": [500.0, 750.0]}
 
 
 def write_swept_study(tmp_path, name):
-    text = (
-        STUDY.format(
-            name=name, output=tmp_path / f"{name}.h5", cycles=2000, mu1="[0.4]", beta="[0.0]"
-        )
-        .replace("[mesh]\nn = 32\n", "[mesh]\n")
-        .replace("load = 750.0\n", "")
-    )
-    path = tmp_path / f"{name}.toml"
-    path.write_text(text + SWEPT)
-    return path
+    return write_study(
+        tmp_path, name, cycles=2000, mu1=[0.4], beta=[0.0],
+        mesh={"n": None}, loading={"load": None}, sweep=SWEPT,
+    )  # fmt: skip
 
 
 def _check_per_case_grids(path):
