@@ -19,7 +19,9 @@ Layout (``format = "fretting-engine-results/1"``)::
         fields/final/<name>           surface fields at peak load of the last cycle
         subsurface/cycle_NNNNNNN/ and subsurface/final/
                             x, y, z (mm), von_mises and sigma_<ij> (MPa) in the x–z plane
-    every dataset carries ``units`` and ``description`` attributes.
+    every dataset carries ``units`` and ``description`` attributes; grid/x and grid/y are HDF5
+    dimension scales, a case's own attached to dimensions 0 and 1 of its surface fields
+    (fields/*, peak_changes/*), see :func:`attach_grid_scales`.
 
 Every case group is created from the plan when the file is prepared (status ``pending``), so
 the structure is known before any computation — the shape a collective (mpio) strategy needs,
@@ -195,6 +197,51 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
             dataset = grid.create_dataset(name, data=values)
             dataset.attrs["units"] = "mm"
             dataset.attrs["description"] = f"element-centre {name} coordinates"
+            dataset.make_scale(name)  # the shared grid as a dimension scale (not attached)
+
+
+SURFACE_FIELD_GROUPS = ("fields/", "peak_changes/")  # surface fields (n_x, n_y), ij indexing
+
+
+def attach_grid_scales(group: h5py.Group, paths) -> None:
+    """The case's ``grid/x`` and ``grid/y`` become HDF5 dimension scales (named ``x`` and
+    ``y``), attached to dimensions 0 and 1 of every surface field of shape (n_x, n_y) among
+    ``paths`` (``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is x). Readers that know
+    dimension scales (h5py ``dataset.dims``, HDFView) then find each field's
+    coordinates; the data is unchanged. Subsurface planes carry their own 2-D x, z arrays."""
+    if "grid/x" not in paths or "grid/y" not in paths:
+        return
+    x, y = group["grid/x"], group["grid/y"]
+    shape = (x.shape[0], y.shape[0])
+    fields = [
+        group[path]
+        for path in paths
+        if path.startswith(SURFACE_FIELD_GROUPS) and group[path].shape == shape
+    ]
+    if not fields:
+        return
+    x.make_scale("x")
+    y.make_scale("y")
+    for field in fields:
+        field.dims[0].attach_scale(x)
+        field.dims[1].attach_scale(y)
+
+
+_SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
+
+
+def reattach_grid_scales(group: h5py.Group) -> None:
+    """After ``H5Ocopy`` into another file (salvage) the object references of dimension
+    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own."""
+    paths: list[str] = []
+    group.visit(paths.append)
+    datasets = [path for path in paths if isinstance(group[path], h5py.Dataset)]
+    for path in datasets:
+        attrs = group[path].attrs
+        for name in _SCALE_ATTRIBUTES:
+            if name in attrs:
+                del attrs[name]
+    attach_grid_scales(group, datasets)
 
 
 def settle_stale_cases(
@@ -375,6 +422,7 @@ class ResultsWriter:
                 dataset = group.create_dataset(path, data=item["data"])
             dataset.attrs["units"] = item["units"]
             dataset.attrs["description"] = item["description"]
+        attach_grid_scales(group, record["datasets"])
         group.attrs.update(record["attrs"])
         group.attrs["message"] = record["message"]
         group.attrs["traceback"] = record["traceback"]
