@@ -346,12 +346,9 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
             return EXIT_INTERRUPTED
         if rank == 0 and existing is not None:
             existing.report(sys.stdout)
-        if strategy == "mpio":
-            code = _compute_collective(
-                comm, config, plan, layout, args, command_line, stop_event, existing
-            )
-        else:
-            code = _compute(comm, config, plan, args, command_line, stop_event, existing)
+        code = _compute(
+            comm, config, plan, strategy, layout, args, command_line, stop_event, existing
+        )
         return comm.bcast(code, root=0)
     finally:
         for lock in lock_holder:
@@ -393,99 +390,53 @@ def _settle_existing(config, plan, args, existing, command_line) -> None:
         )
 
 
-def _compute(comm, config, plan, args, command_line, stop_event, existing) -> int:
-    from engine.output.hdf5 import SingleWriter, StoppedDuringSetUp
-    from engine.output.progress import WorkerProgress
-    from engine.parallel.scheduler import Scheduler
-    from engine.study.case import CaseRunner
+def _compute(comm, config, plan, strategy, layout, args, command_line, stop_event, existing) -> int:
+    """Every rank: open this rank's writer for the strategy (engine.output.hdf5.open_writer),
+    prepare the file (rank 0 alone, or every rank for mpio), run the scheduler, close.
 
-    runner = CaseRunner(config)
-    if comm.Get_rank() != 0:
-        runner.on_progress = WorkerProgress(comm)
-    scheduler = Scheduler(comm, runner, stop_event=stop_event, peers=_STOP_STATE["peers"])
-    if comm.Get_rank() != 0:
-        scheduler.run()
-        return EXIT_OK  # replaced by rank 0's code in the final bcast
-
-    _settle_existing(config, plan, args, existing, command_line)
-    with SingleWriter(
-        config.study.output,
-        config.study.summary_path,
-        drop_stale=args.drop_stale,
-        should_stop=stop_event.is_set,
-    ) as writer:
-        try:
-            metadata = _metadata(config, command_line, plan)
-            completed = writer.prepare(plan, metadata, fresh=args.fresh)
-        except StoppedDuringSetUp as stopped:
-            print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
-            scheduler.run([], lambda outcome: None)  # tell the workers to exit
-            return EXIT_INTERRUPTED
-        todo = plan.dispatch_order(skip=completed)
-        _announce(config, plan, completed, todo, comm.Get_size())
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
-        statuses = [row["status"] for row in writer.rows()]
-    _remove_empty_checkpoint_dir(config)
-    return _report(config, statuses, report)
-
-
-def _compute_collective(
-    comm, config, plan, layout, args, command_line, stop_event, existing
-) -> int:
-    """mpio strategy: every rank opens the file and writes the cases it computes."""
-    import time
-
-    from engine.output.collective import CollectiveWriter
-    from engine.output.hdf5 import StoppedDuringSetUp
+    Rank 0 returns the run's exit code; the others' is replaced by it in the final bcast."""
+    from engine.output.hdf5 import StoppedDuringSetUp, open_writer
     from engine.output.progress import WorkerProgress
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
     rank = comm.Get_rank()
-    if rank == 0:
-        _settle_existing(config, plan, args, existing, command_line)
-    comm.Barrier()
-    writer = CollectiveWriter(
+    runner = CaseRunner(config)
+    if rank != 0:
+        runner.on_progress = WorkerProgress(comm)
+    writer = open_writer(
+        strategy,
         config.study.output,
-        comm,
-        layout,
+        comm=comm,
+        layout=layout,
         summary_path=config.study.summary_path,
         journal_dir=config.study.checkpoint_dir,
         drop_stale=args.drop_stale,
         should_stop=stop_event.is_set,
     )
+    scheduler = Scheduler(
+        comm, writer.computing(runner), stop_event=stop_event, peers=_STOP_STATE["peers"]
+    )
+    if rank == 0:
+        _settle_existing(config, plan, args, existing, command_line)
     try:
         completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
-    except StoppedDuringSetUp as stopped:  # raised on every rank at the same point
+    except StoppedDuringSetUp as stopped:  # on rank 0, or on every rank at once (mpio)
         if rank == 0:
             print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
+            if not writer.collective:
+                scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
         return EXIT_INTERRUPTED
-    runner = CaseRunner(config)
-    if rank != 0:
-        runner.on_progress = WorkerProgress(comm)
-    scheduler = Scheduler(
-        comm,
-        runner if rank == 0 else writer.owner(runner),
-        stop_event=stop_event,
-        peers=_STOP_STATE["peers"],
-    )
-    if rank != 0:
-        scheduler.run()
-        writer.close()
-        return EXIT_OK  # replaced by rank 0's code in the final bcast
-
-    todo = plan.dispatch_order(skip=completed)
-    _announce(config, plan, completed, todo, comm.Get_size(), " (collective mpio output)")
-    report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
-    start = time.perf_counter()
-    writer.close()
+    with writer:
+        if rank != 0:
+            scheduler.run()
+            return EXIT_OK  # replaced by rank 0's code in the final bcast
+        todo = plan.dispatch_order(skip=completed)
+        _announce(config, plan, completed, todo, comm.Get_size(), writer.announce_suffix)
+        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
     _remove_empty_checkpoint_dir(config)
-    print(
-        f"output (mpio): {writer.write_seconds_total:.2f} s writing data over all ranks, "
-        f"{writer.commit_seconds:.2f} s collective prepare/commit "
-        f"(close {time.perf_counter() - start:.2f} s)",
-        flush=True,
-    )
+    if writer.closing_note() is not None:
+        print(writer.closing_note(), flush=True)
     return _report(config, [row["status"] for row in writer.rows()], report)
 
 

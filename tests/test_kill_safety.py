@@ -181,6 +181,8 @@ def test_truncated_file_is_salvaged_and_the_rest_recomputed(tmp_path):
             np.testing.assert_array_equal(
                 file["cases"][name]["fields/final/pressure"][()], reference[name]
             )
+            pressure = file["cases"][name]["fields/final/pressure"]  # scales re-attached
+            assert pressure.dims[0][0] == file["cases"][name]["grid/x"]
         assert set(file["cases"]) == set(plan.case_ids)
 
 

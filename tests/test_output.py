@@ -64,6 +64,8 @@ def fake_outcome(case, status="completed"):
         "history/cycle": DatasetRecord(np.arange(1, 11), "1", "cycle"),
         "history/max_wear_depth": DatasetRecord(np.linspace(0, 1e-3, 10), "mm", "depth"),
         "fields/final/pressure": DatasetRecord(np.ones((4, 4)), "MPa", "pressure"),
+        "grid/x": DatasetRecord(np.linspace(-1.5, 1.5, 4), "mm", "element-centre x"),
+        "grid/y": DatasetRecord(np.linspace(-1.5, 1.5, 4) + 10.0, "mm", "element-centre y"),
     }
     if status != "completed":
         datasets = {}
@@ -108,6 +110,24 @@ def test_layout_units_attributes_and_completion_flag(study):
         # every planned case has a group from the start (pre-created from the plan)
         assert set(file["cases"]) == set(plan.case_ids)
         assert file["cases"][plan.cases[2].case_id].attrs["status"] == "pending"
+
+
+def test_grid_coordinates_are_dimension_scales_of_the_surface_fields(study):
+    """Issue 14.2: a case's grid/x and grid/y are HDF5 dimension scales attached to axes 0 and
+    1 of its surface fields (ij indexing), history arrays are left alone, and the shared root
+    grid is marked as a scale too."""
+    config, plan, path = study
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        writer.write(fake_outcome(plan.cases[0]))
+    with h5py.File(path, "r") as file:
+        case = file["cases"][plan.cases[0].case_id]
+        pressure = case["fields/final/pressure"]
+        assert pressure.dims[0][0] == case["grid/x"] and pressure.dims[1][0] == case["grid/y"]
+        assert list(pressure.dims[0].keys()) == ["x"] and list(pressure.dims[1].keys()) == ["y"]
+        np.testing.assert_array_equal(pressure.dims[1]["y"][()], case["grid/y"][()])
+        assert len(case["history/cycle"].dims[0]) == 0
+        assert file["grid/x"].is_scale and file["grid/y"].is_scale
 
 
 def test_summary_from_h5_and_csv_agree(study):

@@ -43,25 +43,12 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CaseStatus, DatasetRecord, pending_row
+from engine.schema import CaseStatus, DatasetRecord
 from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
 
-from .hdf5 import (
-    SingleWriter,
-    StoppedDuringSetUp,
-    StudyMetadata,
-    SummaryTable,
-    _attribute_safe,
-    _json_safe,
-    check_resumable,
-    creating_path,
-    publish_created,
-    renumber_cases,
-    settle_stale_cases,
-    write_root,
-)
+from .hdf5 import ResultsWriter, StudyMetadata, case_record, publish_created
 
 __all__ = [
     "STRATEGIES",
@@ -105,19 +92,27 @@ def choose_strategy(requested: str, ranks: int) -> str:
 class _Written:
     """Stands for a dataset its rank has already written into the shared file."""
 
+    written = True
+
     def __init__(self, units: str, description: str) -> None:
         self.units, self.description = units, description
 
 
-class CollectiveWriter:
+class CollectiveWriter(ResultsWriter):
     """All ranks share the file (``driver="mpio"``); each writes the cases it computed.
 
     ``layout``: case_id -> (path -> :class:`DatasetShape`) of the datasets pre-created in each
     incomplete case group (:func:`engine.study.layout.plan_layout`; identical on all ranks),
     or one path -> :class:`DatasetShape` mapping shared by every case. ``prepare`` and
     ``close`` are collective; ``write`` (rank 0, outcomes of all ranks) and ``write_own``
-    (any rank, its own outcome) are not.
+    (any rank, its own outcome) are not. What differs from the base class: the file is opened
+    with the mpio driver, rank 0 looks at the existing file and reads the journals of a killed
+    run (then broadcasts), the ranks agree on a stop signal by an allreduce, and a pending
+    group holds its pre-created datasets.
     """
+
+    collective = True
+    announce_suffix = " (collective mpio output)"
 
     def __init__(
         self,
@@ -130,90 +125,46 @@ class CollectiveWriter:
         drop_stale: bool = False,
         should_stop=None,
     ) -> None:
-        self.path = Path(path)
+        super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
         self.comm = comm
-        self.should_stop = should_stop or (lambda: False)  # this rank's stop signal
         self.rank = comm.Get_rank()
+        self.is_root = self.rank == 0
         self.layout = dict(layout)
         self._per_case = any(isinstance(spec, dict) for spec in self.layout.values())
-        self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.journal_dir = (
             Path(journal_dir)
             if journal_dir
             else self.path.with_name(self.path.name + ".checkpoints")
         )
-        self.drop_stale = drop_stale
-        self._summary = SummaryTable(self.summary_path)
-        self._file: h5py.File | None = None
-        self._plan: Plan | None = None
-        self._rows: dict[str, dict[str, Any]] = {}
-        self._order: list[str] = []
+        self._leftovers: list[dict[str, Any]] = []  # journals of a killed run (prepare)
         self._journals: list[dict[str, Any]] = []  # rank 0: written this run, not committed
         self.write_seconds = 0.0  # time in independent writes on this rank (benchmark)
         self.commit_seconds = 0.0  # time in prepare + close (collective)
         self.write_seconds_total = 0.0  # sum over ranks, known after close
+        self._close_seconds = 0.0
 
     # ------------------------------------------------------------------ collective
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
-        """Collective: open, commit leftover journals, reset and pre-create incomplete cases.
-
-        A new file is built under a temporary name (every rank takes part) and renamed by
-        rank 0 once its structure is complete, as in the single writer."""
+        """Collective: open, commit leftover journals, reset and pre-create incomplete cases
+        (:meth:`ResultsWriter.prepare`; every rank takes part in building a new file)."""
         start = _now()
-        exists, leftovers = None, []
-        if self.rank == 0:
-            exists = self.path.exists() and not fresh
-            if exists:
-                check_resumable(self.path, metadata)
-                leftovers = self._read_journals()
-            else:
-                self.path.parent.mkdir(parents=True, exist_ok=True)
-        exists, leftovers = self.comm.bcast((exists, leftovers), root=0)
-        if not exists:
-            self._create(plan, metadata)
-        self._file = h5py.File(self.path, "a", driver="mpio", comm=self.comm)
-        file = self._file
-        cases = file["cases"] if not exists else file.require_group("cases")
-        completed: set[str] = set()
-        stale: list[str] = []
-        if exists:
-            write_root(file, metadata)
-            self._commit_all(cases, [r for r in leftovers if r["case_id"] in cases])
-            completed = self._reset_incomplete(cases, plan)
-            stale = settle_stale_cases(cases, plan, self._rows, drop_stale=self.drop_stale)
-            renumber_cases(cases, plan, stale)
-        else:
-            self._rows = {case.case_id: pending_row(case.parameters()) for case in plan}
-        self._plan = plan
-        self._order = list(plan.case_ids) + stale
-        file.flush()
-        if self.rank == 0:
-            self._remove_journals(leftovers)
-            self._summary.update(self.rows, force=True)
+        completed = super().prepare(plan, metadata, fresh=fresh)
         self.commit_seconds += _now() - start
         return completed
 
-    def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
-        """Collective: structure of a new file under the temporary name, then the rename."""
-        temporary = creating_path(self.path)
-        stopped = False
-        with h5py.File(temporary, "w", driver="mpio", comm=self.comm) as file:
-            write_root(file, metadata)
-            cases = file.create_group("cases")
-            for number, case in enumerate(plan):
-                if number % 64 == 0 and self._stop_agreed():
-                    stopped = True
-                    break
-                self._pending_group(cases, case)
-        stopped = stopped or self._stop_agreed()
-        if stopped:  # thousands of cases take seconds: stop without the file, on every rank
-            if self.rank == 0:
-                temporary.unlink(missing_ok=True)
-            self.comm.Barrier()
-            raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
+    def _look_at_existing(self, metadata: StudyMetadata, fresh: bool) -> bool:
+        """Rank 0 checks the existing file and reads the journals of a killed run; every rank
+        learns the verdict."""
+        exists, leftovers = None, []
         if self.rank == 0:
-            publish_created(self.path)
-        self.comm.Barrier()
+            exists = super()._look_at_existing(metadata, fresh)
+            if exists:
+                leftovers = self._read_journals()
+        exists, self._leftovers = self.comm.bcast((exists, leftovers), root=0)
+        return exists
+
+    def _open(self, path: Path, mode: str) -> h5py.File:
+        return h5py.File(path, mode, driver="mpio", comm=self.comm)
 
     def _stop_agreed(self) -> bool:
         """Collective: whether any rank has seen a stop signal (the same answer everywhere, so
@@ -222,23 +173,31 @@ class CollectiveWriter:
 
         return bool(self.comm.allreduce(bool(self.should_stop()), op=MPI.LOR))
 
-    def _pending_group(self, cases: h5py.Group, case) -> None:
-        group = SingleWriter._reset_group(cases, case)
+    def _discard(self, temporary: Path) -> None:
+        if self.rank == 0:
+            temporary.unlink(missing_ok=True)
+        self.comm.Barrier()
+
+    def _publish(self) -> None:
+        if self.rank == 0:
+            publish_created(self.path)
+        self.comm.Barrier()
+
+    def _settle_leftovers(self, cases: h5py.Group) -> None:
+        """Commit the journals of a killed run: their data is already in the file."""
+        self._commit_all(cases, [r for r in self._leftovers if r["case_id"] in cases])
+
+    def _pending_group(self, cases: h5py.Group, case) -> h5py.Group:
+        group = self._reset_group(cases, case)
         for path, spec in self.layout_of(case.case_id).items():
             group.create_dataset(path, shape=spec.shape, dtype=spec.dtype, fill_time="never")
+        return group
 
-    def _reset_incomplete(self, cases: h5py.Group, plan: Plan) -> set[str]:
-        completed = set()
-        for case in plan:
-            group = cases.get(case.case_id)
-            status = group.attrs.get("status", "") if group is not None else ""
-            if status == COMPLETED:
-                completed.add(case.case_id)
-                self._rows[case.case_id] = json.loads(group.attrs["summary"])
-                continue
-            self._pending_group(cases, case)
-            self._rows[case.case_id] = pending_row(case.parameters())
-        return completed
+    def _prepared(self) -> None:
+        if self.rank == 0:
+            self._remove_journals(self._leftovers)
+        self._leftovers = []
+        super()._prepared()
 
     def close(self) -> None:
         """Collective: commit the cases written this run, empty incomplete groups, close."""
@@ -250,7 +209,7 @@ class CollectiveWriter:
         self._commit_all(cases, journals)
         for case in self._plan or []:
             if cases[case.case_id].attrs.get("status", "") in (CaseStatus.PENDING, ""):
-                SingleWriter._reset_group(cases, case)  # drop the unwritten pre-created data
+                self._reset_group(cases, case)  # drop the unwritten pre-created data
         self._file.flush()
         self._file.close()
         self._file = None
@@ -260,13 +219,15 @@ class CollectiveWriter:
             self._journals = []
             if self._summary.dirty:
                 self._summary.update(self.rows, force=True)
-        self.commit_seconds += _now() - start
+        self._close_seconds = _now() - start
+        self.commit_seconds += self._close_seconds
 
-    def __enter__(self) -> CollectiveWriter:
-        return self
-
-    def __exit__(self, *exc_info) -> None:
-        self.close()
+    def closing_note(self) -> str:
+        return (
+            f"output (mpio): {self.write_seconds_total:.2f} s writing data over all ranks, "
+            f"{self.commit_seconds:.2f} s collective prepare/commit "
+            f"(close {self._close_seconds:.2f} s)"
+        )
 
     # ------------------------------------------------------------------ independent
     def write_own(self, outcome: CaseOutcome) -> CaseOutcome:
@@ -299,6 +260,11 @@ class CollectiveWriter:
         self._rows[outcome.case_id] = dict(outcome.row)
         self._write_summary()
 
+    def computing(self, run_case):
+        """On ranks > 0, ``run_case`` followed by :meth:`write_own`: the rank writes its case
+        and sends rank 0 the light outcome. Rank 0's own cases are written in :meth:`write`."""
+        return run_case if self.rank == 0 else self.owner(run_case)
+
     def owner(self, run_case):
         """Wrap ``run_case`` for ranks > 0: run the case, write it, return the light outcome."""
 
@@ -308,9 +274,6 @@ class CollectiveWriter:
             return self.write_own(outcome)
 
         return run_and_write
-
-    def rows(self) -> list[dict[str, Any]]:
-        return [self._rows[case_id] for case_id in self._order]
 
     # ------------------------------------------------------------------ commit
     def _commit_all(self, cases: h5py.Group, journals: list[dict[str, Any]]) -> None:
@@ -322,24 +285,13 @@ class CollectiveWriter:
             self._rows[record["case_id"]] = record["row"]
 
     def _commit(self, cases: h5py.Group, group: h5py.Group, record: dict[str, Any]) -> None:
-        """Collective, identical on all ranks: the structural part of SingleWriter.write."""
+        """Collective, identical on all ranks: :meth:`ResultsWriter._store_case` of the
+        journal (pre-created datasets the case did not fill are dropped first), flush, then
+        the ``status`` flag, flush."""
         written = {path for path, item in record["datasets"].items() if item["written"]}
         if record["status"] != COMPLETED or set(self.layout_of(record["case_id"])) - written:
             group = _drop_unwritten(cases, group, written, record)
-        for path, item in record["datasets"].items():
-            if item["written"]:
-                dataset = group[path]
-            else:
-                data = np.asarray(item["data"], dtype=item["dtype"]).reshape(item["shape"])
-                dataset = group.create_dataset(path, data=data)
-            dataset.attrs["units"] = item["units"]
-            dataset.attrs["description"] = item["description"]
-        group.attrs.update(record["attrs"])
-        group.attrs["message"] = record["message"]
-        group.attrs["traceback"] = record["traceback"]
-        group.attrs["rank"] = record["rank"]
-        group.attrs["runtime_s"] = record["runtime_s"]
-        group.attrs["summary"] = json.dumps(_json_safe(record["row"]))
+        self._store_case(group, _with_arrays(record))
         self._file.flush()
         group.attrs["status"] = record["status"]  # the completion flag, written last
         self._file.flush()
@@ -394,29 +346,27 @@ def _drop_unwritten(cases, group, written: set[str], record) -> h5py.Group:
 
 
 def _journal(outcome: CaseOutcome) -> dict[str, Any]:
-    """JSON-able record of an outcome whose pre-created datasets have been written."""
-    datasets = {}
-    for path, record in outcome.datasets.items():
-        item: dict[str, Any] = {"units": record.units, "description": record.description}
-        if isinstance(record, _Written):
-            item["written"] = True
-        else:
-            data = np.asarray(record.data)
+    """JSON-able :func:`case_record` of an outcome whose pre-created datasets have been
+    written: the other arrays as dtype, shape and nested lists."""
+    record = case_record(outcome)
+    for item in record["datasets"].values():
+        if "data" in item:
+            data = item.pop("data")
             item.update(
                 written=False, dtype=data.dtype.str, shape=list(data.shape), data=data.tolist()
             )
+    return record
+
+
+def _with_arrays(record: dict[str, Any]) -> dict[str, Any]:
+    """A journal with its listed datasets back as arrays (for the structural write)."""
+    datasets = {}
+    for path, item in record["datasets"].items():
+        if not item["written"]:
+            data = np.asarray(item["data"], dtype=item["dtype"]).reshape(item["shape"])
+            item = dict(item, data=data)
         datasets[path] = item
-    return {
-        "case_id": outcome.case_id,
-        "status": outcome.status,
-        "row": _json_safe(dict(outcome.row)),
-        "attrs": _attribute_safe(outcome.attrs),
-        "message": outcome.message,
-        "traceback": outcome.traceback,
-        "rank": int(outcome.rank),
-        "runtime_s": float(outcome.runtime_s),
-        "datasets": datasets,
-    }
+    return dict(record, datasets=datasets)
 
 
 _now = time.perf_counter

@@ -19,8 +19,10 @@ Layout (``format = "fretting-engine-results/1"``)::
         fields/final/<name>           surface fields at peak load of the last cycle
         subsurface/cycle_NNNNNNN/ and subsurface/final/
                             x, y, z (mm), von_mises and sigma_<ij> (MPa) in the x–z plane
-    every dataset carries ``units`` and ``description`` attributes (paths, units and
-    descriptions: :mod:`engine.schema`, the one table the writers and the reader share).
+    every dataset carries ``units`` and ``description`` attributes (paths, units and descriptions:
+    :mod:`engine.schema`); grid/x and grid/y are HDF5
+    dimension scales, a case's own attached to dimensions 0 and 1 of its surface fields
+    (fields/*, peak_changes/*), see :func:`attach_grid_scales`.
 
 Every case group is created from the plan when the file is prepared (status ``pending``), so
 the structure is known before any computation — the shape a collective (mpio) strategy needs,
@@ -32,11 +34,18 @@ its ``status`` attribute last, followed by a flush. A group whose status is not 
 the CLI only set a flag, so SIGTERM/SIGUSR1/SIGINT never interrupt a write; the file is
 consistent after every flush.
 
-Strategies
-----------
-:class:`SingleWriter` (default): rank 0 owns the file; workers send their outcomes to it.
+Strategies (the writer family)
+------------------------------
+:class:`ResultsWriter` owns what every strategy shares: ``prepare`` (check an existing file,
+build a new one under a temporary name, reset incomplete cases, settle stale ones), the
+pending group of a case and the structural write of a finished one. Its strategies:
+
+:class:`SingleWriter` (default): rank 0 owns the file; workers send their outcomes to it (a
+    :class:`Bystander` on the other ranks).
 :class:`engine.output.collective.CollectiveWriter` (mpio): every rank writes its own cases into
-the shared file through parallel HDF5; same layout (see that module).
+    the shared file through parallel HDF5; same layout (see that module).
+
+:func:`open_writer` picks the strategy's writer for a rank; the CLI's one compute path uses it.
 """
 
 from __future__ import annotations
@@ -47,7 +56,7 @@ import os
 import shutil
 import time
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import h5py
 import numpy as np
@@ -63,6 +72,9 @@ __all__ = [
     "StudyMetadata",
     "ResultsWriter",
     "SingleWriter",
+    "Bystander",
+    "open_writer",
+    "case_record",
     "ResultsMismatch",
     "read_root_metadata",
     "write_root",
@@ -114,18 +126,6 @@ class StudyMetadata:
     @property
     def fingerprint(self) -> str:
         return self.attrs["study_fingerprint"]
-
-
-class ResultsWriter(Protocol):
-    """Interface of every writer strategy."""
-
-    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool) -> set[str]:
-        """Create or reopen the file; return the ids of completed cases (skipped on resume)."""
-
-    def write(self, outcome: CaseOutcome) -> None:
-        """Store one case atomically (datasets, attributes, status last, flush)."""
-
-    def close(self) -> None: ...
 
 
 def read_root_metadata(path: str | Path) -> dict[str, Any]:
@@ -199,6 +199,51 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
             dataset = grid.create_dataset(name, data=values)
             dataset.attrs["units"] = "mm"
             dataset.attrs["description"] = f"element-centre {name} coordinates"
+            dataset.make_scale(name)  # the shared grid as a dimension scale (not attached)
+
+
+SURFACE_FIELD_GROUPS = ("fields/", "peak_changes/")  # surface fields (n_x, n_y), ij indexing
+
+
+def attach_grid_scales(group: h5py.Group, paths) -> None:
+    """The case's ``grid/x`` and ``grid/y`` become HDF5 dimension scales (named ``x`` and
+    ``y``), attached to dimensions 0 and 1 of every surface field of shape (n_x, n_y) among
+    ``paths`` (``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is x). Readers that know
+    dimension scales (h5py ``dataset.dims``, HDFView) then find each field's
+    coordinates; the data is unchanged. Subsurface planes carry their own 2-D x, z arrays."""
+    if "grid/x" not in paths or "grid/y" not in paths:
+        return
+    x, y = group["grid/x"], group["grid/y"]
+    shape = (x.shape[0], y.shape[0])
+    fields = [
+        group[path]
+        for path in paths
+        if path.startswith(SURFACE_FIELD_GROUPS) and group[path].shape == shape
+    ]
+    if not fields:
+        return
+    x.make_scale("x")
+    y.make_scale("y")
+    for field in fields:
+        field.dims[0].attach_scale(x)
+        field.dims[1].attach_scale(y)
+
+
+_SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
+
+
+def reattach_grid_scales(group: h5py.Group) -> None:
+    """After ``H5Ocopy`` into another file (salvage) the object references of dimension
+    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own."""
+    paths: list[str] = []
+    group.visit(paths.append)
+    datasets = [path for path in paths if isinstance(group[path], h5py.Dataset)]
+    for path in datasets:
+        attrs = group[path].attrs
+        for name in _SCALE_ATTRIBUTES:
+            if name in attrs:
+                del attrs[name]
+    attach_grid_scales(group, datasets)
 
 
 def settle_stale_cases(
@@ -218,12 +263,26 @@ def settle_stale_cases(
     return stale
 
 
-class SingleWriter:
-    """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
+class ResultsWriter:
+    """Base of the writer family: what every strategy does the same way.
 
-    The summary CSV beside the file is rewritten (atomically) after every case, so it is always
-    in step with the HDF5 file.
+    It owns the life of the file up to the first case — :meth:`prepare` (look at an existing
+    file, build a new one under a temporary name with a pending group per case, or reopen it,
+    reset the incomplete cases, settle stale ones, renumber) — the pending group of a case
+    (:meth:`_reset_group`), the structural write of a finished case (:meth:`_store_case`:
+    datasets with ``units`` and ``description``, then the case attributes; the ``status``
+    flag is set by the strategy, after a flush), and the summary rows. A strategy supplies how
+    the file is opened (:meth:`_open`), how the ranks agree (:meth:`_look_at_existing`,
+    :meth:`_stop_agreed`, :meth:`_publish`, :meth:`_discard`), what a pending group holds
+    beyond its attributes (:meth:`_pending_group`), and ``write`` / ``close``.
+
+    Every call of ``prepare`` and ``close`` is made on the ranks the strategy names (rank 0
+    alone for :class:`SingleWriter`, every rank for the collective writer), which is why the
+    CLI has one compute path for all of them (:func:`open_writer`).
     """
+
+    collective = False  # True: prepare/close are collective calls on every rank
+    announce_suffix = ""  # appended to the CLI's start line
 
     def __init__(
         self,
@@ -237,29 +296,73 @@ class SingleWriter:
         self.should_stop = should_stop or (lambda: False)  # a stop signal during creation
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.drop_stale = drop_stale
+        self.is_root = True  # the rank that keeps the summary CSV
         self._file: h5py.File | None = None
+        self._plan: Plan | None = None
         self._rows: dict[str, dict[str, Any]] = {}
         self._order: list[str] = []
         self._summary = SummaryTable(self.summary_path)
-        self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
-        self.flag_spacing = 10.0
-        self._last_commit_end = -math.inf
-        self._commit_cost = 0.0
 
-    # ------------------------------------------------------------------ lifecycle
+    # ------------------------------------------------------------------ prepare
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
-        if fresh or not self.path.exists():
+        """Create or reopen the file; return the ids of completed cases (skipped on resume).
+
+        A new file is built under a temporary name and renamed once its structure is complete
+        (:meth:`_create`); an existing one (same study, checked first) keeps its completed
+        cases, and every other case of the plan gets a pristine pending group."""
+        exists = self._look_at_existing(metadata, fresh)
+        if not exists:
             self._create(plan, metadata)
-            self._file = h5py.File(self.path, "a")
+        self._file = self._open(self.path, "a")
+        cases = self._file.require_group("cases")
+        completed: set[str] = set()
+        stale: list[str] = []
+        if exists:
+            write_root(self._file, metadata)
+            self._settle_leftovers(cases)
+            completed = self._reset_incomplete(cases, plan)
+            stale = settle_stale_cases(cases, plan, self._rows, drop_stale=self.drop_stale)
+            renumber_cases(cases, plan, stale)
+        else:
             self._rows = {case.case_id: pending_row(case.parameters()) for case in plan}
-            self._order = list(plan.case_ids)
-            self._write_summary(force=True)
-            return set()
-        check_resumable(self.path, metadata)
-        self._file = h5py.File(self.path, "a")
-        file = self._file
-        write_root(file, metadata)
-        cases = file.require_group("cases")
+        self._plan = plan
+        self._order = list(plan.case_ids) + stale
+        self._file.flush()
+        self._prepared()
+        return completed
+
+    def _look_at_existing(self, metadata: StudyMetadata, fresh: bool) -> bool:
+        """Whether an existing file is resumed (checked to hold this study; raises
+        :class:`ResultsMismatch` otherwise); a new file's folder is created."""
+        exists = self.path.exists() and not fresh
+        if exists:
+            check_resumable(self.path, metadata)
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        return exists
+
+    def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
+        """New file: built under a temporary name, renamed when its structure is complete.
+        A stop signal is looked at every 64 cases (thousands of cases take seconds): the
+        temporary is removed and :class:`StoppedDuringSetUp` raised."""
+        temporary = creating_path(self.path)
+        stopped = False
+        with self._open(temporary, "w") as file:
+            write_root(file, metadata)
+            cases = file.create_group("cases")
+            for number, case in enumerate(plan):
+                if number % 64 == 0 and self._stop_agreed():
+                    stopped = True
+                    break
+                self._pending_group(cases, case)
+        if stopped or self._stop_agreed():
+            self._discard(temporary)
+            raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
+        self._publish()
+
+    def _reset_incomplete(self, cases: h5py.Group, plan: Plan) -> set[str]:
+        """Resume: completed cases keep their group and stored summary row; every other case
+        of the plan gets a pristine pending group."""
         completed = set()
         for case in plan:
             group = cases.get(case.case_id)
@@ -268,30 +371,109 @@ class SingleWriter:
                 completed.add(case.case_id)
                 self._rows[case.case_id] = json.loads(group.attrs["summary"])
                 continue
-            self._reset_group(cases, case)
+            self._pending_group(cases, case)
             self._rows[case.case_id] = pending_row(case.parameters())
-        stale = settle_stale_cases(cases, plan, self._rows, drop_stale=self.drop_stale)
-        renumber_cases(cases, plan, stale)
-        self._order = list(plan.case_ids) + stale
-        file.flush()
-        self._write_summary(force=True)
         return completed
 
-    def _create(self, plan: Plan, metadata: StudyMetadata) -> None:
-        """New file: built under a temporary name, renamed when its structure is complete."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        temporary = creating_path(self.path)
-        with h5py.File(temporary, "w") as file:
-            write_root(file, metadata)
-            cases = file.create_group("cases")
-            for number, case in enumerate(plan):
-                if number % 64 == 0 and self.should_stop():
-                    break
-                self._reset_group(cases, case)
-        if self.should_stop():  # thousands of cases take seconds: stop without the file
-            temporary.unlink(missing_ok=True)
-            raise StoppedDuringSetUp(f"stopped while creating {self.path}; nothing written")
+    def _prepared(self) -> None:
+        """The file is ready: the summary CSV lists every case."""
+        if self.is_root:
+            self._summary.update(self.rows, force=True)
+
+    # ------------------------------------------------------------------ strategy hooks
+    def _open(self, path: Path, mode: str) -> h5py.File:
+        return h5py.File(path, mode)
+
+    def _stop_agreed(self) -> bool:
+        return bool(self.should_stop())
+
+    def _discard(self, temporary: Path) -> None:
+        temporary.unlink(missing_ok=True)
+
+    def _publish(self) -> None:
         publish_created(self.path)
+
+    def _settle_leftovers(self, cases: h5py.Group) -> None:
+        """Resume: what a killed run of this strategy left to finish (nothing here)."""
+
+    def _pending_group(self, cases: h5py.Group, case: Case) -> h5py.Group:
+        return self._reset_group(cases, case)
+
+    # ------------------------------------------------------------------ cases
+    @staticmethod
+    def _reset_group(cases: h5py.Group, case: Case) -> h5py.Group:
+        """Empty (or create) the group of ``case`` and give it its parameters, status pending."""
+        if case.case_id in cases:
+            del cases[case.case_id]
+        group = cases.create_group(case.case_id)
+        group.attrs["status"] = str(CaseStatus.PENDING)
+        group.attrs.update(case.parameters())
+        group.attrs["parameter_units"] = json.dumps(_parameter_units(case))
+        group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
+        return group
+
+    @staticmethod
+    def _store_case(group: h5py.Group, record: dict[str, Any]) -> None:
+        """The structural write of a finished case (:func:`case_record`), status aside:
+        datasets (created, or already written into a pre-created one) with their units and
+        description, then the case attributes and its summary row."""
+        for path, item in record["datasets"].items():
+            if item.get("written"):
+                dataset = group[path]
+            else:
+                dataset = group.create_dataset(path, data=item["data"])
+            dataset.attrs["units"] = item["units"]
+            dataset.attrs["description"] = item["description"]
+        attach_grid_scales(group, record["datasets"])
+        group.attrs.update(record["attrs"])
+        group.attrs["message"] = record["message"]
+        group.attrs["traceback"] = record["traceback"]
+        group.attrs["rank"] = record["rank"]
+        group.attrs["runtime_s"] = record["runtime_s"]
+        group.attrs["summary"] = json.dumps(_json_safe(record["row"]))
+
+    def rows(self) -> list[dict[str, Any]]:
+        return [self._rows[case_id] for case_id in self._order]
+
+    def computing(self, run_case):
+        """What a rank > 0 runs per case: ``run_case`` itself unless the strategy writes there."""
+        return run_case
+
+    def closing_note(self) -> str | None:
+        """A line for the end of the run (rank 0), or None."""
+        return None
+
+    # ------------------------------------------------------------------ interface
+    def write(self, outcome: CaseOutcome) -> None:
+        """Store one case (rank 0, every outcome)."""
+        raise NotImplementedError
+
+    def close(self) -> None:
+        raise NotImplementedError
+
+    def __enter__(self) -> ResultsWriter:
+        return self
+
+    def __exit__(self, exc_type, *exc_info) -> None:
+        # a collective close after an exception on one rank would wait forever: the entry
+        # point aborts the communicator instead
+        if exc_type is None or not self.collective:
+            self.close()
+
+
+class SingleWriter(ResultsWriter):
+    """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
+
+    Completion flags are committed in batches when cases arrive fast (:meth:`_commit_flags`);
+    the summary CSV beside the file is rewritten atomically after a commit (:class:`SummaryTable`).
+    """
+
+    def __init__(self, path, summary_path=None, *, drop_stale=False, should_stop=None) -> None:
+        super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
+        self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self.flag_spacing = 10.0
+        self._last_commit_end = -math.inf
+        self._commit_cost = 0.0
 
     def close(self) -> None:
         if self._file is not None:
@@ -301,13 +483,6 @@ class SingleWriter:
             self._file = None
             self._write_summary(force=True)
 
-    def __enter__(self) -> SingleWriter:
-        return self
-
-    def __exit__(self, *exc_info) -> None:
-        self.close()
-
-    # ------------------------------------------------------------------ writing
     def write(self, outcome: CaseOutcome) -> None:
         """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
         the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
@@ -317,18 +492,8 @@ class SingleWriter:
         group = cases[outcome.case_id] if outcome.case_id in cases else None
         if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
             group = self._reset_group(cases, outcome.case)  # a pristine group is reused
-        for path, record in outcome.datasets.items():
-            dataset = group.create_dataset(path, data=np.asarray(record.data))
-            dataset.attrs["units"] = record.units
-            dataset.attrs["description"] = record.description
-        row = dict(outcome.row)
-        group.attrs.update(_attribute_safe(outcome.attrs))
-        group.attrs["message"] = outcome.message
-        group.attrs["traceback"] = outcome.traceback
-        group.attrs["rank"] = outcome.rank
-        group.attrs["runtime_s"] = outcome.runtime_s
-        group.attrs["summary"] = json.dumps(_json_safe(row))
-        self._rows[outcome.case_id] = row
+        self._store_case(group, case_record(outcome))
+        self._rows[outcome.case_id] = dict(outcome.row)
         self._unflagged.append((group, outcome.status))
         if self._commit_flags():
             self._write_summary()
@@ -354,24 +519,76 @@ class SingleWriter:
         self._commit_cost = self._last_commit_end - now
         return True
 
-    # ------------------------------------------------------------------ helpers
-    @staticmethod
-    def _reset_group(cases: h5py.Group, case: Case) -> h5py.Group:
-        """Empty (or create) the group of ``case`` and give it its parameters, status pending."""
-        if case.case_id in cases:
-            del cases[case.case_id]
-        group = cases.create_group(case.case_id)
-        group.attrs["status"] = str(CaseStatus.PENDING)
-        group.attrs.update(case.parameters())
-        group.attrs["parameter_units"] = json.dumps(_parameter_units(case))
-        group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
-        return group
-
-    def rows(self) -> list[dict[str, Any]]:
-        return [self._rows[case_id] for case_id in self._order]
-
     def _write_summary(self, force: bool = False) -> None:
         self._summary.update(self.rows, force=force)
+
+
+class Bystander(ResultsWriter):
+    """The single strategy on ranks > 0: nothing to prepare, write or close; the rank only
+    computes and sends its outcomes to rank 0 (through the scheduler)."""
+
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
+        return set()
+
+    def write(self, outcome: CaseOutcome) -> None:
+        raise RuntimeError("only rank 0 writes with the single strategy")
+
+    def close(self) -> None:
+        pass
+
+
+def open_writer(
+    strategy: str,
+    path: str | Path,
+    *,
+    comm=None,
+    layout=None,
+    summary_path: str | Path | None = None,
+    journal_dir: str | Path | None = None,
+    drop_stale: bool = False,
+    should_stop=None,
+) -> ResultsWriter:
+    """The writer of this rank for ``strategy`` (``single`` or ``mpio``, see
+    :func:`engine.output.collective.choose_strategy`).
+
+    ``single``: a :class:`SingleWriter` on rank 0, a :class:`Bystander` elsewhere. ``mpio``: a
+    :class:`engine.output.collective.CollectiveWriter` on every rank of ``comm``, with
+    ``layout`` (datasets pre-created per case, :func:`engine.study.layout.plan_layout`) and
+    its write journals in ``journal_dir``."""
+    options = dict(summary_path=summary_path, drop_stale=drop_stale, should_stop=should_stop)
+    if strategy == "mpio":
+        from .collective import CollectiveWriter
+
+        return CollectiveWriter(path, comm, layout, journal_dir=journal_dir, **options)
+    if strategy != "single":
+        raise ValueError(f"output strategy must be 'single' or 'mpio', not {strategy!r}")
+    if comm is not None and comm.Get_rank() != 0:
+        return Bystander(path, **options)
+    return SingleWriter(path, **options)
+
+
+def case_record(outcome: CaseOutcome) -> dict[str, Any]:
+    """What :meth:`ResultsWriter._store_case` writes for ``outcome``: datasets (arrays, or
+    ``written`` for a dataset its rank has already filled), attributes, summary row."""
+    datasets = {}
+    for path, record in outcome.datasets.items():
+        item: dict[str, Any] = {"units": record.units, "description": record.description}
+        if getattr(record, "written", False):
+            item["written"] = True
+        else:
+            item["data"] = np.asarray(record.data)
+        datasets[path] = item
+    return {
+        "case_id": outcome.case_id,
+        "status": outcome.status,
+        "row": _json_safe(dict(outcome.row)),
+        "attrs": _attribute_safe(outcome.attrs),
+        "message": outcome.message,
+        "traceback": outcome.traceback,
+        "rank": int(outcome.rank),
+        "runtime_s": float(outcome.runtime_s),
+        "datasets": datasets,
+    }
 
 
 def stale_row(group: h5py.Group) -> dict[str, Any]:

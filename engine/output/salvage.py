@@ -32,7 +32,7 @@ import h5py
 from engine.schema import CaseStatus
 from engine.study.plan import Plan
 
-from .hdf5 import ResultsMismatch, StudyMetadata, write_root
+from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_root
 from .identity import ExistingResults, check_identity, damaged_path
 
 __all__ = ["scan_damaged", "apply_existing", "readable_copy"]
@@ -147,6 +147,7 @@ def apply_existing(
             for case_id in list(existing.completed):
                 try:
                     source.copy(source["cases"][case_id], cases, name=case_id)
+                    reattach_grid_scales(cases[case_id])
                 except Exception:  # noqa: BLE001 - could be read but not copied: recompute
                     if case_id in cases:
                         del cases[case_id]
