@@ -32,6 +32,23 @@ DEFAULT_EFFORT = "FFTW_ESTIMATE"
 EFFORTS = ("FFTW_ESTIMATE", "FFTW_MEASURE", "FFTW_PATIENT", "FFTW_EXHAUSTIVE")
 
 
+def wrap_kernel(
+    kernel: np.ndarray, padded_shape: tuple[int, int], negative: tuple[int, int] | None = None
+) -> np.ndarray:
+    """Place an offset kernel in a circulant array of ``padded_shape`` (DC-FFT): the entry
+    of offset k goes to index k mod N on each axis. ``kernel[i, j]`` holds the offsets
+    (i − negative[0], j − negative[1]); by default ``negative`` is half the kernel, i.e. a
+    ``(2n_x − 1, 2n_y − 1)`` kernel of offsets −(n − 1) … n − 1 (field points = sources).
+    The padded shape must hold every offset once (N ≥ kernel size on each axis)."""
+    if negative is None:
+        negative = tuple((size - 1) // 2 for size in kernel.shape)
+    wrapped = np.zeros(padded_shape)
+    ix = np.arange(-negative[0], kernel.shape[0] - negative[0]) % padded_shape[0]
+    iy = np.arange(-negative[1], kernel.shape[1] - negative[1]) % padded_shape[1]
+    wrapped[np.ix_(ix, iy)] = kernel
+    return wrapped
+
+
 def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DEFAULT_EFFORT):
     """A pyfftw plan from ``source`` to ``target`` over ``axes`` (unnormalised when executed
     with ``execute()``); estimate plans are made with the wisdom forgotten (module doc)."""
