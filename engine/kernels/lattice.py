@@ -16,10 +16,9 @@ Fields in real space, tractions in MPa, stresses in MPa, lengths in mm; "ij" ind
 from __future__ import annotations
 
 import numpy as np
-from scipy.fft import next_fast_len
 
 from ..grid import Grid
-from .fft import RealFFTPair, wrap_kernel
+from .fft import RealFFTPair, next_fast_length, wrap_kernel
 from .stress import COMPONENTS, element_stress, kernel_parity
 
 __all__ = ["LatticeConvolution"]
@@ -38,7 +37,7 @@ class LatticeConvolution:
         self.counts = counts
         self.cache = cache
         self.padded = tuple(
-            next_fast_len(n + m - 1, real=True) for n, m in zip(grid.shape, counts, strict=True)
+            next_fast_length(n + m - 1) for n, m in zip(grid.shape, counts, strict=True)
         )
         self._fft = RealFFTPair(self.padded, threads=threads, effort=effort)
         self._real, self._spectrum = self._fft.real, self._fft.spectrum
