@@ -101,7 +101,7 @@ def run_size(n: int) -> dict:
     warm = frictional.solve_load(LOAD, half.state)
     warm_time = time.perf_counter() - start
     fista = with_friction(solver, FrictionLaw(0.2, 0.2))
-    fista._alternating = lambda load, state, offset: fista._fista(load, None, state, offset)
+    fista.load_control_method = "projected_gradient"
     fista.lipschitz()  # FISTA's step estimate: once per grid, reused by every increment
     fista_warm = fista.solve_load(LOAD, fista.solve_load(0.5 * LOAD).state)
     row["mu=0.2"] = dict(

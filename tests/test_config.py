@@ -6,7 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from engine.study.config import StudyConfigError, load_study, parse_study
+from engine.solvers import defaults
+from engine.solvers.contact import ContactSolver
+from engine.solvers.cyclic import CyclicSettings
+from engine.study.config import StudyConfigError, load_study, parse_study, same_fingerprint
 from engine.study.examples import study_toml
 
 # The study every test here starts from (text manipulations below rely on its lines).
@@ -48,6 +51,43 @@ def test_valid_study_resolves_defaults():
     again = parse_study(config.to_toml(), source="t.toml")
     assert again.resolved() == config.resolved()
     assert again.fingerprint() == config.fingerprint()
+
+
+def test_every_solver_default_is_resolved_and_stored():
+    """Issue 14.4: the resolved TOML and the fingerprint name the iteration cap and the
+    cycle-jump control that ran (no "None means the solver's default"); the solvers' own
+    keyword defaults are the same values."""
+    config = parse_study(VALID)
+    assert config.solver.maxiter == defaults.MAX_ITERATIONS
+    assert config.loading.max_wear_fraction == defaults.MAX_WEAR_FRACTION
+    assert config.solver.tol == defaults.CYCLIC_TOLERANCE
+    text = config.to_toml()
+    assert "maxiter = 20000" in text and "max_wear_fraction = 0.004" in text
+    assert '"maxiter": 20000' in config.fingerprint()
+    assert (
+        CyclicSettings(750.0, 4, 100, record=(100,)).max_wear_fraction == defaults.MAX_WEAR_FRACTION
+    )
+    keywords = ContactSolver.__init__.__kwdefaults__
+    assert keywords["maxiter"] == defaults.MAX_ITERATIONS
+    assert keywords["tol"] == defaults.STATIC_TOLERANCE
+    static_text = VALID.replace('kind = "cyclic"', 'kind = "static"')
+    static = parse_study(static_text.replace("cycles = 100\nrecord = [10, 100]\n", ""))
+    assert static.loading.max_wear_fraction is None  # no cycle jumps: not applicable
+    assert static.solver.tol == defaults.STATIC_TOLERANCE
+
+
+def test_files_written_before_the_defaults_were_resolved_still_resume():
+    """A fingerprint without maxiter and max_wear_fraction (earlier versions left the
+    solver's defaults out) matches the study that sets today's values, not another one."""
+    import json
+
+    config = parse_study(VALID)
+    former = json.loads(config.fingerprint())
+    del former["solver"]["maxiter"], former["loading"]["max_wear_fraction"]
+    assert same_fingerprint(json.dumps(former, sort_keys=True), config.fingerprint())
+    other = parse_study(with_line("solver", "maxiter = 500", VALID + "[solver]\n"))
+    assert not same_fingerprint(json.dumps(former, sort_keys=True), other.fingerprint())
+    assert not same_fingerprint(None, config.fingerprint())
 
 
 def test_config_is_frozen():

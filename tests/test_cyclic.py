@@ -7,8 +7,9 @@ import pytest
 from engine.geometry import FlatPunch
 from engine.grid import Grid
 from engine.solvers.contact import ContactSolver
-from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
+from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
 from engine.solvers.friction import FrictionLaw, WearLaw
+from engine.study.checkpoint import load_cyclic_state, save_cyclic_state
 from tests.conftest import RADIUS
 
 LOAD = 750.0  # N, Section 7.2
@@ -87,8 +88,8 @@ def test_save_interrupt_resume_gives_identical_histories(material, tmp_path):
     first = analysis(material, **settings).run(should_stop=lambda: next(calls) >= 2)
     assert not first.completed
     path = tmp_path / "case.npz"
-    first.state.save(path)
-    resumed = analysis(material, **settings).run(state=CyclicState.load(path))
+    save_cyclic_state(first.state, path)
+    resumed = analysis(material, **settings).run(state=load_cyclic_state(path))
     assert resumed.completed
     for key, values in uninterrupted.history.items():
         np.testing.assert_array_equal(resumed.history[key], values, err_msg=key)

@@ -11,7 +11,7 @@ gives full slip along the slip direction.
 import numpy as np
 import pytest
 
-import engine.solvers.contact as contact
+import engine.solvers.alternation as alternation
 from engine.geometry import FlatPunch
 from engine.grid import Grid
 from engine.solvers.contact import ContactSolver, with_friction
@@ -33,9 +33,7 @@ def _two_increments(solver):
 def _fista(solver):
     """The same solver with the alternation replaced by FISTA (the independent method)."""
     clone = with_friction(solver, solver.friction)
-    clone._alternating = lambda load, state, offset, guess=None: clone._fista(
-        load, None, state, offset
-    )
+    clone.load_control_method = "projected_gradient"
     return clone
 
 
@@ -107,7 +105,7 @@ def test_warm_increment_work_does_not_grow_with_the_mesh(material):
 def test_fallback_to_fista_when_alternation_does_not_settle(material, monkeypatch):
     """With a single pass allowed the alternation cannot settle; FISTA continues from its
     iterate, converges, and the message says which method finished the increment."""
-    monkeypatch.setattr(contact, "MAX_OUTER", 1)
+    monkeypatch.setattr(alternation, "MAX_OUTER", 1)
     solver = _solver(material, 32, FrictionLaw(0.2, 0.2))
     result = solver.solve_load(LOAD)
     assert result.converged, result.message

@@ -17,7 +17,7 @@ from engine.grid import Grid
 from engine.material import paper_material
 from engine.reference.flat_punch import sneddon_pressure
 from engine.solvers.contact import ContactSolver
-from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
+from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
 from engine.solvers.friction import FrictionLaw, WearLaw
 from engine.solvers.peak import (
     PEAK_HISTORY_DESCRIPTIONS,
@@ -30,6 +30,7 @@ from engine.solvers.peak import (
     region_name,
 )
 from engine.solvers.subsurface import SubsurfaceStress, depth_layers
+from engine.study.checkpoint import load_cyclic_state, save_cyclic_state
 
 RADIUS, LOAD, NU = 1.8, 750.0, 0.3
 
@@ -193,8 +194,8 @@ def test_history_rows_hold_the_peak_columns(short_run):
 def test_checkpoint_keeps_peak_history_and_region_changes(short_run, tmp_path):
     _, result = short_run
     path = tmp_path / "state.npz"
-    result.state.save(path)
-    loaded = CyclicState.load(path)
+    save_cyclic_state(result.state, path)
+    loaded = load_cyclic_state(path)
     for key in PEAK_HISTORY_UNITS:
         np.testing.assert_array_equal(loaded.history[key], result.state.history[key])
     assert set(loaded.region_changes) == set(result.state.region_changes)

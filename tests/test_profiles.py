@@ -348,3 +348,5 @@ def test_border_checked_solver_delegates_and_raises():
     assert solver._solver.step_size_estimate == 1.0 and solver.grid is grid
     with pytest.raises(ContactReachesBorder, match="mesh border"):
         solver.solve_load(750.0)
+    with pytest.raises(ContactReachesBorder, match="mesh border"):  # the cyclic warm start
+        solver.solve_load(750.0, guess=solver.initial_state())

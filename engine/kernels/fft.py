@@ -25,11 +25,71 @@ faster, not reproducible bit for bit between processes).
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
-import pyfftw
+
+
+def _import_pyfftw():
+    """``pyfftw`` without its SciPy interfaces: ``pyfftw.interfaces`` imports
+    ``scipy.fftpack`` and ``scipy.fft`` when SciPy is installed (0.2 s of CPU at every start,
+    most of pyfftw's import), and the engine uses only ``pyfftw.FFTW`` and aligned buffers.
+    A ``None`` entry in ``sys.modules`` makes that optional import fail, as if SciPy were
+    absent; it is removed again at once (an explicit ``import scipy.fftpack`` later works)."""
+    if "pyfftw" in sys.modules:
+        return sys.modules["pyfftw"]
+    blocked = "scipy.fftpack" not in sys.modules
+    if blocked:
+        sys.modules["scipy.fftpack"] = None
+    try:
+        import pyfftw
+    finally:
+        if blocked:
+            del sys.modules["scipy.fftpack"]
+    return pyfftw
+
+
+pyfftw = _import_pyfftw()
 
 DEFAULT_EFFORT = "FFTW_ESTIMATE"
 EFFORTS = ("FFTW_ESTIMATE", "FFTW_MEASURE", "FFTW_PATIENT", "FFTW_EXHAUSTIVE")
+
+
+def next_fast_length(target: int) -> int:
+    """The smallest 5-smooth number (2^a 3^b 5^c) ≥ ``target``: a length whose FFT FFTW
+    does fast (the same values as ``scipy.fft.next_fast_len(target, real=True)``)."""
+    target = int(target)
+    if target <= 6:
+        return max(target, 1)
+    best = 2 * target
+    power5 = 1
+    while power5 < best:
+        power35 = power5
+        while power35 < best:
+            value = power35
+            while value < target:
+                value *= 2
+            best = min(best, value)
+            power35 *= 3
+        power5 *= 5
+    return best
+
+
+def wrap_kernel(
+    kernel: np.ndarray, padded_shape: tuple[int, int], negative: tuple[int, int] | None = None
+) -> np.ndarray:
+    """Place an offset kernel in a circulant array of ``padded_shape`` (DC-FFT): the entry
+    of offset k goes to index k mod N on each axis. ``kernel[i, j]`` holds the offsets
+    (i − negative[0], j − negative[1]); by default ``negative`` is half the kernel, i.e. a
+    ``(2n_x − 1, 2n_y − 1)`` kernel of offsets −(n − 1) … n − 1 (field points = sources).
+    The padded shape must hold every offset once (N ≥ kernel size on each axis)."""
+    if negative is None:
+        negative = tuple((size - 1) // 2 for size in kernel.shape)
+    wrapped = np.zeros(padded_shape)
+    ix = np.arange(-negative[0], kernel.shape[0] - negative[0]) % padded_shape[0]
+    iy = np.arange(-negative[1], kernel.shape[1] - negative[1]) % padded_shape[1]
+    wrapped[np.ix_(ix, iy)] = kernel
+    return wrapped
 
 
 def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DEFAULT_EFFORT):

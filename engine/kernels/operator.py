@@ -17,8 +17,10 @@ import numpy as np
 
 from ..grid import Grid
 from ..material import MaterialPair
-from .fft import DEFAULT_EFFORT, PaddedRealFFT, RealFFTPair
+from .fft import DEFAULT_EFFORT, PaddedRealFFT, RealFFTPair, wrap_kernel
 from .influence import SurfaceInfluence
+
+__all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
 # Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
 _BLOCKS = {
@@ -32,17 +34,6 @@ _BLOCKS = {
     (2, 1): ("zy", 1.0),
     (2, 2): ("zz", 1.0),
 }
-
-
-def wrap_kernel(kernel: np.ndarray, padded_shape: tuple[int, int]) -> np.ndarray:
-    """Place a ``(2n_x − 1, 2n_y − 1)`` offset kernel in a circulant array of ``padded_shape``."""
-    nx = (kernel.shape[0] + 1) // 2
-    ny = (kernel.shape[1] + 1) // 2
-    wrapped = np.zeros(padded_shape)
-    ix = np.arange(-(nx - 1), nx) % padded_shape[0]
-    iy = np.arange(-(ny - 1), ny) % padded_shape[1]
-    wrapped[np.ix_(ix, iy)] = kernel
-    return wrapped
 
 
 class HalfSpaceOperator:

@@ -63,6 +63,7 @@ import numpy as np
 
 from engine.schema import PARAMETER_UNITS, CaseStatus
 from engine.study.case import COMPLETED, CaseOutcome
+from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
 from .summary import pending_row, summary_frame, write_summary_csv
@@ -148,7 +149,7 @@ def check_resumable(path: Path, metadata: StudyMetadata) -> None:
             f"{path}: existing file is not a results file of this engine; "
             "use --fresh to overwrite it or choose another [study] output"
         )
-    if attrs.get("study_fingerprint") != metadata.fingerprint:
+    if not same_fingerprint(attrs.get("study_fingerprint"), metadata.fingerprint):
         raise ResultsMismatch(
             f"{path}: existing results were computed with different material, punch, mesh, "
             "loading, subsurface or solver settings; use --fresh to start over or choose "

@@ -29,6 +29,7 @@ from typing import Any, TextIO
 import h5py
 
 from engine.schema import CaseStatus
+from engine.study.config import fill_former_defaults
 from engine.study.plan import Plan
 
 from .hdf5 import FORMAT, ResultsMismatch, StudyMetadata
@@ -186,6 +187,7 @@ def check_identity(path: Path, attrs: dict[str, Any], metadata: StudyMetadata) -
         stored = json.loads(stored_text)
     else:  # files written before the identity existed: rebuild it from the resolved study
         stored = json.loads(study_identity(json.loads(attrs["study_json"])))
+    fill_former_defaults(stored, current)
     differences = describe_differences(stored, current)
     if differences:
         raise ResultsMismatch(

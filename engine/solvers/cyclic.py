@@ -37,13 +37,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ..schema import CYCLIC_HISTORY_KEYS, HISTORY, RECORDED_FIELDS
 from ..validation import require_positive
 from .contact import SLIP, STICK, ContactSolver, ContactState, IncrementResult
+from .defaults import MAX_JUMP_GROWTH, MAX_WEAR_FRACTION
 from .friction import WearLaw
 
 # History keys and their units: the results schema (history/<key> of a cyclic case).
@@ -67,8 +67,8 @@ class CyclicSettings:
     steps: int
     cycles: int
     record: tuple[int, ...] = (1000, 10000, 100000)
-    max_wear_fraction: float = 0.004
-    max_jump_growth: float = 2.0
+    max_wear_fraction: float = MAX_WEAR_FRACTION
+    max_jump_growth: float = MAX_JUMP_GROWTH
     warm_start: str = "previous_cycle"
 
     def __post_init__(self) -> None:
@@ -97,7 +97,8 @@ class CyclicState:
     """Everything needed to resume a cyclic analysis: wear (mm), the unloaded contact state,
     the real cycle count, the last jump, histories and records so far, and ``warm``: the
     converged increments of the last (at most two) simulated cycles, newest first, with
-    ``warm_jump`` real cycles between them (the next cycle's starting points)."""
+    ``warm_jump`` real cycles between them (the next cycle's starting points). A plain
+    object: checkpoints are written by the study layer (``engine.study.checkpoint``)."""
 
     wear: np.ndarray
     contact: ContactState
@@ -113,93 +114,12 @@ class CyclicState:
     warm: list[list[ContactState]] = field(default_factory=list)
     warm_jump: int = 0
 
-    def save(self, path: str | Path) -> None:
-        """Write the state to ``path`` (.npz) atomically (temporary file, then rename)."""
-        path = Path(path)
-        arrays = {"wear": self.wear}
-        for key, value in self.contact.arrays().items():
-            arrays[f"contact_{key}"] = value
-        for key, values in self.history.items():
-            arrays[f"history_{key}"] = np.asarray(values, dtype=float)
-        for cycle, fields in self.records.items():
-            for key, value in fields.items():
-                arrays[f"record_{cycle}_{key}"] = value
-        for cycle, fields in self.region_changes.items():
-            for key, value in fields.items():
-                arrays[f"change_{cycle}_{key}"] = value
-        step = np.nan if self.step_size_estimate is None else self.step_size_estimate
-        arrays["scalars"] = np.array(
-            [self.cycle, self.jump, self.matvecs, self.load_steps, self.contact.approach, step],
-            dtype=float,
-        )
-        arrays["failures"] = np.array(self.failures, dtype=str)
-        if self.warm:
-            for key in WARM_KEYS:
-                arrays[f"warm_{key}"] = np.array(
-                    [[getattr(c, key) for c in cycle] for cycle in self.warm]
-                )
-            arrays["warm_jump"] = np.array(self.warm_jump)
-        temporary = path.with_name(path.name + ".tmp.npz")
-        np.savez(temporary, **arrays)
-        temporary.replace(path)
-
-    @classmethod
-    def load(cls, path: str | Path) -> CyclicState:
-        with np.load(path) as data:
-            cycle, jump, matvecs, load_steps, approach, step = data["scalars"]
-            contact = ContactState(
-                data["contact_pressure"],
-                data["contact_traction_x"],
-                data["contact_traction_y"],
-                data["contact_displacement_x"],
-                data["contact_displacement_y"],
-                float(approach),
-            )
-            history = {k: list(data[f"history_{k}"]) for k in HISTORY_KEYS}
-            for name in data.files:  # probe columns (peak history), when present
-                if name.startswith("history_") and name[8:] not in history:
-                    history[name[8:]] = list(data[name])
-            records: dict[int, dict[str, np.ndarray]] = {}
-            changes: dict[int, dict[str, np.ndarray]] = {}
-            for name in data.files:
-                for prefix, target in (("record_", records), ("change_", changes)):
-                    if name.startswith(prefix):
-                        _, cycle_text, key = name.split("_", 2)
-                        target.setdefault(int(cycle_text), {})[key] = data[name]
-            return cls(
-                wear=data["wear"],
-                contact=contact,
-                cycle=int(cycle),
-                jump=int(jump),
-                history=history,
-                records=records,
-                region_changes=changes,
-                matvecs=int(matvecs),
-                load_steps=int(load_steps),
-                failures=[str(f) for f in data["failures"]],
-                step_size_estimate=None if np.isnan(step) else float(step),
-                warm=_load_warm(data),
-                warm_jump=int(data["warm_jump"]) if "warm_jump" in data.files else 0,
-            )
-
 
 def _starting_point(state: ContactState, zeros: np.ndarray | None = None) -> ContactState:
     """What a warm start needs of a converged increment: its pressure and tractions (MPa);
     the displacements (unused by a start) are one shared array of zeros."""
     zeros = np.zeros_like(state.pressure) if zeros is None else zeros
     return ContactState(state.pressure, state.traction_x, state.traction_y, zeros, zeros)
-
-
-def _load_warm(data) -> list[list[ContactState]]:
-    """The warm-start increments of a checkpoint, per cycle (empty when it has none)."""
-    if "warm_pressure" not in data.files:
-        return []
-    fields = [data[f"warm_{key}"] for key in WARM_KEYS]
-    zeros = np.zeros(fields[0].shape[2:])
-    return [
-        [ContactState(p, tx, ty, zeros, zeros) for p, tx, ty in zip(*cycle, strict=True)]
-        for cycle in zip(*fields, strict=True)
-    ]
 
 
 @dataclass

@@ -115,8 +115,8 @@ class BorderCheckedSolver:
             )
         return result
 
-    def solve_load(self, load, state=None, wear=None):
-        result = self._solver.solve_load(load, state, wear=wear)
+    def solve_load(self, load, state=None, wear=None, guess=None):
+        result = self._solver.solve_load(load, state, wear=wear, guess=guess)
         return self._checked(result, f"P = {load:g} N")
 
     def solve_approach(self, approach, state=None, wear=None):
@@ -226,17 +226,20 @@ class CaseRunner:
         punch = cfg.punch.profile()
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
-        options: dict[str, Any] = {
-            "tol": cfg.solver.tol,
-            "threads": cfg.solver.threads,
-            "planner_effort": cfg.solver.planner_effort,
-        }
-        if cfg.solver.maxiter is not None:
-            options["maxiter"] = cfg.solver.maxiter
-        options["operator"] = self.operators.operator(
+        operator = self.operators.operator(
             grid, material, threads=cfg.solver.threads, planner_effort=cfg.solver.planner_effort
         )
-        solver = ContactSolver(grid, material, punch, friction, **options)
+        solver = ContactSolver(
+            grid,
+            material,
+            punch,
+            friction,
+            tol=cfg.solver.tol,
+            maxiter=cfg.solver.maxiter,
+            threads=cfg.solver.threads,
+            planner_effort=cfg.solver.planner_effort,
+            operator=operator,
+        )
         if may_reach_border(punch, grid):
             solver = BorderCheckedSolver(solver)
         return solver, grid, material
@@ -292,34 +295,33 @@ class CaseRunner:
 
     # ---------------------------------------------------------------- cyclic
     def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
-        from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
+        from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
         from engine.solvers.friction import WearLaw
         from engine.solvers.peak import PeakTracker
 
+        from .checkpoint import load_cyclic_state, save_cyclic_state
+
         solver, grid, material = self._solver(case, cfg)
         wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
-        options: dict[str, Any] = {}
-        if cfg.loading.max_wear_fraction is not None:
-            options["max_wear_fraction"] = cfg.loading.max_wear_fraction
         settings = CyclicSettings(
             cfg.loading.load,
             cfg.loading.steps,
             cfg.loading.cycles,
             record=cfg.loading.record,
-            **options,
+            max_wear_fraction=cfg.loading.max_wear_fraction,
         )
         stress, depths = self._subsurface(grid, material, cfg)
         tracker = PeakTracker(stress, cfg.contact_length)
         analysis = CyclicAnalysis(solver, wear_law, settings, peak_probe=tracker)
         checkpoint = self._checkpoint_path(case)
-        state = CyclicState.load(checkpoint) if checkpoint.exists() else None
+        state = load_cyclic_state(checkpoint) if checkpoint.exists() else None
         on_cycle = None
         if self.on_progress is not None:
             on_cycle = lambda cycle, cycles: self.on_progress(case, cycle, cycles)  # noqa: E731
         result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
         if not result.completed:
             checkpoint.parent.mkdir(parents=True, exist_ok=True)
-            result.state.save(checkpoint)  # atomic (temporary file + rename)
+            save_cyclic_state(result.state, checkpoint)  # atomic (temporary file + rename)
             return CaseOutcome(
                 case,
                 INTERRUPTED,

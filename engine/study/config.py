@@ -25,7 +25,8 @@ Sections and keys (``*`` = required; defaults in brackets):
                   cycle; for static: load increments), cycles* (cyclic only), record
                   [[cycles]] (cycles at which fields and stresses are stored, 0 = unworn;
                   cyclic only),
-                  max_wear_fraction [solver default] (cycle-jump control, cyclic only)
+                  max_wear_fraction [0.004] (cycle-jump control: wear per jump over the
+                  peak elastic approach; cyclic only)
 ``[subsurface]``  depth [1.5] (in punch radii; sphere: in Hertz contact radii), layers [16]
 ``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
                   "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
@@ -35,7 +36,8 @@ Sections and keys (``*`` = required; defaults in brackets):
                   not also be set in their own section. zip = [["loading.load",
                   "mesh.n"], ...] makes the keys of each group vary together (equal list
                   lengths) instead of forming their product. See engine.study.plan.
-``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [solver default], threads [1]
+``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [20000] (iterations per
+                  increment), threads [1]
                   (FFT threads per rank), fft_planner ["estimate"] ("estimate": the same FFTW
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
@@ -51,6 +53,8 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from engine.solvers import defaults
 
 __all__ = [
     "StudyConfigError",
@@ -167,7 +171,7 @@ class LoadingConfig:
     steps: int
     cycles: int
     record: tuple[int, ...]
-    max_wear_fraction: float | None
+    max_wear_fraction: float | None  # None for static loading (no cycle jumps)
 
 
 @dataclass(frozen=True)
@@ -221,7 +225,7 @@ class SweepConfig:
 @dataclass(frozen=True)
 class SolverConfig:
     tol: float
-    maxiter: int | None
+    maxiter: int
     threads: int
     fft_planner: str = "estimate"
 
@@ -302,7 +306,7 @@ class StudyConfig:
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
                 if value is None or f"{field.name}.{key}" in swept:
-                    continue  # TOML has no null: an absent key means "solver default"
+                    continue  # TOML has no null: None is "not applicable" (static loading)
                 if field.name == "punch" and key == "shape" and value == "flat":
                     continue  # the default, left out so that older results files resume
                 if isinstance(value, Path):
@@ -333,6 +337,34 @@ class StudyConfig:
         if self.sweep.swept_keys:  # which keys vary is part of the study's identity
             resolved["swept_keys"] = sorted(self.sweep.swept_keys)
         return json.dumps(resolved, sort_keys=True)
+
+
+# Settings that results files written before every default was resolved (issue 14.4) left out
+# when they held the solver's default then: such a file ran with exactly these values (they
+# are history, not today's defaults).
+FORMER_DEFAULTS = {("solver", "maxiter"): 20000, ("loading", "max_wear_fraction"): 0.004}
+
+
+def fill_former_defaults(stored: dict[str, Any], current: dict[str, Any]) -> None:
+    """Give a stored resolved study (or fingerprint data) the former defaults it left out,
+    in place, where ``current`` sets the key: results files of earlier versions resume."""
+    for (section, key), value in FORMER_DEFAULTS.items():
+        table = stored.get(section)
+        if isinstance(table, dict) and key not in table and key in current.get(section, {}):
+            table[key] = value
+
+
+def same_fingerprint(stored: str | None, current: str) -> bool:
+    """Whether a results file's ``stored`` fingerprint is the study's ``current`` one, the
+    former defaults filled in (``fill_former_defaults``)."""
+    if stored == current:
+        return True
+    try:
+        old, new = json.loads(stored), json.loads(current)
+    except (TypeError, ValueError):
+        return False
+    fill_former_defaults(old, new)
+    return json.dumps(old, sort_keys=True) == json.dumps(new, sort_keys=True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -748,9 +780,9 @@ def _parse_loading(s: _Section) -> LoadingConfig:
         record.append(item)
     if len(set(record)) != len(record):
         raise s.error("record", record_raw, "cycles must not repeat")
-    max_wear_fraction = None
-    if "max_wear_fraction" in s.table:
-        max_wear_fraction = s.number("max_wear_fraction", minimum=0.0, strict=True)
+    max_wear_fraction = s.number(
+        "max_wear_fraction", defaults.MAX_WEAR_FRACTION, minimum=0.0, strict=True
+    )
     return LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
 
 
@@ -789,9 +821,11 @@ def _parse_solver(s: _Section, loading: LoadingConfig) -> SolverConfig:
     # Static solves are cheap and feed the stiffness comparisons: 1e-8. A cyclic case solves
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
-    default_tol = 1e-6 if loading.kind == "cyclic" else 1e-8
+    default_tol = (
+        defaults.CYCLIC_TOLERANCE if loading.kind == "cyclic" else defaults.STATIC_TOLERANCE
+    )
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
-    maxiter = s.integer("maxiter", minimum=1) if "maxiter" in s.table else None
+    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1)
     threads = s.integer("threads", 1, minimum=1)
     fft_planner = s.string("fft_planner", "estimate")
     if fft_planner not in ("estimate", "measure"):

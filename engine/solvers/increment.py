@@ -1,0 +1,158 @@
+"""What the increment methods share: the state between increments, the problem of one
+increment, the solution a method returns and the result the solver reports.
+
+An increment (Eqs. 1–3, 7–11) is set by the operator A, the friction law, the candidate
+elements, the gap with zero tractions and zero approach (``offset``, geometric gap plus
+wear, mm) and the slip reference u_t^ref (mm): the slip of tractions q with displacements
+u = A x, x = (q_x, q_y, p), is
+
+    Δs = u_t − u_t^ref,    u_t^ref = u_t^prev (tangential displacement of the previous
+                                               increment; the punch has no rigid slip)
+
+``IncrementProblem.slip_reference`` is the one place where u_t^ref is formed (by
+``ContactSolver._problem``); every method (normal CG, alternation, projected gradient) and
+the reported slip read it from there. A rigid tangential displacement of the punch would
+enter here and nowhere else.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..grid import Grid
+from ..kernels.operator import HalfSpaceOperator, SpectralPreconditioner
+from .friction import FrictionLaw
+
+NO_CONTACT, STICK, SLIP = 0, 1, 2  # status codes of an element
+
+
+@dataclass
+class ContactState:
+    """Converged tractions of an increment (MPa), the relative tangential surface
+    displacement they produce (mm) and the approach (mm); the start of the next increment."""
+
+    pressure: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    displacement_x: np.ndarray
+    displacement_y: np.ndarray
+    approach: float = 0.0
+
+    @classmethod
+    def unloaded(cls, grid: Grid) -> ContactState:
+        zeros = np.zeros(grid.shape)
+        return cls(zeros, zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy(), 0.0)
+
+    def copy(self) -> ContactState:
+        return ContactState(
+            self.pressure.copy(),
+            self.traction_x.copy(),
+            self.traction_y.copy(),
+            self.displacement_x.copy(),
+            self.displacement_y.copy(),
+            self.approach,
+        )
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {
+            "pressure": self.pressure,
+            "traction_x": self.traction_x,
+            "traction_y": self.traction_y,
+            "displacement_x": self.displacement_x,
+            "displacement_y": self.displacement_y,
+        }
+
+
+@dataclass
+class IncrementResult:
+    """Outcome of one increment. Fields (n_x, n_y): pressure, traction_x, traction_y (MPa);
+    slip_x, slip_y: slip increment Δs in contact (mm); status: 0 no contact, 1 stick, 2 slip.
+    approach δ (mm), load P (N); iterations, operator applications (matvecs), residual
+    (relative, see ``engine.solvers.projected_gradient``), converged and a message."""
+
+    pressure: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    slip_x: np.ndarray
+    slip_y: np.ndarray
+    status: np.ndarray
+    approach: float
+    load: float
+    iterations: int
+    matvecs: int
+    residual: float
+    converged: bool
+    message: str
+    state: ContactState = field(repr=False)
+
+    def stick_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status == STICK) * element_area)
+
+    def slip_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status == SLIP) * element_area)
+
+    def contact_area(self, element_area: float) -> float:
+        return float(np.count_nonzero(self.status != NO_CONTACT) * element_area)
+
+
+@dataclass(frozen=True)
+class IncrementProblem:
+    """One increment's data. ``operator`` A (mm/MPa); ``friction``; ``candidate`` (bool,
+    n_x × n_y): elements where the punch has a surface; ``offset`` (mm): gap with zero
+    tractions and zero approach; ``slip_reference`` (2, n_x, n_y) mm: u_t^ref of the module
+    docstring; ``tol`` on the relative natural residual; ``maxiter`` iterations of the
+    increment; ``largest_eigenvalue``: the solver's cached power-iteration estimate of A's
+    largest eigenvalue on the candidate elements (mm/MPa; the projected-gradient step)."""
+
+    operator: HalfSpaceOperator
+    friction: FrictionLaw
+    candidate: np.ndarray
+    offset: np.ndarray
+    slip_reference: np.ndarray
+    tol: float
+    maxiter: int
+    largest_eigenvalue: Callable[[], float]
+
+    @property
+    def preconditioner(self) -> SpectralPreconditioner:
+        return self.operator.preconditioner
+
+    @property
+    def count(self) -> int:
+        """Number of candidate elements (the RMS of the residuals runs over them)."""
+        return int(self.candidate.sum())
+
+    @property
+    def element_area(self) -> float:
+        return self.operator.grid.element_area
+
+    def symbol_bound(self) -> float:
+        """Upper bound of A's largest eigenvalue from its Fourier symbol (mm/MPa)."""
+        return self.operator.symbol_bound()
+
+    def project_tractions(self, tx, ty, pressure):
+        """Closest tractions (MPa) inside the friction ellipses of ``pressure`` (MPa)."""
+        if self.friction.frictionless:
+            return np.zeros_like(tx), np.zeros_like(ty)
+        return self.friction.project(tx, ty, pressure)
+
+
+@dataclass
+class CoupledSolution:
+    """What a method found for the increment: ``pressure``, ``traction_x``, ``traction_y``
+    (MPa); ``displacement`` (2, n_x, n_y): the tangential displacements u_t = (A x)_t (mm)
+    of these tractions; ``approach`` δ (mm); ``iterations``; ``residual`` (relative natural
+    residual); ``method``: the name of the method that finished the increment (it begins
+    the message)."""
+
+    pressure: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    displacement: np.ndarray
+    approach: float
+    iterations: int
+    residual: float
+    method: str
