@@ -239,25 +239,34 @@ def _moment(group: str) -> str:
     return f"cycle {cycle}"
 
 
+def _known(table: dict[str, DatasetSpec], key: str, name: str) -> DatasetSpec:
+    """``table[key]``; a key the schema lacks raises a KeyError that says where to add it."""
+    if key not in table:
+        raise KeyError(f"{key!r} is not in the results schema (add it to engine.schema.{name})")
+    return table[key]
+
+
 def field_dataset(name: str, group: str = "final") -> DatasetSpec:
     """Surface field ``name`` at peak load of ``group`` ("final" or ``cycle_group(N)``)."""
-    spec = FIELDS[name]
+    spec = _known(FIELDS, name, "FIELDS")
     return DatasetSpec(spec.units, f"{spec.description}, peak load of {_moment(group)}")
 
 
 def history_dataset(key: str, cyclic: bool = True) -> DatasetSpec:
     """``history/<key>`` of a cyclic (per simulated cycle) or static (per increment) case."""
-    return (HISTORY if cyclic else STATIC_HISTORY)[key]
+    if cyclic:
+        return _known(HISTORY, key, "HISTORY")
+    return _known(STATIC_HISTORY, key, "STATIC_HISTORY")
 
 
 def plane_dataset(name: str) -> DatasetSpec:
     """Dataset ``name`` of an x-z plane group (``subsurface/*``, ``peak_changes/*``)."""
-    return PLANE[name]
+    return _known(PLANE, name, "PLANE")
 
 
 def grid_dataset(axis: str, per_case: bool = True) -> DatasetSpec:
     """``grid/<axis>`` of a case group (``per_case``) or of the file's root."""
-    return (CASE_GRID if per_case else ROOT_GRID)[axis]
+    return _known(CASE_GRID if per_case else ROOT_GRID, axis, "CASE_GRID")
 
 
 def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
