@@ -2,10 +2,7 @@
 results (every dataset, attribute and summary value but run times). Sphere, 16², two
 amplitudes (partial and gross slip) under displacement control with the energy wear law
 (force control and the Archard law: tests/test_fretting.py); ~25 s for both runs here.
-
-Known limitation (left for the output layer): with the collective mpio writer a fretting study
-on 2 ranks aborts at the final commit (``MPI_Bcast`` size mismatch inside ``create_dataset`` in
-``CollectiveWriter._commit``), so this test pins the single writer."""
+Under the mpio venv (the CI's collective phase) the 2-rank run uses the collective writer."""
 
 from __future__ import annotations
 
@@ -22,7 +19,6 @@ STUDY = """
 [study]
 name = "fretting"
 output = "{output}"
-output_strategy = "single"  # the collective (mpio) writer fails on fretting cases: see below
 [material]
 E_A = 200e3
 nu_A = 0.3
