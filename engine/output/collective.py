@@ -334,6 +334,7 @@ class CollectiveWriter:
                 dataset = group.create_dataset(path, data=data)
             dataset.attrs["units"] = item["units"]
             dataset.attrs["description"] = item["description"]
+            dataset.attrs.update(item.get("attrs", {}))
         group.attrs.update(record["attrs"])
         group.attrs["message"] = record["message"]
         group.attrs["traceback"] = record["traceback"]
@@ -398,6 +399,8 @@ def _journal(outcome: CaseOutcome) -> dict[str, Any]:
     datasets = {}
     for path, record in outcome.datasets.items():
         item: dict[str, Any] = {"units": record.units, "description": record.description}
+        if getattr(record, "attrs", None):
+            item["attrs"] = dict(record.attrs)
         if isinstance(record, _Written):
             item["written"] = True
         else:

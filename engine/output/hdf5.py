@@ -319,6 +319,7 @@ class SingleWriter:
             dataset = group.create_dataset(path, data=np.asarray(record.data))
             dataset.attrs["units"] = record.units
             dataset.attrs["description"] = record.description
+            dataset.attrs.update(getattr(record, "attrs", {}))
         row = dict(outcome.row)
         group.attrs.update(_attribute_safe(outcome.attrs))
         group.attrs["message"] = outcome.message

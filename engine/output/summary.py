@@ -94,8 +94,11 @@ _TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
 def column_unit(column: str) -> str:
     """Unit of a summary column ("" when dimensionless or text), swept dotted keys included."""
     from engine.study.config import SWEEPABLE
+    from engine.study.fretting_case import FRETTING_SUMMARY_UNITS
 
-    unit = COLUMN_UNITS.get(column) or SWEEPABLE.get(column, "")
+    unit = (
+        COLUMN_UNITS.get(column) or FRETTING_SUMMARY_UNITS.get(column) or SWEEPABLE.get(column, "")
+    )
     return "" if unit == "1" else unit
 
 

@@ -127,8 +127,8 @@ class BorderCheckedSolver:
             )
         return result
 
-    def solve_load(self, load, state=None, wear=None):
-        result = self._solver.solve_load(load, state, wear=wear)
+    def solve_load(self, load, state=None, wear=None, guess=None):
+        result = self._solver.solve_load(load, state, wear=wear, guess=guess)
         return self._checked(result, f"P = {load:g} N")
 
     def solve_approach(self, approach, state=None, wear=None):
@@ -147,6 +147,7 @@ class DatasetRecord:
     data: np.ndarray
     units: str
     description: str = ""
+    attrs: dict[str, Any] = field(default_factory=dict)  # further attributes (e.g. columns)
 
 
 @dataclass
@@ -201,7 +202,9 @@ class CaseRunner:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
             config = self.config_for(case)
-            if config.is_cyclic:
+            if config.is_fretting:
+                outcome = self._run_fretting(case, config, should_stop)
+            elif config.is_cyclic:
                 outcome = self._run_cyclic(case, config, should_stop)
             else:
                 outcome = self._run_static(case, config)
@@ -382,6 +385,57 @@ class CaseRunner:
         )
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
 
+    # ---------------------------------------------------------------- fretting
+    def _run_fretting(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
+        """A fretting case (engine.solvers.fretting): the cyclic case's solver, stresses,
+        checkpoints and outputs, plus the loops, the fretting history and summary columns."""
+        from engine.study import fretting_case
+
+        solver, grid, material = self._solver(case, cfg)
+        stress, depths = self._subsurface(grid, material, cfg)
+        checkpoint = self._checkpoint_path(case)
+        on_cycle = None
+        if self.on_progress is not None:
+            on_cycle = lambda cycle, cycles: self.on_progress(case, cycle, cycles)  # noqa: E731
+        run = fretting_case.run(case, cfg, solver, stress, checkpoint, should_stop, on_cycle)
+        if not run.result.completed:
+            return CaseOutcome(case, INTERRUPTED, message=run.message)
+        if not run.result.converged:
+            return CaseOutcome(
+                case, FAILED, message=f"fretting analysis did not converge: {run.result.message}"
+            )
+        result, final = run.result, run.result.final
+        datasets = self._history_datasets(result.history)
+        datasets.update(fretting_case.history_datasets(result.history))
+        datasets.update(self._grid_datasets(grid))
+        for cycle in sorted(result.records):
+            fields = dict(result.records[cycle])
+            group = f"cycle_{cycle:07d}"
+            datasets.update(fretting_case.record_datasets(fields, group, cycle))
+            for name, values in fields.items():
+                datasets[f"fields/{group}/{name}"] = DatasetRecord(
+                    np.asarray(values),
+                    _FIELD_UNITS.get(name, ""),
+                    _FIELD_DESCRIPTIONS.get(name, name) + f", largest |Q| of cycle {cycle}",
+                )
+            plane = stress.plane(
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+            )
+            datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
+        datasets.update(self._final_fields(final))
+        history = result.history
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
+        row.update(self._peak_row(run.tracker, final, history))
+        row.update(fretting_case.summary_values(result))
+        row.update(
+            cycles=int(history["cycle"][-1]),
+            max_wear_depth=float(history["max_wear_depth"][-1]),
+            wear_volume=float(history["wear_volume"][-1]),
+            load_steps=int(result.load_steps),
+            matvecs=int(result.matvecs),
+        )
+        return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
     # ---------------------------------------------------------------- peak history
     @staticmethod
     def _history_datasets(history: dict[str, np.ndarray]) -> dict[str, DatasetRecord]:
@@ -509,7 +563,10 @@ class CaseRunner:
     def _parameters_row(case: Case, status: str) -> dict[str, Any]:
         from engine.output.summary import pending_row
 
-        return pending_row(case.parameters(), status)
+        row = pending_row(case.parameters(), status)
+        if case.alpha is not None:  # energy wear law (not a summary column of the other laws)
+            row["alpha"] = case.alpha
+        return row
 
     # ---------------------------------------------------------------- checkpoints
     def _checkpoint_path(self, case: Case) -> Path:
