@@ -41,10 +41,9 @@ from engine.grid import Grid
 from engine.material import MaterialPair
 from engine.reference import mindlin
 from engine.reference.hertz import hertz_contact_radius
+from engine.solvers import fretting
 from engine.solvers.contact import ContactSolver
 from engine.solvers.friction import FrictionLaw, WearLaw
-
-fretting = pytest.importorskip("engine.solvers.fretting")
 
 STEEL = MaterialPair(E_A=210000.0, nu_A=0.3, E_B=210000.0, nu_B=0.3)
 RADIUS, LOAD, MU = 10.0, 100.0, 0.5
