@@ -27,7 +27,7 @@ from engine.reference import mindlin
 RADIUS, MU, ALPHA = 10.0, 0.6, 2e-5  # mm, –, mm³/J
 MATERIAL = MaterialPair(210000.0, 0.3, 210000.0, 0.3)
 LOADS = (50.0, 100.0, 200.0)
-CYCLES = np.array([1, 2, 10, 100, 1000, 10000])
+CYCLES = np.array([0, 1, 2, 10, 100, 1000, 10000])
 RECORD = (1, 10000)
 FIGURES = ["fretting_map.png", "fretting_loops.png", "wear_energy.png"]
 
@@ -55,7 +55,7 @@ def _write_case(file, index, load, amplitude):
              "wear2": 0.0, "beta": 0.0, "summary": json.dumps(summary),
              "loading.load": load, "loading.amplitude": amplitude}  # fmt: skip
     group.attrs.update(attrs)
-    cumulated = energy * CYCLES  # mJ
+    cumulated = energy * CYCLES  # mJ (rows from N = 0, as the solver writes them)
     history = {"cycle": CYCLES, "energy": np.full(CYCLES.shape, energy),
                "slip_regime": np.full(CYCLES.shape, int(regime == "gross")),
                "wear_volume": ALPHA * cumulated / 1e3}  # fmt: skip
@@ -114,13 +114,14 @@ def test_plot_draws_the_fretting_figures(synthetic_results, monkeypatch, tmp_pat
 
 
 def test_adapter_reads_loops_and_cumulates_energy(synthetic_results):
-    """Loops by cycle from fields/cycle_N/loop; cumulated energy Σ e_k (N_k − N_{k−1}) in J
-    (1e-12: rounding), equal to e·N for a constant e."""
+    """Loops by cycle from fields/cycle_N/loop; cumulated energy Σ_(j<k) e_j (N_(j+1) − N_j)
+    in J (1e-12: rounding), equal to e·(N − N_0) for a constant e."""
     study = read_results(synthetic_results)
     case = study.cases[0]
     assert sorted(read_loops(synthetic_results, case.case_id)) == list(RECORD)
     energy = float(case.history["energy"][0])
-    assert cumulated_energy(case) == pytest.approx(energy * CYCLES / 1e3, rel=1e-12)
+    expected = energy * (CYCLES - CYCLES[0]) / 1e3
+    assert cumulated_energy(case) == pytest.approx(expected, rel=1e-12)
 
 
 def test_regime_mixed_when_the_history_changes():

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import h5py
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from engine.material import MaterialPair
 from engine.reference import mindlin
@@ -125,12 +126,26 @@ def draw_fretting_map(
             label=style["label"],
         )  # fmt: skip
     axis.set_xscale("log")
+    axis.xaxis.set_major_formatter(ScalarFormatter())
+    axis.xaxis.set_minor_formatter(NullFormatter())
+    axis.set_xticks(_round_ticks([case.amplitude * MICRONS_PER_MM for case in cases]))
     axis.set_xlabel("displacement amplitude δ* (µm)")
     axis.set_ylabel("normal load P (N)")
     axis.grid(alpha=0.3, which="both")
     axis.legend(loc="upper left")
     axis.set_title(title)
     return figure
+
+
+def _round_ticks(values) -> list[float]:
+    """1-2-5 ticks (µm) spanning ``values`` on the log axis of the map."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    if not values.size:
+        return []
+    low, high = np.floor(np.log10(values.min())), np.ceil(np.log10(values.max()))
+    ticks = [m * 10.0**e for e in np.arange(low, high + 1) for m in (1.0, 2.0, 5.0)]
+    return [t for t in ticks if values.min() / 1.5 <= t <= values.max() * 1.5]
 
 
 def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
@@ -160,7 +175,15 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
         axis.set_ylabel("tangential force Q (N)")
         axis.set_title(panel.title)
         axis.grid(alpha=0.3)
-        axis.legend(loc="upper left")
+    entries: dict[str, object] = {}  # one legend for all panels, below them (loops fill
+    for axis in axes.flat[: len(panels)]:  # the corners of a gross-slip panel)
+        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    if entries:
+        figure.legend(
+            list(entries.values()), list(entries), loc="outside lower center",
+            ncol=min(len(entries), 5),
+        )  # fmt: skip
     figure.suptitle(title)
     return figure
 
@@ -255,6 +278,11 @@ def _regime(case: CaseResults) -> str:
     return str(case.summary.get("slip_regime", "partial"))
 
 
+def _isotropic_friction(case: CaseResults) -> bool:
+    """μ1 = μ2 (the wear coefficients do not matter here; they are NaN under the energy law)."""
+    return case.mu1 == case.mu2
+
+
 def _sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
     if _setting(study, case, "punch.shape") != "sphere":
         return None
@@ -286,19 +314,21 @@ def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
 
 
 def cumulated_energy(case: CaseResults) -> np.ndarray:
-    """Cumulated dissipated energy (J) at each history row.
+    """Cumulated dissipated energy E_d (J) at each history row, the companion of the row's
+    ``wear_volume``.
 
-    ``history/cumulated_energy`` (mJ) if the solver wrote it; else Σ e_k (N_k − N_{k−1})
-    with the per-cycle energy e_k (mJ) of each simulated cycle N_k applied over the cycles
-    it stands for (the cycle jump that ends at N_k).
+    Row k holds the wear after N_k real cycles and the loop simulated from there, which the
+    cycle jump applies to the cycles N_k + 1 … N_(k+1) (engine.solvers.cyclic): so
+    E_d(N_k) = Σ_(j<k) e_j (N_(j+1) − N_j) with the per-cycle energy e_j (mJ) of row j.
+    ``history/cumulated_energy`` (mJ) is used instead if the solver wrote it.
     """
     history = case.history
     if "cumulated_energy" in history:
         return np.asarray(history["cumulated_energy"], dtype=float) / 1e3
     cycles = np.asarray(history["cycle"], dtype=float)
     energy = np.asarray(history["energy"], dtype=float)
-    counts = np.diff(np.concatenate([[0.0], cycles]))
-    return np.cumsum(energy * counts) / 1e3
+    steps = energy[:-1] * np.diff(cycles)
+    return np.concatenate([[0.0], np.cumsum(steps)]) / 1e3
 
 
 def _map_figure(study: StudyResults):
@@ -307,7 +337,7 @@ def _map_figure(study: StudyResults):
         load = float(_setting(study, case, "loading.load"))
         cases.append(FrettingCase(_amplitude(study, case), load, _regime(case), case.mu1))
         radius = _sphere_radius(study, case)
-        if radius is not None and case.isotropic and case.mu1 not in boundaries:
+        if radius is not None and _isotropic_friction(case) and case.mu1 not in boundaries:
             boundaries[case.mu1] = (radius, _material(study, case))
     loads = np.array([item.load for item in cases])
     span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
@@ -334,7 +364,7 @@ def _loop_cases(study: StudyResults) -> list[CaseResults]:
 def _reference_loop(study: StudyResults, case: CaseResults):
     """The analytic stabilised loop of a case, or None where it does not apply."""
     radius = _sphere_radius(study, case)
-    if radius is None or not case.isotropic or case.mu1 <= 0:
+    if radius is None or not _isotropic_friction(case) or case.mu1 <= 0:
         return None
     load, material = float(_setting(study, case, "loading.load")), _material(study, case)
     force = _setting(study, case, "loading.force_amplitude")
@@ -359,16 +389,21 @@ def _loops_figure(study: StudyResults):
             for cycle, rows in read_loops(study.path, case.case_id).items()
         }
         load = float(_setting(study, case, "loading.load"))
-        friction = f"μ = {case.mu1:g}" if case.isotropic else f"μ1, μ2 = {case.mu1:g}, {case.mu2:g}"
+        friction = (
+            f"μ = {case.mu1:g}"
+            if _isotropic_friction(case)
+            else f"μ1, μ2 = {case.mu1:g}, {case.mu2:g}, β = {case.beta:g}°"
+        )
         title = (
-            f"{case.case_id}: P = {load:g} N, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
+            f"P = {load:g} N, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
         label = "Mindlin–Deresiewicz / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
-    return draw_fretting_loops(panels, f"{study.name}: fretting loops at recorded cycles")
+    title = f"{study.name}: fretting loops at recorded cycles (dashed: analytic, unworn surfaces)"
+    return draw_fretting_loops(panels, title)
 
 
 def _energy_coefficient(study: StudyResults, case: CaseResults) -> float | None:
