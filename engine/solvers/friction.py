@@ -150,11 +150,13 @@ def frictional_work(result, previous) -> np.ndarray:
     w = −½ (q_k + q_{k−1}) · Δs_k, the trapezoidal rule on the slip increment Δs_k (mm) with
     the tractions (MPa) of the increment (``result``) and of the previous one
     (``previous``). Its sum times ΔA over a cycle is ∮ Q·dδ minus the change of elastic
-    energy (engine.solvers.fretting), exactly. Where a slip reversal under a falling pressure
-    would make it negative (cyclic unloading) it is clipped at 0: wear never deposits."""
+    energy (engine.solvers.fretting), exactly, so it is not clipped: on a sliding element
+    w ≥ ½ λ h(n) (p_k − p_{k−1}) ≥ 0 while the pressure does not fall (held load, K = 0); in a
+    stick zone it is ± the solver tolerance; it can be slightly negative only where a slip
+    reverses under a falling pressure (cyclic unloading), and sums to ≥ 0 over a cycle."""
     mean_x = 0.5 * (result.traction_x + previous.traction_x)
     mean_y = 0.5 * (result.traction_y + previous.traction_y)
-    return np.maximum(-(mean_x * result.slip_x + mean_y * result.slip_y), 0.0)
+    return -(mean_x * result.slip_x + mean_y * result.slip_y)
 
 
 @dataclass(frozen=True)

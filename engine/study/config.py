@@ -21,14 +21,21 @@ Sections and keys (``*`` = required; defaults in brackets):
                   (rounded only: toroidal edge radius, >= 0; 0 is the sharp flat punch)  mm
 ``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
                   1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
-``[loading]``     kind* ("static" | "cyclic"), load* (N), steps [10] (increments per half
-                  cycle; for static: load increments), cycles* (cyclic only), record
-                  [[cycles]] (cycles at which fields and stresses are stored, 0 = unworn;
-                  cyclic only),
-                  max_wear_fraction [solver default] (cycle-jump control, cyclic only)
+``[loading]``     kind* ("static" | "cyclic" | "fretting"), load* (N), steps [10] (increments
+                  per half cycle; for static: load increments; fretting: per quarter
+                  tangential cycle and of the normal loading), cycles* (cyclic, fretting),
+                  record [[cycles]] (cycles at which fields and stresses are stored, 0 =
+                  unworn; cyclic, fretting),
+                  max_wear_fraction [solver default] (cycle-jump control, cyclic, fretting);
+                  fretting only: amplitude (mm, rigid tangential displacement) XOR
+                  force_amplitude (N, tangential force), direction [0] (degrees from x)
+                  (engine.solvers.fretting)
+``[wear]``        law ["archard"] ("archard": Eq. 12–14 with [sweep] wear1/wear2 in 1/MPa;
+                  "energy": depth = alpha × local frictional work, [sweep] alpha in mm³/J)
 ``[subsurface]``  depth [1.5] (in punch radii; sphere: in Hertz contact radii), layers [16]
 ``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
-                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
+                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees);
+                  alpha* (mm³/J) instead of wear1/wear2 with [wear] law = "energy".
                   Each is a list (a single number is accepted); every combination is a case.
                   Any scalar of the other sections is a sweep axis under its quoted dotted
                   key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0]; swept keys must

@@ -7,7 +7,8 @@ Datasets of a completed fretting case, besides those of a cyclic case:
   (mJ, ∮ Q·dδ), ``history/slip_regime`` (0 partial, 1 gross), ``history/stick_area`` (mm², at
   the increment of the largest |Q|), ``history/evaluations`` (increment solves per cycle);
 - ``fields/cycle_NNNNNNN/loop``: the fretting loop of every recorded cycle, shape
-  (4·steps + 1, 4), columns delta_x, delta_y (mm), Q_x, Q_y (N) (attribute ``columns``);
+  (4·steps + 1, 4), columns delta_x, delta_y (mm), Q_x, Q_y (N) (attribute ``columns`` =
+  "delta_x, delta_y, Q_x, Q_y", ``units`` = "mm, mm, N, N");
 - ``fields/cycle_NNNNNNN/vm_cycle``: (σ_VM max over the cycle's increments in the x–z plane
   (MPa), its x, y, z (mm)).
 
@@ -148,7 +149,7 @@ def record_datasets(fields: dict, group: str, cycle: int) -> dict:
             np.asarray(fields.pop("loop")),
             "mm, mm, N, N",
             LOOP_DESCRIPTION + f", cycle {cycle}",
-            attrs={"columns": list(LOOP_COLUMNS)},
+            attrs={"columns": ", ".join(LOOP_COLUMNS)},
         )
     }
     if "vm_cycle" in fields:
@@ -157,7 +158,7 @@ def record_datasets(fields: dict, group: str, cycle: int) -> dict:
             "MPa, mm, mm, mm",
             f"largest von Mises stress over the increments of cycle {cycle} in the x–z plane "
             "and its location: value, x, y, z",
-            attrs={"columns": ["vm", "x", "y", "z"]},
+            attrs={"columns": "vm, x, y, z"},
         )
     return datasets
 

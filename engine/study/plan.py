@@ -70,7 +70,7 @@ class Case:
     settings: tuple[tuple[str, Any], ...] = ()  # swept dotted keys and their values
     cost_scale: float = 1.0  # size of the case relative to the study's first values
     mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
-    alpha: float | None = None  # energy wear law (mm³/J); wear1 = wear2 = NaN then
+    alpha: float | None = None  # energy wear law (mm³/J); wear1 = wear2 = 0 then
 
     def parameters(self) -> dict[str, float | int | str]:
         """Case attributes and the parameter columns of its summary row."""
@@ -211,10 +211,10 @@ def make_plan(config: StudyConfig) -> Plan:
         for combo in _friction_combinations(config):
             case_id = case_id_for(*combo) + suffix
             alpha = None
-            if energy:  # the energy law: "_a<alpha>" for "_w<wear>", wear1 = wear2 = NaN
+            if energy:  # the energy law: "_a<alpha>" for "_w<wear>"; Archard's i1 = i2 = 0
                 alpha = combo[2]
                 case_id = case_id.replace(f"_w{_format(alpha)}_", f"_a{_format(alpha)}_", 1)
-                combo = (combo[0], combo[1], math.nan, math.nan, combo[4])
+                combo = (combo[0], combo[1], 0.0, 0.0, combo[4])
             if case_id in seen:
                 first_combo, first_settings = seen[case_id]
                 if first_combo != combo:
