@@ -131,3 +131,69 @@ def test_regime_mixed_when_the_history_changes():
     assert _regime(case([0, 0])) == "partial"
     assert _regime(case([1, 1])) == "gross"
     assert _regime(case([1, 0, 0])) == "mixed"
+
+
+TINY_FRETTING = """
+[study]
+name = "tiny_fretting"
+output = "tiny_fretting.h5"
+
+[material]
+E_A = 210e3
+nu_A = 0.3
+E_B = 210e3
+nu_B = 0.3
+
+[punch]
+shape = "sphere"
+radius = 12.7
+
+[mesh]
+n = 16
+
+[loading]
+kind = "fretting"
+steps = 2
+cycles = 20
+record = [1, 20]
+
+[subsurface]
+depth = 1.0
+layers = 4
+
+[wear]
+law = "energy"
+
+[sweep]
+mu1 = [0.6]
+alpha = [5e-6]
+"loading.load" = [25.0, 100.0]
+"loading.amplitude" = [0.0006, 0.003]
+"""
+
+
+def test_plot_reads_a_real_fretting_results_file(tmp_path):
+    """End to end on the engine's own file layout: a 16² study of 2 loads × 2 amplitudes
+    (partial and gross slip at both loads), computed by `python -m engine`, then plotted; the
+    adapter finds the loops of both recorded cycles and the regimes Mindlin predicts."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    repository = Path(__file__).resolve().parents[1]
+    (tmp_path / "study.toml").write_text(TINY_FRETTING)
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(repository), env.get("PYTHONPATH")]))
+    command = [sys.executable, "-m", "engine", "study.toml", "--no-progress-bar"]
+    run = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+    results = tmp_path / "tiny_fretting.h5"
+    assert figures.main([str(results), "--out", str(tmp_path / "figures")]) == 0
+    assert sorted(p.name for p in (tmp_path / "figures").glob("*.png")) == sorted(FIGURES)
+    study = read_results(results)
+    for case in study.cases:
+        assert sorted(read_loops(results, case.case_id)) == [1, 20]
+        load, amplitude = case.settings["loading.load"], case.settings["loading.amplitude"]
+        slip = mindlin.slip_displacement(load, 12.7, MATERIAL, 0.6)
+        assert _regime(case) == ("gross" if amplitude > slip else "partial"), case.case_id
