@@ -17,6 +17,7 @@ import pytest
 from engine.geometry import SphericalPunch
 from engine.grid import Grid
 from engine.material import MaterialPair
+from engine.reference import mindlin
 from engine.reference.hertz import hertz_contact_radius
 from engine.solvers.contact import STICK, ContactSolver
 from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, FrettingState
@@ -29,21 +30,18 @@ CONTACT_MODULUS = E / (2.0 * (1.0 - NU**2))
 A_HERTZ = hertz_contact_radius(LOAD, RADIUS, CONTACT_MODULUS)
 
 
+MATERIAL = MaterialPair(E, NU, E, NU)
+REFERENCE = (LOAD, RADIUS, MATERIAL, MU)  # engine.reference.mindlin arguments
+
+
 def mindlin_displacement(force):
     """δ(Q) of Cattaneo–Mindlin (mm), two identical bodies."""
-    return (
-        (3 * MU * LOAD / (16 * A_HERTZ))
-        * 2
-        * (2 - NU)
-        / SHEAR
-        * (1 - (1 - force / (MU * LOAD)) ** (2 / 3))
-    )
+    return mindlin.tangential_displacement(force, *REFERENCE)
 
 
 def solver(n=32, mu1=MU, mu2=MU, beta=0.0):
     grid = Grid.square(n, 1.5 * A_HERTZ)
-    material = MaterialPair(E, NU, E, NU)
-    return ContactSolver(grid, material, SphericalPunch(RADIUS), FrictionLaw(mu1, mu2, beta))
+    return ContactSolver(grid, MATERIAL, SphericalPunch(RADIUS), FrictionLaw(mu1, mu2, beta))
 
 
 def ramp(analysis):
@@ -75,7 +73,7 @@ def test_cattaneo_mindlin_force_ramp():
     np.testing.assert_allclose(force, settings.quarter(), rtol=0, atol=1e-5 * 40.0)
     np.testing.assert_allclose(delta, mindlin_displacement(force), rtol=0.02)
     ratio = np.sqrt(stick / math.pi) / A_HERTZ
-    expected = (1 - force / (MU * LOAD)) ** (1 / 3)
+    expected = mindlin.stick_radius_ratio(force, LOAD, MU)
     np.testing.assert_allclose(ratio, expected, atol=0.06)
 
 
@@ -89,8 +87,7 @@ def test_displacement_control_gives_the_force_control_curve():
     settings = FrettingSettings(LOAD, 4, 1, amplitude=amplitude)
     driven = ramp(FrettingAnalysis(solver(), WearLaw(0.0, 0.0), settings))
     np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=1e-4)
-    slip = mindlin_displacement(MU * LOAD)  # δ at gross slip
-    expected = MU * LOAD * (1 - (1 - driven[:, 0] / slip) ** 1.5)  # δ(Q) inverted
+    expected = mindlin.tangential_force(driven[:, 0], *REFERENCE)  # δ(Q) inverted
     np.testing.assert_allclose(driven[:, 1], expected, rtol=0.02)
 
 
