@@ -9,7 +9,8 @@
      i = 1e-7 1/MPa, 10 increments per quarter cycle, tol 1e-6), the same real cycles.
    Both counts include everything the run did (normal loading and first quarter of the
    fretting case, first load cycle of the cyclic case) divided by the increments solved;
-   the fretting count of the cycles alone (from the second simulated cycle) is printed too.
+   the fretting count of the cycles alone (after the first quarter) is printed too, and the
+   same case under force control (Q* = 0.646 μP, the Mindlin force of 0.5 δ_slip).
 2. Wall time of a 64² sphere fretting case to 10⁵ cycles (partial slip as above, 5 increments
    per quarter cycle, cycle jumping with the default max_wear_fraction 0.004) — target
    < 2 minutes.
@@ -54,7 +55,7 @@ def cyclic_case(n: int, cycles: int) -> dict:
     }
 
 
-def fretting_case(n: int, cycles: int, steps: int) -> dict:
+def fretting_case(n: int, cycles: int, steps: int, force: bool = False) -> dict:
     from engine.geometry import SphericalPunch
     from engine.grid import Grid
     from engine.material import MaterialPair
@@ -70,7 +71,9 @@ def fretting_case(n: int, cycles: int, steps: int) -> dict:
     grid = Grid.square(n, 1.5 * radius)
     material = MaterialPair(E, NU, E, NU)
     solver = ContactSolver(grid, material, SphericalPunch(RADIUS), FrictionLaw(MU, MU), tol=1e-6)
-    settings = FrettingSettings(LOAD, steps, cycles, amplitude=0.5 * slip, record=(cycles,))
+    # Partial slip: δ* = 0.5 δ_slip, or under force control its Mindlin force Q* = 0.646 μP.
+    signal = {"force_amplitude": 0.646 * MU * LOAD} if force else {"amplitude": 0.5 * slip}
+    settings = FrettingSettings(LOAD, steps, cycles, record=(cycles,), **signal)
     analysis = FrettingAnalysis(solver, WearLaw(1e-7, 1e-7), settings)
     start = time.perf_counter()
     state = analysis.initial_state()
@@ -103,6 +106,7 @@ def main() -> None:
 
     cyclic = cyclic_case(args.size, args.cycles)
     fretting = fretting_case(args.size, args.cycles, 10)
+    forced = fretting_case(args.size, args.cycles, 10, force=True)
     per_cyclic = cyclic["matvecs"] / cyclic["increments"]
     per_fretting = fretting["matvecs"] / fretting["increments"]
     per_cycle_only = fretting["cycle_matvecs"] / fretting["cycle_increments"]
@@ -119,6 +123,15 @@ def main() -> None:
     print(
         f"{'fretting, cycles only':>30} {fretting['cycle_increments']:>10} "
         f"{fretting['cycle_matvecs']:>9} {per_cycle_only:>9.1f}"
+    )
+    print(
+        f"{'fretting, force control, all':>30} {forced['increments']:>10} "
+        f"{forced['matvecs']:>9} {forced['matvecs'] / forced['increments']:>9.1f} "
+        f"{forced['seconds']:>7.1f}"
+    )
+    print(
+        f"{'force control, cycles only':>30} {forced['cycle_increments']:>10} "
+        f"{forced['cycle_matvecs']:>9} {forced['cycle_matvecs'] / forced['cycle_increments']:>9.1f}"
     )
     print(
         f"ratio fretting/cyclic per increment: {per_fretting / per_cyclic:.2f} (all), "

@@ -222,12 +222,13 @@ cycles = 10
 {loading}
 {wear}
 [sweep]
-mu1 = [0.5]
 {sweep}
 """
 
 
 def study(loading="amplitude = 0.002", wear="", sweep="wear1 = [1e-7]"):
+    if "mu1" not in sweep:
+        sweep = "mu1 = [0.5]\n" + sweep
     return parse_study(STUDY.format(loading=loading, wear=wear, sweep=sweep), source="f.toml")
 
 
@@ -257,3 +258,31 @@ def test_config_errors_name_the_key(loading, wear, sweep, words):
         study(loading, wear, sweep)
     assert str(error.value).startswith("f.toml: ")
     assert words in str(error.value), str(error.value)
+
+
+def test_force_amplitude_above_the_friction_bound_is_refused():
+    """Force control above h(d)·P (the largest force the friction ellipses carry along d)
+    fails the case with a message naming the key; orthotropic: h(d) of the rotated ellipse."""
+    from engine.study.fretting_case import check_force_bound
+    from engine.study.plan import make_plan
+
+    config = study(
+        loading="force_amplitude = 49.0\ndirection = 90.0",
+        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+    )
+    case = make_plan(config).cases[0]
+    with pytest.raises(
+        ValueError, match="force_amplitude = 49 N is not below the friction bound 40 N"
+    ):
+        check_force_bound(case, fretting_settings(config))
+    below = study(
+        loading="force_amplitude = 39.0\ndirection = 90.0",
+        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+    )
+    check_force_bound(make_plan(below).cases[0], fretting_settings(below))
+
+
+def fretting_settings(config):
+    from engine.study.fretting_case import settings
+
+    return settings(config)
