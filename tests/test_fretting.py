@@ -286,3 +286,29 @@ def fretting_settings(config):
     from engine.study.fretting_case import settings
 
     return settings(config)
+
+
+def test_energy_law_in_the_cyclic_kind_conserves_volume(material):
+    """The energy law in the normal-indentation (cyclic) kind, flat punch of Section 7.2 at
+    16², μ = 0.1: wear volume = Σ jumps × Σ_k α·10⁻³ Σ_e w ΔA (1e-12 relative), and the
+    study runner picks the law from [wear] (engine.study.fretting_case.wear_law)."""
+    from engine.geometry import FlatPunch
+    from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
+
+    grid = Grid.square(16, 1.05 * 1.8)
+    solver = ContactSolver(grid, material, FlatPunch(1.8), FrictionLaw(0.1, 0.1), tol=1e-6)
+    law = EnergyWearLaw(1e-2)
+    analysis = CyclicAnalysis(solver, law, CyclicSettings(750.0, 3, 200, record=(200,)))
+    previous = {"state": analysis.initial_state().contact}
+    per_row: dict[int, float] = {}
+
+    def hook(result, row):
+        depth = law.increment(result, previous["state"])
+        per_row[row] = per_row.get(row, 0.0) + float(np.sum(depth) * grid.element_area)
+        previous["state"] = result.state
+
+    outcome = analysis.run(on_increment=hook)
+    jumps = outcome.history["jump"]
+    expected = sum(jumps[row] * volume for row, volume in per_row.items())
+    assert expected > 0.0
+    assert outcome.history["wear_volume"][-1] == pytest.approx(expected, rel=1e-12)
