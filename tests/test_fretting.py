@@ -64,37 +64,38 @@ def ramp(analysis):
 
 
 def test_cattaneo_mindlin_force_ramp():
-    """Force control 0 → 0.8 μP in 8 increments at 48² (10 elements per contact radius):
-    δ(Q) within 2 % and c/a within 0.06 of the closed forms (c from the stick area √(A/π):
-    one element is 0.06 a). Measured: δ ≤ 0.9 %, c/a ≤ 0.04."""
+    """Force control 0 → 0.8 μP in 8 increments at 48² (16 elements per contact radius):
+    δ(Q) within 1 % and c/a within 0.03 of the closed forms (c from the stick area √(A/π);
+    one element is 0.0625 a, so 0.03 is half an element). Measured: δ 0.29 %, c/a 0.014;
+    the force meets its target to 3.5e-4 N (tolerance 1e-5 × 40 N)."""
     settings = FrettingSettings(LOAD, 8, 1, force_amplitude=0.8 * MU * LOAD)
     rows = ramp(FrettingAnalysis(solver(48), WearLaw(0.0, 0.0), settings))
     delta, force, stick = rows.T
     np.testing.assert_allclose(force, settings.quarter(), rtol=0, atol=1e-5 * 40.0)
-    np.testing.assert_allclose(delta, mindlin_displacement(force), rtol=0.02)
+    np.testing.assert_allclose(delta, mindlin_displacement(force), rtol=0.01)
     ratio = np.sqrt(stick / math.pi) / A_HERTZ
     expected = mindlin.stick_radius_ratio(force, LOAD, MU)
-    np.testing.assert_allclose(ratio, expected, atol=0.06)
+    np.testing.assert_allclose(ratio, expected, atol=0.03)
 
 
 def test_displacement_control_gives_the_force_control_curve():
     """Displacement control to the δ of the force-controlled ramp gives back its Q (same
-    mesh: the same discrete problem) to 1e-4 relative (force tolerance 1e-5, solver 1e-8),
-    and Q(δ) follows Cattaneo–Mindlin within 2 % at 32² (measured: 0.5 %)."""
+    mesh: the same discrete problem) to 2e-5 relative (force tolerance 1e-5; measured
+    1.2e-6), and Q(δ) follows Cattaneo–Mindlin within 0.5 % at 32² (measured 0.08 %)."""
     force_settings = FrettingSettings(LOAD, 4, 1, force_amplitude=0.6 * MU * LOAD)
     forced = ramp(FrettingAnalysis(solver(), WearLaw(0.0, 0.0), force_settings))
     amplitude = forced[-1, 0]
     settings = FrettingSettings(LOAD, 4, 1, amplitude=amplitude)
     driven = ramp(FrettingAnalysis(solver(), WearLaw(0.0, 0.0), settings))
-    np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=1e-4)
+    np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=2e-5)
     expected = mindlin.tangential_force(driven[:, 0], *REFERENCE)  # δ(Q) inverted
-    np.testing.assert_allclose(driven[:, 1], expected, rtol=0.02)
+    np.testing.assert_allclose(driven[:, 1], expected, rtol=0.005)
 
 
 def test_beta_invariance_orthotropic():
     """μ1 = 0.6, μ2 = 0.3: the loop for β = 90°, direction 90° is the loop for β = 0,
-    direction 0 turned by 90° (an exact symmetry of the square grid), to the solver
-    tolerance (1e-6 relative residual → 1e-4 relative in Q)."""
+    direction 0 turned by 90° (an exact symmetry of the square grid): δ exactly, Q to 1e-6
+    of its amplitude (measured 1.5e-8: the two runs differ by round-off in the iterations)."""
     loops = {}
     for angle in (0.0, 90.0):
         settings = FrettingSettings(LOAD, 3, 1, amplitude=0.002, direction=angle)
@@ -105,9 +106,9 @@ def test_beta_invariance_orthotropic():
         loops[angle] = result.records[1]["loop"]
     first, turned = loops[0.0], loops[90.0]
     scale = np.abs(first[:, 2]).max()
-    np.testing.assert_allclose(turned[:, 1], first[:, 0], atol=1e-12)
-    np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-4 * scale)
-    np.testing.assert_allclose(turned[:, 2], -first[:, 3], atol=1e-4 * scale)
+    np.testing.assert_array_equal(turned[:, 1], first[:, 0])
+    np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-6 * scale)
+    np.testing.assert_allclose(turned[:, 2], -first[:, 3], atol=1e-6 * scale)
 
 
 def collect(analysis, **options):
@@ -173,9 +174,10 @@ def test_wear_volume_is_the_sum_of_increments(law):
     expected = sum(jumps[row] * volume for row, volume in per_row.items())
     assert outcome.history["wear_volume"][-1] == pytest.approx(expected, rel=1e-12)
     assert expected > 0.0
-    if law == "energy":  # V = α Σ jumps × ∮Q·dδ up to the elastic energy change (steady loop)
+    if law == "energy":  # V = α Σ jumps × ∮Q·dδ up to the elastic energy change (measured
+        # 0.37 %: the loops drift as the wear grows, gross slip at δ* = 3 µm)
         energy = sum(j * e for j, e in zip(jumps, outcome.history["energy"], strict=True))
-        assert expected == pytest.approx(1e-2 * 1e-3 * energy, rel=2e-2)
+        assert expected == pytest.approx(1e-2 * 1e-3 * energy, rel=1e-2)
 
 
 def test_resume_is_bit_identical(tmp_path):
