@@ -95,16 +95,23 @@ def test_displacement_control_gives_the_force_control_curve():
 def test_beta_invariance_orthotropic():
     """μ1 = 0.6, μ2 = 0.3: the loop for β = 90°, direction 90° is the loop for β = 0,
     direction 0 turned by 90° (an exact symmetry of the square grid): δ exactly, Q to 1e-6
-    of its amplitude (measured 1.5e-8: the two runs differ by round-off in the iterations)."""
+    of its amplitude (measured 1.5e-8: the two runs differ by round-off in the iterations);
+    the stick zone exactly and the tractions to 1e-6 of their largest value (measured 2e-9)."""
     loops = {}
     for angle in (0.0, 90.0):
         settings = FrettingSettings(LOAD, 3, 1, amplitude=0.002, direction=angle)
         analysis = FrettingAnalysis(
             solver(24, 0.6, 0.3, math.radians(angle)), WearLaw(0.0, 0.0), settings
         )
-        result = analysis.run()
-        loops[angle] = result.records[1]["loop"]
-    first, turned = loops[0.0], loops[90.0]
+        loops[angle] = analysis.run().records[1]
+    fields, turned_fields = loops[0.0], loops[90.0]
+    # The stick zone and the tractions at the largest |Q| follow the turned cone.
+    np.testing.assert_array_equal(np.rot90(fields["status"]), turned_fields["status"])
+    traction_scale = np.abs(fields["traction_x"]).max()
+    np.testing.assert_allclose(
+        np.rot90(fields["traction_x"]), turned_fields["traction_y"], atol=1e-6 * traction_scale
+    )
+    first, turned = fields["loop"], turned_fields["loop"]
     scale = np.abs(first[:, 2]).max()
     np.testing.assert_array_equal(turned[:, 1], first[:, 0])
     np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-6 * scale)
