@@ -32,7 +32,7 @@ from __future__ import annotations
 import enum
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -61,6 +61,10 @@ __all__ = [
     "DEEP_DEPTH_FRACTION",
     "PARAMETER_UNITS",
     "SUMMARY_COLUMNS",
+    "FRETTING_HISTORY",
+    "FRETTING_RECORDS",
+    "LOOP_COLUMNS",
+    "fretting_record",
     "COLUMN_UNITS",
     "INTEGER_COLUMNS",
     "TEXT_COLUMNS",
@@ -94,6 +98,7 @@ class DatasetRecord:
     data: np.ndarray
     units: str
     description: str = ""
+    attrs: dict[str, Any] = field(default_factory=dict)  # further attributes (e.g. columns)
 
 
 @dataclass(frozen=True)
@@ -102,10 +107,12 @@ class DatasetSpec:
 
     units: str
     description: str
+    columns: str = ""  # a table's column names (the ``columns`` attribute), "" for arrays
 
     def record(self, data) -> DatasetRecord:
         """``data`` as a :class:`DatasetRecord` carrying this spec's attributes."""
-        return DatasetRecord(np.asarray(data), self.units, self.description)
+        attrs = {"columns": self.columns} if self.columns else {}
+        return DatasetRecord(np.asarray(data), self.units, self.description, attrs)
 
 
 # ------------------------------------------------------------------ surface fields
@@ -232,6 +239,54 @@ def cycle_of_group(name: str) -> int | None:
     return int(match.group(1)) if match else None
 
 
+#: history/<key> of a fretting case beyond HISTORY (engine.solvers.fretting); ``stick_area``
+#: is taken at the increment of the largest |Q| there.
+FRETTING_HISTORY = {
+    key: DatasetSpec(units, description + _PER_CYCLE)
+    for key, units, description in (
+        ("q_amplitude", "N", "tangential force amplitude max_k |Q_k| over the cycle's increments"),
+        (
+            "displacement_amplitude",
+            "mm",
+            "rigid tangential displacement amplitude (max δ·d − min δ·d)/2 over the cycle's "
+            "increments",
+        ),
+        ("energy", "mJ", "energy dissipated per cycle ∮ Q·dδ (trapezoidal rule, area of the loop)"),
+        (
+            "slip_regime",
+            "1",
+            "slip regime: 0 = partial slip (some element sticks at the increment of the largest "
+            "|Q|), 1 = gross slip (none sticks)",
+        ),
+        ("stick_area", "mm^2", "stick area at the increment of the largest |Q|"),
+        ("evaluations", "1", "increment solves of the cycle (force control: secant evaluations)"),
+    )
+}
+LOOP_COLUMNS = ("delta_x", "delta_y", "Q_x", "Q_y")
+#: fields/cycle_<N>/<name> of a fretting case beyond the surface fields.
+FRETTING_RECORDS = {
+    "loop": DatasetSpec(
+        "mm, mm, N, N",
+        "fretting loop: columns delta_x, delta_y (rigid tangential displacement of the punch, "
+        "mm), Q_x, Q_y (total tangential force on the half-space, N); row 0 is the start of the "
+        "cycle (the end of the previous one), then one row per increment (4·steps)",
+        ", ".join(LOOP_COLUMNS),
+    ),
+    "vm_cycle": DatasetSpec(
+        "MPa, mm, mm, mm",
+        "largest von Mises stress over the increments of the cycle in the x–z plane and its "
+        "location: value, x, y, z",
+        "vm, x, y, z",
+    ),
+}
+
+
+def fretting_record(name: str, cycle: int) -> DatasetSpec:
+    """``fields/cycle_<N>/<name>`` of a fretting case: the loop or the cycle's σ_VM maximum."""
+    spec = _known(FRETTING_RECORDS, name, "FRETTING_RECORDS")
+    return DatasetSpec(spec.units, f"{spec.description}, cycle {cycle}", spec.columns)
+
+
 def _moment(group: str) -> str:
     cycle = cycle_of_group(group)
     if cycle is None:
@@ -252,8 +307,11 @@ def field_dataset(name: str, group: str = "final") -> DatasetSpec:
     return DatasetSpec(spec.units, f"{spec.description}, peak load of {_moment(group)}")
 
 
-def history_dataset(key: str, cyclic: bool = True) -> DatasetSpec:
-    """``history/<key>`` of a cyclic (per simulated cycle) or static (per increment) case."""
+def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> DatasetSpec:
+    """``history/<key>`` of a cyclic or fretting (per simulated cycle) or static (per
+    increment) case."""
+    if fretting and key in FRETTING_HISTORY:
+        return FRETTING_HISTORY[key]
     if cyclic:
         return _known(HISTORY, key, "HISTORY")
     return _known(STATIC_HISTORY, key, "STATIC_HISTORY")
@@ -316,10 +374,14 @@ COLUMN_UNITS = {
     "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
     "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
     "centre_pressure": "MPa", "elastic_approach": "mm",
+    # fretting cases only (extra columns, engine.solvers.fretting)
+    "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
+    "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
+    "vm_cycle_max_z": "mm", "alpha": "mm^3/J",
 }  # fmt: skip
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
-TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region")
+TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")
 
 
 def pending_row(parameters: dict[str, Any], status: str = CaseStatus.PENDING) -> dict[str, Any]:

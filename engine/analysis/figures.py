@@ -15,6 +15,8 @@ cyclic study (Sections 7.2, 7.3)
     ``von_mises_N<N>.png``            σ_VM/p0 in the x–z plane at each recorded N   Figs. 8, 11
     ``peak_regime_*.png``             peak region vs wear severity (studies sweeping
                                       wear; :mod:`engine.analysis.regime`)
+fretting study (issue 13; :mod:`engine.analysis.fretting_figures`)
+    ``fretting_map.png``, ``fretting_loops.png``, ``wear_energy.png``
 
 Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
 z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps the black line is
@@ -52,6 +54,7 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
+from .fretting_figures import fretting_figures, is_fretting  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import stiffness_ratios  # noqa: E402
 
@@ -92,7 +95,12 @@ def plot_study(results: str | Path | StudyResults, out_dir: str | Path) -> list[
     out.mkdir(parents=True, exist_ok=True)
     written = []
     with plt.rc_context(_STYLE):
-        figures = _cyclic_figures(study) if study.is_cyclic else _static_figures(study)
+        if is_fretting(study):  # tangential fretting (issue 13): engine.analysis.fretting_figures
+            figures = fretting_figures(study)
+        elif study.is_cyclic:
+            figures = _cyclic_figures(study)
+        else:
+            figures = _static_figures(study)
         for name, figure in figures:
             path = out / name
             figure.savefig(path, dpi=DPI)
@@ -151,7 +159,9 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     from .report import _STUDY_WIDE, swept_keys
 
     swept = set(swept_keys(args.results)) & _STUDY_WIDE
-    if swept:  # the figures normalise every case by one a0, p0 and grid
+    if swept and not _is_fretting_file(
+        args.results
+    ):  # a fretting map sweeps the load  # the figures normalise every case by one a0, p0 and grid
         print(
             f"error: {args.results}: the figures need one load, punch radius, mesh and "
             f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "
@@ -166,6 +176,17 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
 
 # ----------------------------------------------------------------------------- helpers
+def _is_fretting_file(path: Path) -> bool:
+    """True for the results file of a fretting study (its figures take any sweep)."""
+    import json
+
+    import h5py
+
+    with h5py.File(path, "r") as file:
+        config = json.loads(file.attrs["study_json"])
+    return config.get("loading", {}).get("kind") == "fretting"
+
+
 def _title(study: StudyResults, what: str) -> str:
     return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} N)"
 

@@ -94,8 +94,9 @@ class _Written:
 
     written = True
 
-    def __init__(self, units: str, description: str) -> None:
+    def __init__(self, units: str, description: str, attrs: dict | None = None) -> None:
         self.units, self.description = units, description
+        self.attrs = dict(attrs or {})
 
 
 class CollectiveWriter(ResultsWriter):
@@ -245,7 +246,7 @@ class CollectiveWriter(ResultsWriter):
                 ):
                     continue  # not pre-created: created and written at the commit
                 group[path].write_direct(np.ascontiguousarray(record.data))
-                light[path] = _Written(record.units, record.description)
+                light[path] = _Written(record.units, record.description, record.attrs)
         outcome.datasets = light
         self._write_journal(_journal(outcome))
         self.write_seconds += _now() - start

@@ -425,6 +425,7 @@ class ResultsWriter:
                 dataset = group.create_dataset(path, data=item["data"])
             dataset.attrs["units"] = item["units"]
             dataset.attrs["description"] = item["description"]
+            dataset.attrs.update(item.get("attrs", {}))
         attach_grid_scales(group, record["datasets"])
         group.attrs.update(record["attrs"])
         group.attrs["message"] = record["message"]
@@ -574,6 +575,8 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
     datasets = {}
     for path, record in outcome.datasets.items():
         item: dict[str, Any] = {"units": record.units, "description": record.description}
+        if getattr(record, "attrs", None):
+            item["attrs"] = dict(record.attrs)
         if getattr(record, "written", False):
             item["written"] = True
         else:

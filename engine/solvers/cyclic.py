@@ -198,9 +198,7 @@ class CyclicAnalysis:
             increments.append(_starting_point(result.state, zeros))
             if not result.converged:
                 failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
-            wear_increment += self.wear_law.depth_increment(
-                result.pressure, result.slip_x, result.slip_y
-            )
+            wear_increment += self.wear_law.increment(result, state)
             if on_increment is not None:
                 on_increment(result)
             if index == self.settings.steps - 1:
@@ -277,13 +275,7 @@ class CyclicAnalysis:
             jump = 0 if done else self._jump(state.cycle, state.jump, outcome)
             self._append_history(state, outcome.peak, jump, area)
             if state.cycle in settings.record or done:
-                state.records[state.cycle] = {
-                    "wear": state.wear.copy(),
-                    "pressure": outcome.peak.pressure,
-                    "traction_x": outcome.peak.traction_x,
-                    "traction_y": outcome.peak.traction_y,
-                    "status": outcome.peak.status,
-                }
+                state.records[state.cycle] = self._record(state, outcome)
             state.matvecs += self._matvecs
             state.load_steps += self._steps
             state.failures.extend(self._failures)
@@ -322,6 +314,16 @@ class CyclicAnalysis:
             converged=converged,
             message=message,
         )
+
+    def _record(self, state: CyclicState, outcome: _CycleOutcome) -> dict[str, np.ndarray]:
+        """The fields kept at a recorded cycle: the wear and the peak-load solution."""
+        return {
+            "wear": state.wear.copy(),
+            "pressure": outcome.peak.pressure,
+            "traction_x": outcome.peak.traction_x,
+            "traction_y": outcome.peak.traction_y,
+            "status": outcome.peak.status,
+        }
 
     def _append_history(self, state, peak: IncrementResult, jump: int, area: float) -> None:
         row = {

@@ -138,3 +138,40 @@ class WearLaw:
     def depth_increment(self, pressure: np.ndarray, slip_x: np.ndarray, slip_y: np.ndarray):
         """Δω = p_n ||Δg_t||_i (Eq. 14), mm."""
         return pressure * self.norm(slip_x, slip_y)
+
+    def increment(self, result, previous) -> np.ndarray:
+        """Δω of one increment (mm) from its ``result`` (pressure, slip increments); the
+        interface every wear law offers (``previous``: the state before it, unused here)."""
+        return self.depth_increment(result.pressure, result.slip_x, result.slip_y)
+
+
+def frictional_work(result, previous) -> np.ndarray:
+    """Local frictional work of one increment per area (mJ/mm² = N/mm, shape (n_x, n_y)):
+    w = −½ (q_k + q_{k−1}) · Δs_k, the trapezoidal rule on the slip increment Δs_k (mm) with
+    the tractions (MPa) of the increment (``result``) and of the previous one
+    (``previous``). Its sum times ΔA over a cycle is ∮ Q·dδ minus the change of elastic
+    energy (engine.solvers.fretting), exactly, so it is not clipped: on a sliding element
+    w ≥ ½ λ h(n) (p_k − p_{k−1}) ≥ 0 while the pressure does not fall (held load, K = 0); in a
+    stick zone it is ± the solver tolerance; it can be slightly negative only where a slip
+    reverses under a falling pressure (cyclic unloading), and sums to ≥ 0 over a cycle."""
+    mean_x = 0.5 * (result.traction_x + previous.traction_x)
+    mean_y = 0.5 * (result.traction_y + previous.traction_y)
+    return -(mean_x * result.slip_x + mean_y * result.slip_y)
+
+
+@dataclass(frozen=True)
+class EnergyWearLaw:
+    """Dissipated-energy wear law (Fouvry, Kapsa & Vincent, Wear 1996; Fouvry et al. 2003):
+    the local wear depth increment is α times the local frictional work per area,
+    Δω = α w (mm = mm³/J · J/mm² with w in mJ/mm² → α in mm³/J is scaled by 10⁻³).
+    ``alpha`` α in mm³/J (≥ 0). Isotropic by construction: the orthotropy of friction
+    enters through the work itself."""
+
+    alpha: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "alpha", require_non_negative("alpha", self.alpha))
+
+    def increment(self, result, previous) -> np.ndarray:
+        """Δω = α·10⁻³·w (mm), w from :func:`frictional_work` (mJ/mm²)."""
+        return self.alpha * 1e-3 * frictional_work(result, previous)

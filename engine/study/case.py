@@ -183,7 +183,9 @@ class CaseRunner:
             if case.case_id in self.config.testing.fail_cases:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
             config = self.config_for(case)
-            if config.is_cyclic:
+            if config.is_fretting:
+                outcome = self._run_fretting(case, config, should_stop)
+            elif config.is_cyclic:
                 outcome = self._run_cyclic(case, config, should_stop)
             else:
                 outcome = self._run_static(case, config)
@@ -296,13 +298,13 @@ class CaseRunner:
     # ---------------------------------------------------------------- cyclic
     def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
-        from engine.solvers.friction import WearLaw
         from engine.solvers.peak import PeakTracker
+        from engine.study.fretting_case import wear_law as case_wear_law
 
         from .checkpoint import load_cyclic_state, save_cyclic_state
 
         solver, grid, material = self._solver(case, cfg)
-        wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+        wear_law = case_wear_law(case, cfg)  # [wear] law: Archard (default) or energy
         settings = CyclicSettings(
             cfg.loading.load,
             cfg.loading.steps,
@@ -360,16 +362,69 @@ class CaseRunner:
         )
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
 
+    # ---------------------------------------------------------------- fretting
+    def _run_fretting(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
+        """A fretting case (engine.solvers.fretting): the cyclic case's solver, stresses,
+        checkpoints and outputs, plus the loops, the fretting history and summary columns."""
+        from engine.study import fretting_case
+
+        solver, grid, material = self._solver(case, cfg)
+        stress, depths = self._subsurface(grid, material, cfg)
+        checkpoint = self._checkpoint_path(case)
+        on_cycle = None
+        if self.on_progress is not None:
+            on_cycle = lambda cycle, cycles: self.on_progress(case, cycle, cycles)  # noqa: E731
+        run = fretting_case.run(case, cfg, solver, stress, checkpoint, should_stop, on_cycle)
+        if not run.result.completed:
+            return CaseOutcome(case, INTERRUPTED, message=run.message)
+        if not run.result.converged:
+            return CaseOutcome(
+                case, FAILED, message=f"fretting analysis did not converge: {run.result.message}"
+            )
+        result, final = run.result, run.result.final
+        datasets = self._history_datasets(result.history, fretting=True)
+        datasets.update(self._grid_datasets(grid))
+        for cycle in sorted(result.records):
+            fields = dict(result.records[cycle])
+            group = cycle_group(cycle)
+            datasets.update(fretting_case.record_datasets(fields, group, cycle))
+            for name, values in fields.items():
+                spec = field_dataset(name, group)
+                description = spec.description.replace("peak load of", "largest |Q| of")
+                datasets[f"fields/{group}/{name}"] = DatasetRecord(
+                    np.asarray(values), spec.units, description
+                )
+            plane = stress.plane(
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+            )
+            datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
+        datasets.update(self._final_fields(final))
+        history = result.history
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
+        row.update(self._peak_row(run.tracker, final, history))
+        row.update(fretting_case.summary_values(result))
+        row.update(
+            cycles=int(history["cycle"][-1]),
+            max_wear_depth=float(history["max_wear_depth"][-1]),
+            wear_volume=float(history["wear_volume"][-1]),
+            load_steps=int(result.load_steps),
+            matvecs=int(result.matvecs),
+        )
+        return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
     # ---------------------------------------------------------------- peak history
     @staticmethod
-    def _history_datasets(history: dict[str, np.ndarray]) -> dict[str, DatasetRecord]:
-        """``history/<key>`` of a cyclic case; a key the schema does not know raises."""
+    def _history_datasets(
+        history: dict[str, np.ndarray], fretting: bool = False
+    ) -> dict[str, DatasetRecord]:
+        """``history/<key>`` of a cyclic or fretting case; a key the schema does not know
+        raises."""
         datasets = {}
         for key, values in history.items():
             values = np.asarray(values)
             if key in ("peak_region", "deep_region") and not np.any(np.isnan(values)):
                 values = values.astype(np.int8)
-            datasets[f"history/{key}"] = history_dataset(key).record(values)
+            datasets[f"history/{key}"] = history_dataset(key, fretting=fretting).record(values)
         return datasets
 
     def _region_change_datasets(self, stress, changes) -> dict[str, DatasetRecord]:
@@ -462,7 +517,10 @@ class CaseRunner:
 
     @staticmethod
     def _parameters_row(case: Case, status: CaseStatus) -> dict[str, Any]:
-        return pending_row(case.parameters(), status)
+        row = pending_row(case.parameters(), status)
+        if case.alpha is not None:  # energy wear law (not a summary column of the other laws)
+            row["alpha"] = case.alpha
+        return row
 
     # ---------------------------------------------------------------- checkpoints
     def _checkpoint_path(self, case: Case) -> Path:

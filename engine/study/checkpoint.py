@@ -26,8 +26,14 @@ import numpy as np
 
 from engine.solvers.contact import ContactState
 from engine.solvers.cyclic import HISTORY_KEYS, WARM_KEYS, CyclicState
+from engine.solvers.fretting import FrettingState
 
-__all__ = ["save_cyclic_state", "load_cyclic_state"]
+__all__ = [
+    "save_cyclic_state",
+    "load_cyclic_state",
+    "save_fretting_state",
+    "load_fretting_state",
+]
 
 
 def _arrays(state: CyclicState) -> dict[str, np.ndarray]:
@@ -60,10 +66,37 @@ def _arrays(state: CyclicState) -> dict[str, np.ndarray]:
 
 def save_cyclic_state(state: CyclicState, path: str | Path) -> None:
     """Write ``state`` to ``path`` (.npz) atomically (temporary file, then rename)."""
+    _write(path, _arrays(state))
+
+
+def _write(path: str | Path, arrays: dict[str, np.ndarray]) -> None:
     path = Path(path)
     temporary = path.with_name(path.name + ".tmp.npz")
-    np.savez(temporary, **_arrays(state))
+    np.savez(temporary, **arrays)
     temporary.replace(path)
+
+
+def save_fretting_state(state: FrettingState, path: str | Path) -> None:
+    """The cyclic checkpoint of ``state`` plus the fretting arrays: ``fretting_rigid`` (the
+    rigid tangential displacement δ at the next cycle's start, mm), ``fretting_rigid_warm``
+    (δ·d of the last simulated cycle's increments, mm), ``fretting_stiffness`` (N/mm)."""
+    arrays = _arrays(state)
+    arrays["fretting_rigid"] = np.asarray(state.rigid, dtype=float)
+    arrays["fretting_rigid_warm"] = np.asarray(state.rigid_warm, dtype=float)
+    arrays["fretting_stiffness"] = np.array(state.stiffness)
+    _write(path, arrays)
+
+
+def load_fretting_state(path: str | Path) -> FrettingState:
+    """The ``FrettingState`` saved by ``save_fretting_state`` at ``path``."""
+    base = load_cyclic_state(path)
+    with np.load(path) as data:
+        return FrettingState(
+            **vars(base),
+            rigid=data["fretting_rigid"],
+            rigid_warm=data["fretting_rigid_warm"],
+            stiffness=float(data["fretting_stiffness"]),
+        )
 
 
 def _history(data) -> dict[str, list]:

@@ -21,15 +21,22 @@ Sections and keys (``*`` = required; defaults in brackets):
                   (rounded only: toroidal edge radius, >= 0; 0 is the sharp flat punch)  mm
 ``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
                   1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
-``[loading]``     kind* ("static" | "cyclic"), load* (N), steps [10] (increments per half
-                  cycle; for static: load increments), cycles* (cyclic only), record
-                  [[cycles]] (cycles at which fields and stresses are stored, 0 = unworn;
-                  cyclic only),
+``[loading]``     kind* ("static" | "cyclic" | "fretting"), load* (N), steps [10] (increments
+                  per half cycle; for static: load increments; fretting: per quarter
+                  tangential cycle and of the normal loading), cycles* (cyclic, fretting),
+                  record [[cycles]] (cycles at which fields and stresses are stored, 0 =
+                  unworn; cyclic, fretting),
                   max_wear_fraction [0.004] (cycle-jump control: wear per jump over the
-                  peak elastic approach; cyclic only)
+                  peak elastic approach; cyclic, fretting);
+                  fretting only: amplitude (mm, rigid tangential displacement) XOR
+                  force_amplitude (N, tangential force), direction [0] (degrees from x)
+                  (engine.solvers.fretting)
+``[wear]``        law ["archard"] ("archard": Eq. 12–14 with [sweep] wear1/wear2 in 1/MPa;
+                  "energy": depth = alpha × local frictional work, [sweep] alpha in mm³/J)
 ``[subsurface]``  depth [1.5] (in punch radii; sphere: in Hertz contact radii), layers [16]
 ``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
-                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees).
+                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees);
+                  alpha* (mm³/J) instead of wear1/wear2 with [wear] law = "energy".
                   Each is a list (a single number is accepted); every combination is a case.
                   Any scalar of the other sections is a sweep axis under its quoted dotted
                   key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0]; swept keys must
@@ -94,6 +101,9 @@ SWEEPABLE = {
     "loading.steps": "1",
     "loading.cycles": "1",
     "loading.max_wear_fraction": "1",
+    "loading.amplitude": "mm",
+    "loading.force_amplitude": "N",
+    "loading.direction": "degree",
     "subsurface.depth": "punch radii",
     "subsurface.layers": "1",
     "solver.tol": "1",
@@ -172,6 +182,19 @@ class LoadingConfig:
     cycles: int
     record: tuple[int, ...]
     max_wear_fraction: float | None  # None for static loading (no cycle jumps)
+    # fretting only (None otherwise): exactly one of amplitude (mm) and force_amplitude (N);
+    # direction in degrees from x (engine.solvers.fretting)
+    amplitude: float | None = None
+    force_amplitude: float | None = None
+    direction: float | None = None
+
+
+@dataclass(frozen=True)
+class WearConfig:
+    """``law``: "archard" (the paper's orthotropic law, Eq. 12–14, coefficients wear1/wear2
+    in 1/MPa) or "energy" (dissipated-energy law, coefficient alpha in mm³/J)."""
+
+    law: str = "archard"
 
 
 @dataclass(frozen=True)
@@ -200,6 +223,7 @@ class SweepConfig:
     wear2: tuple[float, ...] | str | None
     beta: tuple[float, ...]
     axes: tuple[SweepAxis, ...] = ()
+    alpha: tuple[float, ...] | None = None  # energy wear law only (mm³/J)
 
     @property
     def swept_keys(self) -> tuple[str, ...]:
@@ -209,7 +233,7 @@ class SweepConfig:
     def resolved(self) -> dict[str, Any]:
         """TOML-able: the friction/wear lists, then every dotted key, then the zip groups."""
         out: dict[str, Any] = {}
-        for name in ("mu1", "mu2", "wear1", "wear2", "beta"):
+        for name in ("mu1", "mu2", "wear1", "wear2", "beta", "alpha"):
             value = getattr(self, name)
             if value is not None:
                 out[name] = list(value) if isinstance(value, tuple) else value
@@ -255,6 +279,7 @@ class StudyConfig:
     sweep: SweepConfig
     solver: SolverConfig
     testing: TestingConfig
+    wear: WearConfig = WearConfig()
     # The parsed TOML tables (JSON text, swept keys absent) from which for_case() derives a
     # case's configuration, and the dotted keys whose default derives from other keys.
     raw: str = dataclasses.field(default="", repr=False, compare=False)
@@ -262,7 +287,12 @@ class StudyConfig:
 
     @property
     def is_cyclic(self) -> bool:
-        return self.loading.kind == "cyclic"
+        """True for the kinds with load cycles, wear and cycle jumping (cyclic, fretting)."""
+        return self.loading.kind in ("cyclic", "fretting")
+
+    @property
+    def is_fretting(self) -> bool:
+        return self.loading.kind == "fretting"
 
     @property
     def contact_length(self) -> float:
@@ -303,6 +333,8 @@ class StudyConfig:
             if field.name == "sweep":
                 out["sweep"] = self.sweep.resolved()
                 continue
+            if field.name == "wear" and self.wear == WearConfig():
+                continue  # the default law, left out so that older results files resume
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
                 if value is None or f"{field.name}.{key}" in swept:
@@ -463,7 +495,7 @@ class _Section:
 # --------------------------------------------------------------------------------------------
 
 _SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
-_SECTIONS_OPTIONAL = ("subsurface", "solver", "testing")
+_SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear")
 
 
 def load_study(path: str | Path) -> StudyConfig:
@@ -657,9 +689,10 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     material = _parse_material(section("material"))
     punch = _parse_punch(section("punch"))
     loading = _parse_loading(section("loading"))
+    wear = _parse_wear(section("wear"), loading)
     mesh = _parse_mesh(section("mesh"), punch, material, loading)
     subsurface = _parse_subsurface(section("subsurface"))
-    sweep = _parse_sweep(section("sweep"), loading)
+    sweep = _parse_sweep(section("sweep"), loading, wear)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
     check_physical_ranges(source, material, punch, loading, sweep)
@@ -682,6 +715,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         sweep,
         solver,
         testing,
+        wear=wear,
         derived_defaults=derived,
     )
 
@@ -754,14 +788,23 @@ def _contact_modulus(material: MaterialConfig) -> float:
     return 1.0 / ((1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B)
 
 
+LOADING_KINDS = ("static", "cyclic", "fretting")
+FRETTING_KEYS = {"amplitude", "force_amplitude", "direction"}
+WEAR_LAWS = ("archard", "energy")
+
+
 def _parse_loading(s: _Section) -> LoadingConfig:
     kind = s.string("kind")
-    if kind not in ("static", "cyclic"):
-        raise s.error("kind", kind, 'must be "static" or "cyclic"')
+    if kind not in LOADING_KINDS:
+        raise s.error("kind", kind, 'must be "static", "cyclic" or "fretting"')
     if kind == "static":
         s.check_known({"kind", "load", "steps"})
-    else:
+    elif kind == "cyclic":
         s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
+    else:
+        s.check_known(
+            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"} | FRETTING_KEYS
+        )
     load = s.number("load", minimum=0.0, strict=True, unit="N")
     steps = s.integer("steps", 10, minimum=1)
     if kind == "static":
@@ -783,7 +826,42 @@ def _parse_loading(s: _Section) -> LoadingConfig:
     max_wear_fraction = s.number(
         "max_wear_fraction", defaults.MAX_WEAR_FRACTION, minimum=0.0, strict=True
     )
-    return LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
+    loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
+    if kind == "fretting":
+        loading = _parse_fretting(s, loading)
+    return loading
+
+
+def _parse_fretting(s: _Section, loading: LoadingConfig) -> LoadingConfig:
+    """The tangential signal of the fretting kind: ``amplitude`` (mm, rigid displacement)
+    XOR ``force_amplitude`` (N, tangential force), ``direction`` [0] (degrees from x)."""
+    given = [key for key in ("amplitude", "force_amplitude") if key in s.table]
+    if len(given) != 1:
+        shown = {key: s.table[key] for key in given} if given else _MISSING
+        raise s.error(
+            "amplitude" if not given else given[-1],
+            shown,
+            'kind = "fretting" needs exactly one of amplitude (mm, displacement control) '
+            "and force_amplitude (N, force control)",
+        )
+    unit = "mm" if given[0] == "amplitude" else "N"
+    value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
+    if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
+        raise s.error(given[0], value, "must be below the friction bound μP (N)")
+    direction = s.number("direction", 0.0, unit="degrees")
+    if not -360.0 <= direction <= 360.0:
+        raise s.error("direction", direction, "must lie in [-360, 360] degrees")
+    return dataclasses.replace(loading, **{given[0]: value}, direction=direction)
+
+
+def _parse_wear(s: _Section, loading: LoadingConfig) -> WearConfig:
+    s.check_known({"law"})
+    law = s.string("law", "archard")
+    if law not in WEAR_LAWS:
+        raise s.error("law", law, 'must be "archard" or "energy"')
+    if law == "energy" and loading.kind == "static":
+        raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
+    return WearConfig(law=law)
 
 
 def _parse_subsurface(s: _Section) -> SubsurfaceConfig:
@@ -794,10 +872,19 @@ def _parse_subsurface(s: _Section) -> SubsurfaceConfig:
     )
 
 
-def _parse_sweep(s: _Section, loading: LoadingConfig) -> SweepConfig:
-    s.check_known({"mu1", "mu2", "wear1", "wear2", "beta"})
+def _parse_sweep(s: _Section, loading: LoadingConfig, wear: WearConfig) -> SweepConfig:
+    s.check_known({"mu1", "mu2", "wear1", "wear2", "beta", "alpha"})
     mu1 = s.number_list("mu1", minimum=0.0)
     mu2 = s.number_list("mu2", minimum=0.0) if "mu2" in s.table else None
+    if wear.law == "energy":
+        for key in ("wear1", "wear2"):
+            if key in s.table:
+                raise s.error(key, s.table[key], '[wear] law = "energy" takes alpha (mm³/J)')
+        alpha = s.number_list("alpha", minimum=0.0, unit="mm^3/J")
+        beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
+        return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
+    if "alpha" in s.table:
+        raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
     wear_default = [0.0] if loading.kind == "static" else _MISSING
     wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
     wear2: tuple[float, ...] | str | None = None
@@ -822,7 +909,9 @@ def _parse_solver(s: _Section, loading: LoadingConfig) -> SolverConfig:
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
     default_tol = (
-        defaults.CYCLIC_TOLERANCE if loading.kind == "cyclic" else defaults.STATIC_TOLERANCE
+        defaults.CYCLIC_TOLERANCE
+        if loading.kind in ("cyclic", "fretting")
+        else defaults.STATIC_TOLERANCE
     )
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
     maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1)

@@ -23,6 +23,7 @@ Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
@@ -69,6 +70,7 @@ class Case:
     settings: tuple[tuple[str, Any], ...] = ()  # swept dotted keys and their values
     cost_scale: float = 1.0  # size of the case relative to the study's first values
     mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
+    alpha: float | None = None  # energy wear law (mm³/J); wear1 = wear2 = 0 then
 
     def parameters(self) -> dict[str, float | int | str]:
         """Case attributes and the parameter columns of its summary row."""
@@ -81,6 +83,8 @@ class Case:
             "wear2": self.wear2,
             "beta": self.beta,
         }
+        if self.alpha is not None:
+            parameters["alpha"] = self.alpha
         parameters.update(self.settings)
         return parameters
 
@@ -146,8 +150,12 @@ def cost_scale(case: StudyConfig, study: StudyConfig) -> float:
 
 
 def _friction_combinations(config: StudyConfig) -> list[tuple[float, float, float, float, float]]:
-    """(mu1, mu2, wear1, wear2, beta) in plan order (nested loops)."""
+    """(mu1, mu2, wear1, wear2, beta) in plan order (nested loops); with the energy wear law
+    (mu1, mu2, alpha, alpha, beta) (:func:`make_plan` keeps alpha apart)."""
     sweep = config.sweep
+    if sweep.alpha is not None:
+        wear_sweep = dataclasses.replace(sweep, wear1=sweep.alpha, wear2=None, alpha=None)
+        return _friction_combinations(dataclasses.replace(config, sweep=wear_sweep))
     combos = []
     if sweep.mu2 is None:
         mu_pairs = [(mu, mu) for mu in sweep.mu1]
@@ -199,15 +207,21 @@ def make_plan(config: StudyConfig) -> Plan:
         scale = cost_scale(case_config, config) if settings else 1.0
         mesh = (case_config.mesh.n, case_config.mesh.half_width)
         suffix = "".join(f"_{names[key]}{_format(value)}" for key, value in settings)
+        energy = config.sweep.alpha is not None
         for combo in _friction_combinations(config):
             case_id = case_id_for(*combo) + suffix
+            alpha = None
+            if energy:  # the energy law: "_a<alpha>" for "_w<wear>"; Archard's i1 = i2 = 0
+                alpha = combo[2]
+                case_id = case_id.replace(f"_w{_format(alpha)}_", f"_a{_format(alpha)}_", 1)
+                combo = (combo[0], combo[1], 0.0, 0.0, combo[4])
             if case_id in seen:
                 first_combo, first_settings = seen[case_id]
                 if first_combo != combo:
                     raise _collision(config.source, case_id, first_combo, combo)
                 raise _setting_collision(config.source, case_id, first_settings, settings)
             seen[case_id] = (combo, settings)
-            cases.append(Case(index, case_id, *combo, settings, scale, mesh))
+            cases.append(Case(index, case_id, *combo, settings, scale, mesh, alpha))
             index += 1
     unknown = set(config.testing.fail_cases) - set(seen)
     if unknown:

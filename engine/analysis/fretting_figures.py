@@ -1,0 +1,447 @@
+"""Figures of a tangential fretting study (``[loading] kind = "fretting"``, issue 13).
+
+``python -m engine plot RESULTS.h5`` draws, for a fretting study (:func:`fretting_figures`):
+
+``fretting_map.png``
+    the running-condition fretting map: displacement amplitude δ* (µm) × normal load P (N),
+    one marker per case coloured by slip regime (partial slip; gross slip; mixed: the regime
+    changed during the run), with Mindlin's partial/gross boundary δ_slip(P) = 3μP S/(16a)
+    (:func:`engine.reference.mindlin.slip_displacement`) drawn as a line per friction
+    coefficient (sphere only).
+``fretting_loops.png``
+    the fretting loops Q–δ at the recorded cycles of up to six cases (spread over the
+    amplitudes at the middle load), with the stabilised Mindlin–Deresiewicz / gross-slip loop
+    (:func:`engine.reference.mindlin.fretting_loop`) dashed where it applies (sphere,
+    isotropic friction; exact for K = 0).
+``wear_energy.png``
+    wear volume (mm³) against the cumulated dissipated energy (J), linear and log–log: for
+    the energy wear law (Fouvry) V = α E_d is a line through the origin, drawn with the
+    study's α; for Archard's law the line through the origin fitted by least squares is drawn
+    and its slope (the energy wear coefficient it implies) given in the legend.
+
+Loop and map quantities are projected on the sliding direction (``direction``, degrees from
+x): δ = δ_x cos θ + δ_y sin θ, Q = Q_x cos θ + Q_y sin θ. Units: δ in µm on the axes (mm in
+the file), Q in N, energies in mJ per cycle and J cumulated (1 J = 1000 mJ = 1000 N·mm).
+
+The drawing functions (``draw_*``) take plain arrays, so they are usable and testable without
+a results file; :func:`fretting_figures` is the thin adapter from the results file.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import h5py
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+from engine.material import MaterialPair
+from engine.reference import mindlin
+
+from .reader import CaseResults, StudyResults
+
+__all__ = [
+    "FrettingCase",
+    "LoopPanel",
+    "draw_fretting_map",
+    "draw_fretting_loops",
+    "draw_wear_energy",
+    "fretting_figures",
+    "is_fretting",
+    "read_loops",
+    "cumulated_energy",
+]
+
+MICRONS_PER_MM = 1e3
+REGIME_STYLES = {
+    "partial": {"color": "C0", "marker": "o", "label": "partial slip"},
+    "mixed": {"color": "C2", "marker": "D", "label": "mixed (regime changed)"},
+    "gross": {"color": "C3", "marker": "s", "label": "gross slip"},
+}
+MAX_LOOP_PANELS = 6
+_CYCLE = re.compile(r"cycle_(\d+)$")
+
+
+@dataclass
+class FrettingCase:
+    """One case on the fretting map: amplitude δ* (mm), load P (N), regime, friction μ."""
+
+    amplitude: float
+    load: float
+    regime: str
+    friction: float
+
+
+@dataclass
+class LoopPanel:
+    """The loops of one case: ``loops[N] = (δ in mm, Q in N)`` along the sliding direction,
+    and the analytic stabilised loop (δ, Q) or None."""
+
+    title: str
+    loops: dict[int, tuple[np.ndarray, np.ndarray]]
+    reference: tuple[np.ndarray, np.ndarray] | None = None
+    reference_label: str = "Mindlin–Deresiewicz (K = 0)"
+
+
+@dataclass
+class WearSeries:
+    """Cumulated dissipated energy (J) and wear volume (mm³) of one case over its cycles."""
+
+    group: str  # legend entry shared by cases of one colour (e.g. "P = 100 N")
+    energy: np.ndarray
+    volume: np.ndarray
+    coefficient: float | None = None  # the energy law's α (mm³/J); None for Archard's law
+    regime: str = "partial"  # markers filled for gross slip, hollow otherwise
+
+
+# ----------------------------------------------------------------------------- drawing
+def draw_fretting_map(
+    cases: Sequence[FrettingCase],
+    boundaries: dict[float, tuple[np.ndarray, np.ndarray]],
+    title: str,
+):
+    """The running-condition fretting map.
+
+    ``cases``: the markers (amplitude in mm, load in N, regime "partial"/"gross"/"mixed").
+    ``boundaries``: per friction coefficient μ, (δ_slip in mm, P in N) of Mindlin's boundary.
+    Returns the figure (δ* in µm on a log axis, P in N).
+    """
+    figure, axis = plt.subplots(figsize=(7.6, 5.0), layout="constrained")
+    for mu, (slip, loads) in sorted(boundaries.items()):
+        axis.plot(
+            np.asarray(slip) * MICRONS_PER_MM, loads, "k-", lw=1.4,
+            label=f"Mindlin boundary δ_slip(P), μ = {mu:g}",
+        )  # fmt: skip
+    for regime, style in REGIME_STYLES.items():
+        chosen = [case for case in cases if case.regime == regime]
+        if not chosen:
+            continue
+        axis.plot(
+            [case.amplitude * MICRONS_PER_MM for case in chosen],
+            [case.load for case in chosen],
+            ls="none", ms=8, mfc=style["color"], mec="k", marker=style["marker"],
+            label=style["label"],
+        )  # fmt: skip
+    axis.set_xscale("log")
+    axis.xaxis.set_major_formatter(ScalarFormatter())
+    axis.xaxis.set_minor_formatter(NullFormatter())
+    axis.set_xticks(_round_ticks([case.amplitude * MICRONS_PER_MM for case in cases]))
+    axis.set_xlabel("displacement amplitude δ* (µm)")
+    axis.set_ylabel("normal load P (N)")
+    axis.grid(alpha=0.3, which="both")
+    axis.legend(loc="upper left")
+    axis.set_title(title)
+    return figure
+
+
+def _round_ticks(values) -> list[float]:
+    """1-2-5 ticks (µm) spanning ``values`` on the log axis of the map."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    if not values.size:
+        return []
+    low, high = np.floor(np.log10(values.min())), np.ceil(np.log10(values.max()))
+    ticks = [m * 10.0**e for e in np.arange(low, high + 1) for m in (1.0, 2.0, 5.0)]
+    return [t for t in ticks if values.min() / 1.5 <= t <= values.max() * 1.5]
+
+
+def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
+    """Q–δ loops (δ in µm, Q in N), one panel per case, one colour per recorded cycle."""
+    columns = min(3, max(len(panels), 1))
+    rows = -(-len(panels) // columns)
+    figure, axes = plt.subplots(
+        rows, columns, figsize=(4.6 * columns, 3.7 * rows), squeeze=False, layout="constrained"
+    )
+    for axis in axes.flat[len(panels) :]:
+        axis.set_visible(False)
+    for axis, panel in zip(axes.flat, panels, strict=False):
+        for number, (cycle, (delta, force)) in enumerate(sorted(panel.loops.items())):
+            axis.plot(
+                np.asarray(delta) * MICRONS_PER_MM, force, "-", lw=1.5, color=f"C{number % 10}",
+                marker=".", ms=4, label=f"N = {cycle:,}",
+            )  # fmt: skip
+        if panel.reference is not None:
+            delta, force = panel.reference
+            axis.plot(
+                np.asarray(delta) * MICRONS_PER_MM, force, "k--", lw=1.0,
+                label=panel.reference_label,
+            )  # fmt: skip
+        axis.axhline(0.0, color="0.6", lw=0.6)
+        axis.axvline(0.0, color="0.6", lw=0.6)
+        axis.set_xlabel("tangential displacement δ (µm)")
+        axis.set_ylabel("tangential force Q (N)")
+        axis.set_title(panel.title)
+        axis.grid(alpha=0.3)
+    entries: dict[str, object] = {}  # one legend for all panels, below them (loops fill
+    for axis in axes.flat[: len(panels)]:  # the corners of a gross-slip panel)
+        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    if entries:
+        figure.legend(
+            list(entries.values()), list(entries), loc="outside lower center",
+            ncol=min(len(entries), 5),
+        )  # fmt: skip
+    figure.suptitle(title)
+    return figure
+
+
+def draw_wear_energy(series: Sequence[WearSeries], title: str):
+    """Wear volume (mm³) against cumulated dissipated energy (J), linear and log–log.
+
+    Series with an energy-law coefficient α (mm³/J) get the line V = α E_d (one per distinct
+    α); without (Archard's law) the least-squares line through the origin of all points is
+    drawn and its slope, the energy wear coefficient Archard's law implies, is given.
+    """
+    figure, (linear, logarithmic) = plt.subplots(1, 2, figsize=(13.0, 4.8), layout="constrained")
+    energy = np.concatenate([np.asarray(item.energy, dtype=float) for item in series] or [[0.0]])
+    volume = np.concatenate([np.asarray(item.volume, dtype=float) for item in series] or [[0.0]])
+    groups = list(dict.fromkeys(item.group for item in series))
+    for item in series:
+        number = groups.index(item.group)
+        colour, marker = f"C{number % 10}", "os^Dv"[number % 5]
+        for axis in (linear, logarithmic):
+            axis.plot(
+                item.energy, item.volume, ls="-", lw=0.6, marker=marker, ms=5, color=colour,
+                mfc=colour if item.regime == "gross" else "none",
+            )  # fmt: skip
+    for number, group in enumerate(groups):  # legend: one entry per group, then the fill
+        logarithmic.plot([], [], ls="-", lw=0.6, marker="os^Dv"[number % 5],
+                         color=f"C{number % 10}", mfc="none", label=group)  # fmt: skip
+    logarithmic.plot([], [], ls="none", marker="o", color="0.3", mfc="none", label="partial slip")
+    logarithmic.plot([], [], ls="none", marker="o", color="0.3", label="gross slip (filled)")
+    coefficients = sorted({item.coefficient for item in series if item.coefficient is not None})
+    if coefficients:
+        lines = [(alpha, f"energy law V = α E_d, α = {alpha:.3g} mm³/J") for alpha in coefficients]
+    else:
+        slope = float(energy @ volume / (energy @ energy)) if energy @ energy > 0 else 0.0
+        lines = [(slope, f"fit through the origin: V = {slope:.3g} mm³/J · E_d")]
+    positive = energy[energy > 0]
+    if positive.size:
+        span = np.geomspace(positive.min(), positive.max(), 50)
+        for number, (slope, label) in enumerate(lines):
+            style = {"color": "k", "lw": 1.0, "ls": ("-", "--", ":", "-.")[number % 4]}
+            linear.plot(np.concatenate([[0.0], span]), slope * np.concatenate([[0.0], span]),
+                        label=label, **style)  # fmt: skip
+            if slope > 0:
+                logarithmic.plot(span, slope * span, label=label, **style)
+        logarithmic.set_xscale("log")
+        logarithmic.set_yscale("log")
+    for axis in (linear, logarithmic):
+        axis.set_xlabel("cumulated dissipated energy E_d (J)")
+        axis.set_ylabel("wear volume V (mm³)")
+        axis.grid(alpha=0.3, which="both")
+    linear.set_xlim(left=0.0)
+    linear.set_ylim(bottom=0.0)
+    handles, labels = logarithmic.get_legend_handles_labels()
+    logarithmic.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    figure.suptitle(title)
+    return figure
+
+
+# ----------------------------------------------------------------------------- adapter
+def is_fretting(study: StudyResults) -> bool:
+    return study.config.get("loading", {}).get("kind") == "fretting"
+
+
+def _setting(study: StudyResults, case: CaseResults, dotted: str, default=None):
+    """A case's value of a dotted key: its swept setting, else the study file's value."""
+    if dotted in case.settings:
+        return case.settings[dotted]
+    section, key = dotted.split(".", 1)
+    return study.config.get(section, {}).get(key, default)
+
+
+def _direction(study: StudyResults, case: CaseResults) -> float:
+    return float(np.radians(float(_setting(study, case, "loading.direction", 0.0) or 0.0)))
+
+
+def _amplitude(study: StudyResults, case: CaseResults) -> float:
+    """The displacement amplitude δ* (mm): prescribed, else the last measured one."""
+    prescribed = _setting(study, case, "loading.amplitude")
+    if prescribed is not None:
+        return float(prescribed)
+    measured = case.history.get("displacement_amplitude")
+    return float(measured[-1]) if measured is not None and len(measured) else float("nan")
+
+
+def _regime(case: CaseResults) -> str:
+    """ "partial", "gross" or "mixed" (the per-cycle history holds both regimes)."""
+    history = case.history.get("slip_regime")
+    if history is not None and len(history):
+        values = set(np.asarray(history).astype(int).tolist())
+        if values == {0, 1}:
+            return "mixed"
+        return "gross" if values == {1} else "partial"
+    return str(case.summary.get("slip_regime", "partial"))
+
+
+def _isotropic_friction(case: CaseResults) -> bool:
+    """μ1 = μ2 (the wear coefficients do not matter here; they are NaN under the energy law)."""
+    return case.mu1 == case.mu2
+
+
+def _sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
+    if _setting(study, case, "punch.shape") != "sphere":
+        return None
+    return float(_setting(study, case, "punch.radius"))
+
+
+def _material(study: StudyResults, case: CaseResults) -> MaterialPair:
+    return MaterialPair(
+        *(float(_setting(study, case, f"material.{key}")) for key in ("E_A", "nu_A", "E_B", "nu_B"))
+    )
+
+
+def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
+    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N) of a case, by cycle N
+    (the nearest enclosing ``cycle_N`` group)."""
+    loops: dict[int, np.ndarray] = {}
+
+    def visit(name, item):
+        if isinstance(item, h5py.Dataset) and name.rsplit("/", 1)[-1] == "loop":
+            cycles = [_CYCLE.match(part) for part in name.split("/")]
+            numbers = [int(match.group(1)) for match in cycles if match]
+            if numbers:
+                loops[numbers[-1]] = np.asarray(item)
+
+    with h5py.File(path, "r") as file:
+        group = file["cases"][case_id]
+        group.visititems(visit)
+    return loops
+
+
+def cumulated_energy(case: CaseResults) -> np.ndarray:
+    """Cumulated dissipated energy E_d (J) at each history row, the companion of the row's
+    ``wear_volume``.
+
+    Row k holds the wear after N_k real cycles and the loop simulated from there, which the
+    cycle jump applies to the cycles N_k + 1 … N_(k+1) (engine.solvers.cyclic): so
+    E_d(N_k) = Σ_(j<k) e_j (N_(j+1) − N_j) with the per-cycle energy e_j (mJ) of row j.
+    ``history/cumulated_energy`` (mJ) is used instead if the solver wrote it.
+    """
+    history = case.history
+    if "cumulated_energy" in history:
+        return np.asarray(history["cumulated_energy"], dtype=float) / 1e3
+    cycles = np.asarray(history["cycle"], dtype=float)
+    energy = np.asarray(history["energy"], dtype=float)
+    steps = energy[:-1] * np.diff(cycles)
+    return np.concatenate([[0.0], np.cumsum(steps)]) / 1e3
+
+
+def _map_figure(study: StudyResults):
+    cases, boundaries = [], {}
+    for case in study.cases:
+        load = float(_setting(study, case, "loading.load"))
+        cases.append(FrettingCase(_amplitude(study, case), load, _regime(case), case.mu1))
+        radius = _sphere_radius(study, case)
+        if radius is not None and _isotropic_friction(case) and case.mu1 not in boundaries:
+            boundaries[case.mu1] = (radius, _material(study, case))
+    loads = np.array([item.load for item in cases])
+    span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
+    lines = {
+        mu: (mindlin.slip_displacement(span, radius, material, mu), span)
+        for mu, (radius, material) in boundaries.items()
+    }
+    title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
+    return draw_fretting_map(cases, lines, title)
+
+
+def _loop_cases(study: StudyResults) -> list[CaseResults]:
+    """Up to six cases: at the middle load, spread over the amplitudes."""
+    loads = sorted({float(_setting(study, case, "loading.load")) for case in study.cases})
+    middle = loads[len(loads) // 2]
+    chosen = [c for c in study.cases if float(_setting(study, c, "loading.load")) == middle]
+    chosen.sort(key=lambda case: _amplitude(study, case))
+    if len(chosen) > MAX_LOOP_PANELS:
+        picks = np.linspace(0, len(chosen) - 1, MAX_LOOP_PANELS).round().astype(int)
+        chosen = [chosen[i] for i in sorted(set(picks.tolist()))]
+    return chosen
+
+
+def _reference_loop(study: StudyResults, case: CaseResults):
+    """The analytic stabilised loop of a case, or None where it does not apply."""
+    radius = _sphere_radius(study, case)
+    if radius is None or not _isotropic_friction(case) or case.mu1 <= 0:
+        return None
+    load, material = float(_setting(study, case, "loading.load")), _material(study, case)
+    force = _setting(study, case, "loading.force_amplitude")
+    if force is not None:
+        if float(force) >= case.mu1 * load:
+            return None
+        return mindlin.fretting_loop(load, radius, material, case.mu1, force_amplitude=force)
+    amplitude = _amplitude(study, case)
+    return mindlin.fretting_loop(load, radius, material, case.mu1, displacement_amplitude=amplitude)
+
+
+def _loops_figure(study: StudyResults):
+    panels = []
+    for case in _loop_cases(study):
+        theta = _direction(study, case)
+        cosine, sine = np.cos(theta), np.sin(theta)
+        loops = {
+            cycle: (
+                rows[:, 0] * cosine + rows[:, 1] * sine,
+                rows[:, 2] * cosine + rows[:, 3] * sine,
+            )
+            for cycle, rows in read_loops(study.path, case.case_id).items()
+        }
+        load = float(_setting(study, case, "loading.load"))
+        friction = (
+            f"μ = {case.mu1:g}"
+            if _isotropic_friction(case)
+            else f"μ1, μ2 = {case.mu1:g}, {case.mu2:g}, β = {case.beta:g}°"
+        )
+        title = (
+            f"P = {load:g} N, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
+            f"\n{friction}, {_regime(case)} slip"
+        )
+        label = "Mindlin–Deresiewicz / gross slip"
+        if abs(_material(study, case).coupling) > 1e-12:
+            label += " (K ≠ 0: approximate)"
+        panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
+    title = f"{study.name}: fretting loops at recorded cycles (dashed: analytic, unworn surfaces)"
+    return draw_fretting_loops(panels, title)
+
+
+def _energy_coefficient(study: StudyResults, case: CaseResults) -> float | None:
+    """The energy law's α (mm³/J) of a case; None under Archard's law."""
+    if study.config.get("wear", {}).get("law", "archard") != "energy":
+        return None
+    for source in (case.settings, case.summary):
+        for key in ("alpha", "sweep.alpha", "wear.alpha"):
+            if key in source:
+                return float(source[key])
+    sweep = study.config.get("sweep", {}).get("alpha")
+    if isinstance(sweep, list):
+        return float(sweep[0]) if len(sweep) == 1 else None
+    return None if sweep is None else float(sweep)
+
+
+def _wear_energy_figure(study: StudyResults):
+    series = []
+    for case in study.cases:
+        if "wear_volume" not in case.history or "energy" not in case.history:
+            continue
+        load = float(_setting(study, case, "loading.load"))
+        volume = np.asarray(case.history["wear_volume"], dtype=float)
+        coefficient = _energy_coefficient(study, case)
+        series.append(
+            WearSeries(
+                f"P = {load:g} N", cumulated_energy(case), volume, coefficient, _regime(case)
+            )
+        )
+    law = study.config.get("wear", {}).get("law", "archard")
+    title = f"{study.name}: wear volume vs dissipated energy ({law} wear law)"
+    return draw_wear_energy(series, title)
+
+
+def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:
+    """(file name, figure) of every fretting figure of ``study``."""
+    return [
+        ("fretting_map.png", _map_figure(study)),
+        ("fretting_loops.png", _loops_figure(study)),
+        ("wear_energy.png", _wear_energy_figure(study)),
+    ]

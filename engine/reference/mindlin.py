@@ -1,0 +1,213 @@
+"""Cattaneo–Mindlin tangential loading of a Hertzian sphere and the Mindlin–Deresiewicz loop.
+
+A sphere of radius R (mm) is pressed with a constant normal load P (N) on a half-space; the
+two bodies are elastic (Young's moduli E_A, E_B in MPa, Poisson ratios ν_A, ν_B, shear moduli
+G_i = E_i / (2(1 + ν_i))) with Coulomb friction μ. The contact radius a (mm) is Hertz's
+(:mod:`engine.reference.hertz`). The formulas assume that the normal and the tangential
+problems are uncoupled (K = 0, e.g. identical bodies); with K ≠ 0 they are approximations.
+Sources: Johnson, *Contact Mechanics* (1985), §7.2 (Eqs. 7.37–7.42) and §7.4 (Eqs. 7.52–7.54);
+Mindlin & Deresiewicz, *J. Appl. Mech.* 20 (1953) 327.
+
+Convention for δ (mm): the rigid tangential displacement of one body relative to the other,
+measured between points far from the contact (the "rigid slip" the engine prescribes).
+Forces Q (N), energies in N·mm = mJ. With the compliance sum
+
+    S = (2 − ν_A)/G_A + (2 − ν_B)/G_B          (1/MPa; = 2(2 − ν)/G with Eq. 6's ν, G)
+
+and the limiting force L = μP:
+
+- monotone loading 0 → Q < L (Cattaneo–Mindlin, Johnson 7.40 and 7.42):
+  stick radius        c/a = (1 − Q/L)^{1/3},
+  compliance curve    δ(Q) = (3 L S / (16 a)) [1 − (1 − Q/L)^{2/3}];
+- the partial/gross-slip boundary: δ_slip = δ(L) = 3 L S / (16 a) ∝ P^{2/3};
+- cyclic loading between ±Q* (Mindlin–Deresiewicz), by the Masing construction:
+  unloading from (δ*, Q*)   δ = δ* − 2 δ((Q* − Q)/2),
+  reloading from (−δ*, −Q*) δ = −δ* + 2 δ((Q* + Q)/2),
+  with δ* = δ(Q*). The dissipated energy per cycle is the area of the loop,
+
+      W = ∫_{−Q*}^{Q*} (δ_unload − δ_reload) dQ = 4 Q* δ* − 8 ∫₀^{Q*} δ(u) du
+        = (9 L² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})],  q = Q*/L,
+
+  (Johnson 7.53 with (2 − ν)/G read as the sum S); small amplitudes: W ≈ S Q*³ / (36 a L)
+  (Johnson 7.54), at q = 1: W = 0.8 L δ_slip (Fouvry's energy ratio W / (4 δ* Q*) = 0.2);
+- gross slip under a displacement amplitude δ* > δ_slip: Q* = L and the loop is the
+  partial loop at Q* = L opened by two sliding stretches of length 2(δ* − δ_slip):
+  W = W(q = 1) + 4 L (δ* − δ_slip).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..material import MaterialPair
+from .hertz import hertz_contact_radius
+
+__all__ = [
+    "compliance_sum",
+    "stick_radius_ratio",
+    "tangential_displacement",
+    "tangential_force",
+    "slip_displacement",
+    "unloading_displacement",
+    "partial_slip_energy",
+    "partial_slip_energy_small_amplitude",
+    "gross_slip_energy",
+    "energy_per_cycle",
+    "force_amplitude",
+    "fretting_loop",
+]
+
+
+def compliance_sum(materials: MaterialPair) -> float:
+    """S = (2 − ν_A)/G_A + (2 − ν_B)/G_B, in 1/MPa."""
+    return (2.0 - materials.nu_A) / materials.shear_modulus_A + (
+        2.0 - materials.nu_B
+    ) / materials.shear_modulus_B
+
+
+def _scale(load, radius, materials, friction) -> tuple[float, float]:
+    """(δ_slip in mm, L = μP in N)."""
+    limit = friction * load
+    a = hertz_contact_radius(load, radius, materials.contact_modulus)
+    return 3.0 * limit * compliance_sum(materials) / (16.0 * a), limit
+
+
+def _ratio(force, limit) -> np.ndarray:
+    """q = Q/L, checked to lie in [0, 1]."""
+    q = np.asarray(force, dtype=float) / limit
+    if np.any(q < 0.0) or np.any(q > 1.0 + 1e-12):
+        raise ValueError(f"tangential force must lie in [0, μP] = [0, {limit:g}] N")
+    return np.clip(q, 0.0, 1.0)
+
+
+def stick_radius_ratio(force, load: float, friction: float) -> np.ndarray:
+    """c/a = (1 − Q/μP)^{1/3} under a monotone force Q (N) (Johnson 7.40)."""
+    return (1.0 - _ratio(force, friction * load)) ** (1.0 / 3.0)
+
+
+def slip_displacement(load, radius, materials: MaterialPair, friction: float) -> np.ndarray:
+    """δ_slip = 3 μP S / (16 a) (mm): the displacement amplitude at the onset of gross slip.
+
+    ``load`` (N) may be an array: δ_slip(P) ∝ P^{2/3} is the partial/gross boundary line of
+    the running-condition fretting map.
+    """
+    load = np.asarray(load, dtype=float)
+    a = hertz_contact_radius(load, radius, materials.contact_modulus)
+    return 3.0 * friction * load * compliance_sum(materials) / (16.0 * a)
+
+
+def tangential_displacement(force, load, radius, materials, friction) -> np.ndarray:
+    """δ(Q) = δ_slip [1 − (1 − Q/μP)^{2/3}] (mm), monotone loading 0 → Q ≤ μP (Johnson 7.42)."""
+    slip, limit = _scale(load, radius, materials, friction)
+    return slip * (1.0 - (1.0 - _ratio(force, limit)) ** (2.0 / 3.0))
+
+
+def tangential_force(displacement, load, radius, materials, friction) -> np.ndarray:
+    """Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}] (N), the inverse of the compliance curve.
+
+    For δ ≥ δ_slip the sphere slides: Q = μP.
+    """
+    slip, limit = _scale(load, radius, materials, friction)
+    d = np.clip(np.asarray(displacement, dtype=float) / slip, 0.0, 1.0)
+    return limit * (1.0 - (1.0 - d) ** 1.5)
+
+
+def unloading_displacement(force, amplitude, load, radius, materials, friction):
+    """δ (mm) on the unloading branch from (δ*, Q*) down to Q (N) (Masing construction).
+
+    δ = δ* − 2 δ_mono((Q* − Q)/2) for −Q* ≤ Q ≤ Q*, ``amplitude`` = Q* ≤ μP (N). The
+    reloading branch is its point reflection: δ_reload(Q) = −δ_unload(−Q).
+    """
+    peak = tangential_displacement(amplitude, load, radius, materials, friction)
+    half = (amplitude - np.asarray(force, dtype=float)) / 2.0
+    return peak - 2.0 * tangential_displacement(half, load, radius, materials, friction)
+
+
+def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndarray:
+    """Energy dissipated per cycle between ±Q* < μP (mJ), Mindlin–Deresiewicz (Johnson 7.53).
+
+    W = (9 (μP)² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})], q = Q*/μP,
+    from W = 4 Q* δ* − 8 ∫₀^{Q*} δ_mono(u) du (the module docstring derives it).
+    """
+    slip, limit = _scale(load, radius, materials, friction)
+    q = _ratio(amplitude, limit)
+    bracket = 1.0 - (1.0 - q) ** (5.0 / 3.0) - (5.0 * q / 6.0) * (1.0 + (1.0 - q) ** (2.0 / 3.0))
+    # 9 L² S / (10 a) = (24/5) L δ_slip
+    return 4.8 * limit * slip * bracket
+
+
+def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
+    """W ≈ S Q*³ / (36 a μP) (mJ), the leading term for Q* ≪ μP (Johnson 7.54)."""
+    a = hertz_contact_radius(load, radius, materials.contact_modulus)
+    amplitude = np.asarray(amplitude, dtype=float)
+    return compliance_sum(materials) * amplitude**3 / (36.0 * a * friction * load)
+
+
+def gross_slip_energy(displacement_amplitude, load, radius, materials, friction):
+    """Energy per cycle (mJ) under a displacement amplitude δ* ≥ δ_slip (gross slip).
+
+    W = W_MD(Q* = μP) + 4 μP (δ* − δ_slip); W_MD(μP) = 0.8 μP δ_slip.
+    """
+    slip, limit = _scale(load, radius, materials, friction)
+    excess = np.asarray(displacement_amplitude, dtype=float) - slip
+    if np.any(excess < -1e-12 * slip):
+        raise ValueError(f"gross slip needs δ* ≥ δ_slip = {slip:g} mm")
+    return 0.8 * limit * slip + 4.0 * limit * np.maximum(excess, 0.0)
+
+
+def force_amplitude(displacement_amplitude, load, radius, materials, friction):
+    """Q* (N) reached under a displacement amplitude δ* (mm): Q(δ*) below δ_slip, μP above."""
+    return tangential_force(displacement_amplitude, load, radius, materials, friction)
+
+
+def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
+    """Energy per stabilised cycle (mJ) under a displacement amplitude δ* (mm), any regime."""
+    slip, _ = _scale(load, radius, materials, friction)
+    d = np.asarray(displacement_amplitude, dtype=float)
+    partial = partial_slip_energy(
+        force_amplitude(np.minimum(d, slip), load, radius, materials, friction),
+        load,
+        radius,
+        materials,
+        friction,
+    )
+    gross = gross_slip_energy(np.maximum(d, slip), load, radius, materials, friction)
+    return np.where(d < slip, partial, gross)
+
+
+def fretting_loop(
+    load: float,
+    radius: float,
+    materials: MaterialPair,
+    friction: float,
+    *,
+    displacement_amplitude: float | None = None,
+    force_amplitude: float | None = None,
+    points: int = 201,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The stabilised loop (δ in mm, Q in N), closed, starting and ending at (δ*, Q*).
+
+    Give exactly one of ``displacement_amplitude`` δ* (partial or gross slip) or
+    ``force_amplitude`` Q* ≤ μP. The unloading branch runs from (δ*, Q*) to (−δ*, −Q*)
+    (Masing curve, then sliding at Q = −μP in gross slip); the reloading branch is its point
+    reflection. Each branch has ``points`` points.
+    """
+    if (displacement_amplitude is None) == (force_amplitude is None):
+        raise ValueError("give exactly one of displacement_amplitude and force_amplitude")
+    slip, limit = _scale(load, radius, materials, friction)
+    if force_amplitude is not None:
+        peak_force = float(force_amplitude)
+        peak = float(tangential_displacement(peak_force, load, radius, materials, friction))
+    else:
+        peak = float(displacement_amplitude)
+        peak_force = float(tangential_force(min(peak, slip), load, radius, materials, friction))
+    forces = np.linspace(peak_force, -peak_force, points)
+    displacements = unloading_displacement(forces, peak_force, load, radius, materials, friction)
+    if peak > displacements[0] * (1.0 + 1e-12):  # gross slip: slide at Q = −μP to −δ*
+        displacements = displacements + (peak - displacements[0])
+        sliding = np.linspace(displacements[-1], -peak, points)[1:]
+        displacements = np.concatenate([displacements, sliding])
+        forces = np.concatenate([forces, np.full(sliding.size, -peak_force)])
+    displacement = np.concatenate([displacements, -displacements[1:]])
+    force = np.concatenate([forces, -forces[1:]])
+    return displacement, force

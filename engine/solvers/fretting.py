@@ -1,0 +1,494 @@
+"""Tangential fretting: a held normal load and an oscillating rigid tangential motion (issue 13).
+
+The punch is pressed with the normal load P in ``steps`` load-controlled increments and held;
+then it is moved tangentially along the unit vector d = (cos θ, sin θ) (θ = ``direction``)
+with the triangle signal 0 → +A → −A → +A …, ``steps`` increments per quarter cycle. A is
+either the rigid displacement amplitude (mm, *displacement control*) or the amplitude of the
+tangential force component Q·d (N, *force control*).
+
+Slip with a rigid tangential motion (paper Eq. 2, g_t = g_t,o + u_t). Let δ (mm) be the
+rigid tangential displacement of the punch and u_t the relative tangential surface
+displacement (half-space minus punch, :mod:`.contact`). The half-space slips relative to the
+punch by
+
+    Δs = u_t − u_t^prev − (δ − δ^prev),        i.e. g_t,o = −δ,
+
+and the traction q acting on the half-space opposes Δs (maximal dissipation): a punch pushed
+towards +x drags the half-space surface along +x, so q_x > 0, Q = Σ q ΔA > 0 and the work
+∮ Q·dδ done on the contact is positive. The increment solver needs no new unknown under
+displacement control: the rigid increment is a uniform shift of the previous displacement
+u_t^prev on every element (:func:`shifted_state`).
+
+Force control: the rig drives the punch along d only (the perpendicular rigid displacement
+is held at zero; the force across d is a reaction), and the force component Q·d follows the
+prescribed signal. δ·d is the multiplier of that constraint; Q·d(δ) is nondecreasing, so it is
+found by a safeguarded secant iteration (regula falsi with the Illinois modification once the
+target is bracketed; steps grown by the tangential stiffness until it is), each evaluation an
+increment solve warm-started from the previous evaluation. It stops when
+|Q·d − Q_target| ≤ ``force_tol`` · A. The first guess is the same increment of the previous
+simulated cycle (which differs only by one jump of wear), else the last increment's δ plus
+ΔQ over the secant stiffness of the last increment.
+
+One simulated cycle is +A → −A → +A (4·``steps`` increments) starting where the last one
+ended; the normal loading and the first quarter 0 → +A are solved once, in
+:meth:`FrettingAnalysis.initial_state`. Cycle jumping, warm starts, records and checkpoints
+are those of :class:`~engine.solvers.cyclic.CyclicAnalysis`; the wear of a cycle is the sum
+over its increments of the wear law's depth increment.
+
+Per simulated cycle (history): ``q_amplitude`` max_k |Q_k| (N); ``displacement_amplitude``
+(max_k δ_k·d − min_k δ_k·d)/2 (mm); ``energy`` ∮ Q·dδ by the trapezoidal rule over the cycle's
+increments from its starting point (the area of the loop polygon, mJ = N·mm);
+``slip_regime`` 0 (partial) or 1 (gross): gross when no element sticks at the increment of
+the largest |Q| (status of :mod:`.contact`: an element slips when ||q||_μ ≥ (1 − 10⁻⁹) p);
+``stick_area`` at that increment. The "peak" of a cycle (stresses, the cyclic history's
+columns) is the increment of the largest |Q|.
+
+Energy consistency (exact to round-off, tested): per increment, with the trapezoidal rule,
+½(Q_k + Q_{k−1})·Δδ_k = Σ_e ½(q_k + q_{k−1})·(Δu_k − Δs_k) ΔA, and Σ_e ½(q_k + q_{k−1})·Δu_k ΔA
+is the change of the tangential elastic energy ½ Σ q·u_t ΔA when the pressure is unchanged
+(K = 0, held load), so ∮ Q·dδ = W_friction + ΔE with W_friction = Σ_k Σ_e −½(q_k + q_{k−1})·Δs_k ΔA,
+the local frictional work that the energy wear law (:class:`.friction.EnergyWearLaw`) uses.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact import STICK, ContactSolver, ContactState, IncrementResult
+from .cyclic import (
+    WARM_STARTS,
+    CyclicAnalysis,
+    CyclicState,
+    _CycleOutcome,
+    _starting_point,
+)
+from .friction import WearLaw
+
+DISPLACEMENT, FORCE = "displacement", "force"
+FORCE_TOL = 1e-5  # |Q·d − Q_target| ≤ FORCE_TOL · amplitude (N/N), force control
+MAX_EVALUATIONS = 40  # increment solves per force-controlled increment
+PARTIAL, GROSS = 0, 1
+REGIME_NAMES = ("partial", "gross")
+
+# Dataset paths, units and descriptions of the fretting outputs: engine.schema
+# (FRETTING_HISTORY, FRETTING_RECORDS).
+CYCLE_VM_KEYS = ("vm_cycle_max", "vm_cycle_max_x", "vm_cycle_max_y", "vm_cycle_max_z")
+
+
+@dataclass(frozen=True)
+class FrettingSettings:
+    """``load`` P (N, held), ``steps`` increments per quarter tangential cycle (and of the
+    normal loading), ``cycles``, ``amplitude`` (mm) XOR ``force_amplitude`` (N),
+    ``direction`` θ (degrees from x), ``record``, ``max_wear_fraction``, ``max_jump_growth``,
+    ``warm_start`` as :class:`~engine.solvers.cyclic.CyclicSettings`; ``force_tol`` relative
+    to the force amplitude."""
+
+    load: float
+    steps: int
+    cycles: int
+    amplitude: float | None = None
+    force_amplitude: float | None = None
+    direction: float = 0.0
+    record: tuple[int, ...] = ()
+    max_wear_fraction: float = 0.004
+    max_jump_growth: float = 2.0
+    warm_start: str = "previous_cycle"
+    force_tol: float = FORCE_TOL
+
+    def __post_init__(self) -> None:
+        if (self.amplitude is None) == (self.force_amplitude is None):
+            raise ValueError(
+                "exactly one of amplitude (mm) and force_amplitude (N) must be given, got "
+                f"amplitude={self.amplitude!r}, force_amplitude={self.force_amplitude!r}"
+            )
+        for name in ("amplitude", "force_amplitude", "load", "max_wear_fraction", "force_tol"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        if self.warm_start not in WARM_STARTS:
+            raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {self.warm_start!r}")
+        for name in ("steps", "cycles"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or int(value) != value or value < 1:
+                raise ValueError(f"{name} must be a positive integer, got {value!r}")
+            object.__setattr__(self, name, int(value))
+        record = tuple(sorted({int(c) for c in self.record}))
+        for cycle in record:
+            if cycle < 0 or cycle > self.cycles:
+                raise ValueError(f"record cycle {cycle} is outside 0 … cycles = {self.cycles}")
+        object.__setattr__(self, "record", record)
+        if not self.max_jump_growth >= 1.0:
+            raise ValueError(f"max_jump_growth must be >= 1, got {self.max_jump_growth!r}")
+
+    @property
+    def control(self) -> str:
+        return DISPLACEMENT if self.amplitude is not None else FORCE
+
+    @property
+    def signal_amplitude(self) -> float:
+        """A: mm under displacement control, N under force control."""
+        return self.amplitude if self.amplitude is not None else self.force_amplitude
+
+    @property
+    def unit_direction(self) -> np.ndarray:
+        angle = math.radians(self.direction)
+        return np.array([math.cos(angle), math.sin(angle)])
+
+    def quarter(self) -> np.ndarray:
+        """Signal values of the first quarter 0 → +A (``steps`` values, the last = A)."""
+        return self.signal_amplitude * np.arange(1, self.steps + 1) / self.steps
+
+    def cycle_signal(self) -> np.ndarray:
+        """Signal values of one cycle +A → −A → +A (4·steps values, triangle wave)."""
+        n, amplitude = self.steps, self.signal_amplitude
+        down = amplitude * (1.0 - np.arange(1, 2 * n + 1) / n)
+        up = amplitude * (-1.0 + np.arange(1, 2 * n + 1) / n)
+        return np.concatenate([down, up])
+
+
+def shifted_state(state: ContactState, rigid_increment: np.ndarray) -> ContactState:
+    """``state`` with its tangential displacements shifted by the rigid increment Δδ (mm):
+    the contact solver's slip u_t − u_t^prev then is u_t − u_t^prev − Δδ (Eq. 2, g_t,o = −δ).
+    The arrays are new; ``state`` is unchanged."""
+    return ContactState(
+        state.pressure,
+        state.traction_x,
+        state.traction_y,
+        state.displacement_x + float(rigid_increment[0]),
+        state.displacement_y + float(rigid_increment[1]),
+        state.approach,
+    )
+
+
+def total_force(result, element_area: float) -> np.ndarray:
+    """Q = Σ q ΔA (N), the tangential force on the half-space, shape (2,)."""
+    return np.array(
+        [
+            float(np.sum(result.traction_x) * element_area),
+            float(np.sum(result.traction_y) * element_area),
+        ]
+    )
+
+
+@dataclass
+class TangentialIncrement:
+    """One fretting increment: the contact ``result``, the rigid displacement ``rigid``
+    δ (mm, (2,)) and the force ``force`` Q (N, (2,)); ``evaluations`` increment solves,
+    ``matvecs`` operator applications; ``force_residual`` |Q·d − Q_target| (N, 0 under
+    displacement control); ``converged`` (contact solves and force constraint) and a
+    ``message`` naming the method."""
+
+    result: IncrementResult
+    rigid: np.ndarray
+    force: np.ndarray
+    evaluations: int
+    matvecs: int
+    force_residual: float
+    converged: bool
+    message: str
+
+
+class TangentialDriver:
+    """Increments with a prescribed rigid tangential displacement or force (see module doc).
+
+    ``solver``: a :class:`~engine.solvers.contact.ContactSolver` (or a wrapper with the same
+    ``solve_load``); ``load`` P (N) held; ``direction`` d (unit (2,)); ``force_tol`` relative
+    to ``force_scale`` (N)."""
+
+    def __init__(self, solver: ContactSolver, load: float, direction, force_tol=FORCE_TOL):
+        self.solver = solver
+        self.load = load
+        self.direction = np.asarray(direction, dtype=float)
+        self.force_tol = force_tol
+        self.area = solver.grid.element_area
+
+    def displacement(self, state, rigid_previous, rigid, wear=None, guess=None):
+        """Displacement control: the punch moves from ``rigid_previous`` to ``rigid`` (mm)."""
+        rigid = np.asarray(rigid, dtype=float)
+        increment = rigid - np.asarray(rigid_previous, dtype=float)
+        result = self.solver.solve_load(
+            self.load, shifted_state(state, increment), wear=wear, guess=guess
+        )
+        return TangentialIncrement(
+            result,
+            rigid,
+            total_force(result, self.area),
+            1,
+            result.matvecs,
+            0.0,
+            result.converged,
+            f"displacement control: {result.message}",
+        )
+
+    def force(self, state, rigid_previous, target, scale, first_guess, stiffness, **options):
+        """Force control: find δ = s·d with Q(δ)·d = ``target`` (N) to ``force_tol``·``scale``.
+
+        ``first_guess`` s₀ (mm); ``stiffness`` dQ/ds estimate (N/mm, > 0) for the second
+        point and for growing the steps until the target is bracketed. ``options``: ``wear``
+        and ``guess`` (the first evaluation's starting point)."""
+        wear, guess = options.get("wear"), options.get("guess")
+        tolerance = self.force_tol * scale
+        rigid_previous = np.asarray(rigid_previous, dtype=float)
+        evaluations, matvecs = 0, 0
+        low = high = None  # (s, f) with f < 0, f > 0
+        points: list[tuple[float, float]] = []
+        s, best = float(first_guess), None
+        side = 0  # Illinois: the bracket end kept twice in a row
+        while evaluations < MAX_EVALUATIONS:
+            step = self.displacement(state, rigid_previous, s * self.direction, wear, guess)
+            evaluations += 1
+            matvecs += step.matvecs
+            guess = step.result.state
+            f = float(step.force @ self.direction) - target
+            if best is None or abs(f) < abs(best[1]):
+                best = (step, f)
+            if abs(f) <= tolerance:
+                break
+            points.append((s, f))
+            if f < 0.0:
+                low, side = (s, f), (side - 1 if side <= 0 else -1)
+            else:
+                high, side = (s, f), (side + 1 if side >= 0 else 1)
+            s = self._next_point(points, low, high, stiffness, side)
+        step, f = best  # the accepted evaluation: its own contact solve must have converged
+        solves_converged = step.result.converged
+        converged = abs(f) <= tolerance and solves_converged
+        method = f"force control by safeguarded secant on δ ({evaluations} increment solves)"
+        message = (
+            f"{method}: |Q·d − Q| = {abs(f):.2e} N"
+            if converged
+            else f"{method} did not converge: |Q·d − Q| = {abs(f):.2e} N > {tolerance:.1e} N"
+            + ("" if solves_converged else f"; {step.result.message}")
+        )
+        return TangentialIncrement(
+            step.result, step.rigid, step.force, evaluations, matvecs, abs(f), converged, message
+        )
+
+    @staticmethod
+    def _next_point(points, low, high, stiffness, side) -> float:
+        """The next s: regula falsi (Illinois-weighted) inside a bracket; before one, a secant
+        step (slope of the last two points, else ``stiffness``) grown ×2 per evaluation on
+        the same side so a flat gross-slip branch cannot stall it."""
+        s, f = points[-1]
+        if low is not None and high is not None:
+            f_low, f_high = low[1], high[1]
+            if side <= -2:
+                f_high *= 0.5 ** (-side - 1)
+            elif side >= 2:
+                f_low *= 0.5 ** (side - 1)
+            return low[0] - f_low * (high[0] - low[0]) / (f_high - f_low)
+        slope = stiffness
+        if len(points) >= 2:
+            (s0, f0), (s1, f1) = points[-2], points[-1]
+            if s1 != s0 and (f1 - f0) / (s1 - s0) > 0.0:
+                slope = (f1 - f0) / (s1 - s0)
+        growth = 2.0 ** max(len(points) - 2, 0)
+        return s - growth * f / slope
+
+
+@dataclass
+class FrettingState(CyclicState):
+    """:class:`~engine.solvers.cyclic.CyclicState` plus the rigid tangential displacement δ
+    at the start of the next simulated cycle (mm, (2,)), the δ·d of every increment of the
+    last simulated cycle (force-control first guesses, mm) and the tangential secant
+    stiffness of the last increment (N/mm). Checkpoints: ``engine.study.checkpoint``."""
+
+    rigid: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    rigid_warm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    stiffness: float = math.nan
+
+
+@dataclass
+class _FrettingCycle:
+    """Per-increment data of a simulated cycle (the loop and the force-control guesses)."""
+
+    loop: np.ndarray
+    rigid_along: np.ndarray
+    evaluations: int
+    peak_index: int
+    cycle_vm: np.ndarray | None = None
+
+
+class FrettingAnalysis(CyclicAnalysis):
+    """Runs ``settings.cycles`` fretting cycles with a contact ``solver`` and a wear law.
+
+    ``peak_probe`` as for :class:`~engine.solvers.cyclic.CyclicAnalysis`, called with the
+    tractions of the increment of the largest |Q| of every simulated cycle.
+    ``increment_probe(pressure, tx, ty) -> (value, x, y, z)``, when given, is called on every
+    increment of the recorded cycles; its largest value is kept in the record
+    (``vm_cycle``: value MPa, x, y, z mm)."""
+
+    def __init__(
+        self,
+        solver: ContactSolver,
+        wear_law: WearLaw,
+        settings: FrettingSettings,
+        peak_probe: Callable[..., dict[str, float]] | None = None,
+        increment_probe: Callable[..., tuple[float, float, float, float]] | None = None,
+    ):
+        super().__init__(solver, wear_law, settings, peak_probe)  # type: ignore[arg-type]
+        self.increment_probe = increment_probe
+        self.driver = TangentialDriver(
+            solver, settings.load, settings.unit_direction, settings.force_tol
+        )
+        self._state: FrettingState | None = None
+        self._cycle: _FrettingCycle | None = None
+
+    # ------------------------------------------------------------- start: normal + quarter
+    def initial_state(self) -> FrettingState:
+        """The normal loading (``steps`` increments, δ = 0) and the first quarter 0 → +A,
+        solved once; their operator applications and failures are in the state."""
+        grid = self.solver.grid
+        state = FrettingState(wear=np.zeros(grid.shape), contact=ContactState.unloaded(grid))
+        self._state = state
+        contact, approaches, loads = state.contact, [], []
+        for index in range(1, self.settings.steps + 1):
+            load = self.settings.load * index / self.settings.steps
+            result = self.solver.solve_load(load, contact, wear=state.wear)
+            self._account(state, result.matvecs, result.converged, result.message, "normal")
+            contact = result.state
+            approaches.append(result.approach)
+            loads.append(load)
+        state.stiffness = self._initial_stiffness(loads, approaches)
+        rigid = np.zeros(2)
+        for index, value in enumerate(self.settings.quarter()):
+            step = self._increment(contact, rigid, value, state, guess=None, warm=None)
+            self._account(state, step.matvecs, step.converged, step.message, f"first {index}")
+            contact, rigid = step.result.state, step.rigid
+        state.contact, state.rigid = contact, rigid
+        return state
+
+    def _initial_stiffness(self, loads, approaches) -> float:
+        """Tangential stiffness guess (N/mm): the normal secant stiffness of the last load
+        step times 2(1 − ν)/(2 − ν) (the sphere's ratio, Johnson §7.2; any shape: a guess
+        the secant iteration corrects)."""
+        nu = self.solver.material.nu_A
+        if len(loads) >= 2 and approaches[-1] != approaches[-2]:
+            normal = (loads[-1] - loads[-2]) / (approaches[-1] - approaches[-2])
+        else:
+            normal = loads[-1] / max(abs(approaches[-1]), 1e-300)
+        return abs(normal) * 2.0 * (1.0 - nu) / (2.0 - nu)
+
+    def _account(self, state, matvecs, converged, message, label) -> None:
+        state.matvecs += matvecs
+        state.load_steps += 1
+        if not converged:
+            state.failures.append(f"{label}: {message}")
+
+    def _increment(self, contact, rigid, value, state, guess, warm):
+        """One increment to the signal ``value`` (mm or N) from ``contact`` at ``rigid``."""
+        settings, direction = self.settings, self.driver.direction
+        if settings.control == DISPLACEMENT:
+            return self.driver.displacement(
+                contact, rigid, value * direction, wear=state.wear, guess=guess
+            )
+        along = float(rigid @ direction)
+        now = float(total_force(contact, self.solver.grid.element_area) @ direction)
+        first = warm if warm is not None else along + (value - now) / state.stiffness
+        step = self.driver.force(
+            contact,
+            rigid,
+            value,
+            settings.force_amplitude,
+            first,
+            state.stiffness,
+            wear=state.wear,
+            guess=guess,
+        )
+        moved = float(step.rigid @ direction) - along
+        change = float(step.force @ direction) - now
+        if moved != 0.0 and change / moved > 0.0:
+            state.stiffness = change / moved
+        return step
+
+    # ------------------------------------------------------------- one simulated cycle
+    def run(self, state: FrettingState | None = None, **options):
+        """As :meth:`CyclicAnalysis.run` (``should_stop``, ``on_cycle``, ``on_increment``)."""
+        state = state if state is not None else self.initial_state()
+        self._state = state
+        return super().run(state=state, **options)
+
+    def simulate_cycle(self, wear, state, on_increment=None, guesses=None) -> _CycleOutcome:
+        """One cycle +A → −A → +A from ``state`` (the end of the last one) at fixed wear."""
+        fretting, area = self._state, self.solver.grid.element_area
+        recorded = self._is_recorded(fretting.cycle)
+        rigid = np.asarray(fretting.rigid, dtype=float)
+        previous_force = total_force(state, area)
+        rows = [[*rigid, *previous_force]]
+        wear_increment, increments, zeros = np.zeros_like(wear), [], np.zeros_like(wear)
+        along, evaluations, peak, peak_norm, cycle_vm = [], 0, None, -1.0, None
+        warm_rigid = fretting.rigid_warm if len(fretting.rigid_warm) else None
+        for index, value in enumerate(self.settings.cycle_signal()):
+            guess = None if guesses is None else guesses(index)
+            warm = None if warm_rigid is None else float(warm_rigid[index])
+            step = self._increment(state, rigid, value, fretting, guess, warm)
+            result = step.result
+            evaluations += step.evaluations
+            self._matvecs += step.matvecs
+            self._steps += 1
+            if not step.converged:
+                self._failures.append(f"increment {index + 1} (signal {value:g}): {step.message}")
+            wear_increment += self.wear_law.increment(result, state)
+            if on_increment is not None:
+                on_increment(result)
+            norm = float(np.hypot(*step.force))
+            if norm > peak_norm:
+                peak, peak_norm, peak_index = result, norm, index
+            if recorded and self.increment_probe is not None:
+                probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
+                cycle_vm = probe if cycle_vm is None or probe[0] > cycle_vm[0] else cycle_vm
+            increments.append(_starting_point(result.state, zeros))
+            rows.append([*(step.rigid + 0.0), *step.force])
+            along.append(float(step.rigid @ self.driver.direction))
+            state, rigid = result.state, step.rigid
+        fretting.rigid, fretting.rigid_warm = rigid, np.asarray(along)
+        self._cycle = _FrettingCycle(np.asarray(rows), np.asarray(along), evaluations, peak_index)
+        self._cycle.cycle_vm = cycle_vm
+        return _CycleOutcome(
+            peak=peak, wear_increment=wear_increment, end_state=state, increments=increments
+        )
+
+    def _is_recorded(self, cycle: int) -> bool:
+        return cycle in self.settings.record or cycle >= self.settings.cycles
+
+    # ------------------------------------------------------------- history and records
+    def _append_history(self, state, peak: IncrementResult, jump: int, area: float) -> None:
+        super()._append_history(state, peak, jump, area)
+        cycle = self._cycle
+        loop = cycle.loop
+        forces, rigid = loop[:, 2:], loop[:, :2]
+        energy = float(
+            np.sum(0.5 * (forces[1:] + forces[:-1]) * (rigid[1:] - rigid[:-1]))
+        )  # ∮ Q·dδ, N·mm = mJ
+        stick = np.count_nonzero(peak.status == STICK)
+        row = {
+            "q_amplitude": float(np.max(np.hypot(forces[1:, 0], forces[1:, 1]))),
+            "displacement_amplitude": 0.5
+            * float(cycle.rigid_along.max() - cycle.rigid_along.min()),
+            "energy": energy,
+            "slip_regime": float(GROSS if stick == 0 else PARTIAL),
+            "evaluations": float(cycle.evaluations),
+        }
+        rows = len(state.history["cycle"]) - 1
+        for key, value in row.items():
+            state.history.setdefault(key, [math.nan] * rows).append(value)
+
+    def _record(self, state, outcome: _CycleOutcome) -> dict[str, np.ndarray]:
+        fields = super()._record(state, outcome)
+        fields["loop"] = self._cycle.loop
+        if self._cycle.cycle_vm is not None:
+            fields["vm_cycle"] = self._cycle.cycle_vm
+        return fields
+
+
+def _tractions(result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return result.pressure, result.traction_x, result.traction_y
+
+
+def slip_regime_name(code: float) -> str:
+    """ "partial" or "gross" from the history's 0/1 code ("" for NaN)."""
+    return "" if math.isnan(code) else REGIME_NAMES[int(code)]

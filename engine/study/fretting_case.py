@@ -1,0 +1,137 @@
+"""The fretting case of the study layer: settings from the study file, the run (with its
+checkpoint), and the fretting datasets and summary values (engine.solvers.fretting).
+
+Datasets of a completed fretting case, besides those of a cyclic case:
+
+- ``history/q_amplitude`` (N), ``history/displacement_amplitude`` (mm), ``history/energy``
+  (mJ, ∮ Q·dδ), ``history/slip_regime`` (0 partial, 1 gross), ``history/stick_area`` (mm², at
+  the increment of the largest |Q|), ``history/evaluations`` (increment solves per cycle);
+- ``fields/cycle_NNNNNNN/loop``: the fretting loop of every recorded cycle, shape
+  (4·steps + 1, 4), columns delta_x, delta_y (mm), Q_x, Q_y (N) (attribute ``columns`` =
+  "delta_x, delta_y, Q_x, Q_y", ``units`` = "mm, mm, N, N");
+- ``fields/cycle_NNNNNNN/vm_cycle``: (σ_VM max over the cycle's increments in the x–z plane
+  (MPa), its x, y, z (mm)).
+
+The recorded surface fields of a fretting cycle are those of its increment of largest |Q|.
+Summary columns: ``q_amplitude`` (N), ``displacement_amplitude`` (mm), ``energy_per_cycle``
+(mJ), ``slip_regime`` ("partial" | "gross") of the last simulated cycle, and ``vm_cycle_max``
+(MPa) with ``vm_cycle_max_x/_y/_z`` (mm), the largest σ_VM over the increments of the last
+cycle; ``vm_max`` and the other stress columns are at the increment of the largest |Q|.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from engine.schema import FRETTING_RECORDS, fretting_record
+from engine.solvers.fretting import (
+    FrettingAnalysis,
+    FrettingSettings,
+    slip_regime_name,
+)
+
+
+@dataclass
+class FrettingRun:
+    result: Any
+    tracker: Any
+    message: str
+
+
+def settings(cfg) -> FrettingSettings:
+    """The solver settings of a fretting study configuration."""
+    loading = cfg.loading
+    options: dict[str, Any] = {}
+    if loading.max_wear_fraction is not None:
+        options["max_wear_fraction"] = loading.max_wear_fraction
+    return FrettingSettings(
+        loading.load,
+        loading.steps,
+        loading.cycles,
+        amplitude=loading.amplitude,
+        force_amplitude=loading.force_amplitude,
+        direction=loading.direction or 0.0,
+        record=loading.record,
+        **options,
+    )
+
+
+def wear_law(case, cfg):
+    """The case's wear law: orthotropic Archard (wear1, wear2, β) or the energy law (α)."""
+    from engine.solvers.friction import EnergyWearLaw, WearLaw
+
+    if cfg.wear.law == "energy":
+        return EnergyWearLaw(case.alpha)
+    return WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+
+
+def check_force_bound(case, fretting: FrettingSettings) -> None:
+    """Force control needs Q* below the largest force the friction ellipse can carry along d,
+    h(d)·P with h(d) = √((μ1 d₁)² + (μ2 d₂)²) (d in the tribological axes)."""
+    if fretting.force_amplitude is None:
+        return
+    angle = math.radians(fretting.direction - case.beta)
+    bound = math.hypot(case.mu1 * math.cos(angle), case.mu2 * math.sin(angle)) * fretting.load
+    if not fretting.force_amplitude < bound:
+        raise ValueError(
+            f"[loading] force_amplitude = {fretting.force_amplitude:g} N is not below the "
+            f"friction bound {bound:g} N along direction {fretting.direction:g}° (μ = "
+            f"{case.mu1:g}/{case.mu2:g}, P = {fretting.load:g} N): the punch would slide away"
+        )
+
+
+def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> FrettingRun:
+    """Run (or resume from ``checkpoint``) a fretting case; save the state when stopped."""
+    from engine.solvers.peak import PeakTracker
+
+    from .checkpoint import load_fretting_state, save_fretting_state
+
+    fretting = settings(cfg)
+    check_force_bound(case, fretting)
+    tracker = PeakTracker(stress, cfg.contact_length)
+
+    def increment_probe(pressure, traction_x, traction_y):
+        peak = stress.plane(pressure, traction_x, traction_y, angle=0.0).peak()
+        return (peak.value, peak.x, peak.y, peak.z)
+
+    analysis = FrettingAnalysis(
+        solver, wear_law(case, cfg), fretting, peak_probe=tracker, increment_probe=increment_probe
+    )
+    state = load_fretting_state(checkpoint) if checkpoint.exists() else None
+    result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
+    message = result.message
+    if not result.completed:
+        checkpoint.parent.mkdir(parents=True, exist_ok=True)
+        save_fretting_state(result.state, checkpoint)  # atomic (temporary file + rename)
+        message = f"stopped at cycle {result.state.cycle}; state saved to {checkpoint}"
+    return FrettingRun(result, tracker, message)
+
+
+def record_datasets(fields: dict, group: str, cycle: int) -> dict:
+    """The loop and the cycle's σ_VM maximum of a recorded cycle (taken out of ``fields``)."""
+    return {
+        f"fields/{group}/{name}": fretting_record(name, cycle).record(fields.pop(name))
+        for name in FRETTING_RECORDS
+        if name in fields
+    }
+
+
+def summary_values(result) -> dict[str, Any]:
+    """Summary columns of the last simulated cycle (see the module docstring)."""
+    history = result.history
+    row: dict[str, Any] = {
+        "q_amplitude": float(history["q_amplitude"][-1]),
+        "displacement_amplitude": float(history["displacement_amplitude"][-1]),
+        "energy_per_cycle": float(history["energy"][-1]),
+        "slip_regime": slip_regime_name(float(history["slip_regime"][-1])),
+    }
+    last = result.records[max(result.records)]
+    values = last.get("vm_cycle", [math.nan] * 4)
+    for key, value in zip(
+        ("vm_cycle_max", "vm_cycle_max_x", "vm_cycle_max_y", "vm_cycle_max_z"), values, strict=True
+    ):
+        row[key] = float(value)
+    return row

@@ -1,0 +1,76 @@
+"""A small fretting study through ``python -m engine``: 1 and 2 ranks give bit-identical
+results (every dataset, attribute and summary value but run times). Sphere, 16², two
+amplitudes (partial and gross slip) under displacement control with the energy wear law
+(force control and the Archard law: tests/test_fretting.py); ~25 s for both runs here.
+Under the mpio venv (the CI's collective phase) the 2-rank run uses the collective writer."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import h5py
+import pytest
+
+from tests.mpi.test_engine_mpi import assert_same_results, run_engine
+
+pytestmark = pytest.mark.mpi
+
+STUDY = """
+[study]
+name = "fretting"
+output = "{output}"
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e3
+nu_B = 0.3
+[punch]
+shape = "sphere"
+radius = 10.0
+[mesh]
+n = 16
+half_width = 0.45
+[loading]
+kind = "fretting"
+load = 100.0
+steps = 2
+cycles = 100
+record = [1, 100]
+max_wear_fraction = 0.05
+{signal}
+[subsurface]
+depth = 1.0
+layers = 4
+[wear]
+law = "{law}"
+[sweep]
+mu1 = [0.5]
+{sweep}
+"""
+
+
+def write(tmp_path: Path, name: str, signal: str, law: str, sweep: str) -> Path:
+    path = tmp_path / f"{name}.toml"
+    output = tmp_path / f"{name}.h5"
+    path.write_text(STUDY.format(output=output, signal=signal, law=law, sweep=sweep))
+    return path
+
+
+def test_fretting_study_one_and_two_ranks_identical(tmp_path):
+    """Displacement control, partial (1 µm) and gross (4 µm) slip, energy wear law."""
+    signal, law, sweep = "", "energy", 'alpha = [1e-3]\n"loading.amplitude" = [0.001, 0.004]'
+
+    results = []
+    for ranks in (1, 2):
+        folder = tmp_path / f"ranks{ranks}"
+        folder.mkdir()
+        study = write(folder, "fretting", signal, law, sweep)
+        run = run_engine(study, ranks=ranks, timeout=300)
+        assert run.returncode == 0, run.stdout + run.stderr
+        results.append(folder / "fretting.h5")
+    assert_same_results(*results)
+    with h5py.File(results[0], "r") as file:
+        for name, group in file["cases"].items():
+            loop = group["fields/cycle_0000100/loop"]
+            assert loop.shape == (4 * 2 + 1, 4) and loop.attrs["columns"].startswith("delta_x")
+            assert group["history/energy"].attrs["units"] == "mJ", name
