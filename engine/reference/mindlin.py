@@ -28,7 +28,10 @@ and the limiting force L = μP:
       W = ∫_{−Q*}^{Q*} (δ_unload − δ_reload) dQ = 4 Q* δ* − 8 ∫₀^{Q*} δ(u) du
         = (9 L² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})],  q = Q*/L,
 
-  (Johnson 7.53 with (2 − ν)/G read as the sum S); small amplitudes: W ≈ S Q*³ / (36 a L)
+  (derived here; compare Johnson 7.53, whose prefactor 9μ²P²/(10a)·(2 − ν)/G is this one
+  with (2 − ν)/G standing for the sum S; the bracket is checked in
+  tests/test_mindlin_reference.py against quadrature of the Masing branches and against the
+  Q*³ limit, which fixes the sign of its last term); small amplitudes: W ≈ S Q*³ / (36 a L)
   (Johnson 7.54), at q = 1: W = 0.8 L δ_slip (Fouvry's energy ratio W / (4 δ* Q*) = 0.2);
 - gross slip under a displacement amplitude δ* > δ_slip: Q* = L and the loop is the
   partial loop at Q* = L opened by two sliding stretches of length 2(δ* − δ_slip):
