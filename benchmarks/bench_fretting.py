@@ -9,12 +9,14 @@
      i = 1e-7 1/MPa, 10 increments per quarter cycle, tol 1e-6), the same real cycles.
    Both counts include everything the run did (normal loading and first quarter of the
    fretting case, first load cycle of the cyclic case) divided by the increments solved;
-   the fretting count of the cycles alone (from the second simulated cycle) is printed too.
+   the fretting count of the cycles alone (after the first quarter) is printed too, and the
+   same case under force control (Q* = 0.646 μP, the Mindlin force of 0.5 δ_slip).
 2. Wall time of a 64² sphere fretting case to 10⁵ cycles (partial slip as above, 5 increments
    per quarter cycle, cycle jumping with the default max_wear_fraction 0.004) — target
    < 2 minutes.
 
-One core (OMP/OpenBLAS threads = 1, FFTW threads = 1).
+One core (OMP/OpenBLAS threads = 1, FFTW threads = 1). The CPU time (``process_time``) is
+printed beside the wall time of part 2: on a shared machine it is the steadier of the two.
 Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_fretting.py [--cycles 10]
 Takes ~2–4 minutes here.
 """
@@ -54,7 +56,7 @@ def cyclic_case(n: int, cycles: int) -> dict:
     }
 
 
-def fretting_case(n: int, cycles: int, steps: int) -> dict:
+def fretting_case(n: int, cycles: int, steps: int, force: bool = False) -> dict:
     from engine.geometry import SphericalPunch
     from engine.grid import Grid
     from engine.material import MaterialPair
@@ -70,13 +72,15 @@ def fretting_case(n: int, cycles: int, steps: int) -> dict:
     grid = Grid.square(n, 1.5 * radius)
     material = MaterialPair(E, NU, E, NU)
     solver = ContactSolver(grid, material, SphericalPunch(RADIUS), FrictionLaw(MU, MU), tol=1e-6)
-    settings = FrettingSettings(LOAD, steps, cycles, amplitude=0.5 * slip, record=(cycles,))
+    # Partial slip: δ* = 0.5 δ_slip, or under force control its Mindlin force Q* = 0.646 μP.
+    signal = {"force_amplitude": 0.646 * MU * LOAD} if force else {"amplitude": 0.5 * slip}
+    settings = FrettingSettings(LOAD, steps, cycles, record=(cycles,), **signal)
     analysis = FrettingAnalysis(solver, WearLaw(1e-7, 1e-7), settings)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     state = analysis.initial_state()
     before = (state.matvecs, state.load_steps)
     result = analysis.run(state=state)
-    seconds = time.perf_counter() - start
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     history = result.history
     return {
         "matvecs": result.matvecs,
@@ -85,6 +89,7 @@ def fretting_case(n: int, cycles: int, steps: int) -> dict:
         "cycle_increments": result.load_steps - before[1],
         "simulated": len(history["cycle"]),
         "seconds": seconds,
+        "cpu": cpu,
         "converged": result.converged,
         "regime": history["slip_regime"][-1],
         "energy": history["energy"][-1],
@@ -103,6 +108,7 @@ def main() -> None:
 
     cyclic = cyclic_case(args.size, args.cycles)
     fretting = fretting_case(args.size, args.cycles, 10)
+    forced = fretting_case(args.size, args.cycles, 10, force=True)
     per_cyclic = cyclic["matvecs"] / cyclic["increments"]
     per_fretting = fretting["matvecs"] / fretting["increments"]
     per_cycle_only = fretting["cycle_matvecs"] / fretting["cycle_increments"]
@@ -121,6 +127,15 @@ def main() -> None:
         f"{fretting['cycle_matvecs']:>9} {per_cycle_only:>9.1f}"
     )
     print(
+        f"{'fretting, force control, all':>30} {forced['increments']:>10} "
+        f"{forced['matvecs']:>9} {forced['matvecs'] / forced['increments']:>9.1f} "
+        f"{forced['seconds']:>7.1f}"
+    )
+    print(
+        f"{'force control, cycles only':>30} {forced['cycle_increments']:>10} "
+        f"{forced['cycle_matvecs']:>9} {forced['cycle_matvecs'] / forced['cycle_increments']:>9.1f}"
+    )
+    print(
         f"ratio fretting/cyclic per increment: {per_fretting / per_cyclic:.2f} (all), "
         f"{per_cycle_only / per_cyclic:.2f} (cycles only); target <= 1"
     )
@@ -128,7 +143,8 @@ def main() -> None:
     regime = "gross" if long["regime"] == 1 else "partial"
     print(
         f"2. {args.long_size}² sphere fretting to {args.long_cycles:,} cycles: "
-        f"{long['seconds']:.1f} s wall ({long['simulated']} simulated cycles, "
+        f"{long['seconds']:.1f} s wall, {long['cpu']:.1f} s CPU "
+        f"({long['simulated']} simulated cycles, "
         f"{long['increments']} increments, {long['matvecs']} matvecs, {regime} slip, "
         f"energy {long['energy']:.4g} mJ/cycle, wear volume {long['wear_volume']:.4g} mm³, "
         f"max depth {long['max_wear_depth'] * 1e3:.4g} µm, converged {long['converged']}); "

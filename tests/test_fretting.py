@@ -17,6 +17,7 @@ import pytest
 from engine.geometry import SphericalPunch
 from engine.grid import Grid
 from engine.material import MaterialPair
+from engine.reference import mindlin
 from engine.reference.hertz import hertz_contact_radius
 from engine.solvers.contact import STICK, ContactSolver
 from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, FrettingState
@@ -29,21 +30,18 @@ CONTACT_MODULUS = E / (2.0 * (1.0 - NU**2))
 A_HERTZ = hertz_contact_radius(LOAD, RADIUS, CONTACT_MODULUS)
 
 
+MATERIAL = MaterialPair(E, NU, E, NU)
+REFERENCE = (LOAD, RADIUS, MATERIAL, MU)  # engine.reference.mindlin arguments
+
+
 def mindlin_displacement(force):
     """δ(Q) of Cattaneo–Mindlin (mm), two identical bodies."""
-    return (
-        (3 * MU * LOAD / (16 * A_HERTZ))
-        * 2
-        * (2 - NU)
-        / SHEAR
-        * (1 - (1 - force / (MU * LOAD)) ** (2 / 3))
-    )
+    return mindlin.tangential_displacement(force, *REFERENCE)
 
 
 def solver(n=32, mu1=MU, mu2=MU, beta=0.0):
     grid = Grid.square(n, 1.5 * A_HERTZ)
-    material = MaterialPair(E, NU, E, NU)
-    return ContactSolver(grid, material, SphericalPunch(RADIUS), FrictionLaw(mu1, mu2, beta))
+    return ContactSolver(grid, MATERIAL, SphericalPunch(RADIUS), FrictionLaw(mu1, mu2, beta))
 
 
 def ramp(analysis):
@@ -66,51 +64,58 @@ def ramp(analysis):
 
 
 def test_cattaneo_mindlin_force_ramp():
-    """Force control 0 → 0.8 μP in 8 increments at 48² (10 elements per contact radius):
-    δ(Q) within 2 % and c/a within 0.06 of the closed forms (c from the stick area √(A/π):
-    one element is 0.06 a). Measured: δ ≤ 0.9 %, c/a ≤ 0.04."""
+    """Force control 0 → 0.8 μP in 8 increments at 48² (16 elements per contact radius):
+    δ(Q) within 1 % and c/a within 0.03 of the closed forms (c from the stick area √(A/π);
+    one element is 0.0625 a, so 0.03 is half an element). Measured: δ 0.29 %, c/a 0.014;
+    the force meets its target to 3.5e-4 N (tolerance 1e-5 × 40 N)."""
     settings = FrettingSettings(LOAD, 8, 1, force_amplitude=0.8 * MU * LOAD)
     rows = ramp(FrettingAnalysis(solver(48), WearLaw(0.0, 0.0), settings))
     delta, force, stick = rows.T
     np.testing.assert_allclose(force, settings.quarter(), rtol=0, atol=1e-5 * 40.0)
-    np.testing.assert_allclose(delta, mindlin_displacement(force), rtol=0.02)
+    np.testing.assert_allclose(delta, mindlin_displacement(force), rtol=0.01)
     ratio = np.sqrt(stick / math.pi) / A_HERTZ
-    expected = (1 - force / (MU * LOAD)) ** (1 / 3)
-    np.testing.assert_allclose(ratio, expected, atol=0.06)
+    expected = mindlin.stick_radius_ratio(force, LOAD, MU)
+    np.testing.assert_allclose(ratio, expected, atol=0.03)
 
 
 def test_displacement_control_gives_the_force_control_curve():
     """Displacement control to the δ of the force-controlled ramp gives back its Q (same
-    mesh: the same discrete problem) to 1e-4 relative (force tolerance 1e-5, solver 1e-8),
-    and Q(δ) follows Cattaneo–Mindlin within 2 % at 32² (measured: 0.5 %)."""
+    mesh: the same discrete problem) to 2e-5 relative (force tolerance 1e-5; measured
+    1.2e-6), and Q(δ) follows Cattaneo–Mindlin within 0.5 % at 32² (measured 0.08 %)."""
     force_settings = FrettingSettings(LOAD, 4, 1, force_amplitude=0.6 * MU * LOAD)
     forced = ramp(FrettingAnalysis(solver(), WearLaw(0.0, 0.0), force_settings))
     amplitude = forced[-1, 0]
     settings = FrettingSettings(LOAD, 4, 1, amplitude=amplitude)
     driven = ramp(FrettingAnalysis(solver(), WearLaw(0.0, 0.0), settings))
-    np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=1e-4)
-    slip = mindlin_displacement(MU * LOAD)  # δ at gross slip
-    expected = MU * LOAD * (1 - (1 - driven[:, 0] / slip) ** 1.5)  # δ(Q) inverted
-    np.testing.assert_allclose(driven[:, 1], expected, rtol=0.02)
+    np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=2e-5)
+    expected = mindlin.tangential_force(driven[:, 0], *REFERENCE)  # δ(Q) inverted
+    np.testing.assert_allclose(driven[:, 1], expected, rtol=0.005)
 
 
 def test_beta_invariance_orthotropic():
     """μ1 = 0.6, μ2 = 0.3: the loop for β = 90°, direction 90° is the loop for β = 0,
-    direction 0 turned by 90° (an exact symmetry of the square grid), to the solver
-    tolerance (1e-6 relative residual → 1e-4 relative in Q)."""
+    direction 0 turned by 90° (an exact symmetry of the square grid): δ exactly, Q to 1e-6
+    of its amplitude (measured 1.5e-8: the two runs differ by round-off in the iterations);
+    the stick zone exactly and the tractions to 1e-6 of their largest value (measured 2e-9)."""
     loops = {}
     for angle in (0.0, 90.0):
         settings = FrettingSettings(LOAD, 3, 1, amplitude=0.002, direction=angle)
         analysis = FrettingAnalysis(
             solver(24, 0.6, 0.3, math.radians(angle)), WearLaw(0.0, 0.0), settings
         )
-        result = analysis.run()
-        loops[angle] = result.records[1]["loop"]
-    first, turned = loops[0.0], loops[90.0]
+        loops[angle] = analysis.run().records[1]
+    fields, turned_fields = loops[0.0], loops[90.0]
+    # The stick zone and the tractions at the largest |Q| follow the turned cone.
+    np.testing.assert_array_equal(np.rot90(fields["status"]), turned_fields["status"])
+    traction_scale = np.abs(fields["traction_x"]).max()
+    np.testing.assert_allclose(
+        np.rot90(fields["traction_x"]), turned_fields["traction_y"], atol=1e-6 * traction_scale
+    )
+    first, turned = fields["loop"], turned_fields["loop"]
     scale = np.abs(first[:, 2]).max()
-    np.testing.assert_allclose(turned[:, 1], first[:, 0], atol=1e-12)
-    np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-4 * scale)
-    np.testing.assert_allclose(turned[:, 2], -first[:, 3], atol=1e-4 * scale)
+    np.testing.assert_array_equal(turned[:, 1], first[:, 0])
+    np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-6 * scale)
+    np.testing.assert_allclose(turned[:, 2], -first[:, 3], atol=1e-6 * scale)
 
 
 def collect(analysis, **options):
@@ -176,9 +181,10 @@ def test_wear_volume_is_the_sum_of_increments(law):
     expected = sum(jumps[row] * volume for row, volume in per_row.items())
     assert outcome.history["wear_volume"][-1] == pytest.approx(expected, rel=1e-12)
     assert expected > 0.0
-    if law == "energy":  # V = α Σ jumps × ∮Q·dδ up to the elastic energy change (steady loop)
+    if law == "energy":  # V = α Σ jumps × ∮Q·dδ up to the elastic energy change (measured
+        # 0.37 %: the loops drift as the wear grows, gross slip at δ* = 3 µm)
         energy = sum(j * e for j, e in zip(jumps, outcome.history["energy"], strict=True))
-        assert expected == pytest.approx(1e-2 * 1e-3 * energy, rel=2e-2)
+        assert expected == pytest.approx(1e-2 * 1e-3 * energy, rel=1e-2)
 
 
 def test_resume_is_bit_identical(tmp_path):
@@ -225,12 +231,13 @@ cycles = 10
 {loading}
 {wear}
 [sweep]
-mu1 = [0.5]
 {sweep}
 """
 
 
 def study(loading="amplitude = 0.002", wear="", sweep="wear1 = [1e-7]"):
+    if "mu1" not in sweep:
+        sweep = "mu1 = [0.5]\n" + sweep
     return parse_study(STUDY.format(loading=loading, wear=wear, sweep=sweep), source="f.toml")
 
 
@@ -260,3 +267,74 @@ def test_config_errors_name_the_key(loading, wear, sweep, words):
         study(loading, wear, sweep)
     assert str(error.value).startswith("f.toml: ")
     assert words in str(error.value), str(error.value)
+
+
+def test_force_amplitude_above_the_friction_bound_is_refused():
+    """Force control above h(d)·P (the largest force the friction ellipses carry along d)
+    fails the case with a message naming the key; orthotropic: h(d) of the rotated ellipse."""
+    from engine.study.fretting_case import check_force_bound
+    from engine.study.plan import make_plan
+
+    config = study(
+        loading="force_amplitude = 49.0\ndirection = 90.0",
+        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+    )
+    case = make_plan(config).cases[0]
+    with pytest.raises(
+        ValueError, match="force_amplitude = 49 N is not below the friction bound 40 N"
+    ):
+        check_force_bound(case, fretting_settings(config))
+    below = study(
+        loading="force_amplitude = 39.0\ndirection = 90.0",
+        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+    )
+    check_force_bound(make_plan(below).cases[0], fretting_settings(below))
+
+
+def fretting_settings(config):
+    from engine.study.fretting_case import settings
+
+    return settings(config)
+
+
+def test_energy_law_in_the_cyclic_kind_conserves_volume(material):
+    """The energy law in the normal-indentation (cyclic) kind, flat punch of Section 7.2 at
+    16², μ = 0.1: wear volume = Σ jumps × Σ_k α·10⁻³ Σ_e w ΔA (1e-12 relative), and the
+    study runner picks the law from [wear] (engine.study.fretting_case.wear_law)."""
+    from engine.geometry import FlatPunch
+    from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
+
+    grid = Grid.square(16, 1.05 * 1.8)
+    solver = ContactSolver(grid, material, FlatPunch(1.8), FrictionLaw(0.1, 0.1), tol=1e-6)
+    law = EnergyWearLaw(1e-2)
+    analysis = CyclicAnalysis(solver, law, CyclicSettings(750.0, 3, 200, record=(200,)))
+    previous = {"state": analysis.initial_state().contact}
+    per_row: dict[int, float] = {}
+
+    def hook(result, row):
+        depth = law.increment(result, previous["state"])
+        per_row[row] = per_row.get(row, 0.0) + float(np.sum(depth) * grid.element_area)
+        previous["state"] = result.state
+
+    outcome = analysis.run(on_increment=hook)
+    jumps = outcome.history["jump"]
+    expected = sum(jumps[row] * volume for row, volume in per_row.items())
+    assert expected > 0.0
+    assert outcome.history["wear_volume"][-1] == pytest.approx(expected, rel=1e-12)
+
+
+def test_coupling_changes_the_loop():
+    """K ≠ 0 (steel under a 100× stiffer sphere, K = 0.196): no analytic target; the case
+    converges, and the coupling shows as the normal loading's locked-in slip (the first loop
+    dissipates more than the second: measured 17 % at 24², 1e-4 at K = 0) and as a loop that
+    is no longer odd in Q (|Q+| ≠ |Q−|: measured 0.8 %, 1e-5 at K = 0)."""
+    grid = Grid.square(24, 0.3)
+    stiff = MaterialPair(E, NU, 100.0 * E, NU)
+    coupled = ContactSolver(grid, stiff, SphericalPunch(RADIUS), FrictionLaw(MU, MU), tol=1e-6)
+    settings = FrettingSettings(LOAD, 4, 1, amplitude=0.001)
+    result = FrettingAnalysis(coupled, WearLaw(0.0, 0.0), settings).run()
+    assert result.converged, result.message
+    first, second = result.history["energy"]
+    assert first > 1.1 * second
+    loop = result.records[1]["loop"]
+    assert abs(loop[:, 2].min() + loop[:, 2].max()) > 1e-3 * loop[:, 2].max()

@@ -105,8 +105,9 @@ def choose_strategy(requested: str, ranks: int) -> str:
 class _Written:
     """Stands for a dataset its rank has already written into the shared file."""
 
-    def __init__(self, units: str, description: str) -> None:
+    def __init__(self, units: str, description: str, attrs: dict | None = None) -> None:
         self.units, self.description = units, description
+        self.attrs = dict(attrs or {})
 
 
 class CollectiveWriter:
@@ -284,7 +285,7 @@ class CollectiveWriter:
                 ):
                     continue  # not pre-created: created and written at the commit
                 group[path].write_direct(np.ascontiguousarray(record.data))
-                light[path] = _Written(record.units, record.description)
+                light[path] = _Written(record.units, record.description, record.attrs)
         outcome.datasets = light
         self._write_journal(_journal(outcome))
         self.write_seconds += _now() - start

@@ -257,7 +257,7 @@ class TangentialDriver:
         wear, guess = options.get("wear"), options.get("guess")
         tolerance = self.force_tol * scale
         rigid_previous = np.asarray(rigid_previous, dtype=float)
-        evaluations, matvecs, solves_converged = 0, 0, True
+        evaluations, matvecs = 0, 0
         low = high = None  # (s, f) with f < 0, f > 0
         points: list[tuple[float, float]] = []
         s, best = float(first_guess), None
@@ -266,7 +266,6 @@ class TangentialDriver:
             step = self.displacement(state, rigid_previous, s * self.direction, wear, guess)
             evaluations += 1
             matvecs += step.matvecs
-            solves_converged &= step.result.converged
             guess = step.result.state
             f = float(step.force @ self.direction) - target
             if best is None or abs(f) < abs(best[1]):
@@ -279,7 +278,8 @@ class TangentialDriver:
             else:
                 high, side = (s, f), (side + 1 if side >= 0 else 1)
             s = self._next_point(points, low, high, stiffness, side)
-        step, f = best
+        step, f = best  # the accepted evaluation: its own contact solve must have converged
+        solves_converged = step.result.converged
         converged = abs(f) <= tolerance and solves_converged
         method = f"force control by safeguarded secant on δ ({evaluations} increment solves)"
         message = (

@@ -316,11 +316,11 @@ class CaseRunner:
     # ---------------------------------------------------------------- cyclic
     def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings, CyclicState
-        from engine.solvers.friction import WearLaw
         from engine.solvers.peak import PeakTracker
+        from engine.study.fretting_case import wear_law as case_wear_law
 
         solver, grid, material = self._solver(case, cfg)
-        wear_law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+        wear_law = case_wear_law(case, cfg)  # [wear] law: Archard (default) or energy
         options: dict[str, Any] = {}
         if cfg.loading.max_wear_fraction is not None:
             options["max_wear_fraction"] = cfg.loading.max_wear_fraction

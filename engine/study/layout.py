@@ -11,7 +11,9 @@ configuration (:meth:`StudyConfig.for_case`): sweeping ``mesh.n``, ``loading.cyc
 - ``fields/final/<name>`` (pressure, tractions, slip increments, status) and, for cyclic
   studies, ``fields/cycle_NNNNNNN/<name>`` (wear, pressure, tractions, status) for every
   recorded cycle (the solver also records the last cycle): surface fields, shape ``(n, n)``
-  (ij indexing), float64; ``status`` is int8;
+  (ij indexing), float64; ``status`` is int8; fretting studies add ``loop``, shape
+  (4·steps + 1, 4), and ``vm_cycle``, shape (4,), to every recorded cycle
+  (engine.study.fretting_case);
 - ``subsurface/final/*`` and ``subsurface/cycle_NNNNNNN/*``: the x–z plane through the punch
   axis, shape ``(n_s, n_z)``, float64. Its shape is taken from
   :meth:`~engine.solvers.subsurface.SubsurfaceStress.plane` evaluated once for zero tractions,
@@ -74,6 +76,11 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
         "grid/x": DatasetShape((n_x,), "float64"),
         "grid/y": DatasetShape((n_y,), "float64"),
     }
+    if config.is_fretting:  # the loop and σ_VM maximum of every recorded fretting cycle
+        rows = 4 * config.loading.steps + 1
+        for cycle in recorded_cycles(config):
+            layout[f"fields/cycle_{cycle:07d}/loop"] = DatasetShape((rows, 4), "float64")
+            layout[f"fields/cycle_{cycle:07d}/vm_cycle"] = DatasetShape((4,), "float64")
     for group, names in groups.items():
         for name in names:
             dtype = "int8" if name == "status" else "float64"

@@ -1,7 +1,8 @@
 """A small fretting study through ``python -m engine``: 1 and 2 ranks give bit-identical
 results (every dataset, attribute and summary value but run times). Sphere, 16², two
 amplitudes (partial and gross slip) under displacement control with the energy wear law
-(force control and the Archard law: tests/test_fretting.py); ~25 s for both runs here."""
+(force control and the Archard law: tests/test_fretting.py); ~25 s for both runs here.
+Under the mpio venv (the CI's collective phase) the 2-rank run uses the collective writer."""
 
 from __future__ import annotations
 
