@@ -56,9 +56,12 @@ def _write_case(file, index, load, amplitude):
              "loading.load": load, "loading.amplitude": amplitude}  # fmt: skip
     group.attrs.update(attrs)
     cumulated = energy * CYCLES  # mJ (rows from N = 0, as the solver writes them)
+    peak_force = float(mindlin.force_amplitude(amplitude, load, RADIUS, MATERIAL, MU))
     history = {"cycle": CYCLES, "energy": np.full(CYCLES.shape, energy),
                "slip_regime": np.full(CYCLES.shape, int(regime == "gross")),
-               "wear_volume": ALPHA * cumulated / 1e3}  # fmt: skip
+               "wear_volume": ALPHA * cumulated / 1e3,
+               "q_amplitude": np.full(CYCLES.shape, peak_force),
+               "displacement_amplitude": np.full(CYCLES.shape, amplitude)}  # fmt: skip
     for name, values in history.items():
         group.create_dataset(f"history/{name}", data=values)
     delta, force = mindlin.fretting_loop(
@@ -122,6 +125,19 @@ def test_adapter_reads_loops_and_cumulates_energy(synthetic_results):
     energy = float(case.history["energy"][0])
     expected = energy * (CYCLES - CYCLES[0]) / 1e3
     assert cumulated_energy(case) == pytest.approx(expected, rel=1e-12)
+
+
+def test_map_energy_ratio_of_analytic_cases_lies_on_the_master_curve(synthetic_results):
+    """The adapter's A = W/(4δ*Q*) and δ*/δ_slip of the synthetic (analytic) cases reproduce
+    mindlin.energy_ratio (1e-12: rounding), so the right panel's markers sit on its curve."""
+    from engine.output.fretting_figures import _computed_energy_ratio
+
+    study = read_results(synthetic_results)
+    for case in study.cases:
+        load, amplitude = case.settings["loading.load"], case.settings["loading.amplitude"]
+        ratio = amplitude / mindlin.slip_displacement(load, RADIUS, MATERIAL, MU)
+        expected = float(mindlin.energy_ratio(ratio))
+        assert _computed_energy_ratio(case) == pytest.approx(expected, rel=1e-12)
 
 
 def test_regime_mixed_when_the_history_changes():

@@ -56,6 +56,7 @@ __all__ = [
     "partial_slip_energy_small_amplitude",
     "gross_slip_energy",
     "energy_per_cycle",
+    "energy_ratio",
     "force_amplitude",
     "fretting_loop",
 ]
@@ -133,10 +134,31 @@ def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndar
     from W = 4 Q* δ* − 8 ∫₀^{Q*} δ_mono(u) du (the module docstring derives it).
     """
     slip, limit = _scale(load, radius, materials, friction)
-    q = _ratio(amplitude, limit)
-    bracket = 1.0 - (1.0 - q) ** (5.0 / 3.0) - (5.0 * q / 6.0) * (1.0 + (1.0 - q) ** (2.0 / 3.0))
     # 9 L² S / (10 a) = (24/5) L δ_slip
-    return 4.8 * limit * slip * bracket
+    return 4.8 * limit * slip * _energy_bracket(_ratio(amplitude, limit))
+
+
+def _energy_bracket(q) -> np.ndarray:
+    """1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3}), q = Q*/μP in [0, 1]."""
+    return 1.0 - (1.0 - q) ** (5.0 / 3.0) - (5.0 * q / 6.0) * (1.0 + (1.0 - q) ** (2.0 / 3.0))
+
+
+def energy_ratio(displacement_ratio) -> np.ndarray:
+    """Fouvry's energy ratio A = W / (4 δ* Q*) against x = δ*/δ_slip (both dimensionless).
+
+    One curve for every load, radius, material pair and μ (K = 0): with q = 1 − (1 − x)^{3/2},
+    A = 1.2 [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})] / (x q) in partial slip (x ≤ 1;
+    → 0 as x → 0), A = (0.8 + 4 (x − 1)) / (4x) in gross slip; A = 0.2 at x = 1, → 1 as
+    x → ∞. The partial/gross boundary of a measured loop is where A crosses 0.2.
+    """
+    x = np.asarray(displacement_ratio, dtype=float)
+    if np.any(x <= 0.0):
+        raise ValueError("displacement_ratio δ*/δ_slip must be > 0")
+    partial_x = np.minimum(x, 1.0)
+    q = 1.0 - (1.0 - partial_x) ** 1.5
+    partial = 1.2 * _energy_bracket(q) / (partial_x * q)
+    gross = (0.8 + 4.0 * (np.maximum(x, 1.0) - 1.0)) / (4.0 * np.maximum(x, 1.0))
+    return np.where(x <= 1.0, partial, gross)
 
 
 def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
