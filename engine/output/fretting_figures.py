@@ -454,7 +454,9 @@ def _loops_figure(study: StudyResults):
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
-    title = f"{study.name}: fretting loops at recorded cycles (dashed: analytic, unworn surfaces)"
+    title = f"{study.name}: fretting loops at recorded cycles"
+    if any(panel.reference is not None for panel in panels):
+        title += " (dashed: analytic, unworn surfaces)"
     return draw_fretting_loops(panels, title)
 
 
