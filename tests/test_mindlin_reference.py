@@ -141,3 +141,18 @@ def test_force_controlled_loop_and_argument_check():
     )
     with pytest.raises(ValueError):
         mindlin.fretting_loop(*ARGS)
+
+
+def test_energy_ratio_master_curve():
+    """A(δ*/δ_slip) = W/(4δ*Q*) agrees with the dimensional functions at two loads (1e-12:
+    rounding), is 0.2 at the boundary from both sides, rises monotonically, tends to 1."""
+    x = np.array([0.05, 0.3, 0.7, 1.0, 1.5, 4.0, 50.0])
+    for load in (20.0, 400.0):
+        args = (load, RADIUS, MIXED, MU)
+        amplitude = x * mindlin.slip_displacement(*args)
+        energy = mindlin.energy_per_cycle(amplitude, *args)
+        force = mindlin.force_amplitude(amplitude, *args)
+        assert mindlin.energy_ratio(x) == pytest.approx(energy / (4 * amplitude * force), rel=1e-12)
+    assert mindlin.energy_ratio([1 - 1e-9, 1.0, 1 + 1e-9]) == pytest.approx([0.2] * 3, rel=1e-6)
+    assert np.all(np.diff(mindlin.energy_ratio(np.geomspace(1e-3, 1e3, 200))) > 0)
+    assert mindlin.energy_ratio(1e6) == pytest.approx(1.0, abs=1e-6)

@@ -159,9 +159,9 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     from .report import _STUDY_WIDE, swept_keys
 
     swept = set(swept_keys(args.results)) & _STUDY_WIDE
-    if swept and not _is_fretting_file(
-        args.results
-    ):  # a fretting map sweeps the load  # the figures normalise every case by one a0, p0 and grid
+    # the figures normalise every case by one a0, p0 and grid; a fretting study's figures are
+    # per case (its map sweeps the load)
+    if swept and not _is_fretting_file(args.results):
         print(
             f"error: {args.results}: the figures need one load, punch radius, mesh and "
             f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "

@@ -67,12 +67,16 @@ _CYCLE = re.compile(r"cycle_(\d+)$")
 
 @dataclass
 class FrettingCase:
-    """One case on the fretting map: amplitude δ* (mm), load P (N), regime, friction μ."""
+    """One case on the fretting map: amplitude δ* (mm), load P (N), regime, friction μ; and,
+    where Mindlin applies (sphere, isotropic friction), δ*/δ_slip(P) and the computed energy
+    ratio A = W/(4 δ* Q*) of the first simulated cycle (NaN otherwise)."""
 
     amplitude: float
     load: float
     regime: str
     friction: float
+    displacement_ratio: float = float("nan")
+    energy_ratio: float = float("nan")
 
 
 @dataclass
@@ -103,28 +107,27 @@ def draw_fretting_map(
     boundaries: dict[float, tuple[np.ndarray, np.ndarray]],
     title: str,
 ):
-    """The running-condition fretting map.
+    """The running-condition fretting map, and Fouvry's energy ratio against δ*/δ_slip.
 
     ``cases``: the markers (amplitude in mm, load in N, regime "partial"/"gross"/"mixed").
     ``boundaries``: per friction coefficient μ, (δ_slip in mm, P in N) of Mindlin's boundary.
-    Returns the figure (δ* in µm on a log axis, P in N).
+    Left: δ* (µm, log axis) × P (N) with the boundaries. Right (when some case has a finite
+    ``energy_ratio``): A = W/(4δ*Q*) against δ*/δ_slip(P), where every load falls on
+    Mindlin's one master curve (:func:`engine.reference.mindlin.energy_ratio`), A = 0.2 at
+    the boundary.
     """
-    figure, axis = plt.subplots(figsize=(7.6, 5.0), layout="constrained")
+    with_ratio = [case for case in cases if np.isfinite(case.energy_ratio)]
+    columns = 2 if with_ratio else 1
+    figure, axes = plt.subplots(
+        1, columns, figsize=(7.0 * columns, 5.0), squeeze=False, layout="constrained"
+    )
+    axis = axes[0, 0]
     for mu, (slip, loads) in sorted(boundaries.items()):
         axis.plot(
             np.asarray(slip) * MICRONS_PER_MM, loads, "k-", lw=1.4,
             label=f"Mindlin boundary δ_slip(P), μ = {mu:g}",
         )  # fmt: skip
-    for regime, style in REGIME_STYLES.items():
-        chosen = [case for case in cases if case.regime == regime]
-        if not chosen:
-            continue
-        axis.plot(
-            [case.amplitude * MICRONS_PER_MM for case in chosen],
-            [case.load for case in chosen],
-            ls="none", ms=8, mfc=style["color"], mec="k", marker=style["marker"],
-            label=style["label"],
-        )  # fmt: skip
+    _regime_markers(axis, cases, lambda case: case.amplitude * MICRONS_PER_MM, "load")
     axis.set_xscale("log")
     axis.xaxis.set_major_formatter(ScalarFormatter())
     axis.xaxis.set_minor_formatter(NullFormatter())
@@ -133,8 +136,43 @@ def draw_fretting_map(
     axis.set_ylabel("normal load P (N)")
     axis.grid(alpha=0.3, which="both")
     axis.legend(loc="upper left")
-    axis.set_title(title)
+    axis.set_title("slip regime of each case")
+    if with_ratio:
+        _draw_energy_ratio(axes[0, 1], with_ratio)
+    figure.suptitle(title)
     return figure
+
+
+def _regime_markers(axis, cases, x_of, y_name: str) -> None:
+    """One marker style per slip regime (REGIME_STYLES), at (x_of(case), case.<y_name>)."""
+    for regime, style in REGIME_STYLES.items():
+        chosen = [case for case in cases if case.regime == regime]
+        if chosen:
+            axis.plot(
+                [x_of(case) for case in chosen], [getattr(case, y_name) for case in chosen],
+                ls="none", ms=8, mfc=style["color"], mec="k", marker=style["marker"],
+                label=style["label"],
+            )  # fmt: skip
+
+
+def _draw_energy_ratio(axis, cases: Sequence[FrettingCase]) -> None:
+    """A = W/(4δ*Q*) of each case against δ*/δ_slip, with Mindlin's master curve."""
+    ratios = np.array([case.displacement_ratio for case in cases])
+    span = np.geomspace(min(0.5, ratios.min() / 1.3), max(2.0, ratios.max() * 1.3), 300)
+    axis.plot(span, mindlin.energy_ratio(span), "k-", lw=1.4, label="Mindlin (any P, R, μ)")
+    axis.axhline(0.2, color="0.4", ls="--", lw=1.0, label="A = 0.2 (transition)")
+    axis.axvline(1.0, color="0.4", ls=":", lw=1.0)
+    _regime_markers(axis, cases, lambda case: case.displacement_ratio, "energy_ratio")
+    axis.set_xscale("log")
+    axis.xaxis.set_major_formatter(ScalarFormatter())
+    axis.xaxis.set_minor_formatter(NullFormatter())
+    axis.set_xticks(_round_ticks(span))
+    axis.set_ylim(0.0, 1.0)
+    axis.set_xlabel("δ*/δ_slip(P) (dimensionless)")
+    axis.set_ylabel("energy ratio A = W/(4 δ* Q*) (dimensionless)")
+    axis.grid(alpha=0.3, which="both")
+    axis.legend(loc="upper left")
+    axis.set_title("Fouvry's energy ratio, first simulated cycle")
 
 
 def _round_ticks(values) -> list[float]:
@@ -334,11 +372,16 @@ def cumulated_energy(case: CaseResults) -> np.ndarray:
 def _map_figure(study: StudyResults):
     cases, boundaries = [], {}
     for case in study.cases:
-        load = float(_setting(study, case, "loading.load"))
-        cases.append(FrettingCase(_amplitude(study, case), load, _regime(case), case.mu1))
+        load, amplitude = float(_setting(study, case, "loading.load")), _amplitude(study, case)
+        item = FrettingCase(amplitude, load, _regime(case), case.mu1)
         radius = _sphere_radius(study, case)
-        if radius is not None and _isotropic_friction(case) and case.mu1 not in boundaries:
-            boundaries[case.mu1] = (radius, _material(study, case))
+        if radius is not None and _isotropic_friction(case) and case.mu1 > 0:
+            material = _material(study, case)
+            boundaries.setdefault(case.mu1, (radius, material))
+            slip = float(mindlin.slip_displacement(load, radius, material, case.mu1))
+            item.displacement_ratio = amplitude / slip
+            item.energy_ratio = _computed_energy_ratio(case)
+        cases.append(item)
     loads = np.array([item.load for item in cases])
     span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
     lines = {
@@ -347,6 +390,15 @@ def _map_figure(study: StudyResults):
     }
     title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
     return draw_fretting_map(cases, lines, title)
+
+
+def _computed_energy_ratio(case: CaseResults) -> float:
+    """A = W/(4 δ* Q*) of the first simulated cycle (history row 0), NaN without history."""
+    history = case.history
+    if not all(key in history for key in ("energy", "q_amplitude", "displacement_amplitude")):
+        return float("nan")
+    denominator = 4.0 * history["displacement_amplitude"][0] * history["q_amplitude"][0]
+    return float(history["energy"][0] / denominator) if denominator > 0 else float("nan")
 
 
 def _loop_cases(study: StudyResults) -> list[CaseResults]:
@@ -402,7 +454,9 @@ def _loops_figure(study: StudyResults):
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
-    title = f"{study.name}: fretting loops at recorded cycles (dashed: analytic, unworn surfaces)"
+    title = f"{study.name}: fretting loops at recorded cycles"
+    if any(panel.reference is not None for panel in panels):
+        title += " (dashed: analytic, unworn surfaces)"
     return draw_fretting_loops(panels, title)
 
 

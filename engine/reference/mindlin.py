@@ -28,7 +28,10 @@ and the limiting force L = μP:
       W = ∫_{−Q*}^{Q*} (δ_unload − δ_reload) dQ = 4 Q* δ* − 8 ∫₀^{Q*} δ(u) du
         = (9 L² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})],  q = Q*/L,
 
-  (Johnson 7.53 with (2 − ν)/G read as the sum S); small amplitudes: W ≈ S Q*³ / (36 a L)
+  (derived here; compare Johnson 7.53, whose prefactor 9μ²P²/(10a)·(2 − ν)/G is this one
+  with (2 − ν)/G standing for the sum S; the bracket is checked in
+  tests/test_mindlin_reference.py against quadrature of the Masing branches and against the
+  Q*³ limit, which fixes the sign of its last term); small amplitudes: W ≈ S Q*³ / (36 a L)
   (Johnson 7.54), at q = 1: W = 0.8 L δ_slip (Fouvry's energy ratio W / (4 δ* Q*) = 0.2);
 - gross slip under a displacement amplitude δ* > δ_slip: Q* = L and the loop is the
   partial loop at Q* = L opened by two sliding stretches of length 2(δ* − δ_slip):
@@ -53,6 +56,7 @@ __all__ = [
     "partial_slip_energy_small_amplitude",
     "gross_slip_energy",
     "energy_per_cycle",
+    "energy_ratio",
     "force_amplitude",
     "fretting_loop",
 ]
@@ -130,10 +134,31 @@ def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndar
     from W = 4 Q* δ* − 8 ∫₀^{Q*} δ_mono(u) du (the module docstring derives it).
     """
     slip, limit = _scale(load, radius, materials, friction)
-    q = _ratio(amplitude, limit)
-    bracket = 1.0 - (1.0 - q) ** (5.0 / 3.0) - (5.0 * q / 6.0) * (1.0 + (1.0 - q) ** (2.0 / 3.0))
     # 9 L² S / (10 a) = (24/5) L δ_slip
-    return 4.8 * limit * slip * bracket
+    return 4.8 * limit * slip * _energy_bracket(_ratio(amplitude, limit))
+
+
+def _energy_bracket(q) -> np.ndarray:
+    """1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3}), q = Q*/μP in [0, 1]."""
+    return 1.0 - (1.0 - q) ** (5.0 / 3.0) - (5.0 * q / 6.0) * (1.0 + (1.0 - q) ** (2.0 / 3.0))
+
+
+def energy_ratio(displacement_ratio) -> np.ndarray:
+    """Fouvry's energy ratio A = W / (4 δ* Q*) against x = δ*/δ_slip (both dimensionless).
+
+    One curve for every load, radius, material pair and μ (K = 0): with q = 1 − (1 − x)^{3/2},
+    A = 1.2 [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})] / (x q) in partial slip (x ≤ 1;
+    → 0 as x → 0), A = (0.8 + 4 (x − 1)) / (4x) in gross slip; A = 0.2 at x = 1, → 1 as
+    x → ∞. The partial/gross boundary of a measured loop is where A crosses 0.2.
+    """
+    x = np.asarray(displacement_ratio, dtype=float)
+    if np.any(x <= 0.0):
+        raise ValueError("displacement_ratio δ*/δ_slip must be > 0")
+    partial_x = np.minimum(x, 1.0)
+    q = 1.0 - (1.0 - partial_x) ** 1.5
+    partial = 1.2 * _energy_bracket(q) / (partial_x * q)
+    gross = (0.8 + 4.0 * (np.maximum(x, 1.0) - 1.0)) / (4.0 * np.maximum(x, 1.0))
+    return np.where(x <= 1.0, partial, gross)
 
 
 def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
