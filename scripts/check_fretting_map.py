@@ -16,9 +16,9 @@ from __future__ import annotations
 import sys
 
 import numpy as np
-from engine.output.fretting_figures import _regime, cumulated_energy, read_loops
-from engine.output.reader import read_results
 
+from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loops
+from engine.analysis.reader import read_results
 from engine.reference import mindlin
 from engine.reference.hertz import hertz_contact_radius
 

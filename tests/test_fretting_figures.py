@@ -1,4 +1,4 @@
-"""Fretting figures (engine.output.fretting_figures) on a synthetic results file.
+"""Fretting figures (engine.analysis.fretting_figures) on a synthetic results file.
 
 The file is written here in the layout of a fretting study (root ``study_json``, one group per
 case with its attributes, ``history/`` and ``fields/cycle_N/loop``), filled with the analytic
@@ -15,11 +15,11 @@ import json
 import h5py
 import numpy as np
 import pytest
-from engine.output.figures import MAX_WIDTH_PX, MIN_FONT_SIZE
-from engine.output.fretting_figures import _regime, cumulated_energy, read_loops
-from engine.output.reader import CaseResults, read_results
 from matplotlib import image
 
+from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE
+from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loops
+from engine.analysis.reader import CaseResults, read_results
 from engine.material import MaterialPair
 from engine.output import figures
 from engine.reference import mindlin
@@ -130,7 +130,7 @@ def test_adapter_reads_loops_and_cumulates_energy(synthetic_results):
 def test_map_energy_ratio_of_analytic_cases_lies_on_the_master_curve(synthetic_results):
     """The adapter's A = W/(4δ*Q*) and δ*/δ_slip of the synthetic (analytic) cases reproduce
     mindlin.energy_ratio (1e-12: rounding), so the right panel's markers sit on its curve."""
-    from engine.output.fretting_figures import _computed_energy_ratio
+    from engine.analysis.fretting_figures import _computed_energy_ratio
 
     study = read_results(synthetic_results)
     for case in study.cases:
@@ -145,7 +145,7 @@ def test_wear_energy_without_coefficient_fits_the_line_through_the_origin():
     V = s E_d with s = Σ E V / Σ E² (here exactly 3e-5 mm³/J, the data's own slope)."""
     import matplotlib.pyplot as plt
 
-    from engine.output.fretting_figures import WearSeries, draw_wear_energy
+    from engine.analysis.fretting_figures import WearSeries, draw_wear_energy
 
     energy = np.array([0.0, 0.5, 2.0, 8.0])
     series = [WearSeries("P = 1 N", energy, 3e-5 * energy, None, "gross")]
