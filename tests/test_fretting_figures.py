@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 from matplotlib import image
 
+from engine.analysis import figures
 from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE
 from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loops
 from engine.analysis.reader import CaseResults, read_results
 from engine.material import MaterialPair
-from engine.output import figures
 from engine.reference import mindlin
 
 RADIUS, MU, ALPHA = 10.0, 0.6, 2e-5  # mm, –, mm³/J
