@@ -24,6 +24,7 @@ from engine.solvers.fretting import FrettingAnalysis, FrettingSettings
 from engine.solvers.friction import EnergyWearLaw, FrictionLaw, WearLaw, frictional_work
 from engine.study.checkpoint import load_fretting_state, save_fretting_state
 from engine.study.config import StudyConfigError, parse_study
+from engine.study.examples import SPHERE_ON_STEEL, study_toml
 
 E, NU, RADIUS, LOAD, MU = 200e3, 0.3, 10.0, 100.0, 0.5
 SHEAR = E / (2.0 * (1.0 + NU))
@@ -211,56 +212,44 @@ def test_resume_is_bit_identical(tmp_path):
     np.testing.assert_array_equal(resumed.records[30]["loop"], whole.records[30]["loop"])
 
 
-STUDY = """
-[study]
-name = "f"
-output = "f.h5"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e3
-nu_B = 0.3
-[punch]
-shape = "sphere"
-radius = 10.0
-[mesh]
-n = 16
-[loading]
-kind = "fretting"
-load = 100.0
-cycles = 10
-{loading}
-{wear}
-[sweep]
-{sweep}
-"""
-
-
-def study(loading="amplitude = 0.002", wear="", sweep="wear1 = [1e-7]"):
-    if "mu1" not in sweep:
-        sweep = "mu1 = [0.5]\n" + sweep
-    return parse_study(STUDY.format(loading=loading, wear=wear, sweep=sweep), source="f.toml")
+def study(loading=None, wear=None, sweep=None):
+    """A 16² fretting study of a sphere on the same steel, μ = 0.5, 10 cycles (P = 100 N)."""
+    loading = {"kind": "fretting", "amplitude": 0.002} if loading is None else loading
+    sweep = {"wear1": [1e-7]} if sweep is None else sweep
+    sweep = {"mu1": [0.5], **sweep}
+    text = study_toml(
+        "f",
+        "f.h5",
+        SPHERE_ON_STEEL,
+        loading={"kind": "fretting", "record": None, **loading},
+        wear=wear,
+        sweep=sweep,
+    )
+    return parse_study(text, source="f.toml")
 
 
 def test_study_keys_and_sweeps():
-    config = study(sweep='wear1 = [1e-7]\n"loading.amplitude" = [0.001, 0.002]', loading="")
+    config = study(sweep={"wear1": [1e-7], "loading.amplitude": [0.001, 0.002]}, loading={})
     assert config.is_fretting and config.is_cyclic
-    energy = study(wear='[wear]\nlaw = "energy"', sweep="alpha = [1e-3]")
+    energy = study(wear={"law": "energy"}, sweep={"alpha": [1e-3]})
     assert energy.wear.law == "energy" and energy.sweep.alpha == (1e-3,)
-    forced = study(loading="force_amplitude = 20.0\ndirection = 30.0")
+    forced = study(loading={"force_amplitude": 20.0, "direction": 30.0})
     assert forced.loading.force_amplitude == 20.0 and forced.loading.direction == 30.0
+
+
+A, W = {"amplitude": 0.002}, {"wear1": [1e-7]}  # a valid signal and sweep
 
 
 @pytest.mark.parametrize(
     ("loading", "wear", "sweep", "words"),
     [
-        ("", "", "wear1 = [1e-7]", "[loading] amplitude: kind"),
-        ("amplitude = 0.002\nforce_amplitude = 5.0", "", "wear1 = [1e-7]", "exactly one"),
-        ("amplitude = -0.002", "", "wear1 = [1e-7]", "[loading] amplitude = -0.002: must be >"),
-        ("amplitude = 0.002", '[wear]\nlaw = "energy"', "wear1 = [1e-7]", "[sweep] wear1"),
-        ("amplitude = 0.002", '[wear]\nlaw = "energy"', "", "[sweep] alpha: required"),
-        ("amplitude = 0.002", "", "wear1 = [1e-7]\nalpha = [1.0]", "[sweep] alpha"),
-        ("amplitude = 0.002", '[wear]\nlaw = "paris"', "wear1 = [1e-7]", "[wear] law = 'paris'"),
+        ({}, None, W, "[loading] amplitude: kind"),
+        ({"amplitude": 0.002, "force_amplitude": 5.0}, None, W, "exactly one"),
+        ({"amplitude": -0.002}, None, W, "[loading] amplitude = -0.002: must be >"),
+        (A, {"law": "energy"}, W, "[sweep] wear1"),
+        (A, {"law": "energy"}, {}, "[sweep] alpha: required"),
+        (A, None, {**W, "alpha": [1.0]}, "[sweep] alpha"),
+        (A, {"law": "paris"}, W, "[wear] law = 'paris'"),
     ],
 )
 def test_config_errors_name_the_key(loading, wear, sweep, words):
@@ -277,8 +266,8 @@ def test_force_amplitude_above_the_friction_bound_is_refused():
     from engine.study.plan import make_plan
 
     config = study(
-        loading="force_amplitude = 49.0\ndirection = 90.0",
-        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+        loading={"force_amplitude": 49.0, "direction": 90.0},
+        sweep={"mu1": [0.6], "mu2": [0.4], "wear1": [0.0]},
     )
     case = make_plan(config).cases[0]
     with pytest.raises(
@@ -286,8 +275,8 @@ def test_force_amplitude_above_the_friction_bound_is_refused():
     ):
         check_force_bound(case, fretting_settings(config))
     below = study(
-        loading="force_amplitude = 39.0\ndirection = 90.0",
-        sweep="mu1 = [0.6]\nmu2 = [0.4]\nwear1 = [0.0]",
+        loading={"force_amplitude": 39.0, "direction": 90.0},
+        sweep={"mu1": [0.6], "mu2": [0.4], "wear1": [0.0]},
     )
     check_force_bound(make_plan(below).cases[0], fretting_settings(below))
 

@@ -23,6 +23,7 @@ from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loo
 from engine.analysis.reader import CaseResults, read_results
 from engine.material import MaterialPair
 from engine.reference import mindlin
+from engine.study.examples import study_toml
 
 RADIUS, MU, ALPHA = 10.0, 0.6, 2e-5  # mm, –, mm³/J
 MATERIAL = MaterialPair(210000.0, 0.3, 210000.0, 0.3)
@@ -167,43 +168,20 @@ def test_regime_mixed_when_the_history_changes():
     assert _regime(case([1, 0, 0])) == "mixed"
 
 
-TINY_FRETTING = """
-[study]
-name = "tiny_fretting"
-output = "tiny_fretting.h5"
-
-[material]
-E_A = 210e3
-nu_A = 0.3
-E_B = 210e3
-nu_B = 0.3
-
-[punch]
-shape = "sphere"
-radius = 12.7
-
-[mesh]
-n = 16
-
-[loading]
-kind = "fretting"
-steps = 2
-cycles = 4
-record = [1, 4]
-
-[subsurface]
-depth = 1.0
-layers = 4
-
-[wear]
-law = "energy"
-
-[sweep]
-mu1 = [0.6]
-alpha = [5e-6]
-"loading.load" = [25.0, 100.0]
-"loading.amplitude" = [0.0006, 0.003]
-"""
+TINY_FRETTING = study_toml(
+    "tiny_fretting",
+    "tiny_fretting.h5",
+    material={"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3},
+    punch={"shape": "sphere", "radius": 12.7},
+    loading={"kind": "fretting", "load": None, "cycles": 4, "record": [1, 4]},
+    wear={"law": "energy"},
+    sweep={
+        "mu1": [0.6],
+        "alpha": [5e-6],
+        "loading.load": [25.0, 100.0],
+        "loading.amplitude": [0.0006, 0.003],
+    },
+)
 
 
 def test_plot_reads_a_real_fretting_results_file(tmp_path):

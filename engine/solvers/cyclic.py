@@ -72,24 +72,31 @@ class CyclicSettings:
     warm_start: str = "previous_cycle"
 
     def __post_init__(self) -> None:
-        if self.warm_start not in WARM_STARTS:
-            raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {self.warm_start!r}")
         object.__setattr__(self, "load", require_positive("load", self.load))
-        for name in ("steps", "cycles"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or int(value) != value or value < 1:
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-            object.__setattr__(self, name, int(value))
-        record = tuple(sorted({int(c) for c in self.record}))
-        for cycle in record:
-            if cycle < 0 or cycle > self.cycles:
-                raise ValueError(f"record cycle {cycle} is outside 0 … cycles = {self.cycles}")
-        object.__setattr__(self, "record", record)
         object.__setattr__(
             self, "max_wear_fraction", require_positive("max_wear_fraction", self.max_wear_fraction)
         )
-        if not self.max_jump_growth >= 1.0:
-            raise ValueError(f"max_jump_growth must be >= 1, got {self.max_jump_growth!r}")
+        check_schedule(self)
+
+
+def check_schedule(settings) -> None:
+    """Check and normalise (in place, on a frozen dataclass) what cyclic and fretting
+    settings share: ``steps`` and ``cycles`` positive integers, ``record`` sorted unique
+    cycles in 0 … cycles, ``max_jump_growth`` ≥ 1, ``warm_start`` one of WARM_STARTS."""
+    if settings.warm_start not in WARM_STARTS:
+        raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {settings.warm_start!r}")
+    for name in ("steps", "cycles"):
+        value = getattr(settings, name)
+        if isinstance(value, bool) or int(value) != value or value < 1:
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+        object.__setattr__(settings, name, int(value))
+    record = tuple(sorted({int(c) for c in settings.record}))
+    for cycle in record:
+        if cycle < 0 or cycle > settings.cycles:
+            raise ValueError(f"record cycle {cycle} is outside 0 … cycles = {settings.cycles}")
+    object.__setattr__(settings, "record", record)
+    if not settings.max_jump_growth >= 1.0:
+        raise ValueError(f"max_jump_growth must be >= 1, got {settings.max_jump_growth!r}")
 
 
 @dataclass

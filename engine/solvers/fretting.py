@@ -60,12 +60,13 @@ import numpy as np
 
 from .contact import STICK, ContactSolver, ContactState, IncrementResult
 from .cyclic import (
-    WARM_STARTS,
     CyclicAnalysis,
     CyclicState,
     _CycleOutcome,
     _starting_point,
+    check_schedule,
 )
+from .defaults import MAX_JUMP_GROWTH, MAX_WEAR_FRACTION
 from .friction import WearLaw
 
 DISPLACEMENT, FORCE = "displacement", "force"
@@ -94,8 +95,8 @@ class FrettingSettings:
     force_amplitude: float | None = None
     direction: float = 0.0
     record: tuple[int, ...] = ()
-    max_wear_fraction: float = 0.004
-    max_jump_growth: float = 2.0
+    max_wear_fraction: float = MAX_WEAR_FRACTION
+    max_jump_growth: float = MAX_JUMP_GROWTH
     warm_start: str = "previous_cycle"
     force_tol: float = FORCE_TOL
 
@@ -109,20 +110,7 @@ class FrettingSettings:
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-        if self.warm_start not in WARM_STARTS:
-            raise ValueError(f"warm_start must be one of {WARM_STARTS}, got {self.warm_start!r}")
-        for name in ("steps", "cycles"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or int(value) != value or value < 1:
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-            object.__setattr__(self, name, int(value))
-        record = tuple(sorted({int(c) for c in self.record}))
-        for cycle in record:
-            if cycle < 0 or cycle > self.cycles:
-                raise ValueError(f"record cycle {cycle} is outside 0 … cycles = {self.cycles}")
-        object.__setattr__(self, "record", record)
-        if not self.max_jump_growth >= 1.0:
-            raise ValueError(f"max_jump_growth must be >= 1, got {self.max_jump_growth!r}")
+        check_schedule(self)
 
     @property
     def control(self) -> str:

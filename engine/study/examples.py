@@ -17,11 +17,11 @@ base (:data:`BASE`): a value ``None`` removes the key, a section given as ``None
 out, a section the base lacks (``[solver]``, ``[testing]``) is added. Positional dicts of the
 same shape (section -> changes) are merged first, in order: a test module keeps the changes
 all its studies share in one dict and passes it before its per-test changes. The
-``[loading]`` section starts from :data:`CYCLIC_LOADING` or :data:`STATIC_LOADING` by the last
-``kind`` given. The text is written by the study layer's TOML writer, so it parses to exactly
-the values given (floats by ``repr``, ints stay ints). It lives in the package, not in tests/,
-so that tests, benchmarks and users import it the same way (benchmarks run as scripts and
-cannot import tests/).
+``[loading]`` section starts from :data:`CYCLIC_LOADING`, :data:`STATIC_LOADING` or
+:data:`FRETTING_LOADING` by the last ``kind`` given. The text is written by the study
+layer's TOML writer, so it parses to exactly the values given (floats by ``repr``, ints stay
+ints). It lives in the package, not in tests/, so that tests, benchmarks and users import it
+the same way (benchmarks run as scripts and cannot import tests/).
 
 Base values: the paper's materials (steel on a nearly rigid indenter, Section 7), a flat punch
 of radius a0 = 1.8 mm, a 16 x 16 mesh, subsurface depth 1.0 a0 in 4 layers.
@@ -34,7 +34,15 @@ from typing import Any
 
 from .config import dump_toml
 
-__all__ = ["BASE", "CYCLIC_LOADING", "STATIC_LOADING", "study_sections", "study_toml"]
+__all__ = [
+    "BASE",
+    "CYCLIC_LOADING",
+    "STATIC_LOADING",
+    "FRETTING_LOADING",
+    "SPHERE_ON_STEEL",
+    "study_sections",
+    "study_toml",
+]
 
 BASE: dict[str, dict[str, Any]] = {
     "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e5, "nu_B": 0.3},  # MPa, 1
@@ -51,6 +59,18 @@ CYCLIC_LOADING: dict[str, Any] = {
     "record": [200],
 }  # N, increments per half cycle, cycles
 STATIC_LOADING: dict[str, Any] = {"kind": "static", "load": 750.0, "steps": 2}  # N, increments
+FRETTING_LOADING: dict[str, Any] = {
+    "kind": "fretting",
+    "load": 100.0,
+    "steps": 2,
+    "cycles": 10,
+    "record": [10],
+}  # N, increments per quarter tangential cycle, cycles; amplitude or force_amplitude to add
+#: A layer for tangential fretting tests: a sphere of radius 10 mm on the same steel (K = 0).
+SPHERE_ON_STEEL: dict[str, dict[str, Any]] = {
+    "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},  # MPa, 1
+    "punch": {"shape": "sphere", "radius": 10.0},  # mm
+}
 
 _ORDER = ("study", "material", "punch", "mesh", "loading", "subsurface", "solver", "sweep")
 
@@ -80,7 +100,9 @@ def study_sections(
 ) -> dict[str, dict[str, Any]]:
     """The study as nested dicts (section -> key -> value); see the module docstring."""
     layers = (*layers, sections)
-    loading = STATIC_LOADING if _kind(list(layers)) == "static" else CYCLIC_LOADING
+    loading = {"static": STATIC_LOADING, "fretting": FRETTING_LOADING}.get(
+        _kind(list(layers)), CYCLIC_LOADING
+    )
     result = {"study": {"name": name, "output": str(output)}, "loading": dict(loading)}
     result.update(copy.deepcopy(BASE))
     for layer in layers:

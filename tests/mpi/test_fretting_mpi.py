@@ -11,60 +11,38 @@ from pathlib import Path
 import h5py
 import pytest
 
+from engine.study.examples import SPHERE_ON_STEEL, study_toml
 from tests.mpi.test_engine_mpi import assert_same_results, run_engine
 
 pytestmark = pytest.mark.mpi
 
-STUDY = """
-[study]
-name = "fretting"
-output = "{output}"
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e3
-nu_B = 0.3
-[punch]
-shape = "sphere"
-radius = 10.0
-[mesh]
-n = 16
-half_width = 0.45
-[loading]
-kind = "fretting"
-load = 100.0
-steps = 2
-cycles = 100
-record = [1, 100]
-max_wear_fraction = 0.05
-{signal}
-[subsurface]
-depth = 1.0
-layers = 4
-[wear]
-law = "{law}"
-[sweep]
-mu1 = [0.5]
-{sweep}
-"""
 
-
-def write(tmp_path: Path, name: str, signal: str, law: str, sweep: str) -> Path:
+def write(tmp_path: Path, name: str, sweep: dict) -> Path:
+    """A 16² fretting study of a sphere on the same steel, μ = 0.5, 100 cycles, energy law."""
     path = tmp_path / f"{name}.toml"
-    output = tmp_path / f"{name}.h5"
-    path.write_text(STUDY.format(output=output, signal=signal, law=law, sweep=sweep))
+    loading = {"steps": 2, "cycles": 100, "record": [1, 100], "max_wear_fraction": 0.05}
+    text = study_toml(
+        name,
+        str(tmp_path / f"{name}.h5"),
+        SPHERE_ON_STEEL,
+        mesh={"n": 16, "half_width": 0.45},
+        loading={"kind": "fretting", **loading},
+        wear={"law": "energy"},
+        sweep={"mu1": [0.5], **sweep},
+    )
+    path.write_text(text)
     return path
 
 
 def test_fretting_study_one_and_two_ranks_identical(tmp_path):
     """Displacement control, partial (1 µm) and gross (4 µm) slip, energy wear law."""
-    signal, law, sweep = "", "energy", 'alpha = [1e-3]\n"loading.amplitude" = [0.001, 0.004]'
+    sweep = {"alpha": [1e-3], "loading.amplitude": [0.001, 0.004]}
 
     results = []
     for ranks in (1, 2):
         folder = tmp_path / f"ranks{ranks}"
         folder.mkdir()
-        study = write(folder, "fretting", signal, law, sweep)
+        study = write(folder, "fretting", sweep)
         run = run_engine(study, ranks=ranks, timeout=300)
         assert run.returncode == 0, run.stdout + run.stderr
         results.append(folder / "fretting.h5")
