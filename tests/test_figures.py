@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from matplotlib import image
 
-from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE, case_styles
+from engine.analysis.figures import MAX_WIDTH_PX, case_styles
 from engine.analysis.reader import CaseResults
 from engine.study.examples import study_toml
 
@@ -85,32 +85,15 @@ def study_results(request, tmp_path_factory):
     return folder, folder / f"{name}.h5", expected
 
 
-def test_plot_writes_every_figure_non_blank(study_results, monkeypatch):
+def test_plot_writes_every_figure_non_blank(study_results, small_text):
     """In process (`python -m engine plot` calls the same main): every figure is written,
     non-blank, at most MAX_WIDTH_PX wide, and has no text below MIN_FONT_SIZE (checked on
     each figure just before it is closed, after it was drawn for saving)."""
-    import matplotlib.pyplot as plt
-    from matplotlib.text import Text
-
     from engine.analysis import figures
 
     folder, results, expected = study_results
-    small: dict[str, set] = {}
-    close = plt.close
-
-    def checked_close(figure):
-        texts = {
-            (text.get_text(), text.get_fontsize())
-            for text in figure.findobj(Text)
-            if text.get_visible() and text.get_text() and text.get_fontsize() < MIN_FONT_SIZE
-        }
-        if texts:
-            small[figure.get_suptitle()] = texts
-        close(figure)
-
-    monkeypatch.setattr(figures.plt, "close", checked_close)
     assert figures.main([str(results), "--out", str(folder / "figures")]) == 0
-    assert not small, small
+    assert not small_text, small_text
     written = sorted(path.name for path in (folder / "figures").glob("*.png"))
     assert written == sorted(expected)
     for name in expected:

@@ -18,7 +18,7 @@ import pytest
 from matplotlib import image
 
 from engine.analysis import figures
-from engine.analysis.figures import MAX_WIDTH_PX, MIN_FONT_SIZE
+from engine.analysis.figures import MAX_WIDTH_PX
 from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loops
 from engine.analysis.reader import CaseResults, read_results
 from engine.material import MaterialPair
@@ -88,28 +88,11 @@ def synthetic_results(tmp_path_factory):
     return path
 
 
-def test_plot_draws_the_fretting_figures(synthetic_results, monkeypatch, tmp_path):
+def test_plot_draws_the_fretting_figures(synthetic_results, small_text, tmp_path):
     """`plot` on a fretting file (which sweeps the load) writes the three figures, legibly."""
-    import matplotlib.pyplot as plt
-    from matplotlib.text import Text
-
-    small = {}
-    close = plt.close
-
-    def checked_close(figure):
-        texts = {
-            (text.get_text(), text.get_fontsize())
-            for text in figure.findobj(Text)
-            if text.get_visible() and text.get_text() and text.get_fontsize() < MIN_FONT_SIZE
-        }
-        if texts:
-            small[figure.get_suptitle()] = texts
-        close(figure)
-
-    monkeypatch.setattr(figures.plt, "close", checked_close)
     out = tmp_path / "figures"
     assert figures.main([str(synthetic_results), "--out", str(out)]) == 0
-    assert not small, small
+    assert not small_text, small_text
     assert sorted(path.name for path in out.glob("*.png")) == sorted(FIGURES)
     for name in FIGURES:
         pixels = image.imread(out / name)[..., :3]
