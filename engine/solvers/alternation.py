@@ -7,8 +7,13 @@ preconditioned active-set CG), until neither moves. Each pass contracts the coup
 by a factor set by K and μ, not by the mesh, and both inner solvers are mesh independent.
 Inner tolerances follow the outer residual (``INNER_FACTOR`` of it); the reported residual
 is the natural residual of the coupled map (``engine.solvers.projected_gradient``) at the
-final iterate. Should the alternation not settle within ``MAX_OUTER`` passes, FISTA
-continues from its iterate.
+final iterate. Once the inner tolerances are at least as tight as the outer one, every pass
+ends with that residual, from displacements the blocks already know (u_t: the slip the
+tangential solver updates with A_tt Δq; u_n: A_zz p of the normal solve plus the coupling of
+the new tractions, which the next pass needs anyway), so an increment stops as soon as it is
+certified, without a further pass to show that nothing moves (issue 17: 3.3 → 2.1 passes per
+increment at 64², μ = 0.1). Should the alternation not settle within ``MAX_OUTER`` passes,
+FISTA continues from its iterate.
 
 From a ``guess`` (a nearby solution: the same increment one cycle jump earlier), the first
 inner tolerance is ``INNER_FACTOR`` times the guess's own coupled residual rather than 0.1,
@@ -76,6 +81,13 @@ def _solution(problem, x, u, iterations, residual, passes) -> CoupledSolution:
         residual=residual,
         method=f"alternating PCG ({passes} passes)",
     )
+
+
+def _known_displacement(problem, normal_image, coupling, slip) -> np.ndarray:
+    """u = A x (3, n_x, n_y) of the pass's iterate from what the blocks computed: u_t =
+    slip + slip reference (the tangential solver updates the slip with A_tt Δq at every
+    step), u_n = A_zz p + A_zx q_x + A_zy q_y."""
+    return np.array([*(slip + problem.slip_reference), normal_image + coupling])
 
 
 def _start(problem, load, state, guess):
@@ -174,6 +186,14 @@ def solve_alternating(
             break
         iterate.tractions = tangential.tractions
         coupling = operator.coupling_to_normal(*iterate.tractions)
+        if tol <= problem.tol and normal.image is not None:
+            # Certify without another pass: u = A x is known from the blocks (the slip the
+            # tangential solver tracked, A_zz p of the normal solve and the new coupling).
+            u = _known_displacement(problem, normal.image, coupling, tangential.slip)
+            residual, _ = natural_residual(problem, iterate.point(), u, load)
+            if residual <= problem.tol:
+                settled = True
+                break
     x = iterate.point()
     if not settled:
         u = np.array(operator.apply(*x))

@@ -71,9 +71,7 @@ class FrictionLaw:
         ``bound`` is ρ ≥ 0 (the contact pressure). Keeps the direction of t.
         """
         norm = self.norm(tx, ty)
-        scale = np.ones_like(norm)
-        outside = norm > bound
-        scale[outside] = bound[outside] / norm[outside]
+        scale = np.divide(bound, norm, out=np.ones_like(norm), where=norm > bound)
         return tx * scale, ty * scale
 
     def project(self, tx: np.ndarray, ty: np.ndarray, bound: np.ndarray, iterations: int = 60):

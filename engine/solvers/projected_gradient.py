@@ -81,7 +81,8 @@ def gradient_map(problem: IncrementProblem, x, u, target, delta, alpha):
         new[2, mask] = np.maximum(trial[2, mask], 0.0)
     new[0], new[1] = problem.project_tractions(trial[0], trial[1], new[2])
     scale = abs(delta) if delta != 0.0 else 1.0
-    residual = math.sqrt(np.sum((x - new)[:, mask] ** 2) / mask.sum()) / (alpha * scale)
+    change = (x - new)[:, mask]
+    residual = math.sqrt(np.vdot(change, change) / mask.sum()) / (alpha * scale)
     return new, delta, residual
 
 

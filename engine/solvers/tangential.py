@@ -92,7 +92,8 @@ def _circle_frame(qx: np.ndarray, qy: np.ndarray):
 
 
 def _dot(ax, ay, bx, by) -> float:
-    return float(np.sum(ax * bx) + np.sum(ay * by))
+    """Σ (a_x b_x + a_y b_y) over the grid (BLAS dot products: no temporary arrays)."""
+    return float(np.vdot(ax, bx) + np.vdot(ay, by))
 
 
 def solve_tangential(
@@ -164,7 +165,8 @@ def solve_tangential(
         rx_old, ry_old, rz_old = rx, ry, rz
         wx, wy = operator.apply_tangential(dx, dy)
         d_along = dx * tx + dy * ty
-        step = _dot(rx, ry, dx, dy) / (_dot(wx, wy, dx, dy) + float(np.sum(curvature * d_along**2)))
+        bending = float(np.vdot(curvature, d_along * d_along))
+        step = _dot(rx, ry, dx, dy) / (_dot(wx, wy, dx, dy) + bending)
         accepted = False
         for attempt in range(MAX_BACKTRACKS):
             if attempt == PRECONDITIONED_ATTEMPTS:
