@@ -48,14 +48,24 @@ RUN_DEPENDENT = frozenset(
 )
 
 
-def _attribute_value(value):
-    """An attribute value in a comparable form: text as str, arrays as (dtype, shape, bytes)."""
+def _attribute_value(value, handle=None):
+    """An attribute value in a comparable form: text as str, arrays as (dtype, shape, bytes),
+    object references (HDF5 dimension scales) as the path of the object they point to in
+    ``handle``'s file (their bytes are file addresses, which differ between equal files)."""
+    if isinstance(value, h5py.Reference):
+        return ("reference", handle.file[value].name if value else None)
     if isinstance(value, bytes):
         return ("bytes", value)
+    if isinstance(value, np.ndarray) and value.dtype.names:  # compound, e.g. REFERENCE_LIST
+        rows = [tuple(_attribute_value(item, handle) for item in row) for row in value.flat]
+        return ("compound", value.dtype.names, value.shape, rows)
     if isinstance(value, np.ndarray):
         if value.dtype.kind == "O":
-            return ("object-array", value.shape, [_attribute_value(item) for item in value.flat])
+            items = [_attribute_value(item, handle) for item in value.flat]
+            return ("object-array", value.shape, items)
         return ("array", value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, np.void) and value.dtype.names:
+        return ("record", tuple(_attribute_value(item, handle) for item in value))
     if isinstance(value, np.generic):
         return ("scalar", value.dtype.str, value.tobytes())
     return (type(value).__name__, value)
@@ -103,7 +113,7 @@ def _compare_attributes(path: str, first, second, ignored: frozenset) -> list[st
         json_a, json_b = _json_object(value_a), _json_object(value_b)
         if json_a is not None and json_b is not None:
             differences += _compare_json(where, json_a, json_b, ignored)
-        elif _attribute_value(value_a) != _attribute_value(value_b):
+        elif _attribute_value(value_a, first) != _attribute_value(value_b, second):
             differences.append(f"{where}: A={_short(value_a)} B={_short(value_b)}")
     return differences
 

@@ -91,3 +91,32 @@ def test_each_difference_is_reported(kind, tmp_path):
     result = _compare(first, second)
     assert result.returncode == 1
     assert expected in result.stdout, result.stdout
+
+
+def _with_scales(path: Path, order: tuple[str, str]) -> Path:
+    """A file whose field has x and y as dimension scales; ``order`` fixes which scale is
+    created first, so equal files differ in the scales' addresses."""
+    with h5py.File(path, "w") as file:
+        scales = {name: file.create_dataset(f"grid/{name}", data=np.arange(2.0)) for name in order}
+        for name in order:
+            scales[name].make_scale(name)
+        field = file.create_dataset("fields/pressure", data=np.zeros((2, 2)))
+        field.dims[0].attach_scale(scales["x"])
+        field.dims[1].attach_scale(scales["y"])
+    return path
+
+
+def test_dimension_scales_compare_by_the_objects_they_name(tmp_path):
+    """Dimension-scale attributes hold object references (file addresses): equal scales
+    agree whatever their addresses; a field attached to another scale is a difference."""
+    first = _with_scales(tmp_path / "a.h5", ("x", "y"))
+    same = _with_scales(tmp_path / "b.h5", ("y", "x"))
+    assert _compare(first, same).returncode == 0, _compare(first, same).stdout
+    swapped = tmp_path / "c.h5"
+    shutil.copy(first, swapped)
+    with h5py.File(swapped, "r+") as file:
+        field = file["fields/pressure"]
+        field.dims[0].detach_scale(file["grid/x"])
+        field.dims[0].attach_scale(file["grid/y"])
+    run = _compare(first, swapped)
+    assert run.returncode == 1 and "DIMENSION_LIST" in run.stdout, run.stdout

@@ -96,6 +96,104 @@ def _dot(ax, ay, bx, by) -> float:
     return float(np.vdot(ax, bx) + np.vdot(ay, by))
 
 
+@dataclass
+class _Faces:
+    """The face of every element at the current tractions: ``sticking`` and ``sliding``
+    (on the ellipse with the slip along its inward normal), the ellipse tangent
+    (``tx``, ``ty``), the slip along it (``along``, mm) and the curvature stiffness λκ of the
+    sliding elements (``curvature``, mm/MPa; 0 elsewhere)."""
+
+    free: np.ndarray
+    sticking: np.ndarray
+    sliding: np.ndarray
+    tx: np.ndarray
+    ty: np.ndarray
+    along: np.ndarray
+    curvature: np.ndarray
+
+    def restrict(self, vx: np.ndarray, vy: np.ndarray, v_along: np.ndarray | None = None):
+        """``v`` on the faces: as is on stick elements, its component along the tangent
+        (``v_along``, default v·t) on slip elements, zero elsewhere."""
+        if v_along is None:
+            v_along = vx * self.tx + vy * self.ty
+        rx = np.where(self.sticking, vx, np.where(self.sliding, v_along * self.tx, 0.0))
+        ry = np.where(self.sticking, vy, np.where(self.sliding, v_along * self.ty, 0.0))
+        return rx, ry
+
+
+def _faces(friction: FrictionLaw, bound, free, qx, qy, gx, gy) -> _Faces:
+    """Classify the elements at tractions q with slip g (see :class:`_Faces`)."""
+    norm = friction.norm(qx, qy)
+    nx, ny, tx, ty, kappa = ellipse_frame(friction, qx, qy, norm)
+    on_bound = free & (norm >= ON_BOUND * bound)
+    multiplier = -(gx * nx + gy * ny)  # λ ≥ 0: slip along the inward normal
+    sliding = on_bound & (multiplier > 0.0)
+    along = gx * tx + gy * ty
+    curvature = np.where(sliding, multiplier * kappa, 0.0)
+    return _Faces(free, free & ~sliding, sliding, tx, ty, along, curvature)
+
+
+def _precondition(preconditioner, self_xx, self_yy, faces: _Faces, rx, ry):
+    """The preconditioned residual z = M⁻¹ r. Where the curvature stiffness λκ of a slip
+    element exceeds its elastic self-stiffness A_ii, its direction is turned by the Newton
+    step r_t / (A_ii + λκ); the other slip elements stay in the spectral block scaled by
+    D^½ M⁻¹ D^½, D = A_ii / (A_ii + λκ) their elastic share (1 on stick elements)."""
+    tx, ty, along, sliding, curvature = (
+        faces.tx,
+        faces.ty,
+        faces.along,
+        faces.sliding,
+        faces.curvature,
+    )
+    stiffness = self_xx * tx**2 + self_yy * ty**2
+    newton = sliding & (curvature > stiffness)
+    share = np.divide(stiffness, stiffness + curvature, out=np.ones_like(along), where=sliding)
+    scale = np.where(faces.free & ~newton, np.sqrt(share), 0.0)
+    zx, zy = preconditioner.tangential(scale * rx, scale * ry)
+    zx, zy = scale * zx, scale * zy
+    newton_step = np.divide(along, stiffness + curvature, out=np.zeros_like(along), where=newton)
+    return faces.restrict(zx, zy, np.where(newton, newton_step, zx * tx + zy * ty))
+
+
+@dataclass
+class _Step:
+    """An accepted step: the traction change (MPa), the slip change A_tt Δq it makes (mm),
+    the halvings it took, and whether it fell back to a gradient step (the conjugate
+    directions restart)."""
+
+    change_x: np.ndarray
+    change_y: np.ndarray
+    image_x: np.ndarray
+    image_y: np.ndarray
+    backtracks: int
+    restarted: bool
+
+
+def _line_search(operator, friction, bound, free, q, g, d, step, lipschitz) -> _Step | None:
+    """Backtracking along ``d`` from the tractions ``q`` (slip ``g``), each trial projected
+    on the ellipses and accepted by the Armijo test on the energy; after
+    ``PRECONDITIONED_ATTEMPTS`` halvings a plain projected-gradient step (which descends for
+    any step ≤ 1/L). None when no step decreases the energy measurably."""
+    (qx, qy), (gx, gy), (dx, dy) = q, g, d
+    restarted = False
+    for attempt in range(MAX_BACKTRACKS):
+        if attempt == PRECONDITIONED_ATTEMPTS:
+            # The preconditioned path keeps failing (far from the solution, the metric and
+            # the projection disagree): take a plain projected-gradient step.
+            dx, dy = np.where(free, gx, 0.0), np.where(free, gy, 0.0)
+            step, restarted = 1.0 / lipschitz, True
+        new_x, new_y = friction.project(qx - step * dx, qy - step * dy, bound)
+        change_x = np.where(free, new_x, 0.0) - qx
+        change_y = np.where(free, new_y, 0.0) - qy
+        image_x, image_y = operator.apply_tangential(change_x, change_y)
+        first = _dot(gx, gy, change_x, change_y)
+        energy_change = first + 0.5 * _dot(image_x, image_y, change_x, change_y)
+        if energy_change <= ARMIJO * first:
+            return _Step(change_x, change_y, image_x, image_y, attempt, restarted)
+        step *= 0.5
+    return None
+
+
 def solve_tangential(
     operator: HalfSpaceOperator,
     preconditioner: SpectralPreconditioner,
@@ -124,73 +222,35 @@ def solve_tangential(
     rz_old = 0.0
     residual, backtracks, iterations, stalled = math.inf, 0, 0, False
     for iterations in range(maxiter + 1):  # noqa: B007 (count kept after loop)
-        norm = friction.norm(qx, qy)
-        nx, ny, tx, ty, kappa = ellipse_frame(friction, qx, qy, norm)
-        on_bound = free & (norm >= ON_BOUND * bound)
-        multiplier = -(gx * nx + gy * ny)  # λ ≥ 0: slip along the inward normal
-        sliding = on_bound & (multiplier > 0.0)
-        sticking = free & ~sliding
-        along = gx * tx + gy * ty
-        rx = np.where(sticking, gx, np.where(sliding, along * tx, 0.0))
-        ry = np.where(sticking, gy, np.where(sliding, along * ty, 0.0))
+        faces = _faces(friction, bound, free, qx, qy, gx, gy)
+        rx, ry = faces.restrict(gx, gy, faces.along)
         residual = math.sqrt(_dot(rx, ry, rx, ry) / count)
         if residual <= tol or iterations == maxiter:
             break
-        curvature = np.where(sliding, multiplier * kappa, 0.0)
-        # Preconditioner: where the curvature stiffness λκ of a slip element exceeds its
-        # elastic self-stiffness A_ii, its direction is turned by the Newton step
-        # r_t / (A_ii + λκ); the other slip elements stay in the spectral block scaled by
-        # D^½ M⁻¹ D^½, D = A_ii / (A_ii + λκ) their elastic share (1 on stick elements).
-        stiffness = self_xx * tx**2 + self_yy * ty**2
-        newton = sliding & (curvature > stiffness)
-        share = np.divide(stiffness, stiffness + curvature, out=np.ones_like(along), where=sliding)
-        scale = np.where(free & ~newton, np.sqrt(share), 0.0)
-        zx, zy = preconditioner.tangential(scale * rx, scale * ry)
-        zx, zy = scale * zx, scale * zy
-        newton_step = np.divide(
-            along, stiffness + curvature, out=np.zeros_like(along), where=newton
-        )
-        z_along = np.where(newton, newton_step, zx * tx + zy * ty)
-        zx = np.where(sticking, zx, np.where(sliding, z_along * tx, 0.0))
-        zy = np.where(sticking, zy, np.where(sliding, z_along * ty, 0.0))
+        zx, zy = _precondition(preconditioner, self_xx, self_yy, faces, rx, ry)
         rz = _dot(rx, ry, zx, zy)
         if rx_old is None:
             dx, dy = zx, zy
-        else:
+        else:  # Polak–Ribière, restarted when β < 0
             beta = max(0.0, (rz - _dot(rx_old, ry_old, zx, zy)) / rz_old)
-            dx, dy = zx + beta * dx, zy + beta * dy
-            d_along = dx * tx + dy * ty
-            dx = np.where(sticking, dx, np.where(sliding, d_along * tx, 0.0))
-            dy = np.where(sticking, dy, np.where(sliding, d_along * ty, 0.0))
+            dx, dy = faces.restrict(zx + beta * dx, zy + beta * dy)
         rx_old, ry_old, rz_old = rx, ry, rz
         wx, wy = operator.apply_tangential(dx, dy)
-        d_along = dx * tx + dy * ty
-        bending = float(np.vdot(curvature, d_along * d_along))
+        d_along = dx * faces.tx + dy * faces.ty
+        bending = float(np.vdot(faces.curvature, d_along * d_along))
         step = _dot(rx, ry, dx, dy) / (_dot(wx, wy, dx, dy) + bending)
-        accepted = False
-        for attempt in range(MAX_BACKTRACKS):
-            if attempt == PRECONDITIONED_ATTEMPTS:
-                # The preconditioned path keeps failing (far from the solution, the metric
-                # and the projection disagree): take a plain projected-gradient step, which
-                # descends for any step ≤ 1/L, and restart the conjugate directions.
-                dx, dy = np.where(free, gx, 0.0), np.where(free, gy, 0.0)
-                step, rx_old = 1.0 / lipschitz, None
-            new_x, new_y = friction.project(qx - step * dx, qy - step * dy, bound)
-            change_x = np.where(free, new_x, 0.0) - qx
-            change_y = np.where(free, new_y, 0.0) - qy
-            image_x, image_y = operator.apply_tangential(change_x, change_y)
-            first = _dot(gx, gy, change_x, change_y)
-            energy_change = first + 0.5 * _dot(image_x, image_y, change_x, change_y)
-            if energy_change <= ARMIJO * first:
-                accepted = True
-                break
-            step *= 0.5
-            backtracks += 1
-        if not accepted:
+        found = _line_search(
+            operator, friction, bound, free, (qx, qy), (gx, gy), (dx, dy), step, lipschitz
+        )
+        if found is None:
+            backtracks += MAX_BACKTRACKS
             stalled = True  # no decrease measurable: the energy is at round-off level
             break
-        qx, qy = qx + change_x, qy + change_y
-        gx, gy = gx + image_x, gy + image_y
+        backtracks += found.backtracks
+        if found.restarted:
+            rx_old = None
+        qx, qy = qx + found.change_x, qy + found.change_y
+        gx, gy = gx + found.image_x, gy + found.image_y
     return TangentialResult(
         tractions=np.array([qx, qy]),
         slip=np.array([gx, gy]),
