@@ -46,8 +46,13 @@ def _row(values: Sequence[str]) -> str:
     return "| " + " | ".join(values) + " |"
 
 
+ROUND_OFF_LENGTH = 1e-12  # mm: a coordinate of the plane at φ ≠ 0 that is zero up to round-off
+
+
 def _point(*coordinates: float) -> str:
-    return "(" + ", ".join(f"{value + 0.0:.4g}" for value in coordinates) + ")"
+    """(x, y, z) in mm; |value| < 1e-12 mm shown as 0 (x = s cos 90° is 6e-17 s, not 0)."""
+    shown = [0.0 if abs(value) < ROUND_OFF_LENGTH else value for value in coordinates]
+    return "(" + ", ".join(f"{value:.4g}" for value in shown) + ")"
 
 
 def _stress_columns(case: CaseResults, cycle: int) -> list[str]:
@@ -126,31 +131,42 @@ def _coupling(study: StudyResults, case: CaseResults) -> float:
     return float(material(study, case).coupling)
 
 
+def _worst(checks: Sequence[MindlinCheck], regime: str, error: str) -> str:
+    errors = [getattr(check, error) for check in checks if check.expected == regime]
+    errors = [abs(value) for value in errors if math.isfinite(value)]
+    return f"{max(errors):.2%}" if errors else "–"
+
+
 def fretting_facts(study: StudyResults) -> list[str]:
-    """The checks against Mindlin and the energy wear law (module docstring)."""
+    """The checks against Mindlin and the energy wear law (module docstring): the totals
+    first (the figures of scripts/check_fretting_map.py), then one line per case."""
     checks = [(case, check_case(study, case)) for case in study.cases]
     applicable = [(case, check) for case, check in checks if check is not None]
     facts = []
     if applicable:
         holding = sum(check.regime_holds for _, check in applicable)
+        found = [check for _, check in applicable]
         facts.append(
             f"slip regime of the first cycle on Mindlin's side (sphere, isotropic friction): "
-            f"{holding} of {len(applicable)} cases"
+            f"{holding} of {len(applicable)} cases; largest |energy error| at N = 1 against "
+            f"Mindlin: partial slip {_worst(found, 'partial', 'energy_error')}, gross slip "
+            f"{_worst(found, 'gross', 'energy_error')} (against the analytic loop at the "
+            f"solver's increments {_worst(found, 'gross', 'sampled_error')})"
         )
-        facts += [_mindlin_fact(study, case, check) for case, check in applicable]
+    ratios = [wear_energy_ratios(study, case) for case in study.cases]
+    ratios = np.concatenate(ratios) if ratios else np.zeros(0)
+    if ratios.size:
+        facts.append(
+            f"wear volume / (α E_d) over every case and history row: {ratios.min():.5f} … "
+            f"{ratios.max():.5f} (1 for the energy wear law)"
+        )
+    facts += [_mindlin_fact(study, case, check) for case, check in applicable]
     others = [case.label for case, check in checks if check is None]
     if others:
         facts.append(
             "no analytic reference (not a sphere, orthotropic friction, μ = 0 or Q* ≥ μP): "
             + ", ".join(others)
         )
-    for case in study.cases:
-        ratios = wear_energy_ratios(study, case)
-        if ratios.size:
-            facts.append(
-                f"{case.label}: wear volume / (α E_d) = {ratios.min():.5f} … {ratios.max():.5f}"
-                " (1 for the energy wear law)"
-            )
     return facts
 
 
