@@ -174,7 +174,9 @@ class MindlinCheck:
     first simulated cycle; ``energy``: the computed energy per cycle (mJ) at N = 1 (the first
     history row without a cycle-1 row), ``exact`` Mindlin's, ``sampled`` the analytic loop at
     the solver's increments (gross slip, displacement control; NaN otherwise); ``ratio``:
-    δ*/δ_slip (displacement control) or Q*/μP (force control); ``exact_coupling``: K = 0."""
+    δ*/δ_slip (displacement control) or Q*/μP (force control); ``exact_coupling``: K = 0;
+    ``energy_ratio``: Fouvry's A = W/(4δ*Q*) at N = 1 with the prescribed δ*, and
+    ``exact_energy_ratio`` Mindlin's (displacement control; NaN otherwise)."""
 
     case_id: str
     control: str  # "displacement" | "force"
@@ -185,6 +187,8 @@ class MindlinCheck:
     exact: float
     sampled: float = math.nan
     exact_coupling: bool = True
+    energy_ratio: float = math.nan  # Fouvry's A = W/(4δ*Q*) at N = 1 (displacement control)
+    exact_energy_ratio: float = math.nan  # Mindlin's master curve at δ*/δ_slip
 
     @property
     def regime_holds(self) -> bool:
@@ -236,6 +240,10 @@ def check_case(study: StudyResults, case: CaseResults) -> MindlinCheck | None:
         case.case_id, "displacement", ratio, expected, computed, energy, exact, math.nan,
         exact_coupling,
     )  # fmt: skip
+    denominator = 4.0 * delta_star * float(case.history["q_amplitude"][row])
+    if denominator > 0:
+        check.energy_ratio = energy / denominator
+        check.exact_energy_ratio = float(mindlin.energy_ratio(ratio))
     loop = case.fields.get(int(case.history["cycle"][row]), {}).get("loop")
     if expected == "gross" and loop is not None:
         theta = direction(study, case)  # δ along the sliding direction
