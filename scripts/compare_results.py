@@ -135,8 +135,6 @@ def _dereferenced(obj, value):
         return tuple(_dereferenced(obj, item) for item in value)
     if isinstance(value, np.ndarray):
         return [_dereferenced(obj, item) for item in value.flat]
-    if isinstance(value, np.integer):  # REFERENCE_LIST's dimension index: its integer type
-        return int(value)  # is the HDF5 library's (u4 or i4 by version), its value is the data
     return _attribute_value(value)
 
 
