@@ -100,42 +100,12 @@ def _compare_attributes(path: str, first, second, ignored: frozenset) -> list[st
             differences.append(f"{where}: attribute only in B")
             continue
         value_a, value_b = first.attrs[name], second.attrs[name]
-        if _has_references(value_a) or _has_references(value_b):
-            value_a, value_b = _dereferenced(first, value_a), _dereferenced(second, value_b)
-            if value_a != value_b:
-                differences.append(f"{where}: A={_short(value_a)} B={_short(value_b)}")
-            continue
         json_a, json_b = _json_object(value_a), _json_object(value_b)
         if json_a is not None and json_b is not None:
             differences += _compare_json(where, json_a, json_b, ignored)
         elif _attribute_value(value_a) != _attribute_value(value_b):
             differences.append(f"{where}: A={_short(value_a)} B={_short(value_b)}")
     return differences
-
-
-def _has_references(value) -> bool:
-    """True for an attribute holding HDF5 object references (the dimension scales'
-    DIMENSION_LIST and REFERENCE_LIST)."""
-    if isinstance(value, h5py.Reference):
-        return True
-    dtype = getattr(value, "dtype", None)
-    if dtype is None:
-        return False
-    if dtype.names:
-        return any(h5py.check_dtype(ref=dtype.fields[field][0]) for field in dtype.names)
-    return dtype.kind == "O" and any(_has_references(item) for item in np.ravel(value))
-
-
-def _dereferenced(obj, value):
-    """The names of the objects the references in ``value`` point to (a reference itself is
-    a file address, which differs between two files with the same content)."""
-    if isinstance(value, h5py.Reference):
-        return obj.file[value].name if value else None
-    if isinstance(value, (np.void, tuple)):
-        return tuple(_dereferenced(obj, item) for item in value)
-    if isinstance(value, np.ndarray):
-        return [_dereferenced(obj, item) for item in value.flat]
-    return _attribute_value(value)
 
 
 def _short(value) -> str:

@@ -91,27 +91,3 @@ def test_each_difference_is_reported(kind, tmp_path):
     result = _compare(first, second)
     assert result.returncode == 1
     assert expected in result.stdout, result.stdout
-
-
-def _with_scales(path: Path, padding: int, scale: str = "x") -> Path:
-    """A field with grid dimension scales attached; ``padding`` bytes of another dataset
-    written first move every object, so the references' addresses differ between files."""
-    with h5py.File(path, "w") as file:
-        if padding:
-            file.create_dataset("padding", data=np.zeros(padding, dtype=np.uint8))
-        for axis in "xy":
-            file.create_dataset(f"grid/{axis}", data=np.arange(2.0)).make_scale(axis)
-        field = file.create_dataset("cases/a/fields/final/pressure", data=np.zeros((2, 2)))
-        field.dims[0].attach_scale(file[f"grid/{scale}"])
-        if padding:
-            del file["padding"]
-    return path
-
-
-def test_dimension_scales_are_compared_by_the_names_they_point_to(tmp_path):
-    """Two writes of the same file put the scales at other addresses: the references
-    (DIMENSION_LIST, REFERENCE_LIST) are compared by the names of their objects."""
-    first = _with_scales(tmp_path / "a.h5", 0)
-    assert _compare(first, _with_scales(tmp_path / "b.h5", 4096)).returncode == 0
-    other = _compare(first, _with_scales(tmp_path / "c.h5", 4096, scale="y"))
-    assert other.returncode == 1 and "@DIMENSION_LIST" in other.stdout
