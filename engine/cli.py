@@ -536,6 +536,16 @@ def _print_plan(config, plan, args, ranks: int, strategy: str, existing) -> None
         if config.is_cyclic
         else f"static, P = {loading.load:g} N"
     )
+    if config.is_fretting:
+        control = (
+            f"displacement control, amplitude {loading.amplitude:g} mm"
+            if loading.amplitude is not None
+            else f"force control, force_amplitude {loading.force_amplitude:g} N"
+        )
+        what = (
+            f"fretting, P = {loading.load:g} N held, {control} along "
+            f"{loading.direction or 0.0:g}° from x, {loading.cycles:,} cycles"
+        )
     if config.sweep.swept_keys:  # the values above are the first of each swept key
         what += "; swept: " + ", ".join(config.sweep.swept_keys)
     output = config.study.output

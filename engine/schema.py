@@ -260,6 +260,10 @@ FRETTING_HISTORY = {
         ),
         ("stick_area", "mm^2", "stick area at the increment of the largest |Q|"),
         ("evaluations", "1", "increment solves of the cycle (force control: secant evaluations)"),
+        # only when [loading] direction != 0 (the plane then contains the sliding direction)
+        ("vm_max_y", "mm", "y of vm_max"),
+        ("vm_sub_max_y", "mm", "y of vm_sub_max"),
+        ("vm_deep_max_y", "mm", "y of vm_deep_max"),
     )
 }
 LOOP_COLUMNS = ("delta_x", "delta_y", "Q_x", "Q_y")
@@ -377,7 +381,7 @@ COLUMN_UNITS = {
     # fretting cases only (extra columns, engine.solvers.fretting)
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
-    "vm_cycle_max_z": "mm", "alpha": "mm^3/J",
+    "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
 }  # fmt: skip
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

@@ -121,7 +121,15 @@ def test_only_the_entry_point_touches_comm_world():
         assert not touches or path == ENGINE / "cli.py", f"{path} uses MPI.COMM_WORLD"
 
 
-@pytest.mark.parametrize("module", ["engine.analysis.report", "engine.analysis.reader"])
+@pytest.mark.parametrize(
+    "module",
+    [
+        "engine.analysis.report",
+        "engine.analysis.reader",
+        "engine.analysis.fretting",
+        "engine.analysis.fretting_report",
+    ],
+)
 def test_post_processing_tables_do_not_import_matplotlib(module):
     code = f"import sys, {module}; assert 'matplotlib' not in sys.modules, 'matplotlib'"
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True)

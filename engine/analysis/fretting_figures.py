@@ -29,18 +29,17 @@ a results file; :func:`fretting_figures` is the thin adapter from the results fi
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import h5py
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from engine.material import MaterialPair
 from engine.reference import mindlin
 
+from . import fretting as _shared
+from .fretting import cumulated_energy, is_fretting, read_loops
 from .reader import CaseResults, StudyResults
 
 __all__ = [
@@ -62,7 +61,6 @@ REGIME_STYLES = {
     "gross": {"color": "C3", "marker": "s", "label": "gross slip"},
 }
 MAX_LOOP_PANELS = 6
-_CYCLE = re.compile(r"cycle_(\d+)$")
 
 
 @dataclass
@@ -280,93 +278,16 @@ def draw_wear_energy(series: Sequence[WearSeries], title: str):
 
 
 # ----------------------------------------------------------------------------- adapter
-def is_fretting(study: StudyResults) -> bool:
-    return study.config.get("loading", {}).get("kind") == "fretting"
-
-
-def _setting(study: StudyResults, case: CaseResults, dotted: str, default=None):
-    """A case's value of a dotted key: its swept setting, else the study file's value."""
-    if dotted in case.settings:
-        return case.settings[dotted]
-    section, key = dotted.split(".", 1)
-    return study.config.get(section, {}).get(key, default)
-
-
-def _direction(study: StudyResults, case: CaseResults) -> float:
-    return float(np.radians(float(_setting(study, case, "loading.direction", 0.0) or 0.0)))
-
-
-def _amplitude(study: StudyResults, case: CaseResults) -> float:
-    """The displacement amplitude δ* (mm): prescribed, else the last measured one."""
-    prescribed = _setting(study, case, "loading.amplitude")
-    if prescribed is not None:
-        return float(prescribed)
-    measured = case.history.get("displacement_amplitude")
-    return float(measured[-1]) if measured is not None and len(measured) else float("nan")
-
-
-def _regime(case: CaseResults) -> str:
-    """ "partial", "gross" or "mixed" (the per-cycle history holds both regimes)."""
-    history = case.history.get("slip_regime")
-    if history is not None and len(history):
-        values = set(np.asarray(history).astype(int).tolist())
-        if values == {0, 1}:
-            return "mixed"
-        return "gross" if values == {1} else "partial"
-    return str(case.summary.get("slip_regime", "partial"))
+# The results-file helpers shared with the report and scripts/check_fretting_map.py live in
+# engine.analysis.fretting (no matplotlib there); the short names below are this module's.
+_setting, _direction, _amplitude = _shared.setting, _shared.direction, _shared.amplitude
+_regime, _sphere_radius, _material = _shared.regime, _shared.sphere_radius, _shared.material
+_energy_coefficient = _shared.energy_coefficient
 
 
 def _isotropic_friction(case: CaseResults) -> bool:
     """μ1 = μ2 (the wear coefficients do not matter here; they are NaN under the energy law)."""
     return case.mu1 == case.mu2
-
-
-def _sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    if _setting(study, case, "punch.shape") != "sphere":
-        return None
-    return float(_setting(study, case, "punch.radius"))
-
-
-def _material(study: StudyResults, case: CaseResults) -> MaterialPair:
-    return MaterialPair(
-        *(float(_setting(study, case, f"material.{key}")) for key in ("E_A", "nu_A", "E_B", "nu_B"))
-    )
-
-
-def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
-    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N) of a case, by cycle N
-    (the nearest enclosing ``cycle_N`` group)."""
-    loops: dict[int, np.ndarray] = {}
-
-    def visit(name, item):
-        if isinstance(item, h5py.Dataset) and name.rsplit("/", 1)[-1] == "loop":
-            cycles = [_CYCLE.match(part) for part in name.split("/")]
-            numbers = [int(match.group(1)) for match in cycles if match]
-            if numbers:
-                loops[numbers[-1]] = np.asarray(item)
-
-    with h5py.File(path, "r") as file:
-        group = file["cases"][case_id]
-        group.visititems(visit)
-    return loops
-
-
-def cumulated_energy(case: CaseResults) -> np.ndarray:
-    """Cumulated dissipated energy E_d (J) at each history row, the companion of the row's
-    ``wear_volume``.
-
-    Row k holds the wear after N_k real cycles and the loop simulated from there, which the
-    cycle jump applies to the cycles N_k + 1 … N_(k+1) (engine.solvers.cyclic): so
-    E_d(N_k) = Σ_(j<k) e_j (N_(j+1) − N_j) with the per-cycle energy e_j (mJ) of row j.
-    ``history/cumulated_energy`` (mJ) is used instead if the solver wrote it.
-    """
-    history = case.history
-    if "cumulated_energy" in history:
-        return np.asarray(history["cumulated_energy"], dtype=float) / 1e3
-    cycles = np.asarray(history["cycle"], dtype=float)
-    energy = np.asarray(history["energy"], dtype=float)
-    steps = energy[:-1] * np.diff(cycles)
-    return np.concatenate([[0.0], np.cumsum(steps)]) / 1e3
 
 
 def _map_figure(study: StudyResults):
@@ -458,20 +379,6 @@ def _loops_figure(study: StudyResults):
     if any(panel.reference is not None for panel in panels):
         title += " (dashed: analytic, unworn surfaces)"
     return draw_fretting_loops(panels, title)
-
-
-def _energy_coefficient(study: StudyResults, case: CaseResults) -> float | None:
-    """The energy law's α (mm³/J) of a case; None under Archard's law."""
-    if study.config.get("wear", {}).get("law", "archard") != "energy":
-        return None
-    for source in (case.settings, case.summary):
-        for key in ("alpha", "sweep.alpha", "wear.alpha"):
-            if key in source:
-                return float(source[key])
-    sweep = study.config.get("sweep", {}).get("alpha")
-    if isinstance(sweep, list):
-        return float(sweep[0]) if len(sweep) == 1 else None
-    return None if sweep is None else float(sweep)
 
 
 def _wear_energy_figure(study: StudyResults):

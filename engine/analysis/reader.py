@@ -24,34 +24,58 @@ __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
 
 @dataclass
 class StressPlane:
-    """Von Mises stress on the x–z plane through the punch axis (y = 0).
+    """Von Mises stress on the vertical plane through the punch axis at ``angle`` φ (degrees
+    from x; 0: the x–z plane y = 0, the default; a fretting case's plane contains its sliding
+    direction, attribute ``plane_angle`` of its datasets).
 
-    ``x``, ``z``: coordinates (mm), shape ``(n_s, n_z)``, z into the half-space; ``von_mises``
-    (MPa), same shape. ``depths``: the evaluated depths (mm); ``depths[0]`` is the surface
-    layer (see :func:`engine.solvers.subsurface.depth_layers`).
+    ``x``, ``y``, ``z``: coordinates (mm), shape ``(n_s, n_z)``, z into the half-space (``y``
+    None: zeros); ``von_mises`` (MPa), same shape. ``s`` = x cos φ + y sin φ: the signed
+    distance along the plane (= x on the x–z plane). ``depths``: the evaluated depths (mm);
+    ``depths[0]`` is the surface layer (see :func:`engine.solvers.subsurface.depth_layers`).
     """
 
     x: np.ndarray
     z: np.ndarray
     von_mises: np.ndarray
+    y: np.ndarray | None = None
+    angle: float = 0.0
 
     @property
     def depths(self) -> np.ndarray:
         return self.z[0]
 
-    def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
-        """(σ_VM, x, z) of the largest von Mises stress over the points with z >= min_depth."""
+    @property
+    def s(self) -> np.ndarray:
+        """Signed along-plane coordinate (mm); exactly ``x`` on the x–z plane."""
+        if self.angle == 0.0 or self.y is None:
+            return self.x
+        phi = np.radians(self.angle)
+        return self.x * np.cos(phi) + self.y * np.sin(phi)
+
+    def _index(self, min_depth: float):
         candidates = np.where(self.z >= min_depth, self.von_mises, -np.inf)
-        index = np.unravel_index(np.argmax(candidates), candidates.shape)
-        return float(self.von_mises[index]), float(self.x[index]), float(self.z[index])
+        return np.unravel_index(np.argmax(candidates), candidates.shape)
+
+    def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
+        """(σ_VM, s, z) of the largest von Mises stress over the points with z >= min_depth
+        (s: along the plane, = x on the x–z plane)."""
+        index = self._index(min_depth)
+        return float(self.von_mises[index]), float(self.s[index]), float(self.z[index])
+
+    def peak_point(self, min_depth: float = 0.0) -> tuple[float, float, float, float]:
+        """(σ_VM, x, y, z) of the largest von Mises stress over the points with z >= min_depth."""
+        index = self._index(min_depth)
+        y = 0.0 if self.y is None else float(self.y[index])
+        return float(self.von_mises[index]), float(self.x[index]), y, float(self.z[index])
 
     def axis_peak(self) -> tuple[float, float, float]:
-        """(σ_VM, x, z) of the largest von Mises stress on the punch axis (the column x ≈ 0)."""
-        column = int(np.argmin(np.abs(self.x[:, 0])))
+        """(σ_VM, s, z) of the largest von Mises stress on the punch axis (the column s ≈ 0)."""
+        along = self.s
+        column = int(np.argmin(np.abs(along[:, 0])))
         depth = int(np.argmax(self.von_mises[column]))
         return (
             float(self.von_mises[column, depth]),
-            float(self.x[column, depth]),
+            float(along[column, depth]),
             float(self.z[column, depth]),
         )
 
@@ -125,7 +149,13 @@ class StudyResults:
 
     @property
     def is_cyclic(self) -> bool:
+        """The radial cyclic kind (``kind = "cyclic"``); fretting studies: :attr:`is_fretting`."""
         return self.config["loading"]["kind"] == "cyclic"
+
+    @property
+    def is_fretting(self) -> bool:
+        """Tangential fretting (``kind = "fretting"``, issue 13): load cycles and wear too."""
+        return self.config["loading"]["kind"] == "fretting"
 
     @property
     def swept_keys(self) -> list[str]:
@@ -227,11 +257,19 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
     for name, sub in group.get("fields", {}).items():
         case.fields[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
     for name, sub in group.get("subsurface", {}).items():
-        case.planes[_group_key(name)] = StressPlane(
-            x=np.asarray(sub["x"]), z=np.asarray(sub["z"]), von_mises=np.asarray(sub["von_mises"])
-        )
+        case.planes[_group_key(name)] = _plane(sub)
     for name, sub in group.get("peak_changes", {}).items():
-        case.change_planes[_group_key(name)] = StressPlane(
-            x=np.asarray(sub["x"]), z=np.asarray(sub["z"]), von_mises=np.asarray(sub["von_mises"])
-        )
+        case.change_planes[_group_key(name)] = _plane(sub)
     return case
+
+
+def _plane(group: h5py.Group) -> StressPlane:
+    """A stored plane; its angle (degrees) from the ``plane_angle`` attribute (absent: 0)."""
+    von_mises = group["von_mises"]
+    return StressPlane(
+        x=np.asarray(group["x"]),
+        z=np.asarray(group["z"]),
+        von_mises=np.asarray(von_mises),
+        y=np.asarray(group["y"]) if "y" in group else None,
+        angle=float(von_mises.attrs.get("plane_angle", 0.0)),
+    )

@@ -6,7 +6,9 @@ Per case:
 cyclic study   at each N (default: the recorded cycles): maximum wear depth (µm), wear volume
                (mm³), peak pressure p_max/p0, peak σ_VM/p0 over the x–z plane and its location
                (r/a0, z/a0), and the peak below the surface layer with its location;
-static study   approach g_n (µm), stiffness ratio k_μ/k_0, stick fraction, the same σ_VM peaks.
+static study   approach g_n (µm), stiffness ratio k_μ/k_0, stick fraction, the same σ_VM peaks;
+fretting study the fretting columns and the checks against Mindlin
+               (:mod:`engine.analysis.fretting_report`).
 
 Then a list of *measured facts* bearing on the paper's findings (Section 7): stick and
 stiffness vs Mossakovskii, wear ordering in μ, peak locations, spread over β, where the
@@ -325,6 +327,10 @@ def cyclic_facts(study: StudyResults) -> list[str]:
 def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
     study = results if isinstance(results, StudyResults) else read_results(results)
+    if study.is_fretting:
+        from .fretting_report import fretting_report
+
+        return fretting_report(study, cycles)
     if study.swept_keys:
         return _swept_report(study, cycles)
     config = study.config

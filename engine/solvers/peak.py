@@ -115,13 +115,20 @@ class _PlaneMaximum:
     value: float
     x: float
     z: float
+    y: float = 0.0
+    s: float = 0.0  # signed distance along the plane (= x on the x–z plane)
 
 
 def _maximum(plane: StressField, mask: np.ndarray) -> _PlaneMaximum:
     candidates = np.where(mask, plane.von_mises, -np.inf)
     index = np.unravel_index(np.argmax(candidates), candidates.shape)
+    along = plane.x if plane.s is None else plane.s
     return _PlaneMaximum(
-        float(plane.von_mises[index]), float(plane.x[index]), float(plane.z[index])
+        float(plane.von_mises[index]),
+        float(plane.x[index]),
+        float(plane.z[index]),
+        float(plane.y[index]),
+        float(along[index]),
     )
 
 
@@ -133,11 +140,18 @@ class PeakTracker:
     ``punch_radius`` a0 (mm). Calling ``tracker(pressure, traction_x, traction_y)`` (MPa, grid
     shape) returns the history values of ``PEAK_HISTORY_UNITS`` (floats; ``peak_region`` as
     its code) and keeps the plane in ``last_plane``.
+
+    ``angle`` (rad, default 0: the x–z plane): the vertical plane through the axis at φ from x
+    instead (a fretting case's sliding direction). The axis column and the regions then use
+    the distance along the plane |s|; the ``_x`` values stay Cartesian x, and the values gain
+    ``vm_max_y``, ``vm_sub_max_y``, ``vm_deep_max_y`` (mm) — only when φ ≠ 0, so the x–z
+    results are unchanged.
     """
 
-    def __init__(self, stress: SubsurfaceStress, punch_radius: float):
+    def __init__(self, stress: SubsurfaceStress, punch_radius: float, angle: float = 0.0):
         self.stress = stress
         self.punch_radius = float(punch_radius)
+        self.angle = float(angle)
         depths = np.sort(stress.depths)
         self.subsurface_depth = float(depths[1]) if depths.size > 1 else float(depths[0])
         self.deep_depth = DEEP_DEPTH_FRACTION * self.punch_radius
@@ -162,18 +176,26 @@ class PeakTracker:
         return float(np.asarray(pressure)[self._centre].mean())
 
     def __call__(self, pressure, traction_x=None, traction_y=None) -> dict[str, float]:
-        plane = self.stress.plane(pressure, traction_x, traction_y, angle=0.0)
+        plane = self.stress.plane(pressure, traction_x, traction_y, angle=self.angle)
         self.last_plane = plane
         overall = _maximum(plane, np.ones(plane.z.shape, dtype=bool))
         below = _maximum(plane, plane.z >= self.subsurface_depth)
         deep = _maximum(plane, plane.z >= self.deep_depth)
-        axis_column = np.abs(plane.x) == np.abs(plane.x).min()
+        along = plane.x if plane.s is None else plane.s  # s = x on the x–z plane
+        axis_column = np.abs(along) == np.abs(along).min()
         axis = _maximum(plane, axis_column)
         radius = self.contact_radius(pressure)
         region = deep_region = None
         if radius > 0.0:
-            region = classify_peak(overall.x, overall.z, radius)
-            deep_region = classify_peak(deep.x, deep.z, radius)
+            region = classify_peak(overall.s, overall.z, radius)
+            deep_region = classify_peak(deep.s, deep.z, radius)
+        locations = {}
+        if self.angle != 0.0:
+            locations = {
+                "vm_max_y": overall.y,
+                "vm_sub_max_y": below.y,
+                "vm_deep_max_y": deep.y,
+            }
         return {
             "vm_max": overall.value,
             "vm_max_x": overall.x,
@@ -190,4 +212,4 @@ class PeakTracker:
             "centre_pressure": self.centre_pressure(pressure),
             "peak_region": math.nan if region is None else float(region_code(region)),
             "deep_region": math.nan if deep_region is None else float(region_code(deep_region)),
-        }
+        } | locations

@@ -382,6 +382,7 @@ class CaseRunner:
                 case, FAILED, message=f"fretting analysis did not converge: {run.result.message}"
             )
         result, final = run.result, run.result.final
+        angle = math.radians(fretting_case.plane_angle(cfg))  # the plane holds the direction
         datasets = self._history_datasets(result.history, fretting=True)
         datasets.update(self._grid_datasets(grid))
         for cycle in sorted(result.records):
@@ -395,14 +396,15 @@ class CaseRunner:
                     np.asarray(values), spec.units, description
                 )
             plane = stress.plane(
-                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
             )
             datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         datasets.update(self._final_fields(final))
         history = result.history
-        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final", angle)
         row.update(self._peak_row(run.tracker, final, history))
         row.update(fretting_case.summary_values(result))
+        fretting_case.label_plane(datasets, fretting_case.plane_angle(cfg))
         row.update(
             cycles=int(history["cycle"][-1]),
             max_wear_depth=float(history["max_wear_depth"][-1]),
@@ -463,7 +465,7 @@ class CaseRunner:
             "peak_region": region_name(values["peak_region"]),
             "deep_region": region_name(values["deep_region"]),
             "peak_region_change_cycle": math.nan if change is None else change,
-        }
+        } | ({"vm_deep_max_y": values["vm_deep_max_y"]} if "vm_deep_max_y" in values else {})
 
     # ---------------------------------------------------------------- shared pieces
     def _final_fields(self, final) -> dict[str, DatasetRecord]:
@@ -489,8 +491,12 @@ class CaseRunner:
             for axis, values in (("x", grid.x), ("y", grid.y))
         }
 
-    def _final_row(self, case, cfg, final, stress, depths, datasets, group) -> dict[str, Any]:
-        plane = stress.plane(final.pressure, final.traction_x, final.traction_y, angle=0.0)
+    def _final_row(
+        self, case, cfg, final, stress, depths, datasets, group, angle: float = 0.0
+    ) -> dict[str, Any]:
+        """Summary values of the final state; σ_VM on the vertical plane at ``angle`` (rad,
+        0: the x–z plane)."""
+        plane = stress.plane(final.pressure, final.traction_x, final.traction_y, angle=angle)
         datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
         peak = plane.peak()
         below_surface = float(depths[1]) if len(depths) > 1 else float(depths[0])

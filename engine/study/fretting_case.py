@@ -12,6 +12,12 @@ Datasets of a completed fretting case, besides those of a cyclic case:
 - ``fields/cycle_NNNNNNN/vm_cycle``: (σ_VM max over the cycle's increments in the x–z plane
   (MPa), its x, y, z (mm)).
 
+The subsurface plane (``subsurface/*``, the σ_VM history and summary values, ``vm_cycle``) is
+the vertical plane through the axis that contains the sliding direction ``direction``: the
+x–z plane at 0°; at φ ≠ 0 its datasets carry the attribute ``plane_angle`` (degrees) and say
+so in their description, and the history and summary gain the y of the tracked peaks
+(``vm_max_y``, ``vm_sub_max_y``, ``vm_deep_max_y``; summary ``vm_deep_max_y``).
+
 The recorded surface fields of a fretting cycle are those of its increment of largest |Q|.
 Summary columns: ``q_amplitude`` (N), ``displacement_amplitude`` (mm), ``energy_per_cycle``
 (mJ), ``slip_regime`` ("partial" | "gross") of the last simulated cycle, and ``vm_cycle_max``
@@ -22,6 +28,7 @@ cycle; ``vm_max`` and the other stress columns are at the increment of the large
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -39,6 +46,32 @@ class FrettingRun:
     result: Any
     tracker: Any
     message: str
+
+
+def plane_angle(cfg) -> float:
+    """The subsurface plane's angle φ (degrees from x): the sliding direction, so that the
+    vertical plane through the axis contains it (0: the x–z plane of the other kinds)."""
+    return float(cfg.loading.direction or 0.0)
+
+
+def label_plane(datasets: dict, angle: float) -> None:
+    """In place, for φ = ``angle`` ≠ 0 (degrees): the plane's datasets (``subsurface/*``, the
+    σ_VM peaks of ``history/`` and ``vm_cycle``) say which plane they are on, in their
+    description and in the attribute ``plane_angle`` (degrees from x). Nothing changes at
+    φ = 0, so x–z results stay as they were."""
+    if angle == 0.0:
+        return
+    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    for path, record in datasets.items():
+        description = _XZ_PLANE.sub(plane, record.description)
+        if path.startswith("subsurface/"):
+            description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+        if description != record.description:
+            record.description = description
+            record.attrs["plane_angle"] = angle
+
+
+_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
 
 
 def settings(cfg) -> FrettingSettings:
@@ -91,10 +124,11 @@ def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> F
 
     fretting = settings(cfg)
     check_force_bound(case, fretting)
-    tracker = PeakTracker(stress, cfg.contact_length)
+    angle = math.radians(plane_angle(cfg))  # the plane contains the sliding direction
+    tracker = PeakTracker(stress, cfg.contact_length, angle=angle)
 
     def increment_probe(pressure, traction_x, traction_y):
-        peak = stress.plane(pressure, traction_x, traction_y, angle=0.0).peak()
+        peak = stress.plane(pressure, traction_x, traction_y, angle=angle).peak()
         return (peak.value, peak.x, peak.y, peak.z)
 
     analysis = FrettingAnalysis(

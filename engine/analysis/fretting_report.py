@@ -1,0 +1,204 @@
+"""Report of a tangential fretting study (``[loading] kind = "fretting"``, issue 13).
+
+``python -m engine report RESULTS.h5`` prints, for a fretting study, per case and recorded
+cycle N (or the cycles of ``--cycles``):
+
+- the fretting columns of the history: tangential force amplitude Q* (``q_amplitude``, N),
+  displacement amplitude δ* (``displacement_amplitude``, mm), energy per cycle ∮ Q·dδ
+  (``energy_per_cycle``, mJ), slip regime (partial / gross), wear volume (mm³), maximum wear
+  depth (µm);
+- σ_VM (MPa) at the increment of the largest |Q| (= Q*, column "σ_VM at Q*") on the
+  vertical plane through the axis that contains the sliding direction, with its location
+  (x, y, z in mm), and the largest σ_VM over the cycle's increments (``vm_cycle``) with its
+  location;
+
+then the measured checks against Mindlin where they apply (engine.analysis.fretting: a
+sphere, μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle against δ_slip(P),
+energy per cycle at N = 1 against Mindlin–Deresiewicz (partial slip) or the gross-slip
+energy, and against the analytic loop sampled at the solver's increments; Fouvry's energy
+ratio A = W/(4δ*Q*) against Mindlin's master curve; under the energy wear law V/(α E_d).
+No matplotlib here (tests/test_architecture.py).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from .fretting import MindlinCheck, check_case, material, wear_energy_ratios
+from .reader import CaseResults, StudyResults
+
+__all__ = ["fretting_report", "fretting_table", "fretting_facts"]
+
+COLUMNS = [
+    "case", "N", "q_amplitude (N)", "displacement_amplitude (mm)", "energy_per_cycle (mJ)",
+    "slip_regime", "wear volume (mm³)", "max wear depth (µm)", "σ_VM at Q* (MPa)",
+    "at (x, y, z) (mm)", "σ_VM cycle max (MPa)", "at (x, y, z) (mm)",
+]  # fmt: skip
+REGIME_WORDS = {0: "partial", 1: "gross"}
+
+
+def _row(values: Sequence[str]) -> str:
+    return "| " + " | ".join(values) + " |"
+
+
+ROUND_OFF_LENGTH = 1e-12  # mm: a coordinate of the plane at φ ≠ 0 that is zero up to round-off
+
+
+def _point(*coordinates: float) -> str:
+    """(x, y, z) in mm; |value| < 1e-12 mm shown as 0 (x = s cos 90° is 6e-17 s, not 0)."""
+    shown = [0.0 if abs(value) < ROUND_OFF_LENGTH else value for value in coordinates]
+    return "(" + ", ".join(f"{value:.4g}" for value in shown) + ")"
+
+
+def _stress_columns(case: CaseResults, cycle: int) -> list[str]:
+    """σ_VM at the largest |Q| (the recorded plane) and the cycle maximum, with locations."""
+    columns = ["–", "–", "–", "–"]
+    plane = case.planes.get(cycle)
+    if plane is not None:
+        value, x, y, z = plane.peak_point()
+        columns[:2] = [f"{value:.4g}", _point(x, y, z)]
+    record = case.fields.get(cycle, {}).get("vm_cycle")
+    if record is not None:
+        value, x, y, z = (float(v) for v in np.asarray(record).ravel()[:4])
+        columns[2:] = [f"{value:.4g}", _point(x, y, z)]
+    return columns
+
+
+def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> list[str]:
+    """The fretting columns per case and cycle (module docstring)."""
+    if cycles is None:
+        cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    lines = [_row(COLUMNS), "|" + "|".join("---" for _ in COLUMNS) + "|"]
+    for case in study.cases:
+        for cycle in cycles:
+            energy = case.history_at("energy", cycle)
+            if math.isnan(energy):
+                continue
+            regime = case.history_at("slip_regime", cycle)
+            values = [
+                case.label,
+                f"{cycle:,}",
+                f"{case.history_at('q_amplitude', cycle):.5g}",
+                f"{case.history_at('displacement_amplitude', cycle):.4g}",
+                f"{energy:.4g}",
+                REGIME_WORDS.get(int(regime), "?") if math.isfinite(regime) else "–",
+                f"{case.history_at('wear_volume', cycle):.3e}",
+                f"{case.history_at('max_wear_depth', cycle) * 1e3:.4g}",
+                *_stress_columns(case, cycle),
+            ]
+            lines.append(_row(values))
+    return lines
+
+
+def _mindlin_fact(study: StudyResults, case: CaseResults, check: MindlinCheck) -> str:
+    """One case against Mindlin: regime, energy, energy ratio."""
+    if check.control == "displacement":
+        where = f"δ*/δ_slip = {check.ratio:.3g}"
+    else:
+        where = f"Q*/μP = {check.ratio:.3g}"
+    verdict = "as Mindlin" if check.regime_holds else f"Mindlin says {check.expected}"
+    text = (
+        f"{case.label}: {where}, first cycle {check.computed} slip ({verdict}); energy at "
+        f"N = 1 {check.energy:.4g} mJ vs {check.exact:.4g} mJ ({check.energy_error:+.2%})"
+    )
+    if math.isfinite(check.sampled_error):
+        text += f", vs the analytic loop at the solver's increments {check.sampled_error:+.2%}"
+    if math.isfinite(check.energy_ratio):
+        text += (
+            f"; energy ratio A = W/(4δ*Q*) {check.energy_ratio:.3f} "
+            f"(Mindlin {check.exact_energy_ratio:.3f})"
+        )
+    if not check.exact_coupling:
+        coupling = _coupling(study, case)
+        text += f" [K = {coupling:.3g} ≠ 0: Mindlin is only approximate]"
+    return text
+
+
+def _coupling(study: StudyResults, case: CaseResults) -> float:
+    return float(material(study, case).coupling)
+
+
+def _worst(checks: Sequence[MindlinCheck], regime: str, error: str) -> str:
+    errors = [getattr(check, error) for check in checks if check.expected == regime]
+    errors = [abs(value) for value in errors if math.isfinite(value)]
+    return f"{max(errors):.2%}" if errors else "–"
+
+
+def fretting_facts(study: StudyResults) -> list[str]:
+    """The checks against Mindlin and the energy wear law (module docstring): the totals
+    first (the figures of scripts/check_fretting_map.py), then one line per case."""
+    checks = [(case, check_case(study, case)) for case in study.cases]
+    applicable = [(case, check) for case, check in checks if check is not None]
+    facts = []
+    if applicable:
+        holding = sum(check.regime_holds for _, check in applicable)
+        found = [check for _, check in applicable]
+        facts.append(
+            f"slip regime of the first cycle on Mindlin's side (sphere, isotropic friction): "
+            f"{holding} of {len(applicable)} cases; largest |energy error| at N = 1 against "
+            f"Mindlin: partial slip {_worst(found, 'partial', 'energy_error')}, gross slip "
+            f"{_worst(found, 'gross', 'energy_error')} (against the analytic loop at the "
+            f"solver's increments {_worst(found, 'gross', 'sampled_error')})"
+        )
+    ratios = [wear_energy_ratios(study, case) for case in study.cases]
+    ratios = np.concatenate(ratios) if ratios else np.zeros(0)
+    if ratios.size:
+        facts.append(
+            f"wear volume / (α E_d) over every case and history row: {ratios.min():.5f} … "
+            f"{ratios.max():.5f} (1 for the energy wear law)"
+        )
+    facts += [_mindlin_fact(study, case, check) for case, check in applicable]
+    others = [case.label for case, check in checks if check is None]
+    if others:
+        facts.append(
+            "no analytic reference (not a sphere, orthotropic friction, μ = 0 or Q* ≥ μP): "
+            + ", ".join(others)
+        )
+    return facts
+
+
+def _value(study: StudyResults, key: str, unit: str, default=None) -> str:
+    """``loading.<key>`` of the study file with its unit, or "swept" when it is swept."""
+    if f"loading.{key}" in study.swept_keys:
+        return "swept"
+    value = study.config["loading"].get(key)
+    value = default if value is None else value
+    return "–" if value is None else f"{float(value):g}{unit}"
+
+
+def _signal(study: StudyResults) -> str:
+    """The tangential signal: control mode, amplitude and direction."""
+    loading = study.config["loading"]
+    if loading.get("force_amplitude") is not None or "loading.force_amplitude" in study.swept_keys:
+        signal = f"force control, Q* = {_value(study, 'force_amplitude', ' N')}"
+    else:
+        signal = f"displacement control, δ* = {_value(study, 'amplitude', ' mm')}"
+    return f"{signal} along {_value(study, 'direction', '°', 0.0)} from x"
+
+
+def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
+    """The Markdown table and checks of a fretting study."""
+    loading, config = study.config["loading"], study.config
+    swept = f"; swept: {', '.join(study.swept_keys)}" if study.swept_keys else ""
+    law = config.get("wear", {}).get("law", "archard")
+    subsurface = config.get("subsurface", {})
+    lines = [
+        f"### {study.name}",
+        "",
+        f"{study.mesh_label}, tangential fretting: P = {_value(study, 'load', ' N')} (held), "
+        f"{_signal(study)}, {int(loading['cycles']):,} cycles, {law} wear law{swept} (a "
+        "case's label gives its swept values). "
+        f"Subsurface: {subsurface.get('layers')} layers to z = "
+        f"{subsurface.get('depth')} a0, on the vertical plane through the axis that "
+        f"contains the sliding direction. Source: `{study.path}`.",
+        "",
+    ]
+    lines += fretting_table(study, cycles)
+    lines += ["", "Measured:", ""]
+    lines += [f"- {fact}" for fact in fretting_facts(study)]
+    if study.skipped:
+        lines += ["", "Not completed: " + ", ".join(f"{c} ({s})" for c, s in study.skipped)]
+    return "\n".join(lines) + "\n"
