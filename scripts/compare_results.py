@@ -44,6 +44,7 @@ RUN_DEPENDENT = frozenset(
         "date",  # calendar date/time of a run
         "created",
         "timestamp",
+        "rank",  # which MPI rank computed a case (depends on the rank count and scheduling)
     }
 )
 
@@ -57,7 +58,7 @@ def _attribute_value(value, handle=None):
     if isinstance(value, bytes):
         return ("bytes", value)
     if isinstance(value, np.ndarray) and value.dtype.names:  # compound, e.g. REFERENCE_LIST
-        rows = [tuple(_attribute_value(item, handle) for item in row) for row in value.flat]
+        rows = [tuple(_field_value(item, handle) for item in row) for row in value.flat]
         return ("compound", value.dtype.names, value.shape, rows)
     if isinstance(value, np.ndarray):
         if value.dtype.kind == "O":
@@ -69,6 +70,14 @@ def _attribute_value(value, handle=None):
     if isinstance(value, np.generic):
         return ("scalar", value.dtype.str, value.tobytes())
     return (type(value).__name__, value)
+
+
+def _field_value(item, handle):
+    """A field of a compound attribute: integers by value (REFERENCE_LIST's dimension index
+    is u4 or i4 by the HDF5 library's version; its value is the data), others as above."""
+    if isinstance(item, np.integer):
+        return ("integer", int(item))
+    return _attribute_value(item, handle)
 
 
 def _json_object(value):
