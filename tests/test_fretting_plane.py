@@ -17,36 +17,29 @@ import pytest
 
 from engine.analysis.reader import read_results
 from engine.cli import main
+from engine.study.examples import SPHERE_ON_STEEL, study_toml
 
-STUDY = """
-[study]
-name = "plane{direction}"
-output = "{output}"
-[material]
-E_A = 210e3
-nu_A = 0.3
-E_B = 210e3
-nu_B = 0.3
-[punch]
-shape = "sphere"
-radius = 10.0
-[mesh]
-n = 16
-[loading]
-kind = "fretting"
-load = 100.0
-steps = 2
-cycles = 4
-record = [1, 4]
-amplitude = 0.0015
-direction = {direction}.0
-[subsurface]
-depth = 1.0
-layers = 4
-[sweep]
-mu1 = [0.5]
-wear1 = [1e-6]
-"""
+STEEL = {"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3}  # MPa, 1
+
+
+def study(direction: int, output) -> str:
+    """A 16² sphere (R = 10 mm, P = 100 N) fretted 1.5 µm along ``direction``, 4 cycles."""
+    return study_toml(
+        f"plane{direction}",
+        str(output),
+        SPHERE_ON_STEEL,
+        material=STEEL,
+        loading={
+            "kind": "fretting",
+            "cycles": 4,
+            "record": [1, 4],
+            "amplitude": 0.0015,
+            "direction": float(direction),
+        },
+        sweep={"mu1": [0.5], "wear1": [1e-6]},
+    )
+
+
 PEAKS = ["vm_max", "vm_sub_max", "vm_deep_max", "vm_axis_max", "vm_cycle_max"]
 ROUND_OFF = 1e-12  # relative (values) and mm (locations): the turned problem is the same one
 
@@ -57,7 +50,7 @@ def studies(tmp_path_factory):
     paths = {}
     for direction in (0, 90):
         output = folder / f"plane{direction}.h5"
-        text = STUDY.replace("{output}", str(output)).replace("{direction}", str(direction))
+        text = study(direction, output)
         (folder / f"plane{direction}.toml").write_text(text)
         assert main([str(folder / f"plane{direction}.toml"), "--no-progress-bar"]) == 0
         paths[direction] = output

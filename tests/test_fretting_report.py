@@ -16,44 +16,17 @@ from engine.analysis.fretting_report import COLUMNS
 from engine.analysis.reader import read_results
 from engine.analysis.report import study_report
 from engine.cli import main
+from engine.study.examples import study_toml
 
-STUDY = """
-[study]
-name = "report_fretting"
-output = "{output}"
-
-[material]
-E_A = 210e3
-nu_A = 0.3
-E_B = 210e3
-nu_B = 0.3
-
-[punch]
-shape = "sphere"
-radius = 12.7
-
-[mesh]
-n = 16
-
-[loading]
-kind = "fretting"
-load = 100.0
-steps = 2
-cycles = 4
-record = [1, 4]
-
-[subsurface]
-depth = 1.0
-layers = 4
-
-[wear]
-law = "energy"
-
-[sweep]
-mu1 = [0.6]
-alpha = [5e-6]
-"loading.amplitude" = [0.0006, 0.003]
-"""
+STUDY = study_toml(
+    "report_fretting",
+    "{output}",
+    material={"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3},
+    punch={"shape": "sphere", "radius": 12.7},
+    loading={"kind": "fretting", "cycles": 4, "record": [1, 4]},
+    wear={"law": "energy"},
+    sweep={"mu1": [0.6], "alpha": [5e-6], "loading.amplitude": [0.0006, 0.003]},
+)
 
 
 @pytest.fixture(scope="module")
