@@ -283,23 +283,39 @@ class CyclicAnalysis:
             self._append_history(state, outcome.peak, jump, area)
             if state.cycle in settings.record or done:
                 state.records[state.cycle] = self._record(state, outcome)
-            state.matvecs += self._matvecs
-            state.load_steps += self._steps
-            state.failures.extend(self._failures)
-            state.step_size_estimate = self.solver.step_size_estimate
-            self._matvecs, self._steps, self._failures = 0, 0, []
+            self._settle_counts(state)
             if on_cycle is not None:
                 on_cycle(state.cycle, settings.cycles)
             if done:
                 completed = True
                 break
-            state.wear = state.wear + jump * outcome.wear_increment
-            state.contact = outcome.end_state
-            if warm:
-                state.warm_jump = state.jump if state.warm else 0
-                state.warm = [outcome.increments, *state.warm[:1]]
-            state.cycle += jump
-            state.jump = jump
+            self._advance(state, outcome, jump, warm)
+        return self._result(state, completed, final)
+
+    def _settle_counts(self, state: CyclicState) -> None:
+        """Move the simulated cycle's operator applications, increments and failures (and
+        the step-size estimate) into the state, which a checkpoint keeps."""
+        state.matvecs += self._matvecs
+        state.load_steps += self._steps
+        state.failures.extend(self._failures)
+        state.step_size_estimate = self.solver.step_size_estimate
+        self._matvecs, self._steps, self._failures = 0, 0, []
+
+    @staticmethod
+    def _advance(state: CyclicState, outcome: _CycleOutcome, jump: int, warm: bool) -> None:
+        """Jump ``jump`` real cycles: the simulated cycle's wear increment times the jump,
+        its end state, and (warm starts) its increments as the next cycle's starting points."""
+        state.wear = state.wear + jump * outcome.wear_increment
+        state.contact = outcome.end_state
+        if warm:
+            state.warm_jump = state.jump if state.warm else 0
+            state.warm = [outcome.increments, *state.warm[:1]]
+        state.cycle += jump
+        state.jump = jump
+
+    def _result(self, state: CyclicState, completed: bool, final) -> CyclicResult:
+        """The result of a run that ``completed`` (or was stopped) at ``state``."""
+        settings = self.settings
         history = {key: np.asarray(values, dtype=float) for key, values in state.history.items()}
         converged = not state.failures
         if not completed:

@@ -338,29 +338,46 @@ class CaseRunner:
         datasets = self._history_datasets(result.history)
         datasets.update(self._region_change_datasets(stress, result.state.region_changes))
         datasets.update(self._grid_datasets(grid))
-        for cycle in sorted(result.records):
-            fields = result.records[cycle]
-            group = cycle_group(cycle)
+        records = {cycle: dict(fields) for cycle, fields in result.records.items()}
+        datasets.update(self._recorded_datasets(records, stress))
+        datasets.update(self._final_fields(final))
+        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
+        row.update(self._peak_row(tracker, final, result.history))
+        row.update(self._totals_row(result, cfg))
+        return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
+    def _recorded_datasets(self, records, stress, angle=0.0, moment="peak load of"):
+        """The surface fields (``fields/cycle_N/``) and the stress plane through the axis at
+        ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``moment``
+        names the instant of the fields in their descriptions."""
+        datasets = {}
+        for cycle in sorted(records):
+            fields, group = records[cycle], cycle_group(cycle)
             for name, values in fields.items():
-                datasets[f"fields/{group}/{name}"] = field_dataset(name, group).record(values)
+                spec = field_dataset(name, group)
+                description = spec.description.replace("peak load of", moment)
+                datasets[f"fields/{group}/{name}"] = DatasetRecord(
+                    np.asarray(values), spec.units, description
+                )
             plane = stress.plane(
-                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=0.0
+                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
             )
             datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
-        datasets.update(self._final_fields(final))
+        return datasets
+
+    @staticmethod
+    def _totals_row(result, cfg: StudyConfig) -> dict[str, Any]:
+        """Cycles reached, wear, and the work counts (cumulative over resumed runs: they are
+        kept in the state) of a cyclic or fretting run."""
         history = result.history
-        row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
-        row.update(self._peak_row(tracker, final, history))
-        row.update(
-            cycles=int(history["cycle"][-1])
-            if len(history.get("cycle", []))
-            else cfg.loading.cycles,
-            max_wear_depth=float(history["max_wear_depth"][-1]),
-            wear_volume=float(history["wear_volume"][-1]),
-            load_steps=int(result.load_steps),  # cumulative over resumed runs (in the state)
-            matvecs=int(result.matvecs),
-        )
-        return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+        cycles = history.get("cycle", [])
+        return {
+            "cycles": int(cycles[-1]) if len(cycles) else cfg.loading.cycles,
+            "max_wear_depth": float(history["max_wear_depth"][-1]),
+            "wear_volume": float(history["wear_volume"][-1]),
+            "load_steps": int(result.load_steps),
+            "matvecs": int(result.matvecs),
+        }
 
     # ---------------------------------------------------------------- fretting
     def _run_fretting(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
@@ -385,33 +402,16 @@ class CaseRunner:
         angle = math.radians(fretting_case.plane_angle(cfg))  # the plane holds the direction
         datasets = self._history_datasets(result.history, fretting=True)
         datasets.update(self._grid_datasets(grid))
-        for cycle in sorted(result.records):
-            fields = dict(result.records[cycle])
-            group = cycle_group(cycle)
-            datasets.update(fretting_case.record_datasets(fields, group, cycle))
-            for name, values in fields.items():
-                spec = field_dataset(name, group)
-                description = spec.description.replace("peak load of", "largest |Q| of")
-                datasets[f"fields/{group}/{name}"] = DatasetRecord(
-                    np.asarray(values), spec.units, description
-                )
-            plane = stress.plane(
-                fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
-            )
-            datasets.update(self._plane_datasets(plane, f"subsurface/{group}"))
+        records = {cycle: dict(fields) for cycle, fields in result.records.items()}
+        for cycle, fields in records.items():  # the loop and vm_cycle leave ``fields``
+            datasets.update(fretting_case.record_datasets(fields, cycle_group(cycle), cycle))
+        datasets.update(self._recorded_datasets(records, stress, angle, "largest |Q| of"))
         datasets.update(self._final_fields(final))
-        history = result.history
         row = self._final_row(case, cfg, final, stress, depths, datasets, "final", angle)
-        row.update(self._peak_row(run.tracker, final, history))
+        row.update(self._peak_row(run.tracker, final, result.history))
         row.update(fretting_case.summary_values(result))
         fretting_case.label_plane(datasets, fretting_case.plane_angle(cfg))
-        row.update(
-            cycles=int(history["cycle"][-1]),
-            max_wear_depth=float(history["max_wear_depth"][-1]),
-            wear_volume=float(history["wear_volume"][-1]),
-            load_steps=int(result.load_steps),
-            matvecs=int(result.matvecs),
-        )
+        row.update(self._totals_row(result, cfg))
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
 
     # ---------------------------------------------------------------- peak history
