@@ -18,6 +18,11 @@ becomes a bottleneck), side by side in one session. Printed per run:
     python benchmarks/bench_scheduler.py --cases 1000 --ranks 1 2 4 8     # ~2 minutes here
     python benchmarks/bench_scheduler.py --cases 10000 --ranks 1 8        # ~10 minutes here
 
+``--baseline DIR`` runs every rank count with a second source tree as well (e.g. the commit
+before a change: ``git archive 0779412 | tar -x -C /tmp/old``), alternating old and new runs
+so both see the same load, and prints the two side by side with the ratio new/old of the
+overhead per case.
+
 Other processes on the machine distort the figures; ratios measured in one session count.
 """
 
@@ -66,13 +71,13 @@ def mpiexec() -> str:
     return shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
 
 
-def run(directory: Path, cases: int, ranks: int) -> dict:
+def run(directory: Path, cases: int, ranks: int, tree: Path = REPO, label: str = "new") -> dict:
     mu1, beta = sweep_values(cases)
-    output = directory / f"r{ranks}.h5"
-    study = directory / f"r{ranks}.toml"
+    output = directory / f"{label}_r{ranks}.h5"
+    study = directory / f"{label}_r{ranks}.toml"
     study.write_text(study_text(output, mu1, beta))
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(tree), env.get("PYTHONPATH")]))
     command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "engine", str(study)]
     command += ["--no-progress-bar"]
     start = time.perf_counter()
@@ -87,6 +92,7 @@ def run(directory: Path, cases: int, ranks: int) -> dict:
     compute = float(summary["runtime_s"].sum())
     cores = min(ranks, os.cpu_count() or 1)
     return {
+        "tree": label,
         "ranks": ranks,
         "cases": count,
         "wall_s": wall,
@@ -108,27 +114,48 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", type=int, default=1000)
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4, 8])
+    parser.add_argument(
+        "--baseline", type=Path, default=None, help="source tree to compare with (old code)"
+    )
     parser.add_argument("--keep", action="store_true", help="keep the output directory")
     args = parser.parse_args()
     directory = Path(tempfile.mkdtemp(prefix="bench_scheduler_"))
     print(f"{args.cases} static cases at n = 8; ranks {args.ranks}; {os.cpu_count()} cores")
-    results = [run(directory, args.cases, ranks) for ranks in args.ranks]
-    base = results[0]
-    print(
-        f"{'ranks':>5s} {'wall s':>8s} {'command s':>9s} {'compute s':>9s} "
-        f"{'overhead ms/case':>16s} {'rank 0 share':>12s} {'speed-up':>8s} {'same results':>12s}"
-    )
-    for r in results:
-        same = r["summary"].equals(base["summary"])
-        print(
-            f"{r['ranks']:5d} {r['wall_s']:8.2f} {r['command_s']:9.2f} {r['compute_s']:9.2f} "
-            f"{r['overhead_ms_per_case']:16.2f} {r['rank0_share']:12.3f} "
-            f"{base['wall_s'] / r['wall_s']:8.2f} {str(same):>12s}"
-        )
+    print(f"load average at the start: {os.getloadavg()[0]:.1f}", flush=True)
+    results = []
+    for ranks in args.ranks:
+        if args.baseline is not None:
+            results.append(run(directory, args.cases, ranks, args.baseline, "old"))
+        results.append(run(directory, args.cases, ranks))
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
+    print_table(results)
     if args.keep:
         print(f"outputs in {directory}")
     else:
         shutil.rmtree(directory)
+
+
+def print_table(results: list[dict]) -> None:
+    """One line per run; speed-up against the same tree's first rank count, overhead ratio
+    new/old for the same rank count, results compared with the first run."""
+    first = {}
+    old = {r["ranks"]: r for r in results if r["tree"] == "old"}
+    print(
+        f"{'tree':>4s} {'ranks':>5s} {'wall s':>8s} {'command s':>9s} {'compute s':>9s} "
+        f"{'overhead ms/case':>16s} {'new/old':>7s} {'rank 0 share':>12s} {'speed-up':>8s} "
+        f"{'same results':>12s}"
+    )
+    for r in results:
+        base = first.setdefault(r["tree"], r)
+        same = r["summary"].equals(results[0]["summary"])
+        ratio = ""
+        if r["tree"] == "new" and r["ranks"] in old:
+            ratio = f"{r['overhead_ms_per_case'] / old[r['ranks']]['overhead_ms_per_case']:.2f}"
+        print(
+            f"{r['tree']:>4s} {r['ranks']:5d} {r['wall_s']:8.2f} {r['command_s']:9.2f} "
+            f"{r['compute_s']:9.2f} {r['overhead_ms_per_case']:16.2f} {ratio:>7s} "
+            f"{r['rank0_share']:12.3f} {base['wall_s'] / r['wall_s']:8.2f} {str(same):>12s}"
+        )
 
 
 if __name__ == "__main__":

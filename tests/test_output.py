@@ -223,3 +223,40 @@ def test_scheduler_surfaces_exceptions_of_run_case():
 
     with pytest.raises(RuntimeError, match="run_case raised"):
         Scheduler(MPI.COMM_SELF, run_case).run([_Case("c0")])
+
+
+def test_low_level_writes_make_the_objects_h5py_makes(tmp_path):
+    """engine.output.lowlevel (the per-case writes, issue 18.3) against h5py's high-level calls:
+    same datatypes (variable-length UTF-8 for str), shapes, values and creation properties, an
+    existing attribute replaced, intermediate groups created."""
+    from engine.output.lowlevel import create_dataset, set_attribute
+
+    values = {"s": "text", "i": 3, "f": 2.5, "n": np.float64(1.5), "k": np.int64(4), "b": True}
+    values["list"] = [1.0, 2.0]
+    arrays = {"a": np.arange(6.0).reshape(2, 3), "s": np.zeros((2, 2), np.int8), "e": np.zeros(0)}
+    path = tmp_path / "t.h5"
+    with h5py.File(path, "w") as file:
+        high, low = file.create_group("high"), file.create_group("low")
+        for name, value in values.items():
+            high.attrs[name] = value
+            set_attribute(low, name, value)
+        high.attrs["s"] = "replaced"
+        set_attribute(low, "s", "replaced")
+        for name, array in arrays.items():
+            high.create_dataset(f"g/h/{name}", data=array)
+            create_dataset(low, f"g/h/{name}", array)
+    with h5py.File(path, "r") as file:
+        for name in values:
+            a, b = file["high"].attrs.get_id(name), file["low"].attrs.get_id(name)
+            assert a.get_type().equal(b.get_type()) and a.shape == b.shape, name
+            np.testing.assert_array_equal(file["high"].attrs[name], file["low"].attrs[name])
+        assert file["low"].attrs["s"] == "replaced"
+        for name in arrays:
+            a, b = file["high/g/h"][name], file["low/g/h"][name]
+            assert a.id.get_type().equal(b.id.get_type()) and a.shape == b.shape, name
+            np.testing.assert_array_equal(a[()], b[()])
+            created_a, created_b = a.id.get_create_plist(), b.id.get_create_plist()
+            assert created_a.get_layout() == created_b.get_layout()
+            assert created_a.get_obj_track_times() == created_b.get_obj_track_times()
+            assert created_a.get_fill_time() == created_b.get_fill_time()
+        assert isinstance(file["low/g/h"], h5py.Group)

@@ -49,6 +49,7 @@ from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
 
 from .hdf5 import ResultsWriter, StudyMetadata, case_record, publish_created
+from .lowlevel import set_attribute
 
 __all__ = [
     "STRATEGIES",
@@ -294,7 +295,7 @@ class CollectiveWriter(ResultsWriter):
             group = _drop_unwritten(cases, group, written, record)
         self._store_case(group, _with_arrays(record))
         self._file.flush()
-        group.attrs["status"] = record["status"]  # the completion flag, written last
+        set_attribute(group, "status", record["status"])  # the completion flag, written last
         self._file.flush()
 
     def layout_of(self, case_id: str) -> dict[str, DatasetShape]:

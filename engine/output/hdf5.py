@@ -66,6 +66,7 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
+from .lowlevel import attach_scales, create_dataset, set_attribute
 from .summary import pending_row, summary_frame, write_summary_csv
 
 __all__ = [
@@ -206,28 +207,28 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
 SURFACE_FIELD_GROUPS = ("fields/", "peak_changes/")  # surface fields (n_x, n_y), ij indexing
 
 
-def attach_grid_scales(group: h5py.Group, paths) -> None:
+def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> None:
     """The case's ``grid/x`` and ``grid/y`` become HDF5 dimension scales (named ``x`` and
     ``y``), attached to dimensions 0 and 1 of every surface field of shape (n_x, n_y) among
-    ``paths`` (``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is x). Readers that know
-    dimension scales (h5py ``dataset.dims``, HDFView) then find each field's
-    coordinates; the data is unchanged. Subsurface planes carry their own 2-D x, z arrays."""
-    if "grid/x" not in paths or "grid/y" not in paths:
+    ``datasets`` (path -> dataset; ``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is
+    x). Readers that know dimension scales (h5py ``dataset.dims``, HDFView) then find each
+    field's coordinates; the data is unchanged. Subsurface planes carry their
+    own 2-D x, z arrays."""
+    x, y = datasets.get("grid/x"), datasets.get("grid/y")
+    if x is None or y is None:
         return
-    x, y = group["grid/x"], group["grid/y"]
     shape = (x.shape[0], y.shape[0])
     fields = [
-        group[path]
-        for path in paths
-        if path.startswith(SURFACE_FIELD_GROUPS) and group[path].shape == shape
+        dataset
+        for path, dataset in datasets.items()
+        if path.startswith(SURFACE_FIELD_GROUPS) and dataset.shape == shape
     ]
     if not fields:
         return
     x.make_scale("x")
     y.make_scale("y")
     for field in fields:
-        field.dims[0].attach_scale(x)
-        field.dims[1].attach_scale(y)
+        attach_scales(field, (x, y))
 
 
 _SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
@@ -244,7 +245,7 @@ def reattach_grid_scales(group: h5py.Group) -> None:
         for name in _SCALE_ATTRIBUTES:
             if name in attrs:
                 del attrs[name]
-    attach_grid_scales(group, datasets)
+    attach_grid_scales(group, {path: group[path] for path in datasets})
 
 
 def settle_stale_cases(
@@ -407,32 +408,40 @@ class ResultsWriter:
         if case.case_id in cases:
             del cases[case.case_id]
         group = cases.create_group(case.case_id)
-        group.attrs["status"] = str(CaseStatus.PENDING)
-        group.attrs.update(case.parameters())
-        group.attrs["parameter_units"] = json.dumps(_parameter_units(case))
-        group.attrs["summary"] = json.dumps(_json_safe(pending_row(case.parameters())))
+        set_attribute(group, "status", str(CaseStatus.PENDING))
+        parameters = case.parameters()
+        for name, value in parameters.items():
+            set_attribute(group, name, value)
+        set_attribute(group, "parameter_units", json.dumps(_parameter_units(case)))
+        set_attribute(group, "summary", json.dumps(_json_safe(pending_row(parameters))))
         return group
 
     @staticmethod
     def _store_case(group: h5py.Group, record: dict[str, Any]) -> None:
         """The structural write of a finished case (:func:`case_record`), status aside:
         datasets (created, or already written into a pre-created one) with their units and
-        description, then the case attributes and its summary row."""
+        description and the grid's dimension scales, then the case attributes and its summary
+        row. Through :mod:`engine.output.lowlevel`: the same objects as h5py's high-level
+        calls, in about a third of the time."""
+        datasets, parents = {}, {}
         for path, item in record["datasets"].items():
             if item.get("written"):
                 dataset = group[path]
             else:
-                dataset = group.create_dataset(path, data=item["data"])
-            dataset.attrs["units"] = item["units"]
-            dataset.attrs["description"] = item["description"]
-            dataset.attrs.update(item.get("attrs", {}))
-        attach_grid_scales(group, record["datasets"])
-        group.attrs.update(record["attrs"])
-        group.attrs["message"] = record["message"]
-        group.attrs["traceback"] = record["traceback"]
-        group.attrs["rank"] = record["rank"]
-        group.attrs["runtime_s"] = record["runtime_s"]
-        group.attrs["summary"] = json.dumps(_json_safe(record["row"]))
+                dataset = create_dataset(group, path, item["data"], parents)
+            set_attribute(dataset, "units", item["units"])
+            set_attribute(dataset, "description", item["description"])
+            for name, value in item.get("attrs", {}).items():
+                set_attribute(dataset, name, value)
+            datasets[path] = dataset
+        attach_grid_scales(group, datasets)
+        for name, value in record["attrs"].items():
+            set_attribute(group, name, value)
+        set_attribute(group, "message", record["message"])
+        set_attribute(group, "traceback", record["traceback"])
+        set_attribute(group, "rank", record["rank"])
+        set_attribute(group, "runtime_s", record["runtime_s"])
+        set_attribute(group, "summary", json.dumps(_json_safe(record["row"])))
 
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
@@ -514,7 +523,7 @@ class SingleWriter(ResultsWriter):
             return False
         self._file.flush()
         for group, status in self._unflagged:
-            group.attrs["status"] = status
+            set_attribute(group, "status", status)
         self._file.flush()
         self._unflagged = []
         self._last_commit_end = time.perf_counter()
