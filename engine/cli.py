@@ -84,6 +84,14 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("study", type=Path, help="study file (TOML), see studies/*.toml")
+    _add_run_options(parser)
+    _add_output_options(parser)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    return parser
+
+
+def _add_run_options(parser: argparse.ArgumentParser) -> None:
+    """--dry-run, --resume / --fresh."""
     parser.add_argument(
         "--dry-run",
         action="store_true",
@@ -105,6 +113,10 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         action="store_true",
         help="delete existing results, summary and checkpoints and start over",
     )
+
+
+def _add_output_options(parser: argparse.ArgumentParser) -> None:
+    """Where and how results are written, and what a run prints."""
     parser.add_argument(
         "--output",
         type=Path,
@@ -141,8 +153,6 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
         "0 turns them off (default 30)",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    return parser
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
