@@ -196,111 +196,7 @@ class Scheduler:
         on_outcome: Callable[[Any], None],
         on_poll: Callable[[], None] | None = None,
     ) -> SchedulerReport:
-        from mpi4py import MPI
-
-        report = SchedulerReport(self.rank, self.size)
-        pending = deque(cases)
-        busy: dict[int, Any] = {}
-        workers_alive = set(range(1, self.size))
-        stop_sent: set[int] = set()
-        local = _LocalWorker(self.run_case, self.stop_event.is_set, self.rank)
-        local.start()
-        local_alive = True
-
-        def next_case():
-            if self.stop_event.is_set() or not pending:
-                return None
-            return pending.popleft()
-
-        def settle(rank: int, kind: str, payload: Any) -> bool:
-            """Bookkeeping of a message (cheap, before the next case is handed out); True
-            when it carries an outcome to deliver."""
-            case = busy.pop(rank)
-            if kind == "returned":  # the worker was stopped (its own signal): the job stops
-                pending.appendleft(case)
-                self.stop_event.set()
-                return False
-            if payload.status == INTERRUPTED:
-                self.stop_event.set()
-            return True
-
-        def deliver(rank: int, payload: Any) -> None:
-            """Record and hand on an outcome (writing it may take a while: the rank that
-            computed it has already received its next case)."""
-            report.statuses[payload.case_id] = payload.status
-            report.cases_per_rank[rank] = report.cases_per_rank.get(rank, 0) + 1
-            on_outcome(payload)
-
-        def feed_local() -> None:
-            nonlocal local_alive
-            case = next_case()
-            if case is None:
-                local.inbox.put(None)
-                local_alive = False
-            else:
-                busy[self.rank] = case
-                local.inbox.put(case)
-
-        def service_local(timeout: float | None = None) -> bool:
-            """Collect rank 0's own outcome if there is one (waiting up to ``timeout``), give
-            the computing thread its next case at once, then deliver the outcome."""
-            try:
-                if timeout is None:
-                    kind, payload = local.outbox.get_nowait()
-                else:
-                    kind, payload = local.outbox.get(timeout=timeout)
-            except queue.Empty:
-                return False
-            if kind == "error":
-                error, text = payload
-                raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
-            has_outcome = settle(self.rank, kind, payload)
-            feed_local()
-            if has_outcome:
-                deliver(self.rank, payload)
-            return True
-
-        feed_local()
-        status = MPI.Status()
-        while local_alive or self.rank in busy or workers_alive:
-            if on_poll is not None:
-                on_poll()
-            if self.stop_event.is_set():
-                for rank in [r for r in busy if r != self.rank and r not in stop_sent]:
-                    self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
-                    stop_sent.add(rank)
-            progressed = service_local()
-            while workers_alive and self.comm.Iprobe(
-                source=MPI.ANY_SOURCE, tag=TAG_TO_MASTER, status=status
-            ):
-                progressed = True
-                source = status.Get_source()
-                kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
-                has_outcome = kind in ("result", "returned") and settle(source, kind, payload)
-                stop_sent.discard(source)
-                case = next_case()
-                if case is None:
-                    self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
-                    workers_alive.discard(source)
-                else:
-                    busy[source] = case
-                    self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
-                if has_outcome:
-                    deliver(source, payload)
-                service_local()  # rank 0's own computing is never starved by the workers
-            if not progressed:
-                self.watch.check(busy_or_alive=set(busy) | workers_alive)
-                # a worker waiting for its next case idles: answer within ~2 ms (an Iprobe
-                # costs microseconds); with no workers left, only rank 0's own case matters
-                wait = min(self.poll_interval, 0.002) if workers_alive else self.poll_interval
-                if self.rank in busy:  # wake as soon as rank 0's own case is done
-                    service_local(timeout=wait)
-                else:
-                    time.sleep(wait)
-        local.join()
-        report.stopped = self.stop_event.is_set()
-        report.not_started = [case.case_id for case in pending]
-        return report
+        return _Dispatcher(self, cases, on_outcome, on_poll).run()
 
     # ------------------------------------------------------------------ ranks > 0
     def _work(self) -> SchedulerReport:
@@ -344,3 +240,135 @@ class Scheduler:
                 raise RuntimeError(f"rank {self.rank}: unexpected {kind!r} during a case")
             self.stop_event.set()
         return self.stop_event.is_set()
+
+
+class _Dispatcher:
+    """Rank 0's side of one :meth:`Scheduler.run`: hands ``cases`` out to the worker
+    ranks and to rank 0's own computing thread as each becomes free, settles every message
+    before handing out the next case, then delivers outcomes to ``on_outcome`` (writing may
+    take a while: the rank that computed a case already has its next one)."""
+
+    def __init__(self, scheduler: Scheduler, cases, on_outcome, on_poll) -> None:
+        self.scheduler, self.comm, self.rank = scheduler, scheduler.comm, scheduler.rank
+        self.stop_event = scheduler.stop_event
+        self.on_outcome, self.on_poll = on_outcome, on_poll
+        self.report = SchedulerReport(scheduler.rank, scheduler.size)
+        self.pending = deque(cases)
+        self.busy: dict[int, Any] = {}
+        self.workers_alive = set(range(1, scheduler.size))
+        self.stop_sent: set[int] = set()
+        self.local = _LocalWorker(scheduler.run_case, self.stop_event.is_set, self.rank)
+        self.local_alive = True
+
+    def run(self) -> SchedulerReport:
+        from mpi4py import MPI
+
+        self.local.start()
+        self._feed_local()
+        status = MPI.Status()
+        while self.local_alive or self.rank in self.busy or self.workers_alive:
+            if self.on_poll is not None:
+                self.on_poll()
+            if self.stop_event.is_set():
+                self._send_stops()
+            progressed = self._service_local()
+            progressed = self._service_workers(MPI.ANY_SOURCE, status) or progressed
+            if not progressed:
+                self._idle()
+        self.local.join()
+        self.report.stopped = self.stop_event.is_set()
+        self.report.not_started = [case.case_id for case in self.pending]
+        return self.report
+
+    def _next_case(self):
+        if self.stop_event.is_set() or not self.pending:
+            return None
+        return self.pending.popleft()
+
+    def _settle(self, rank: int, kind: str, payload: Any) -> bool:
+        """Bookkeeping of a message (cheap, before the next case is handed out); True when
+        it carries an outcome to deliver."""
+        case = self.busy.pop(rank)
+        if kind == "returned":  # the worker was stopped (its own signal): the job stops
+            self.pending.appendleft(case)
+            self.stop_event.set()
+            return False
+        if payload.status == INTERRUPTED:
+            self.stop_event.set()
+        return True
+
+    def _deliver(self, rank: int, payload: Any) -> None:
+        """Record and hand on an outcome."""
+        self.report.statuses[payload.case_id] = payload.status
+        self.report.cases_per_rank[rank] = self.report.cases_per_rank.get(rank, 0) + 1
+        self.on_outcome(payload)
+
+    def _feed_local(self) -> None:
+        case = self._next_case()
+        if case is None:
+            self.local.inbox.put(None)
+            self.local_alive = False
+        else:
+            self.busy[self.rank] = case
+            self.local.inbox.put(case)
+
+    def _service_local(self, timeout: float | None = None) -> bool:
+        """Collect rank 0's own outcome if there is one (waiting up to ``timeout``), give the
+        computing thread its next case at once, then deliver the outcome."""
+        try:
+            if timeout is None:
+                kind, payload = self.local.outbox.get_nowait()
+            else:
+                kind, payload = self.local.outbox.get(timeout=timeout)
+        except queue.Empty:
+            return False
+        if kind == "error":
+            error, text = payload
+            raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
+        has_outcome = self._settle(self.rank, kind, payload)
+        self._feed_local()
+        if has_outcome:
+            self._deliver(self.rank, payload)
+        return True
+
+    def _send_stops(self) -> None:
+        for rank in [r for r in self.busy if r != self.rank and r not in self.stop_sent]:
+            self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
+            self.stop_sent.add(rank)
+
+    def _service_workers(self, any_source: int, status) -> bool:
+        """Answer every waiting worker message: settle it, send the worker its next case (or
+        exit), then deliver its outcome; True when there was one."""
+        progressed = False
+        while self.workers_alive and self.comm.Iprobe(
+            source=any_source, tag=TAG_TO_MASTER, status=status
+        ):
+            progressed = True
+            source = status.Get_source()
+            kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
+            has_outcome = kind in ("result", "returned") and self._settle(source, kind, payload)
+            self.stop_sent.discard(source)
+            case = self._next_case()
+            if case is None:
+                self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
+                self.workers_alive.discard(source)
+            else:
+                self.busy[source] = case
+                self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
+            if has_outcome:
+                self._deliver(source, payload)
+            self._service_local()  # rank 0's own computing is never starved by the workers
+        return progressed
+
+    def _idle(self) -> None:
+        """Nothing happened: check the peers, then wait. A worker waiting for its next case
+        idles, so answer within ~2 ms (an Iprobe costs microseconds); with no workers left,
+        only rank 0's own case matters, and its completion wakes the wait."""
+        scheduler = self.scheduler
+        scheduler.watch.check(busy_or_alive=set(self.busy) | self.workers_alive)
+        interval = scheduler.poll_interval
+        wait = min(interval, 0.002) if self.workers_alive else interval
+        if self.rank in self.busy:
+            self._service_local(timeout=wait)
+        else:
+            time.sleep(wait)
