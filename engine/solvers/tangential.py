@@ -194,6 +194,13 @@ def _line_search(operator, friction, bound, free, q, g, d, step, lipschitz) -> _
     return None
 
 
+def _self_stiffness(operator: HalfSpaceOperator) -> tuple[float, float]:
+    """A_ii of the x and y tangential blocks (mm/MPa): an element's own compliance."""
+    grid = operator.grid
+    centre = (grid.n_x - 1, grid.n_y - 1)
+    return operator.influence.kernels["xx"][centre], operator.influence.kernels["yy"][centre]
+
+
 def solve_tangential(
     operator: HalfSpaceOperator,
     preconditioner: SpectralPreconditioner,
@@ -211,10 +218,7 @@ def solve_tangential(
     ``tractions`` (already inside the ellipses) whose slip is ``slip`` (mm); stop when the
     RMS face residual over ``count`` elements is ≤ ``tol`` (mm) or after ``maxiter``
     iterations. ``lipschitz`` bounds the largest eigenvalue of A_tt (mm/MPa)."""
-    grid = operator.grid
-    centre = (grid.n_x - 1, grid.n_y - 1)
-    self_xx = operator.influence.kernels["xx"][centre]
-    self_yy = operator.influence.kernels["yy"][centre]
+    self_xx, self_yy = _self_stiffness(operator)
     free = bound > 0.0
     qx, qy = tractions[0].copy(), tractions[1].copy()
     gx, gy = slip[0].copy(), slip[1].copy()
