@@ -228,7 +228,17 @@ class CyclicAnalysis:
         if len(warm) == 1 or state.warm_jump <= 0:
             return lambda k: warm[0][k]
         ratio = state.jump / state.warm_jump
-        return lambda k: self._extrapolate(warm[0][k], warm[1][k], ratio)
+        last, before = warm[0], list(warm[1])
+        # The state keeps the newest cycle only (the older one is not needed after this
+        # cycle), and each increment of the older one is let go once used: the peak holds
+        # two cycles of fields, not three. Increment k is asked for once, in order.
+        state.warm = warm[:1]
+
+        def start(k: int) -> ContactState:
+            previous, before[k] = before[k], None
+            return self._extrapolate(last[k], previous, ratio)
+
+        return start
 
     def _extrapolate(self, last: ContactState, before: ContactState, ratio: float):
         """last + ratio (last − before), pressure ≥ 0, tractions inside its friction ellipse."""
