@@ -66,7 +66,7 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
-from .lowlevel import attach_scales, create_dataset, set_attribute
+from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .summary import pending_row, summary_frame, write_summary_csv
 
 __all__ = [
@@ -225,8 +225,8 @@ def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> 
     ]
     if not fields:
         return
-    x.make_scale("x")
-    y.make_scale("y")
+    make_scale(x, "x")
+    make_scale(y, "y")
     for field in fields:
         attach_scales(field, (x, y))
 
@@ -425,14 +425,15 @@ class ResultsWriter:
         calls, in about a third of the time."""
         datasets, parents = {}, {}
         for path, item in record["datasets"].items():
-            if item.get("written"):
-                dataset = group[path]
+            new = not item.get("written")
+            if new:  # a DatasetID: no high-level wrapper per dataset
+                dataset = create_dataset(group, path, item["data"], parents, wrap=False)
             else:
-                dataset = create_dataset(group, path, item["data"], parents)
-            set_attribute(dataset, "units", item["units"])
-            set_attribute(dataset, "description", item["description"])
+                dataset = group[path].id
+            set_attribute(dataset, "units", item["units"], new=new)
+            set_attribute(dataset, "description", item["description"], new=new)
             for name, value in item.get("attrs", {}).items():
-                set_attribute(dataset, name, value)
+                set_attribute(dataset, name, value, new=new)
             datasets[path] = dataset
         attach_grid_scales(group, datasets)
         for name, value in record["attrs"].items():
