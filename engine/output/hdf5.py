@@ -483,9 +483,17 @@ class SingleWriter(ResultsWriter):
     def __init__(self, path, summary_path=None, *, drop_stale=False, should_stop=None) -> None:
         super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
         self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self._pristine: set[str] = set()  # cases whose pending group nothing has touched yet
         self.flag_spacing = 10.0
         self._last_commit_end = -math.inf
         self._commit_cost = 0.0
+
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
+        completed = super().prepare(plan, metadata, fresh=fresh)
+        self._cases = self._file["cases"]
+        # every case of the plan not completed has a pristine pending group now
+        self._pristine = set(plan.case_ids) - completed
+        return completed
 
     def close(self) -> None:
         if self._file is not None:
@@ -500,10 +508,14 @@ class SingleWriter(ResultsWriter):
         the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
-        cases = self._file["cases"]
-        group = cases[outcome.case_id] if outcome.case_id in cases else None
-        if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
-            group = self._reset_group(cases, outcome.case)  # a pristine group is reused
+        cases = self._cases
+        if outcome.case_id in self._pristine:  # prepared and untouched since: no checks
+            self._pristine.discard(outcome.case_id)
+            group = cases[outcome.case_id]
+        else:
+            group = cases[outcome.case_id] if outcome.case_id in cases else None
+            if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
+                group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         self._store_case(group, case_record(outcome))
         self._rows[outcome.case_id] = dict(outcome.row)
         self._unflagged.append((group, outcome.status))
