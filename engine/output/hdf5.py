@@ -210,10 +210,10 @@ SURFACE_FIELD_GROUPS = ("fields/", "peak_changes/")  # surface fields (n_x, n_y)
 def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> None:
     """The case's ``grid/x`` and ``grid/y`` become HDF5 dimension scales (named ``x`` and
     ``y``), attached to dimensions 0 and 1 of every surface field of shape (n_x, n_y) among
-    ``datasets`` (path -> dataset; ``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is
-    x). Readers that know dimension scales (h5py ``dataset.dims``, HDFView) then find each
-    field's coordinates; the data is unchanged. Subsurface planes carry their
-    own 2-D x, z arrays."""
+    ``datasets`` (path -> h5py dataset or its ``DatasetID``; ``fields/*``, ``peak_changes/*``;
+    ij indexing: axis 0 is x). Readers that know dimension scales (h5py ``dataset.dims``,
+    HDFView) then find each field's coordinates; the data is unchanged. Subsurface planes
+    carry their own 2-D x, z arrays."""
     x, y = datasets.get("grid/x"), datasets.get("grid/y")
     if x is None or y is None:
         return
