@@ -484,6 +484,7 @@ class SingleWriter(ResultsWriter):
         super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
         self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
         self._pristine: set[str] = set()  # cases whose pending group nothing has touched yet
+        self._cases: h5py.Group | None = None  # the open file's /cases (set by prepare)
         self.flag_spacing = 10.0
         self._last_commit_end = -math.inf
         self._commit_cost = 0.0
