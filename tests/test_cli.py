@@ -145,6 +145,29 @@ def test_eta_from_measured_costs_and_free_ranks():
     assert reporter.eta_seconds() == pytest.approx(40.0)
 
 
+def test_eta_of_a_long_queue_is_the_balanced_load_within_one_case():
+    # Beyond EXACT_QUEUE waiting cases the ETA shares the queue out as divisible work (O(1)
+    # per finished case instead of O(queue)); greedy dispatch finishes at most one case later.
+    import heapq
+
+    from engine.output.progress import EXACT_QUEUE
+
+    costs = [1.0 + (k % 7) / 7 for k in range(EXACT_QUEUE + 50)]
+    todo = [Case(f"c{k}", cost) for k, cost in enumerate(costs)]
+    reporter, clock, _, _ = _reporter(todo, ranks=3)
+    for k in range(3):
+        reporter.started(f"c{k}", k)
+    clock.now += 2.0
+    reporter.update(Outcome("c0", runtime_s=2.0))  # 2 s per unit of cost
+    reporter.started("c3", 0)
+    free_at = [max(2.0 * costs[k] - elapsed, 0.0) for k, elapsed in ((1, 2.0), (2, 2.0), (3, 0))]
+    heapq.heapify(free_at)
+    for cost in costs[4:]:
+        heapq.heappush(free_at, heapq.heappop(free_at) + 2.0 * cost)
+    eta = reporter.eta_seconds()
+    assert max(free_at) - 2.0 * max(costs) <= eta <= max(free_at)
+
+
 def test_earlier_runs_measure_the_cost_before_any_case_of_this_run():
     reporter, *_ = _reporter([Case("b", 1.0)], ranks=1, measured=[(30.0, 1.0)])
     assert reporter.eta_seconds() == pytest.approx(30.0)

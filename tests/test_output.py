@@ -260,3 +260,40 @@ def test_low_level_writes_make_the_objects_h5py_makes(tmp_path):
             assert created_a.get_obj_track_times() == created_b.get_obj_track_times()
             assert created_a.get_fill_time() == created_b.get_fill_time()
         assert isinstance(file["low/g/h"], h5py.Group)
+
+
+def test_low_level_writes_through_identifiers_make_the_same_objects(tmp_path):
+    """The per-case path: ``create_dataset(wrap=False)`` (a DatasetID), attributes of a new
+    dataset with ``new=True``, ``make_scale`` and ``attach_scales`` on identifiers — read back
+    through h5py's ``dims`` API like ``make_scale``/``attach_scale`` of the high-level API."""
+    from engine.output.lowlevel import attach_scales, create_dataset, make_scale, set_attribute
+
+    grid = {"x": np.arange(3.0), "y": np.arange(4.0)}
+    path = tmp_path / "t.h5"
+    with h5py.File(path, "w") as file:
+        high, low = file.create_group("high"), file.create_group("low")
+        for name, values in grid.items():
+            high.create_dataset(f"grid/{name}", data=values).make_scale(name)
+            dataset = create_dataset(low, f"grid/{name}", values, wrap=False)
+            assert isinstance(dataset, h5py.h5d.DatasetID)
+            make_scale(dataset, name)
+        field = high.create_dataset("fields/p", data=np.ones((3, 4)))
+        field.attrs["units"] = "MPa"
+        field.attrs["flag"] = True  # a value h5py converts itself
+        field.dims[0].attach_scale(high["grid/x"])
+        field.dims[1].attach_scale(high["grid/y"])
+        field_id = create_dataset(low, "fields/p", np.ones((3, 4)), wrap=False)
+        set_attribute(field_id, "units", "MPa", new=True)
+        set_attribute(field_id, "flag", True, new=True)
+        attach_scales(field_id, (low["grid/x"].id, low["grid/y"]))
+    with h5py.File(path, "r") as file:
+        for side in ("high", "low"):
+            field = file[f"{side}/fields/p"]
+            assert [dim.label for dim in field.dims] == ["", ""]
+            assert [dim[0].name for dim in field.dims] == [f"/{side}/grid/x", f"/{side}/grid/y"]
+            assert [dim.keys() for dim in field.dims] == [["x"], ["y"]]
+            assert file[f"{side}/grid/x"].is_scale and file[f"{side}/grid/y"].is_scale
+            assert field.attrs["units"] == "MPa" and field.attrs["flag"]
+        for name in ("CLASS", "NAME"):
+            a, b = (file[f"{side}/grid/x"].attrs.get_id(name) for side in ("high", "low"))
+            assert a.get_type().equal(b.get_type()) and a.shape == b.shape, name

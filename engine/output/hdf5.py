@@ -66,7 +66,7 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
-from .lowlevel import attach_scales, create_dataset, set_attribute
+from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .summary import pending_row, summary_frame, write_summary_csv
 
 __all__ = [
@@ -210,10 +210,10 @@ SURFACE_FIELD_GROUPS = ("fields/", "peak_changes/")  # surface fields (n_x, n_y)
 def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> None:
     """The case's ``grid/x`` and ``grid/y`` become HDF5 dimension scales (named ``x`` and
     ``y``), attached to dimensions 0 and 1 of every surface field of shape (n_x, n_y) among
-    ``datasets`` (path -> dataset; ``fields/*``, ``peak_changes/*``; ij indexing: axis 0 is
-    x). Readers that know dimension scales (h5py ``dataset.dims``, HDFView) then find each
-    field's coordinates; the data is unchanged. Subsurface planes carry their
-    own 2-D x, z arrays."""
+    ``datasets`` (path -> h5py dataset or its ``DatasetID``; ``fields/*``, ``peak_changes/*``;
+    ij indexing: axis 0 is x). Readers that know dimension scales (h5py ``dataset.dims``,
+    HDFView) then find each field's coordinates; the data is unchanged. Subsurface planes
+    carry their own 2-D x, z arrays."""
     x, y = datasets.get("grid/x"), datasets.get("grid/y")
     if x is None or y is None:
         return
@@ -225,8 +225,8 @@ def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> 
     ]
     if not fields:
         return
-    x.make_scale("x")
-    y.make_scale("y")
+    make_scale(x, "x")
+    make_scale(y, "y")
     for field in fields:
         attach_scales(field, (x, y))
 
@@ -425,14 +425,15 @@ class ResultsWriter:
         calls, in about a third of the time."""
         datasets, parents = {}, {}
         for path, item in record["datasets"].items():
-            if item.get("written"):
-                dataset = group[path]
+            new = not item.get("written")
+            if new:  # a DatasetID: no high-level wrapper per dataset
+                dataset = create_dataset(group, path, item["data"], parents, wrap=False)
             else:
-                dataset = create_dataset(group, path, item["data"], parents)
-            set_attribute(dataset, "units", item["units"])
-            set_attribute(dataset, "description", item["description"])
+                dataset = group[path].id
+            set_attribute(dataset, "units", item["units"], new=new)
+            set_attribute(dataset, "description", item["description"], new=new)
             for name, value in item.get("attrs", {}).items():
-                set_attribute(dataset, name, value)
+                set_attribute(dataset, name, value, new=new)
             datasets[path] = dataset
         attach_grid_scales(group, datasets)
         for name, value in record["attrs"].items():
@@ -482,9 +483,18 @@ class SingleWriter(ResultsWriter):
     def __init__(self, path, summary_path=None, *, drop_stale=False, should_stop=None) -> None:
         super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
         self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self._pristine: set[str] = set()  # cases whose pending group nothing has touched yet
+        self._cases: h5py.Group | None = None  # the open file's /cases (set by prepare)
         self.flag_spacing = 10.0
         self._last_commit_end = -math.inf
         self._commit_cost = 0.0
+
+    def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
+        completed = super().prepare(plan, metadata, fresh=fresh)
+        self._cases = self._file["cases"]
+        # every case of the plan not completed has a pristine pending group now
+        self._pristine = set(plan.case_ids) - completed
+        return completed
 
     def close(self) -> None:
         if self._file is not None:
@@ -499,10 +509,14 @@ class SingleWriter(ResultsWriter):
         the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
-        cases = self._file["cases"]
-        group = cases[outcome.case_id] if outcome.case_id in cases else None
-        if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
-            group = self._reset_group(cases, outcome.case)  # a pristine group is reused
+        cases = self._cases
+        if outcome.case_id in self._pristine:  # prepared and untouched since: no checks
+            self._pristine.discard(outcome.case_id)
+            group = cases[outcome.case_id]
+        else:
+            group = cases[outcome.case_id] if outcome.case_id in cases else None
+            if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
+                group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         self._store_case(group, case_record(outcome))
         self._rows[outcome.case_id] = dict(outcome.row)
         self._unflagged.append((group, outcome.status))

@@ -21,7 +21,7 @@ import h5py
 import numpy as np
 from h5py import h5a, h5d, h5ds, h5g, h5p, h5s, h5t
 
-__all__ = ["set_attribute", "create_dataset", "attach_scales"]
+__all__ = ["set_attribute", "create_dataset", "attach_scales", "make_scale"]
 
 _STRING = h5py.string_dtype()  # variable-length UTF-8, what h5py stores a str as
 
@@ -58,42 +58,78 @@ def _as_array(value: Any) -> np.ndarray | None:
     return None
 
 
-def set_attribute(target: h5py.HLObject, name: str, value: Any) -> None:
-    """``target.attrs[name] = value`` (replacing an existing attribute), in fewer steps."""
+_SCALAR_SPACE = h5s.create(h5s.SCALAR)  # dataspaces are copied by H5Acreate/H5Dcreate: reusable
+
+
+@cache
+def _simple_space(shape: tuple[int, ...]) -> h5s.SpaceID:
+    """A simple dataspace of ``shape``, built once per shape (a few shapes per study)."""
+    return h5s.create_simple(shape)
+
+
+def _space(shape: tuple[int, ...]) -> h5s.SpaceID:
+    return _SCALAR_SPACE if not shape else _simple_space(shape)
+
+
+def set_attribute(target, name: str, value: Any, *, new: bool = False) -> None:
+    """``target.attrs[name] = value`` (replacing an existing attribute), in fewer steps.
+
+    ``target``: an h5py object or its low-level identifier (``.id``); ``new``: the caller
+    knows the object has no attribute ``name`` yet (a dataset just created), so the
+    existence check is skipped."""
     data = _as_array(value)
+    object_id = _identifier(target)
     if data is None:
-        target.attrs[name] = value
+        h5py.AttributeManager(_high_level(object_id))[name] = value
         return
-    object_id = target.id
     key = name.encode()
-    if h5a.exists(object_id, key):
+    if not new and h5a.exists(object_id, key):
         h5a.delete(object_id, key)
     file_type, memory_type = _types(data.dtype)
-    space = h5s.create(h5s.SCALAR) if data.ndim == 0 else h5s.create_simple(data.shape)
-    attribute = h5a.create(object_id, key, file_type, space)
+    attribute = h5a.create(object_id, key, file_type, _space(data.shape))
     try:
         attribute.write(data, mtype=memory_type)
     finally:
         attribute.close()
 
 
+def _identifier(target):
+    """The low-level identifier of an h5py object (``.id``), or ``target`` if it is one."""
+    return target.id if isinstance(target, h5py.HLObject) else target
+
+
+def _high_level(object_id):
+    """The h5py object of a low-level identifier (for the rare values h5py must convert)."""
+    if isinstance(object_id, h5d.DatasetID):
+        return h5py.Dataset(object_id)
+    return h5py.Group(object_id)
+
+
 def create_dataset(
-    group: h5py.Group, path: str, data: Any, parents: dict[str, h5g.GroupID] | None = None
-) -> h5py.Dataset:
+    group: h5py.Group,
+    path: str,
+    data: Any,
+    parents: dict[str, h5g.GroupID] | None = None,
+    *,
+    wrap: bool = True,
+):
     """``group.create_dataset(path, data=data)`` for a NumPy array of numbers (contiguous;
     missing intermediate groups created as h5py creates them). ``parents`` caches the
-    groups already looked up or created for ``group`` (one dict per case)."""
+    groups already looked up or created for ``group`` (one dict per case). Returns the
+    :class:`h5py.Dataset`, or with ``wrap=False`` its low-level ``DatasetID`` (no wrapper
+    object: the per-case writes need only the identifier)."""
     array = np.ascontiguousarray(data)
     if array.dtype.kind not in "biuf":
-        return group.create_dataset(path, data=array)
+        dataset = group.create_dataset(path, data=array)
+        return dataset if wrap else dataset.id
     parent_path, _, name = path.rpartition("/")
     parent = _parent(group, parent_path, {} if parents is None else parents)
     file_type, _ = _types(array.dtype)
-    space = h5s.create_simple(array.shape)
+    space = _space(array.shape)
     dataset = h5d.create(parent, name.encode(), file_type, space, dcpl=_DATASET_CREATION)
     if array.size:
         dataset.write(h5s.ALL, h5s.ALL, array)
-    return h5py.Dataset(dataset)
+    return h5py.Dataset(dataset) if wrap else dataset
 
 
 def _parent(group: h5py.Group, path: str, known: dict[str, h5g.GroupID]) -> h5g.GroupID:
@@ -114,7 +150,14 @@ def _parent(group: h5py.Group, path: str, known: dict[str, h5g.GroupID]) -> h5g.
     return known[path]
 
 
-def attach_scales(field: h5py.Dataset, scales: tuple[h5py.Dataset, ...]) -> None:
-    """``field.dims[axis].attach_scale(scale)`` for each axis and scale."""
+def attach_scales(field, scales: tuple) -> None:
+    """``field.dims[axis].attach_scale(scale)`` for each axis and scale (h5py datasets or
+    their ``DatasetID``)."""
+    field_id = _identifier(field)
     for axis, scale in enumerate(scales):
-        h5ds.attach_scale(field.id, scale.id, axis)
+        h5ds.attach_scale(field_id, _identifier(scale), axis)
+
+
+def make_scale(dataset, name: str) -> None:
+    """``dataset.make_scale(name)`` (an h5py dataset or its ``DatasetID``)."""
+    h5ds.set_scale(_identifier(dataset), name.encode())
