@@ -290,7 +290,7 @@ def fretting_settings(config):
 def test_energy_law_in_the_cyclic_kind_conserves_volume(material):
     """The energy law in the normal-indentation (cyclic) kind, flat punch of Section 7.2 at
     16², μ = 0.1: wear volume = Σ jumps × Σ_k α·10⁻³ Σ_e w ΔA (1e-12 relative), and the
-    study runner picks the law from [wear] (engine.study.fretting_case.wear_law)."""
+    study runner picks the law from [wear] (engine.study.case.case_wear_law)."""
     from engine.geometry import FlatPunch
     from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
 

@@ -54,7 +54,7 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
-from .fretting_figures import fretting_figures, is_fretting  # noqa: E402
+from .fretting_figures import fretting_figures  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import stiffness_ratios  # noqa: E402
 
@@ -95,7 +95,7 @@ def plot_study(results: str | Path | StudyResults, out_dir: str | Path) -> list[
     out.mkdir(parents=True, exist_ok=True)
     written = []
     with plt.rc_context(_STYLE):
-        if is_fretting(study):  # tangential fretting (issue 13): engine.analysis.fretting_figures
+        if study.is_fretting:  # tangential fretting (issue 13): engine.analysis.fretting_figures
             figures = fretting_figures(study)
         elif study.is_cyclic:
             figures = _cyclic_figures(study)
@@ -156,12 +156,13 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if not args.results.exists():
         print(f"error: {args.results}: no such file", file=sys.stderr)
         return 2
-    from .report import _STUDY_WIDE, swept_keys
+    from .report import _STUDY_WIDE, study_settings, swept_keys
 
-    swept = set(swept_keys(args.results)) & _STUDY_WIDE
+    settings = study_settings(args.results)
+    swept = set(swept_keys(settings)) & _STUDY_WIDE
     # the figures normalise every case by one a0, p0 and grid; a fretting study's figures are
     # per case (its map sweeps the load)
-    if swept and not _is_fretting_file(args.results):
+    if swept and settings["loading"]["kind"] != "fretting":
         print(
             f"error: {args.results}: the figures need one load, punch radius, mesh and "
             f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "
@@ -176,17 +177,6 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
 
 # ----------------------------------------------------------------------------- helpers
-def _is_fretting_file(path: Path) -> bool:
-    """True for the results file of a fretting study (its figures take any sweep)."""
-    import json
-
-    import h5py
-
-    with h5py.File(path, "r") as file:
-        config = json.loads(file.attrs["study_json"])
-    return config.get("loading", {}).get("kind") == "fretting"
-
-
 def _title(study: StudyResults, what: str) -> str:
     return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} N)"
 

@@ -40,7 +40,6 @@ __all__ = [
     "cumulated_energy",
     "direction",
     "energy_coefficient",
-    "is_fretting",
     "read_loops",
     "regime",
     "sampled_loop_energy",
@@ -49,10 +48,6 @@ __all__ = [
 
 K_EXACT = 1e-12  # |K| below which Mindlin's references are exact (uncoupled materials)
 _CYCLE = re.compile(r"cycle_(\d+)$")
-
-
-def is_fretting(study: StudyResults) -> bool:
-    return study.config.get("loading", {}).get("kind") == "fretting"
 
 
 def setting(study: StudyResults, case: CaseResults, dotted: str, default=None):

@@ -39,7 +39,7 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter
 from engine.reference import mindlin
 
 from . import fretting as _shared
-from .fretting import cumulated_energy, is_fretting, read_loops
+from .fretting import cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
 __all__ = [
@@ -49,7 +49,6 @@ __all__ = [
     "draw_fretting_loops",
     "draw_wear_energy",
     "fretting_figures",
-    "is_fretting",
     "read_loops",
     "cumulated_energy",
 ]

@@ -358,15 +358,20 @@ _STUDY_WIDE = {"punch.radius", "loading.load", "mesh.n", "mesh.half_width", "loa
                "material.E_B", "material.nu_B"}  # fmt: skip
 
 
-def swept_keys(path: str | Path) -> list[str]:
-    """Dotted keys swept in the study of the results file ``path`` (root attributes only)."""
+def study_settings(path: str | Path) -> dict:
+    """The resolved study stored in the results file ``path`` (root attributes only: cheap,
+    whatever the number of cases)."""
     import json
 
     import h5py
 
     with h5py.File(path, "r") as file:
-        sweep = json.loads(file.attrs["study_json"]).get("sweep", {})
-    return [key for key in sweep if "." in key]
+        return json.loads(file.attrs["study_json"])
+
+
+def swept_keys(settings: dict) -> list[str]:
+    """Dotted keys swept in a resolved study (:func:`study_settings`)."""
+    return [key for key in settings.get("sweep", {}) if "." in key]
 
 
 def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:

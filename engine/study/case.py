@@ -59,6 +59,7 @@ __all__ = [
     "InjectedFailure",
     "BorderCheckedSolver",
     "nominal_mean_pressure",
+    "case_wear_law",
 ]
 
 # Status values, dataset paths, units and descriptions: the results schema (engine.schema).
@@ -73,6 +74,16 @@ def _without_negative_zeros(row: dict[str, Any]) -> dict[str, Any]:
     """-0.0 → 0.0 in a summary row (a coordinate on the plane y = 0 can come out as -0.0;
     adding +0.0 maps only -0.0 to 0.0 in IEEE arithmetic and leaves NaN as it is)."""
     return {key: value + 0.0 if isinstance(value, float) else value for key, value in row.items()}
+
+
+def case_wear_law(case: Case, cfg: StudyConfig):
+    """The case's wear law (``[wear] law``, cyclic and fretting kinds): the orthotropic
+    Archard law (wear1, wear2 in 1/MPa, β) or the dissipated-energy law (α in mm³/J)."""
+    from engine.solvers.friction import EnergyWearLaw, WearLaw
+
+    if cfg.wear.law == "energy":
+        return EnergyWearLaw(case.alpha)
+    return WearLaw(case.wear1, case.wear2, math.radians(case.beta))
 
 
 def nominal_mean_pressure(cfg: StudyConfig) -> float:
@@ -299,7 +310,6 @@ class CaseRunner:
     def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
         from engine.solvers.peak import PeakTracker
-        from engine.study.fretting_case import wear_law as case_wear_law
 
         from .checkpoint import load_cyclic_state, save_cyclic_state
 

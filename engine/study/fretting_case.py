@@ -92,15 +92,6 @@ def settings(cfg) -> FrettingSettings:
     )
 
 
-def wear_law(case, cfg):
-    """The case's wear law: orthotropic Archard (wear1, wear2, β) or the energy law (α)."""
-    from engine.solvers.friction import EnergyWearLaw, WearLaw
-
-    if cfg.wear.law == "energy":
-        return EnergyWearLaw(case.alpha)
-    return WearLaw(case.wear1, case.wear2, math.radians(case.beta))
-
-
 def check_force_bound(case, fretting: FrettingSettings) -> None:
     """Force control needs Q* below the largest force the friction ellipse can carry along d,
     h(d)·P with h(d) = √((μ1 d₁)² + (μ2 d₂)²) (d in the tribological axes)."""
@@ -120,6 +111,7 @@ def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> F
     """Run (or resume from ``checkpoint``) a fretting case; save the state when stopped."""
     from engine.solvers.peak import PeakTracker
 
+    from .case import case_wear_law
     from .checkpoint import load_fretting_state, save_fretting_state
 
     fretting = settings(cfg)
@@ -132,7 +124,11 @@ def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> F
         return (peak.value, peak.x, peak.y, peak.z)
 
     analysis = FrettingAnalysis(
-        solver, wear_law(case, cfg), fretting, peak_probe=tracker, increment_probe=increment_probe
+        solver,
+        case_wear_law(case, cfg),
+        fretting,
+        peak_probe=tracker,
+        increment_probe=increment_probe,
     )
     state = load_fretting_state(checkpoint) if checkpoint.exists() else None
     result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
