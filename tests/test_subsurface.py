@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from engine.grid import Grid
-from engine.kernels.stress import COMPONENTS, element_stress
+from engine.kernels.lattice import LatticeConvolution, LineConvolution
+from engine.kernels.stress import COMPONENTS, LOADS, element_stress
 from engine.reference.flat_punch import (
     flat_punch_stress,
     mean_pressure,
@@ -170,6 +171,33 @@ def test_plane_equals_direct_sum_on_lattice_points(small_case, angle):
             np.testing.assert_allclose(
                 field.components[c][rows, k], reference[c], rtol=0, atol=1e-10 * scale
             )
+
+
+@pytest.mark.parametrize("shape", [(7, 6), (6, 7)])
+@pytest.mark.parametrize("axis", [0, 1])
+def test_line_through_the_axis_folds_the_grid(shape, axis):
+    # The x–z (y–z) plane folds the grid across the line (LineConvolution): the same sums
+    # as the 2-D lattice it replaces, to rounding (1e-12), with half its kernel memory or
+    # less, for an odd and an even number of rows across the line.
+    grid = Grid(*shape, 0.7, 0.45)
+    rng = np.random.default_rng(11)
+    tractions = {load: rng.uniform(-3, 3, grid.shape) for load in LOADS}
+    depths = np.array([0.003, 0.05, 0.4])
+    stress = SubsurfaceStress(grid, NU, depths)
+    field = stress.plane(**tractions, angle=axis * math.pi / 2, half_length=1.2)
+    ((origin, counts), line), *others = stress._lattices.items()
+    assert isinstance(line, LineConvolution) and not others
+    lattice = LatticeConvolution(grid, NU, origin, counts, 1, "FFTW_ESTIMATE", True)
+    reference = lattice.evaluate(depths, tractions)
+    for c in COMPONENTS:
+        scale = np.abs(reference[c]).max()
+        np.testing.assert_allclose(
+            field.components[c],
+            reference[c].reshape(field.components[c].shape),
+            rtol=0,
+            atol=1e-12 * scale,
+        )
+    assert 0 < line.cache_bytes <= 0.5 * lattice.cache_bytes * (1 + 1 / min(shape))
 
 
 def test_block_margin_extends_the_lattice(small_case):

@@ -18,13 +18,44 @@ from __future__ import annotations
 import numpy as np
 
 from ..grid import Grid
-from .fft import RealFFTPair, next_fast_length, wrap_kernel
-from .stress import COMPONENTS, element_stress, kernel_parity
+from .fft import RealFFTPair, next_fast_length, plan, pyfftw, wrap_kernel
+from .stress import COMPONENTS, LOADS, element_stress, kernel_parity
 
-__all__ = ["LatticeConvolution"]
+__all__ = ["LatticeConvolution", "LineConvolution", "symmetric_about_zero"]
 
 
-class LatticeConvolution:
+def symmetric_about_zero(coordinates: np.ndarray, step: float) -> bool:
+    """True if the element centres ``coordinates`` mirror onto each other about 0."""
+    return bool(np.allclose(coordinates[::-1], -coordinates, rtol=0, atol=1e-9 * step))
+
+
+class _DepthLayers:
+    """What both convolutions share: every depth layer from the same traction spectra."""
+
+    counts: tuple[int, int]
+
+    def traction_spectra(self, tractions: dict[str, np.ndarray]) -> dict:
+        raise NotImplementedError
+
+    def layer(self, layer: int, depth: float, tractions: dict) -> dict:
+        raise NotImplementedError
+
+    def evaluate(self, depths: np.ndarray, tractions: dict[str, np.ndarray]) -> dict:
+        """All layers: dict component -> (m_x, m_y, n_z), MPa."""
+        spectra = self.traction_spectra(tractions)
+        out = {c: np.empty((*self.counts, depths.size)) for c in COMPONENTS}
+        for k, depth in enumerate(depths):
+            if spectra:
+                values = self.layer(k, float(depth), spectra)
+                for c in COMPONENTS:
+                    out[c][:, :, k] = values[c]
+            else:
+                for c in COMPONENTS:
+                    out[c][:, :, k] = 0.0
+        return out
+
+
+class LatticeConvolution(_DepthLayers):
     """Eq. (16) on the field-point lattice t = (t_x0 + iΔx, t_y0 + jΔy), i < m_x, j < m_y.
 
     Offsets field − source run over (t_0 − x_0) + kΔ, k = −(n − 1) … m − 1; they are stored
@@ -128,16 +159,136 @@ class LatticeConvolution:
             result[component] = self._scale * self._real[:m_x, :m_y]
         return result
 
-    def evaluate(self, depths: np.ndarray, tractions: dict[str, np.ndarray]) -> dict:
-        """All layers: dict component -> (m_x, m_y, n_z), MPa."""
-        spectra = self.traction_spectra(tractions)
-        out = {c: np.empty((*self.counts, depths.size)) for c in COMPONENTS}
-        for k, depth in enumerate(depths):
-            if spectra:
-                values = self.layer(k, float(depth), spectra)
-                for c in COMPONENTS:
-                    out[c][:, :, k] = values[c]
-            else:
-                for c in COMPONENTS:
-                    out[c][:, :, k] = 0.0
-        return out
+
+class LineConvolution(_DepthLayers):
+    """Eq. (16) on a line of field points through the middle of a grid that is symmetric
+    about it: t = (t_0 + iΔx, 0), i < m (``axis`` = 0, the x–z plane), or t = (0, t_0 + jΔy)
+    (``axis`` = 1, the y–z plane).
+
+    Across the line the sources pair up: element j and its mirror j' sit at opposite
+    offsets, and an element coefficient even (odd) across the line sees them with the same
+    (the opposite) sign (``kernel_parity``). So the sum of Eq. (16) on the line is a sum over
+    half the rows of 1-D convolutions along it, of the folded tractions τ(j) ± τ(j'): each
+    row is zero-padded to N >= n + m − 1 along the line and transformed there only, the
+    products are summed over the rows, and one 1-D inverse FFT per component gives the line.
+    Exact like the 2-D lattice (no periodic images), with half its kernel memory (rows ·
+    (N/2 + 1) complex values per spectrum, rows = ceil(n_across / 2)) and 1-D inverse FFTs.
+    """
+
+    def __init__(
+        self, grid: Grid, poisson_ratio: float, axis: int, start, count, threads, effort, cache
+    ):
+        self.grid = grid
+        self.poisson_ratio = poisson_ratio
+        self.axis = axis
+        self.counts = (count, 1) if axis == 0 else (1, count)
+        self.cache = cache
+        along, across = (grid.x, grid.y) if axis == 0 else (grid.y, grid.x)
+        steps = (grid.dx, grid.dy) if axis == 0 else (grid.dy, grid.dx)
+        if not symmetric_about_zero(across, steps[1]):
+            raise ValueError("a line convolution needs a grid symmetric about the line")
+        n, half = along.size, across.size // 2
+        self.padded = next_fast_length(n + count - 1)
+        self._scale = 1.0 / self.padded
+        # Row r pairs the source at +c_r (the upper half, outermost first) with its mirror
+        # at −c_r; a middle row (odd count) stands alone. Offsets field − source across the
+        # line are −c_r, ascending, so they step by one element (shared corners).
+        upper = np.arange(across.size - 1, across.size - 1 - half, -1)
+        self._upper, self._lower = upper, across.size - 1 - upper
+        self._middle = half if across.size % 2 else None
+        across_offsets = -across[upper]
+        if self._middle is not None:
+            across_offsets = np.append(across_offsets, 0.0)
+        rows = across_offsets.size
+        k = np.arange(-(n - 1), count)
+        along_offsets = start - along[0] + steps[0] * k
+        self._offsets = (
+            (along_offsets, across_offsets) if axis == 0 else (across_offsets, along_offsets)
+        )
+        self._wrap = k % self.padded
+        self._rows = pyfftw.empty_aligned((rows, self.padded), "float64")
+        self._row_spectra = pyfftw.empty_aligned((rows, self.padded // 2 + 1), "complex128")
+        self._forward = plan(self._rows, self._row_spectra, (1,), threads=threads, effort=effort)
+        self._line_spectra = pyfftw.empty_aligned(
+            (len(COMPONENTS), self.padded // 2 + 1), "complex128"
+        )
+        self._lines = pyfftw.empty_aligned((len(COMPONENTS), self.padded), "float64")
+        self._inverse = plan(
+            self._line_spectra,
+            self._lines,
+            (1,),
+            direction="FFTW_BACKWARD",
+            threads=threads,
+            effort=effort,
+        )
+        self._parity_axis = 1 - axis
+        self._kernels: dict[tuple[int, str], dict[str, np.ndarray]] = {}
+
+    @property
+    def cache_bytes(self) -> int:
+        return sum(a.nbytes for spectra in self._kernels.values() for a in spectra.values())
+
+    def _transform(self, rows: np.ndarray) -> np.ndarray:
+        """Forward FFT along the line of ``rows`` (rows, length <= N), already in padded order."""
+        self._rows[...] = 0.0
+        self._rows[:, : rows.shape[1]] = rows
+        self._forward.execute()
+        return self._row_spectra.copy()
+
+    def _fold(self, values: np.ndarray, parity: int) -> np.ndarray:
+        """τ(upper) + parity · τ(lower) per row, as (rows, n along the line)."""
+        rows = values.T if self.axis == 0 else values  # (across, along)
+        folded = rows[self._upper] + parity * rows[self._lower]
+        if self._middle is not None:
+            middle = rows[self._middle] if parity > 0 else np.zeros_like(rows[self._middle])
+            folded = np.vstack([folded, middle])
+        return folded
+
+    def traction_spectra(self, tractions: dict[str, np.ndarray]) -> dict:
+        """Spectra of the folded tractions: (load, parity across the line) -> (rows, N/2 + 1)."""
+        return {
+            (load, parity): self._transform(self._fold(values, parity))
+            for load, values in tractions.items()
+            for parity in (1, -1)
+        }
+
+    def kernel_spectra(self, layer: int, depth: float, load: str) -> dict[str, np.ndarray]:
+        """Spectra along the line of the element coefficients at one depth, per component."""
+        key = (layer, load)
+        if key in self._kernels:
+            return self._kernels[key]
+        grid = self.grid
+        coefficients = element_stress(
+            *self._offsets, depth, grid.dx, grid.dy, self.poisson_ratio, load
+        )
+        spectra = {}
+        for component in COMPONENTS:
+            rows = coefficients[component]
+            rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
+            wrapped = np.zeros((rows.shape[0], self.padded))
+            wrapped[:, self._wrap] = rows
+            spectra[component] = self._transform(wrapped)
+        if self.cache:
+            self._kernels[key] = spectra
+        return spectra
+
+    def layer(self, layer: int, depth: float, tractions: dict) -> dict:
+        """Stresses on the line at one depth: dict component -> (m_x, m_y), MPa.
+
+        ``tractions``: folded traction spectra from ``traction_spectra``.
+        """
+        loads = sorted({load for load, _ in tractions}, key=LOADS.index)
+        kernels = {load: self.kernel_spectra(layer, depth, load) for load in loads}
+        spectra = self._line_spectra
+        spectra[...] = 0.0
+        for index, component in enumerate(COMPONENTS):
+            for load in loads:
+                parity = kernel_parity(load, component)[self._parity_axis]
+                traction = tractions[(load, parity)]
+                spectra[index] += np.einsum("rk,rk->k", kernels[load][component], traction)
+        self._inverse.execute()
+        count = max(self.counts)
+        return {
+            component: (self._scale * self._lines[index, :count]).reshape(self.counts)
+            for index, component in enumerate(COMPONENTS)
+        }
