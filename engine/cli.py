@@ -258,7 +258,7 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
         study = dataclasses.replace(study, output_strategy=args.output_strategy)
     config = dataclasses.replace(config, study=study)
     plan = make_plan(config)
-    check_memory(config, ranks_on_node)
+    check_memory(config, ranks_on_node, plan=plan)
     strategy = choose_strategy(config.study.output_strategy, ranks)
     if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None

@@ -239,6 +239,33 @@ def test_dry_run_shows_what_resume_and_fresh_would_do(tiny_run):
     assert (root / "out" / "tiny.h5").read_bytes() == before  # a dry run changes nothing
 
 
+def test_a_static_study_stored_in_its_results_runs_again(tmp_path):
+    # The study stored in a results file is a study file: a static one once held cycles = 0
+    # and record = [], which the parser refuses for static loading. Files written that way
+    # still resume (the placeholders are taken out before the comparison).
+    import json
+
+    import h5py
+
+    from engine.study.config import parse_study
+
+    text = study_toml("static", "s.h5", loading={"kind": "static", "steps": 1})
+    (tmp_path / "s.toml").write_text(text)
+    assert _engine("s.toml", cwd=tmp_path).returncode == 0
+    with h5py.File(tmp_path / "s.h5", "r") as file:
+        stored = str(file.attrs["study_toml"])
+    assert "cycles" not in stored and "record" not in stored
+    assert parse_study(stored).fingerprint() == parse_study(text).fingerprint()
+    with h5py.File(tmp_path / "s.h5", "r+") as file:  # as earlier versions wrote it
+        for name in ("study_json", "study_identity", "study_fingerprint"):
+            data = json.loads(file.attrs[name])
+            data["loading"].update(cycles=0, record=[])
+            file.attrs[name] = json.dumps(data, sort_keys=True)
+    again = _engine("s.toml", cwd=tmp_path)
+    assert again.returncode == 0, again.stdout + again.stderr
+    assert "1 case, 1 already complete, 0 to run" in again.stdout
+
+
 # ----------------------------------------------------------------------------- the README
 def test_readme_study_is_valid_and_the_readme_fits_on_a_screen():
     from engine.study.config import parse_study

@@ -325,6 +325,7 @@ class StudyConfig:
         """The configuration with every default filled in, as plain TOML-able data."""
         out: dict[str, dict[str, Any]] = {}
         swept = set(self.sweep.swept_keys)
+        cycled = self.is_cyclic
         if swept:  # defaults computed from swept keys belong to each case, not to the study
             swept |= set(self.derived_defaults)
         for field in dataclasses.fields(self):
@@ -341,6 +342,8 @@ class StudyConfig:
                     continue  # TOML has no null: None is "not applicable" (static loading)
                 if field.name == "punch" and key == "shape" and value == "flat":
                     continue  # the default, left out so that older results files resume
+                if field.name == "loading" and key in STATIC_PLACEHOLDERS and not cycled:
+                    continue  # no cycles in a static study (older files: fill_former_defaults)
                 if isinstance(value, Path):
                     value = str(value)
                 if isinstance(value, tuple):
@@ -377,13 +380,24 @@ class StudyConfig:
 FORMER_DEFAULTS = {("solver", "maxiter"): 20000, ("loading", "max_wear_fraction"): 0.004}
 
 
+# What results files of static studies stored for the cyclic keys before they were left out
+# (a stored static study then did not parse back: the parser refuses cycles in static loading).
+STATIC_PLACEHOLDERS = {"cycles": 0, "record": []}
+
+
 def fill_former_defaults(stored: dict[str, Any], current: dict[str, Any]) -> None:
     """Give a stored resolved study (or fingerprint data) the former defaults it left out,
-    in place, where ``current`` sets the key: results files of earlier versions resume."""
+    and take out the static placeholders it held (``STATIC_PLACEHOLDERS``), in place, where
+    ``current`` does the same: results files of earlier versions resume."""
     for (section, key), value in FORMER_DEFAULTS.items():
         table = stored.get(section)
         if isinstance(table, dict) and key not in table and key in current.get(section, {}):
             table[key] = value
+    loading, now = stored.get("loading"), current.get("loading", {})
+    if isinstance(loading, dict) and loading.get("kind") == "static":
+        for key, value in STATIC_PLACEHOLDERS.items():
+            if key in loading and loading[key] == value and key not in now:
+                del loading[key]
 
 
 def same_fingerprint(stored: str | None, current: str) -> bool:

@@ -1,19 +1,25 @@
 """Memory a case needs, checked against the machine before anything is created.
 
-Peak resident memory of one case (static or cyclic: the same arrays dominate), measured with
-``ru_maxrss`` for n = 64, 128, 256 and 4, 16, 32 subsurface layers (one process, the engine's
-imports included)::
+Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -m engine``
+(one process, the engine's imports included) for n = 64, 128, 256, 4 to 32 subsurface layers
+and 5 to 20 increments per half cycle (2026-11-24)::
 
-    memory ≈ 100 MB + n² · (1600 + 340 · layers) bytes
+    memory ≈ 120 MB + n² · (1850 + 150 · layers + cycled) bytes
+    cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The n² term is the contact solver (FFT operator and work arrays on the 2n × 2n padded grid,
-~1600 B per element); the layer term the subsurface stress kernels (six stress components per
-layer on the padded grid, ~340 B per element and layer). The fit is within +5 % of the
-measured peaks (e.g. n = 256, 32 layers: 918 MB estimated, 889 MB measured) and errs high.
+The 1850 B per element are the contact solver (FFT operator, spectra and work arrays on the
+2n × 2n padded grid); the layer term the x–z plane's subsurface kernel spectra (six
+components and three loads per layer on the folded line lattice, ~144 B per element and
+layer); the cycled term the histories, records and the warm start, which keeps the pressure
+and both tractions of every increment of two simulated cycles (2 · 3 · 8 B per element and
+increment; a simulated cycle has 2·steps increments when cyclic, 4·steps when fretting). The
+fit errs high by 2–5 % on every measured point, e.g. n = 256: static with 32 layers 556 MB
+estimated, 542 MB measured; cyclic with 16 layers and 10 steps 501 MB, 478 MB measured.
 
-Every rank of a node runs a case at the same time, so ``ranks on the node × estimate`` must
-fit in the node's memory: physical memory, or the cgroup limit of the job when it is smaller
-(SLURM and containers set one).
+Every rank of a node runs a case at the same time, so ``ranks on the node × estimate`` of the
+largest case of the plan (mesh, layers and steps may be swept) must fit in the node's memory:
+physical memory, or the cgroup limit of the job when it is smaller (SLURM and containers set
+one).
 """
 
 from __future__ import annotations
@@ -22,17 +28,40 @@ import os
 from pathlib import Path
 
 from .config import StudyConfig, StudyConfigError
+from .plan import Plan
 
-__all__ = ["case_memory_bytes", "memory_limit_bytes", "check_memory"]
+__all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_memory"]
 
-BASE_BYTES = 100e6
-BYTES_PER_ELEMENT = 1600.0
-BYTES_PER_ELEMENT_AND_LAYER = 340.0
+BASE_BYTES = 120e6
+BYTES_PER_ELEMENT = 1850.0
+BYTES_PER_ELEMENT_AND_LAYER = 150.0
+BYTES_PER_ELEMENT_CYCLED = 600.0
+BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 B
 
 
-def case_memory_bytes(n: int, layers: int) -> float:
-    """Estimated peak memory (bytes) of one case on an n × n mesh with ``layers`` layers."""
-    return BASE_BYTES + float(n) ** 2 * (BYTES_PER_ELEMENT + BYTES_PER_ELEMENT_AND_LAYER * layers)
+def case_memory_bytes(n: int, layers: int, increments: int = 0) -> float:
+    """Estimated peak memory (bytes) of one case on an n × n mesh with ``layers`` layers and
+    ``increments`` load increments per simulated cycle (0: a static case)."""
+    per_element = BYTES_PER_ELEMENT + BYTES_PER_ELEMENT_AND_LAYER * layers
+    if increments:
+        per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
+    return BASE_BYTES + float(n) ** 2 * per_element
+
+
+def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, int, int]:
+    """(n, layers, increments per simulated cycle) of the plan's case that needs the most
+    memory (the study's own values without a plan)."""
+    per_cycle = {"static": 0, "cyclic": 2, "fretting": 4}[config.loading.kind]
+    sizes = set()
+    for case in plan.cases if plan is not None else ():
+        settings = dict(case.settings)
+        n = case.mesh[0] if case.mesh is not None else settings.get("mesh.n", config.mesh.n)
+        layers = settings.get("subsurface.layers", config.subsurface.layers)
+        steps = settings.get("loading.steps", config.loading.steps)
+        sizes.add((int(n), int(layers), per_cycle * int(steps)))
+    if not sizes:
+        sizes.add((config.mesh.n, config.subsurface.layers, per_cycle * config.loading.steps))
+    return max(sizes, key=lambda size: case_memory_bytes(*size))
 
 
 def memory_limit_bytes() -> float:
@@ -48,21 +77,29 @@ def memory_limit_bytes() -> float:
     return limit
 
 
-def check_memory(config: StudyConfig, ranks_on_node: int = 1, limit: float | None = None) -> None:
-    """Raise :class:`StudyConfigError` (exit code 2) when the cases of one node cannot fit."""
+def check_memory(
+    config: StudyConfig,
+    ranks_on_node: int = 1,
+    limit: float | None = None,
+    plan: Plan | None = None,
+) -> None:
+    """Raise :class:`StudyConfigError` (exit code 2) when the cases of one node cannot fit:
+    ``ranks_on_node`` times the largest case of ``plan``."""
     limit = memory_limit_bytes() if limit is None else limit
-    per_case = case_memory_bytes(config.mesh.n, config.subsurface.layers)
+    n, layers, increments = largest_case(config, plan)
+    per_case = case_memory_bytes(n, layers, increments)
     needed = per_case * max(1, ranks_on_node)
     if needed > limit:
         ranks = f" × {ranks_on_node} ranks on this node" if ranks_on_node > 1 else ""
+        cycled = f", {increments} increments per cycle" if increments else ""
         raise StudyConfigError(
             config.source,
             "mesh.n",
-            config.mesh.n,
-            f"a case needs about {_gib(per_case)} (n = {config.mesh.n}, "
-            f"{config.subsurface.layers} subsurface layers){ranks} = {_gib(needed)}, more than "
-            f"the {_gib(limit)} of memory of this machine; reduce n or [subsurface] layers, "
-            "or run fewer ranks per node",
+            n,
+            f"a case needs about {_gib(per_case)} (n = {n}, {layers} subsurface layers"
+            f"{cycled}){ranks} = {_gib(needed)}, more than the {_gib(limit)} of memory of "
+            "this machine; reduce n, [subsurface] layers or [loading] steps, or run fewer "
+            "ranks per node",
         )
 
 
