@@ -96,3 +96,27 @@ def test_reader_measures_along_the_plane(studies):
     value, s, z = planes[90].peak()
     assert (value, s, z) == pytest.approx(planes[0].peak(), rel=ROUND_OFF, abs=ROUND_OFF)
     assert planes[90].peak_point()[2] == pytest.approx(s, abs=ROUND_OFF)  # y = s at 90°
+
+
+def test_a_rank_builds_the_kernels_of_the_plane_its_cases_evaluate():
+    # The per-rank cache builds, as set-up, the kernels of the plane a case evaluates (the
+    # sliding direction of a fretting case), not those of an x–z plane nobody asks for.
+    import math
+
+    import numpy as np
+
+    from engine.grid import Grid
+    from engine.kernels.lattice import LatticeConvolution, LineConvolution
+    from engine.study.operators import OperatorCache
+
+    cache, grid, depths = OperatorCache(), Grid.square(16, 1.0), np.array([0.1, 0.3])
+    options = dict(threads=1, planner_effort="FFTW_ESTIMATE")
+    stress = cache.stress(grid, 0.3, depths, angle=math.radians(30.0), **options)
+    (oblique,) = stress._lattices.values()
+    assert isinstance(oblique, LatticeConvolution) and oblique.cache_bytes > 0
+    built = cache.setup_s
+    assert cache.stress(grid, 0.3, depths, angle=math.radians(30.0), **options) is stress
+    assert cache.setup_s == built  # nothing built again
+    assert cache.stress(grid, 0.3, depths, angle=0.0, **options) is stress
+    assert len(stress._lattices) == 2 and cache.setup_s > built
+    assert any(isinstance(lattice, LineConvolution) for lattice in stress._lattices.values())

@@ -259,6 +259,7 @@ class CaseRunner:
 
     def _subsurface(self, grid, material, cfg: StudyConfig):
         from engine.solvers.subsurface import depth_layers
+        from engine.study import fretting_case
 
         depths = np.asarray(
             depth_layers(cfg.subsurface.depth * cfg.contact_length, cfg.subsurface.layers),
@@ -270,6 +271,7 @@ class CaseRunner:
             depths,
             threads=cfg.solver.threads,
             planner_effort=cfg.solver.planner_effort,
+            angle=math.radians(fretting_case.plane_angle(cfg)),
         )
         return stress, depths
 

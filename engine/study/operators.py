@@ -34,6 +34,7 @@ class OperatorCache:
     def __init__(self) -> None:
         self._operators: dict[tuple, HalfSpaceOperator] = {}
         self._stresses: dict[tuple, SubsurfaceStress] = {}
+        self._planes: set[tuple] = set()  # (stress key, angle) whose kernels are built
         self.setup_s = 0.0
 
     def operator(
@@ -60,22 +61,26 @@ class OperatorCache:
         *,
         threads: int,
         planner_effort: str,
+        angle: float = 0.0,
     ) -> SubsurfaceStress:
         """The subsurface stress evaluator (its kernel spectra are kept between cases); the
-        kernels of the x–z plane through the axis, which every case evaluates, are built now
-        and counted as set-up."""
+        kernels of the vertical plane through the axis at ``angle`` (rad; 0: the x–z plane,
+        which cyclic and static cases evaluate; a fretting case's sliding direction) are
+        built on the first request for that plane and counted as set-up."""
         key = (grid, float(poisson_ratio), tuple(float(d) for d in depths), threads, planner_effort)
+        if (key, float(angle)) in self._planes:
+            return self._stresses[key]
+        start = time.perf_counter()
         if key not in self._stresses:
-            start = time.perf_counter()
-            stress = SubsurfaceStress(
+            self._stresses[key] = SubsurfaceStress(
                 grid,
                 poisson_ratio,
                 np.asarray(depths, dtype=float),
                 threads,
                 planner_effort=planner_effort,
             )
-            ones = np.ones(grid.shape)
-            stress.plane(ones, ones, ones, angle=0.0)
-            self._stresses[key] = stress
-            self.setup_s += time.perf_counter() - start
+        ones = np.ones(grid.shape)
+        self._stresses[key].plane(ones, ones, ones, angle=float(angle))
+        self._planes.add((key, float(angle)))
+        self.setup_s += time.perf_counter() - start
         return self._stresses[key]
