@@ -20,10 +20,12 @@ beside its wall time: on a shared machine it is the steadier of the two. Targets
 
 ``--static-cases K`` also runs a study of K static frictional 128² cases through the case
 runner, with the per-rank operator cache and without it (today), and prints set-up vs total.
-``--static-512`` reports the peak RSS of one 512² static frictional solve.
+``--static-512`` reports the peak RSS of one 512² static frictional solve; ``--cli-rss``
+that of one 128² cyclic case run as users run it (``python -m engine``, 3000 cycles, the
+σ_VM probe of every simulated cycle included), for the baseline and this tree alternating.
 
 Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_cyclic.py [--sizes 64 128]
-      [--static-cases 20] [--static-512]
+      [--static-cases 20] [--static-512] [--cli-rss [LAYERS ...]]
 Takes ~1 minute for 64² and ~4 minutes more for 128² on an idle core here.
 """
 
@@ -152,6 +154,60 @@ def run_static_cases(n: int, count: int, shared: bool) -> dict:
     return dict(total=total, setup=setup, count=count, rss=_peak_rss_mb())
 
 
+def cli_case(code: Path, n: int, cycles: int, layers: int) -> dict:
+    """Peak RSS (MB) and wall time (s) of one Section 7.2 case (μ = 0.1, 10 steps) run as
+    users run it, ``python -m engine`` with the engine of ``code``: the case runner, the
+    σ_VM probe of every simulated cycle on the x–z plane (``layers`` layers to 1.5 a0), the
+    records and the writer. The peak of that process alone (``os.wait4``)."""
+    from engine.study.examples import study_toml
+
+    loading = {"kind": "cyclic", "load": LOAD, "steps": 10, "cycles": cycles, "record": [cycles]}
+    with tempfile.TemporaryDirectory() as folder:
+        study = Path(folder) / "rss.toml"
+        study.write_text(
+            study_toml(
+                "bench_rss",
+                Path(folder) / "rss.h5",
+                mesh={"n": n},
+                loading=loading,
+                subsurface={"depth": 1.5, "layers": layers},
+                sweep={"mu1": [0.1], "wear1": [WEAR]},
+            )
+        )
+        env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(code), env.get("PYTHONPATH")]))
+        with open(Path(folder) / "log", "w") as log:
+            start = time.perf_counter()
+            process = subprocess.Popen(
+                [sys.executable, "-m", "engine", str(study)],
+                cwd=folder,  # not this tree: ``-m`` puts the working directory first
+                env=env,
+                stdout=log,
+                stderr=log,
+            )
+            _, status, usage = os.wait4(process.pid, 0)
+            wall = time.perf_counter() - start
+        if status != 0:
+            raise RuntimeError((Path(folder) / "log").read_text())
+    return dict(rss=usage.ru_maxrss / 1024.0, wall=wall)
+
+
+def compare_cli_cases(baseline: Path | None, n: int, cycles: int, layers, repeat: int) -> None:
+    """``cli_case`` for the baseline and this tree, alternating, ``repeat`` times each."""
+    codes = {"new": REPO} if baseline is None else {"base": baseline, "new": REPO}
+    for count in layers:
+        peaks = {name: [] for name in codes}
+        for index in range(repeat):
+            for name in codes if index % 2 == 0 else list(codes)[::-1]:
+                peaks[name].append(cli_case(codes[name], n, cycles, count)["rss"])
+        shown = ", ".join(f"{name} {min(v):.0f}–{max(v):.0f} MB" for name, v in peaks.items())
+        print(
+            f"{n}² cyclic case, {cycles} cycles, {count} layers, python -m engine: peak RSS "
+            f"{shown}",
+            flush=True,
+        )
+
+
 def in_subprocess(*arguments: str, code: Path = REPO) -> dict:
     """Run this file's ``child`` with the engine of ``code`` (this tree, or the baseline)."""
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
@@ -207,7 +263,7 @@ def _print_ratio(n: int, name: str, today: dict, new: dict) -> None:
         f"differences: max wear {_relative(new['depth'], today['depth'])}, volume "
         f"{_relative(new['volume'], today['volume'])}, vm "
         f"{_relative(new['vm'], today['vm'])}, vm_sub "
-        f"{_relative(new['vm_sub'], today['vm_sub'])}; RSS new - today "
+        f"{_relative(new['vm_sub'], today['vm_sub'])}; RSS new - {name} "
         f"{new['rss'] - today['rss']:+.0f} MB",
         flush=True,
     )
@@ -250,6 +306,14 @@ def main() -> None:
     parser.add_argument("--static-n", type=int, default=128)
     parser.add_argument("--static-512", action="store_true")
     parser.add_argument(
+        "--cli-rss",
+        type=int,
+        nargs="*",
+        metavar="LAYERS",
+        help="peak RSS of one 128² cyclic case (3000 cycles) through python -m engine, with "
+        "these numbers of subsurface layers (default 16 31), baseline and new alternating",
+    )
+    parser.add_argument(
         "--baseline-commit",
         metavar="REV",
         help="also run the engine of this git revision (e.g. the commit before issue 17) as "
@@ -270,6 +334,8 @@ def main() -> None:
                     f"({100 * row['setup'] / row['total']:.1f} %), RSS {row['rss']:.0f} MB",
                     flush=True,
                 )
+        if args.cli_rss is not None:
+            compare_cli_cases(baseline, 128, 3000, args.cli_rss or [16, 31], repeat=2)
         if args.static_512:
             codes = {"new": REPO} if baseline is None else {"base": baseline, "new": REPO}
             for name, code in codes.items():
