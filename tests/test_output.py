@@ -297,3 +297,38 @@ def test_low_level_writes_through_identifiers_make_the_same_objects(tmp_path):
         for name in ("CLASS", "NAME"):
             a, b = (file[f"{side}/grid/x"].attrs.get_id(name) for side in ("high", "low"))
             assert a.get_type().equal(b.get_type()) and a.shape == b.shape, name
+
+
+def test_summary_csv_is_byte_for_byte_what_pandas_writes(study):
+    # The engine writes the CSV without pandas (summary_csv); users read it with pandas.
+    # The text must be exactly pandas' to_csv of summary_frame, for every kind of value a
+    # row can hold: pending and completed rows, NaN and None, −0.0, integers given as
+    # floats, tiny and huge floats, text with commas and quotes, and swept extra columns
+    # (all integers, integers with a gap, floats, booleans, text, nothing).
+    import io
+
+    from engine.output.summary import summary_csv, summary_frame
+    from engine.schema import pending_row
+
+    config, plan, _ = study
+    completed = [fake_outcome(case).row for case in plan.cases[:2]]
+    completed[0].update(approach=-0.0, wear_volume=1e-300, vm_max=1.7976931348623157e308)
+    completed[1].update(cycles=100.0, matvecs=1234.0, vm_max_x=float("nan"), load_steps=None)
+    completed[1]["status"] = 'failed: "x", y'
+    pending = [pending_row(case.parameters()) for case in plan.cases[2:]]
+    extras = {
+        "mesh.n": [16, 32, 64, 128],
+        "loading.load": [500, 750.5, None, 1e-7],
+        "subsurface.layers": [4, None, 8, 12],
+        "flag": [True, False, None, True],
+        "punch.shape": ["flat", "sphere", None, "rounded, r=1"],
+        "nothing": [None, None, None, None],
+        "zero": [-0.0, 0.0, 1.0, float("nan")],
+    }
+    rows = completed + pending
+    for index, row in enumerate(rows):
+        row.update({key: values[index] for key, values in extras.items()})
+    for case in (rows, rows[:1], pending, []):
+        expected = io.StringIO()
+        summary_frame(case).to_csv(expected, index=False)
+        assert summary_csv(case) == expected.getvalue()

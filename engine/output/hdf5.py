@@ -67,7 +67,7 @@ from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
-from .summary import pending_row, summary_frame, write_summary_csv
+from .summary import pending_row, write_summary_csv
 
 __all__ = [
     "FORMAT",
@@ -651,7 +651,7 @@ class SummaryTable:
         now = time.perf_counter()
         if not force and now - self._last_end < self.spacing * self._last_cost:
             return
-        write_summary_csv(summary_frame(rows()), self.path)
+        write_summary_csv(rows(), self.path)
         self._last_end = time.perf_counter()
         self._last_cost = self._last_end - now
         self.dirty = False

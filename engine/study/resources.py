@@ -2,7 +2,7 @@
 
 Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -m engine``
 (one process, the engine's imports included) for n = 64, 128, 256, 4 to 32 subsurface layers
-and 5 to 20 increments per half cycle (2026-11-24)::
+and 5 to 20 increments per half cycle (2026-11-23)::
 
     memory ≈ 120 MB + n² · (1850 + 150 · layers + cycled) bytes
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
