@@ -256,6 +256,10 @@ def test_a_static_study_stored_in_its_results_runs_again(tmp_path):
         stored = str(file.attrs["study_toml"])
     assert "cycles" not in stored and "record" not in stored
     assert parse_study(stored).fingerprint() == parse_study(text).fingerprint()
+    former = stored.replace("[loading]\n", "[loading]\ncycles = 0\nrecord = []\n")
+    assert parse_study(former).fingerprint() == parse_study(text).fingerprint()
+    with pytest.raises(ValueError, match=r"\[loading\] cycles = 5: unknown key"):
+        parse_study(former.replace("cycles = 0", "cycles = 5"))
     with h5py.File(tmp_path / "s.h5", "r+") as file:  # as earlier versions wrote it
         for name in ("study_json", "study_identity", "study_fingerprint"):
             data = json.loads(file.attrs[name])

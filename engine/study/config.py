@@ -812,7 +812,9 @@ def _parse_loading(s: _Section) -> LoadingConfig:
     if kind not in LOADING_KINDS:
         raise s.error("kind", kind, 'must be "static", "cyclic" or "fretting"')
     if kind == "static":
-        s.check_known({"kind", "load", "steps"})
+        # the placeholders that results files of earlier versions stored: they parse back
+        former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
+        s.check_known({"kind", "load", "steps"} | former)
     elif kind == "cyclic":
         s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
     else:
