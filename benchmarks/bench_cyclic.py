@@ -41,6 +41,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _single_core import single_core_env
+
 RADIUS, LOAD, WEAR = 1.8, 750.0, 1.33e-7
 METHODS = {"base": None, "today": "previous_increment", "new": "previous_cycle"}
 REPO = Path(__file__).resolve().parents[1]
@@ -174,8 +176,7 @@ def cli_case(code: Path, n: int, cycles: int, layers: int) -> dict:
                 sweep={"mu1": [0.1], "wear1": [WEAR]},
             )
         )
-        env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(code), env.get("PYTHONPATH")]))
+        env = single_core_env(code)
         with open(Path(folder) / "log", "w") as log:
             start = time.perf_counter()
             process = subprocess.Popen(
@@ -210,8 +211,7 @@ def compare_cli_cases(baseline: Path | None, n: int, cycles: int, layers, repeat
 
 def in_subprocess(*arguments: str, code: Path = REPO) -> dict:
     """Run this file's ``child`` with the engine of ``code`` (this tree, or the baseline)."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(code), env.get("PYTHONPATH")]))
+    env = single_core_env(code)
     output = subprocess.run(
         [sys.executable, __file__, "--child", *arguments],
         env=env,

@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _single_core import single_core_env
+
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -65,8 +67,7 @@ def case_cpu_per_rank(results: Path) -> dict[int, float]:
 def run(ranks: int, study: Path) -> tuple[float, float]:
     """Wall time of the command and CPU time of all its processes (s)."""
     mpiexec = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    env = single_core_env(REPO)
     command = [
         mpiexec,
         "-n",

@@ -40,6 +40,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+from _single_core import single_core_env
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -76,8 +77,7 @@ def run(directory: Path, cases: int, ranks: int, tree: Path = REPO, label: str =
     output = directory / f"{label}_r{ranks}.h5"
     study = directory / f"{label}_r{ranks}.toml"
     study.write_text(study_text(output, mu1, beta))
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(tree), env.get("PYTHONPATH")]))
+    env = single_core_env(tree)
     command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "engine", str(study)]
     command += ["--no-progress-bar"]
     start = time.perf_counter()

@@ -21,12 +21,23 @@ from ..grid import Grid
 from .fft import RealFFTPair, next_fast_length, plan, pyfftw, wrap_kernel
 from .stress import COMPONENTS, LOADS, element_stress, kernel_parity
 
-__all__ = ["LatticeConvolution", "LineConvolution", "symmetric_about_zero"]
+__all__ = ["LatticeConvolution", "LineConvolution", "line_axis"]
 
 
-def symmetric_about_zero(coordinates: np.ndarray, step: float) -> bool:
+def _symmetric_about_zero(coordinates: np.ndarray, step: float) -> bool:
     """True if the element centres ``coordinates`` mirror onto each other about 0."""
     return bool(np.allclose(coordinates[::-1], -coordinates, rtol=0, atol=1e-9 * step))
+
+
+def line_axis(grid: Grid, origin: tuple[float, float], counts: tuple[int, int]) -> int | None:
+    """The axis along which the lattice origin + (iΔx, jΔy), (i, j) < counts, is a line
+    through the middle of a grid symmetric about it (0: the x–z plane, 1: the y–z plane),
+    i.e. where a ``LineConvolution`` applies; None for any other lattice."""
+    for axis, across, step in ((0, grid.y, grid.dy), (1, grid.x, grid.dx)):
+        on_line = counts[1 - axis] == 1 and origin[1 - axis] == 0.0
+        if on_line and _symmetric_about_zero(across, step):
+            return axis
+    return None
 
 
 class _DepthLayers:
@@ -183,10 +194,11 @@ class LineConvolution(_DepthLayers):
         self.axis = axis
         self.counts = (count, 1) if axis == 0 else (1, count)
         self.cache = cache
+        origin = (start, 0.0) if axis == 0 else (0.0, start)
+        if line_axis(grid, origin, self.counts) != axis:
+            raise ValueError("a line convolution needs a grid symmetric about the line")
         along, across = (grid.x, grid.y) if axis == 0 else (grid.y, grid.x)
         steps = (grid.dx, grid.dy) if axis == 0 else (grid.dy, grid.dx)
-        if not symmetric_about_zero(across, steps[1]):
-            raise ValueError("a line convolution needs a grid symmetric about the line")
         n, half = along.size, across.size // 2
         self.padded = next_fast_length(n + count - 1)
         self._scale = 1.0 / self.padded
@@ -200,12 +212,11 @@ class LineConvolution(_DepthLayers):
         if self._middle is not None:
             across_offsets = np.append(across_offsets, 0.0)
         rows = across_offsets.size
-        k = np.arange(-(n - 1), count)
-        along_offsets = start - along[0] + steps[0] * k
+        self._negative = n - 1  # offsets −(n − 1) … count − 1 along the line, circulant order
+        along_offsets = start - along[0] + steps[0] * np.arange(-(n - 1), count)
         self._offsets = (
             (along_offsets, across_offsets) if axis == 0 else (across_offsets, along_offsets)
         )
-        self._wrap = k % self.padded
         self._rows = pyfftw.empty_aligned((rows, self.padded), "float64")
         self._row_spectra = pyfftw.empty_aligned((rows, self.padded // 2 + 1), "complex128")
         self._forward = plan(self._rows, self._row_spectra, (1,), threads=threads, effort=effort)
@@ -265,9 +276,8 @@ class LineConvolution(_DepthLayers):
         for component in COMPONENTS:
             rows = coefficients[component]
             rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
-            wrapped = np.zeros((rows.shape[0], self.padded))
-            wrapped[:, self._wrap] = rows
-            spectra[component] = self._transform(wrapped)
+            shape, negative = (rows.shape[0], self.padded), (0, self._negative)
+            spectra[component] = self._transform(wrap_kernel(rows, shape, negative))
         if self.cache:
             self._kernels[key] = spectra
         return spectra

@@ -81,6 +81,7 @@ __all__ = [
 
 # Columns, units, the integer/text columns and the pending row: the results schema.
 _INTEGER_COLUMNS, _TEXT_COLUMNS = INTEGER_COLUMNS, TEXT_COLUMNS
+_KNOWN = frozenset(SUMMARY_COLUMNS)
 
 
 def column_unit(column: str) -> str:
@@ -126,9 +127,6 @@ def summary_csv(rows: list[dict[str, Any]]) -> str:
     writer.writerow(columns)
     writer.writerows(zip(*cells, strict=True))
     return text.getvalue()
-
-
-_KNOWN = frozenset(SUMMARY_COLUMNS)
 
 
 def _missing(value: Any) -> bool:

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..grid import Grid
 from ..kernels.fft import DEFAULT_EFFORT
-from ..kernels.lattice import LatticeConvolution, LineConvolution, symmetric_about_zero
+from ..kernels.lattice import LatticeConvolution, LineConvolution, line_axis
 from ..kernels.stress import COMPONENTS, LOADS
 from ..validation import require_poisson, require_positive
 
@@ -239,19 +239,14 @@ class SubsurfaceStress:
         grid across the line (``LineConvolution``); any other lattice is 2-D."""
         key = (origin, counts)
         if key not in self._lattices:
-            grid = self.grid
+            grid, nu = self.grid, self.poisson_ratio
             options = (self.threads, self.planner_effort, self.cache_kernels)
-            for axis, across, step in ((0, grid.y, grid.dy), (1, grid.x, grid.dx)):
-                line = counts[1 - axis] == 1 and origin[1 - axis] == 0.0
-                if line and symmetric_about_zero(across, step):
-                    self._lattices[key] = LineConvolution(
-                        grid, self.poisson_ratio, axis, origin[axis], counts[axis], *options
-                    )
-                    break
+            axis = line_axis(grid, origin, counts)
+            if axis is not None:
+                line = (axis, origin[axis], counts[axis])
+                self._lattices[key] = LineConvolution(grid, nu, *line, *options)
             else:
-                self._lattices[key] = LatticeConvolution(
-                    grid, self.poisson_ratio, origin, counts, *options
-                )
+                self._lattices[key] = LatticeConvolution(grid, nu, origin, counts, *options)
         return self._lattices[key]
 
     def _tractions(self, pressure, traction_x, traction_y) -> dict[str, np.ndarray]:

@@ -325,7 +325,6 @@ class StudyConfig:
         """The configuration with every default filled in, as plain TOML-able data."""
         out: dict[str, dict[str, Any]] = {}
         swept = set(self.sweep.swept_keys)
-        cycled = self.is_cyclic
         if swept:  # defaults computed from swept keys belong to each case, not to the study
             swept |= set(self.derived_defaults)
         for field in dataclasses.fields(self):
@@ -342,7 +341,7 @@ class StudyConfig:
                     continue  # TOML has no null: None is "not applicable" (static loading)
                 if field.name == "punch" and key == "shape" and value == "flat":
                     continue  # the default, left out so that older results files resume
-                if field.name == "loading" and key in STATIC_PLACEHOLDERS and not cycled:
+                if field.name == "loading" and key in STATIC_PLACEHOLDERS and not self.is_cyclic:
                     continue  # no cycles in a static study (older files: fill_former_defaults)
                 if isinstance(value, Path):
                     value = str(value)

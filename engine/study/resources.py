@@ -54,8 +54,7 @@ def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, in
     per_cycle = {"static": 0, "cyclic": 2, "fretting": 4}[config.loading.kind]
     sizes = set()
     for case in plan.cases if plan is not None else ():
-        settings = dict(case.settings)
-        n = case.mesh[0] if case.mesh is not None else settings.get("mesh.n", config.mesh.n)
+        settings, n = dict(case.settings), case.mesh[0]  # the plan gives every case its mesh
         layers = settings.get("subsurface.layers", config.subsurface.layers)
         steps = settings.get("loading.steps", config.loading.steps)
         sizes.add((int(n), int(layers), per_cycle * int(steps)))
