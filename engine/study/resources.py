@@ -2,9 +2,10 @@
 
 Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -m engine``
 (one process, the engine's imports included) for n = 64, 128, 256, 4 to 32 subsurface layers
-and 5 to 20 increments per half cycle (2026-11-23)::
+and 5 to 20 increments per half cycle (2026-11-23, after the summary CSV stopped importing
+pandas, which took ~40 MB)::
 
-    memory ≈ 120 MB + n² · (1850 + 150 · layers + cycled) bytes
+    memory ≈ 80 MB + n² · (1850 + 150 · layers + cycled) bytes
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
 The 1850 B per element are the contact solver (FFT operator, spectra and work arrays on the
@@ -13,8 +14,8 @@ components and three loads per layer on the folded line lattice, ~144 B per elem
 layer); the cycled term the histories, records and the warm start, which keeps the pressure
 and both tractions of every increment of two simulated cycles (2 · 3 · 8 B per element and
 increment; a simulated cycle has 2·steps increments when cyclic, 4·steps when fretting). The
-fit errs high by 2–5 % on every measured point, e.g. n = 256: static with 32 layers 556 MB
-estimated, 542 MB measured; cyclic with 16 layers and 10 steps 501 MB, 478 MB measured.
+fit errs high by 3–5 % on all 15 measured points, e.g. n = 256: static with 32 layers 516 MB
+estimated, 499 MB measured; cyclic with 16 layers and 10 steps 461 MB, 446 MB measured.
 
 Every rank of a node runs a case at the same time, so ``ranks on the node × estimate`` of the
 largest case of the plan (mesh, layers and steps may be swept) must fit in the node's memory:
@@ -32,7 +33,7 @@ from .plan import Plan
 
 __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_memory"]
 
-BASE_BYTES = 120e6
+BASE_BYTES = 80e6
 BYTES_PER_ELEMENT = 1850.0
 BYTES_PER_ELEMENT_AND_LAYER = 150.0
 BYTES_PER_ELEMENT_CYCLED = 600.0
