@@ -226,13 +226,15 @@ def _relative(a: float, b: float) -> str:
     return f"{abs(a / b - 1) * 100:.3f} %"
 
 
-def compare_cyclic(sizes, mu, cycles, baseline: Path | None, methods) -> None:
+def compare_cyclic(sizes, mu, cycles, baseline: Path | None, methods) -> dict[int, dict]:
+    """Run each size with each method; returns {n: {method: row}}."""
     print(
         f"{'n':>4} {'method':>6} {'setup s':>7} {'solve s':>8} {'cpu s':>7} {'sim cyc':>7} "
         f"{'matvec/inc':>10} {'max wear um':>11} {'volume mm3':>11} {'vm MPa':>8} "
         f"{'vm_sub MPa':>10} {'RSS MB':>7} converged",
         flush=True,
     )
+    measured = {}
     for index, n in enumerate(sizes):
         order = [m for m in ("base", "today", "new") if m in methods]
         order = [m for m in order if m != "base" or baseline is not None]
@@ -251,6 +253,29 @@ def compare_cyclic(sizes, mu, cycles, baseline: Path | None, methods) -> None:
             )
         for name in [m for m in ("base", "today") if m in rows and "new" in rows]:
             _print_ratio(n, name, rows[name], rows["new"])
+        measured[n] = rows
+    return measured
+
+
+DOC = REPO / "docs" / "explanation" / "performance.md"
+
+
+def write_doc_table(measured: dict[int, dict], mu: float, cycles: int) -> None:
+    """The cyclic-wear table of the manual's performance page (block ``bench-cyclic``)."""
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    rows = [
+        (n, row["simulated"], f"{row['cpu']:.1f}", f"{row['solve']:.1f}",
+         f"{row['per_increment']:.1f}", f"{row['depth'] * 1e3:.4f}", f"{row['volume']:.3e}",
+         row["converged"])
+        for n, rows_of_n in measured.items() if (row := rows_of_n.get("new"))
+    ]  # fmt: skip
+    header = ("n", "simulated cycles", "CPU (s)", "solve wall (s)", "operator applications "
+              "per increment", "max wear depth (µm)", "wear volume (mm³)", "converged")  # fmt: skip
+    note = f"`python benchmarks/bench_cyclic.py --methods new --update-docs`, μ = {mu:g}, "
+    note += f"{cycles:,} cycles, one core per case"
+    replace_block(DOC, "bench-cyclic", measured_on(note) + "\n" + markdown_table(header, rows))
+    print(f"{DOC.relative_to(REPO)}: wrote the block bench-cyclic", flush=True)
 
 
 def _print_ratio(n: int, name: str, today: dict, new: dict) -> None:
@@ -302,6 +327,10 @@ def main() -> None:
     parser.add_argument(
         "--methods", nargs="+", default=["base", "today", "new"], choices=sorted(METHODS)
     )
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table of this tree's runs into docs/explanation/performance.md",
+    )  # fmt: skip
     parser.add_argument("--static-cases", type=int, default=0, metavar="K")
     parser.add_argument("--static-n", type=int, default=128)
     parser.add_argument("--static-512", action="store_true")
@@ -324,7 +353,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
         baseline = _export(args.baseline_commit, Path(folder)) if args.baseline_commit else None
         if args.sizes:
-            compare_cyclic(args.sizes, args.mu, args.cycles, baseline, args.methods)
+            measured = compare_cyclic(args.sizes, args.mu, args.cycles, baseline, args.methods)
+            if args.update_docs:
+                write_doc_table(measured, args.mu, args.cycles)
         if args.static_cases:
             for mode in ("today", "shared"):
                 row = in_subprocess("static", str(args.static_n), str(args.static_cases), mode)

@@ -13,7 +13,7 @@ beside it: its edge values grow without bound.
 With the paper's numbers (P = 750 N, b = 1.8 mm, E_B = 100 E_A = 20 000 GPa) the edge zone is
 far smaller: a − b = 0.0015 b for ρ = 0.1 b (0.0009 b for ρ = 0.05 b), a fifth of the
 element at 256², so the 256² solution of the rounded punch is still that of a flat punch
-(see docs/study_sweeps_and_profiles.md).
+(see docs/how-to/sweeps-and-profiles.md).
 
 Sphere: R = 10 mm, P = 750 N, paper materials, half width 1.5 a_Hertz, frictionless; contact
 radius (from the contact area), approach, peak pressure and the axis σ_VM maximum (value,

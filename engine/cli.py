@@ -22,7 +22,7 @@ communicator. The flow:
 4. SIGTERM / SIGUSR1 / SIGINT — on any rank, at any time from start-up to shutdown — set a
    stop flag: no new cases, running cyclic cases save their state, the file is closed
    cleanly, exit code 3; the next run resumes. A dead peer on the same host ends the job
-   (exit 70, ``engine.parallel.scheduler.PeerWatch``). See docs/reliability.md.
+   (exit 70, ``engine.parallel.scheduler.PeerWatch``). See docs/how-to/resume-and-requeue.md.
 
 Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
 path, output in use by another run or holding another study (nothing computed, no output of

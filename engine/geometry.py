@@ -96,7 +96,7 @@ class RoundedPunch:
 
     g(r) = 0 (r ≤ b), ρ − √(ρ² − (r − b)²) (b < r < b + ρ), no surface for r ≥ b + ρ.
     The gap is sampled at the element centres, like every profile; the edge is resolved when
-    ρ spans a few elements (see docs/study_sweeps_and_profiles.md).
+    ρ spans a few elements (see docs/how-to/sweeps-and-profiles.md).
     """
 
     radius: float

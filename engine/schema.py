@@ -66,6 +66,7 @@ __all__ = [
     "LOOP_COLUMNS",
     "fretting_record",
     "COLUMN_UNITS",
+    "COLUMN_DESCRIPTIONS",
     "INTEGER_COLUMNS",
     "TEXT_COLUMNS",
     "CYCLE_GROUP",
@@ -383,6 +384,62 @@ COLUMN_UNITS = {
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
 }  # fmt: skip
+
+#: What each summary column holds (the manual's outputs reference is generated from these,
+#: COLUMN_UNITS and PARAMETER_UNITS by scripts/reference.py; not stored in the files).
+COLUMN_DESCRIPTIONS = {
+    "case_id": "id built from the parameters, e.g. `mu0.1-0.4_w1.33e-07-5.32e-07_b45`; "
+    "stable when the sweep grows",
+    "mu1": "friction coefficient along e1",
+    "mu2": "friction coefficient along e2",
+    "wear1": "Archard wear coefficient i1 along e1",
+    "wear2": "Archard wear coefficient i2 along e2",
+    "beta": "angle of the tribological axes e1, e2 from x",
+    "status": "`completed`, `failed`, `interrupted` or `pending`",
+    "cycles": "load cycles reached (0 for static cases)",
+    "load": "peak normal load P",
+    "approach": "rigid approach at peak load of the last simulated cycle",
+    "p0": "mean pressure P/(π a0²), Eq. (19)",
+    "max_wear_depth": "largest wear depth after the last cycle (0 for static cases)",
+    "wear_volume": "worn volume after the last cycle (0 for static cases)",
+    "vm_max": "largest von Mises stress on the stress plane, every layer (the surface layer "
+    "holds the grid-dependent edge singularity of a sharp punch)",
+    "vm_max_x": "x of vm_max",
+    "vm_max_y": "y of vm_max",
+    "vm_max_z": "depth z of vm_max (into the half-space)",
+    "vm_sub_max": "largest von Mises stress below the surface layer (z ≥ the second layer)",
+    "vm_sub_max_x": "x of vm_sub_max",
+    "vm_sub_max_y": "y of vm_sub_max",
+    "vm_sub_max_z": "depth z of vm_sub_max",
+    "stick_fraction": "stick area / contact area at peak load of the last simulated cycle",
+    "load_steps": "load increments solved, over resumed runs too",
+    "matvecs": "influence-operator applications",
+    "runtime_s": "wall time of the case, summed over resumed runs",
+    "vm_deep_max": f"largest von Mises stress at depth z ≥ {DEEP_DEPTH_FRACTION:g} a0 (cyclic)",
+    "vm_deep_max_x": "x of vm_deep_max",
+    "vm_deep_max_y": "y of vm_deep_max (fretting along a direction ≠ 0)",
+    "vm_deep_max_z": "depth z of vm_deep_max",
+    "vm_axis_max": "largest von Mises stress on the punch axis r = 0 (cyclic)",
+    "vm_axis_max_z": "depth z of vm_axis_max",
+    "contact_radius": "area-equivalent contact radius √(A_c/π) (cyclic)",
+    "centre_pressure": "contact pressure at the punch axis (cyclic)",
+    "elastic_approach": "elastic approach of the unworn surface",
+    "wear_severity": "largest wear depth / elastic approach",
+    "peak_region": "where vm_max sits: " + ", ".join(f"`{name}`" for name in REGIONS),
+    "peak_region_change_cycle": "first cycle N at which peak_region changed",
+    "deep_region": "where vm_deep_max sits, the same regions",
+    "q_amplitude": "fretting: tangential force amplitude of the last simulated cycle",
+    "displacement_amplitude": "fretting: rigid tangential displacement amplitude of the last "
+    "simulated cycle",
+    "energy_per_cycle": "fretting: energy dissipated in the last simulated cycle, ∮Q·dδ",
+    "slip_regime": "fretting: `partial` (some element sticks at the largest |Q|) or `gross`",
+    "vm_cycle_max": "fretting: largest von Mises stress over the last recorded cycle's "
+    "increments (vm_max is at the increment of the largest |Q|)",
+    "vm_cycle_max_x": "x of vm_cycle_max",
+    "vm_cycle_max_y": "y of vm_cycle_max",
+    "vm_cycle_max_z": "depth z of vm_cycle_max",
+    "alpha": "energy wear law: the dissipated-energy wear coefficient",
+}
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

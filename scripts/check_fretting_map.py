@@ -1,4 +1,6 @@
-"""Check a fretting map's results against Mindlin (studies/fretting_map.toml, docs/fretting.md).
+"""Check a fretting map's results against Mindlin (studies/fretting_map.toml).
+
+See docs/how-to/fretting.md.
 
     python scripts/check_fretting_map.py results/fretting_map.h5
 

@@ -2,8 +2,9 @@
 
 Runs the Section 7.2 case μ = 0.1 (flat punch a0 = 1.8 mm, P = 750 N, 10 increments per half
 cycle, default cycle jumping, subsurface as studies/peak_regime.toml) with a wear coefficient
-(default 1.33e-6 1/MPa, ten times the paper's; only i·N matters for the worn shape, see
-docs/peak_regime.md) until the first simulated cycle whose deep peak (z >= 0.1 a0) is on the
+(default 1.33e-6 1/MPa, ten times the paper's; only i·N matters for the worn shape,
+see docs/explanation/peak-regime.md) until the first simulated cycle whose deep peak
+(z >= 0.1 a0) is on the
 axis (|x| <= one element) at z/a0 in [0.6, 0.8]. Prints that row of the peak history and,
 for the same peak-load tractions, the maxima of σ_VM
 

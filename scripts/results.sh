@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Regenerate docs/results.md: run the paper's Section 7 studies, draw their figures into
-# docs/figures/<study>/ and rewrite the tables of docs/results.md (between its
+# Regenerate docs/explanation/results.md: run the paper's Section 7 studies, draw their figures into
+# docs/figures/<study>/ and rewrite the tables of docs/explanation/results.md (between its
 # <!-- BEGIN report NAME --> / <!-- END report NAME --> markers) with `python -m engine report`.
 #
 # Usage:  bash scripts/results.sh [RANKS]        (RANKS: MPI ranks per study, default 2)
@@ -25,5 +25,5 @@ for study in $studies; do
         --no-progress-bar "${fresh[@]}"
     echo "results.sh: $study computed in $((SECONDS - start)) s"
     "$python" -m engine plot "results/$study.h5" --out "docs/figures/$study"
-    "$python" -m engine report "results/$study.h5" --update docs/results.md
+    "$python" -m engine report "results/$study.h5" --update docs/explanation/results.md
 done

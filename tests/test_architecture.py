@@ -1,8 +1,10 @@
-"""The import layering of docs/architecture.md holds in engine/ (parsed with ast, nothing run).
+"""The import layering of docs/explanation/architecture.md holds in engine/ (parsed with ast,
+nothing run).
 
 Each module of engine/ belongs to a unit (a subpackage such as ``solvers`` or a top-level
-module such as ``grid``); the table in docs/architecture.md says which layer each unit is in
-and which layers it may import. Every ``import``/``from … import`` of the engine, at module
+module such as ``grid``); the table in docs/explanation/architecture.md says which layer each
+unit is in and which layers it may import. Every ``import``/``from … import`` of the engine, at
+module
 level or inside a function, must respect it. Also: only engine/cli.py touches
 ``MPI.COMM_WORLD``; the analysis layer imports no writer; ``engine.analysis.report`` (and the
 reader) import without matplotlib.
@@ -24,8 +26,8 @@ WRITERS = {"hdf5", "collective", "lock", "salvage", "identity", "progress"}
 
 
 def _layer_table() -> tuple[dict[str, str], dict[str, set[str]]]:
-    """(unit -> layer, layer -> layers it may import) from docs/architecture.md."""
-    text = (REPO / "docs" / "architecture.md").read_text()
+    """(unit -> layer, layer -> layers it may import) from docs/explanation/architecture.md."""
+    text = (REPO / "docs" / "explanation" / "architecture.md").read_text()
     section = text.split("# Architecture", 1)[1].split("\n## ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("| ")][1:]
     layer_of, allowed = {}, {}
@@ -87,7 +89,7 @@ def _engine_files() -> list[Path]:
 def test_the_table_names_every_unit_of_the_engine():
     layer_of, allowed = _layer_table()
     units = {_unit(_module_name(path)) for path in _engine_files()}
-    assert units == set(layer_of), "docs/architecture.md: units missing or unknown"
+    assert units == set(layer_of), "docs/explanation/architecture.md: units missing or unknown"
     assert set().union(*allowed.values()) <= set(allowed), "may import: unknown layer name"
 
 

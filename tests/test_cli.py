@@ -281,19 +281,19 @@ def test_readme_study_is_valid_and_the_readme_fits_on_a_screen():
     assert len(block.strip().splitlines()) <= 10
     config = parse_study(block, source="README.md")
     assert len(make_plan(config)) == 6
-    for link in ("study-file", "outputs", "validation", "performance", "results", "slurm",
-                 "parallel-hdf5"):  # fmt: skip
+    for link in ("index", "tutorials/first-study", "reference/study-file", "reference/outputs",
+                 "explanation/validation", "explanation/performance", "how-to/slurm"):  # fmt: skip
         assert f"(docs/{link}.md)" in readme
         assert (REPO / "docs" / f"{link}.md").exists()
 
 
 def test_results_doc_has_a_block_for_every_study_of_the_results_script():
     script = (REPO / "scripts" / "results.sh").read_text()
-    results = (REPO / "docs" / "results.md").read_text()
+    results = (REPO / "docs" / "explanation" / "results.md").read_text()
     studies = script.split('studies=${STUDIES:-"', 1)[1].split('"}', 1)[0].replace("\\\n", " ")
     assert len(studies.split()) == 5
     for study in studies.split():
         assert (REPO / "studies" / f"{study}.toml").exists()
         assert f"<!-- BEGIN report {study} -->" in results
         assert f"<!-- END report {study} -->" in results
-    assert "--update docs/results.md" in script
+    assert "--update docs/explanation/results.md" in script

@@ -166,7 +166,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         print(
             f"error: {args.results}: the figures need one load, punch radius, mesh and "
             f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "
-            "use `python -m engine report` (docs/study_sweeps_and_profiles.md)",
+            "use `python -m engine report` (docs/how-to/sweeps-and-profiles.md)",
             file=sys.stderr,
         )
         return 2

@@ -1,6 +1,7 @@
 """Results tables of a study in Markdown: ``python -m engine report RESULTS.h5 [--cycles N …]``.
 
-The tables of docs/results.md are printed by this command (``--update``), never typed by hand.
+The tables of the manual's results page are printed by this command (``--update``), never typed
+by hand.
 Per case:
 
 cyclic study   at each N (default: the recorded cycles): maximum wear depth (µm), wear volume
@@ -390,15 +391,10 @@ def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
 
 def update_markdown(document: str | Path, name: str, report: str) -> None:
     """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
-    of ``document`` with ``report`` (how the tables of docs/results.md are regenerated)."""
-    document = Path(document)
-    text = document.read_text()
-    begin, end = f"<!-- BEGIN report {name} -->", f"<!-- END report {name} -->"
-    if begin not in text or end not in text:
-        raise ValueError(f"{document}: no block {begin} … {end}")
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    document.write_text(f"{head}{begin}\n{report}{end}{tail}")
+    of ``document`` with ``report`` (how the tables of the results page are regenerated)."""
+    from .markdown import replace_block
+
+    replace_block(document, name, report, kind="report")
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:

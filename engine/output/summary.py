@@ -175,6 +175,21 @@ def _rows_from_h5(path: Path) -> list[dict[str, Any]]:
 def load_summary(path: str | Path) -> pd.DataFrame:
     """Summary of a study as a DataFrame, from the results ``.h5`` file or the ``.csv`` beside it.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``; its ``.csv`` beside it is read when the ``.h5`` is gone)
+        or the summary ``.csv`` itself.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case, in plan order: the case id, its swept parameters, its status and
+        the summary columns (units: mm, N, MPa, mm³, s; every column and its unit is listed
+        in ``docs/reference/outputs.md``). The same table from either file.
+
+    Examples
+    --------
     >>> frame = engine.load_summary("results/demo.h5")      # doctest: +SKIP
     >>> frame.pivot(index="mu1", columns="beta", values="max_wear_depth")   # doctest: +SKIP
     """

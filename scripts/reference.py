@@ -1,0 +1,138 @@
+"""Write the generated reference of the manual from the engine's own definitions.
+
+    python scripts/reference.py           # rewrite the generated blocks of docs/reference/
+    python scripts/reference.py --check   # exit 1 when a committed block differs (tests do this)
+
+Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->``):
+
+- ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
+  default, unit and meaning (:mod:`engine.study.keys`), and ``sweepable-keys``: the dotted keys
+  ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration);
+- ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
+  meaning, and ``datasets``: every dataset of a case group with its units and description
+  (:mod:`engine.schema`, the table the writers and the reader share);
+- ``docs/reference/cli.md``, ``cli-run``, ``cli-plot``, ``cli-report``: the help of each
+  command as ``python -m engine`` prints it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from engine import schema
+from engine.analysis.markdown import markdown_table, read_block, replace_block
+from engine.study.config import SWEEPABLE
+from engine.study.keys import SECTIONS, STUDY_KEYS
+
+REPO = Path(__file__).resolve().parents[1]
+STUDY_FILE = REPO / "docs" / "reference" / "study-file.md"
+OUTPUTS = REPO / "docs" / "reference" / "outputs.md"
+CLI = REPO / "docs" / "reference" / "cli.md"
+
+
+def _code(text: str) -> str:
+    return f"`{text}`"
+
+
+def study_keys() -> str:
+    """One table per section: key, type, default, unit, meaning."""
+    parts = []
+    for section, what in SECTIONS.items():
+        keys = [key for key in STUDY_KEYS if key.section == section]
+        parts.append(f"### `[{section}]`: {what}\n")
+        rows = [(_code(k.name), k.type, k.default, k.unit, k.meaning) for k in keys]
+        parts.append(markdown_table(("key", "type", "default", "unit", "meaning"), rows))
+    return "\n".join(parts)
+
+
+def sweepable_keys() -> str:
+    """The dotted keys of ``[sweep]`` with their units."""
+    rows = [(_code(f'"{key}"'), unit) for key, unit in SWEEPABLE.items()]
+    return markdown_table(("dotted key", "unit"), rows)
+
+
+def _column_unit(column: str) -> str:
+    if column in schema.TEXT_COLUMNS:
+        return "–"
+    return schema.COLUMN_UNITS.get(column, schema.PARAMETER_UNITS.get(column, "1"))
+
+
+def summary_columns() -> str:
+    """Every summary column: the common ones, then the fretting and energy-law ones."""
+    common = list(schema.SUMMARY_COLUMNS)
+    extra = [column for column in schema.COLUMN_DESCRIPTIONS if column not in common]
+    rows = [
+        (_code(column), _column_unit(column), schema.COLUMN_DESCRIPTIONS[column])
+        for column in common + extra
+    ]
+    return markdown_table(("column", "unit", "meaning"), rows)
+
+
+def _dataset_rows(prefix: str, table: dict[str, schema.DatasetSpec], names=None):
+    names = table if names is None else names
+    return [
+        (_code(f"{prefix}/{name}"), table[name].units, table[name].description) for name in names
+    ]
+
+
+def datasets() -> str:
+    """Every dataset of a case group ``/cases/<case_id>/``, with units and description."""
+    cycle = "cycle_NNNNNNN"
+    rows = _dataset_rows("grid", schema.CASE_GRID)
+    rows += _dataset_rows("history", schema.HISTORY)
+    rows += _dataset_rows("history", schema.FRETTING_HISTORY)
+    rows += _dataset_rows("history", schema.STATIC_HISTORY)
+    rows += _dataset_rows("fields/final", schema.FIELDS, schema.FINAL_FIELDS)
+    rows += _dataset_rows(f"fields/{cycle}", schema.FIELDS, schema.RECORDED_FIELDS)
+    rows += _dataset_rows(f"fields/{cycle}", schema.FRETTING_RECORDS)
+    rows += _dataset_rows("subsurface/final", schema.PLANE)
+    rows += _dataset_rows(f"peak_changes/{cycle}", schema.FIELDS, schema.PEAK_CHANGE_FIELDS)
+    return markdown_table(("path in the case group", "units", "description"), rows)
+
+
+def _help(*command: str) -> str:
+    """``python -m engine ... --help`` at a fixed width, in a text block."""
+    environment = dict(os.environ, COLUMNS="100")
+    done = subprocess.run(
+        [sys.executable, "-m", "engine", *command, "--help"],
+        capture_output=True, text=True, check=True, env=environment, cwd=REPO,
+    )  # fmt: skip
+    title = " ".join(("python -m engine", *command, "--help"))
+    return f"`{title}`:\n\n```text\n{done.stdout.rstrip()}\n```\n"
+
+
+BLOCKS = {
+    (STUDY_FILE, "study-keys"): study_keys,
+    (STUDY_FILE, "sweepable-keys"): sweepable_keys,
+    (OUTPUTS, "summary-columns"): summary_columns,
+    (OUTPUTS, "datasets"): datasets,
+    (CLI, "cli-run"): lambda: _help(),
+    (CLI, "cli-plot"): lambda: _help("plot"),
+    (CLI, "cli-report"): lambda: _help("report"),
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="compare, do not write")
+    args = parser.parse_args(argv)
+    stale = []
+    for (document, name), generate in BLOCKS.items():
+        text = generate()
+        if args.check:
+            if read_block(document, name).rstrip("\n") != text.rstrip("\n"):
+                stale.append(f"{document.relative_to(REPO)}: block {name}")
+        elif replace_block(document, name, text):
+            print(f"{document.relative_to(REPO)}: rewrote the block {name}")
+    if stale:
+        print("out of date (run python scripts/reference.py):\n" + "\n".join(stale))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

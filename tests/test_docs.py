@@ -1,0 +1,284 @@
+"""The user manual is checked like code: its tables render, its links resolve, the snippets of
+its tutorials run, the API reference builds with warnings as errors, and the generated blocks
+(reference tables, measured tables) carry their provenance.
+
+Markdown tables are checked the way GitHub renders them: a table is a run of lines starting
+with ``|`` whose second line is the delimiter row; every row has the header's number of cells
+(cells are split at unescaped pipes). A table split by a stray line renders as plain text, so
+a run of ``|`` lines without a delimiter row is an error too.
+
+A tutorial snippet is runnable when the line before its fence is ``<!-- runnable -->``
+(``bash`` and ``python`` blocks; the shell ones run with the package's interpreter first on
+the PATH) or ``<!-- runnable: NAME -->`` (any block: its text is written to the file NAME
+first). The snippets of one page run in order in one fresh folder, the Python ones in one
+shared namespace, as a reader would type them.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+DOCS = REPO / "docs"
+MARKDOWN = sorted(DOCS.rglob("*.md")) + [
+    path for path in (REPO / "README.md", REPO / "CHANGELOG.md") if path.exists()
+]
+TUTORIALS = sorted((DOCS / "tutorials").glob("*.md"))
+FENCE = re.compile(r"^(```+|~~~+)")
+LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
+HTML_SOURCE = re.compile(r"<(?:img|a)\s[^>]*?(?:src|href)=\"([^\"]+)\"")
+RUNNABLE = re.compile(r"^<!-- runnable(?::\s*(\S+))? -->$")
+
+
+def _relative(path: Path) -> str:
+    return str(path.relative_to(REPO))
+
+
+def _prose_lines(text: str) -> list[tuple[int, str]]:
+    """(line number, line) outside fenced code blocks."""
+    lines, fence = [], None
+    for number, line in enumerate(text.splitlines(), 1):
+        match = FENCE.match(line.strip())
+        if fence is None and match:
+            fence = match.group(1)[0]
+        elif fence is not None and match and match.group(1)[0] == fence:
+            fence = None
+        elif fence is None:
+            lines.append((number, line))
+    return lines
+
+
+def _cells(row: str) -> int:
+    """Cells of a table row, split at pipes not escaped by a backslash."""
+    row = row.strip()
+    pipes = [i for i, char in enumerate(row) if char == "|" and (i == 0 or row[i - 1] != "\\")]
+    count = len(pipes) + 1
+    if row.startswith("|"):
+        count -= 1
+    if row.endswith("|") and not row.endswith("\\|"):
+        count -= 1
+    return count
+
+
+def _tables(text: str) -> list[list[tuple[int, str]]]:
+    """Runs of consecutive prose lines that start with a pipe."""
+    tables, run, previous = [], [], None
+    for number, line in _prose_lines(text):
+        if line.lstrip().startswith("|") and (previous is None or number == previous + 1):
+            run.append((number, line))
+        else:
+            if run:
+                tables.append(run)
+            run = [(number, line)] if line.lstrip().startswith("|") else []
+        previous = number
+    if run:
+        tables.append(run)
+    return tables
+
+
+DELIMITER = re.compile(r"^\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?$")
+
+
+@pytest.mark.parametrize("path", MARKDOWN, ids=_relative)
+def test_every_markdown_table_renders(path):
+    problems = []
+    for table in _tables(path.read_text()):
+        (first, header), rest = table[0], table[1:]
+        if not rest or not DELIMITER.match(rest[0][1].strip()):
+            problems.append(f"line {first}: a table without a delimiter row under its header")
+            continue
+        width = _cells(header)
+        for number, row in table[1:]:
+            if _cells(row) != width:
+                problems.append(f"line {number}: {_cells(row)} cells, the header has {width}")
+    assert not problems, f"{_relative(path)}:\n" + "\n".join(problems)
+
+
+def _targets(text: str) -> list[tuple[int, str]]:
+    targets = []
+    for number, line in _prose_lines(text):
+        line = re.sub(r"`[^`]*`", "", line)  # code spans are not links
+        targets += [(number, target) for target in LINK.findall(line)]
+        targets += [(number, target) for target in HTML_SOURCE.findall(line)]
+    return targets
+
+
+@pytest.mark.parametrize("path", MARKDOWN, ids=_relative)
+def test_every_relative_link_and_image_resolves(path):
+    missing = []
+    for number, target in _targets(path.read_text()):
+        if re.match(r"^[a-z][a-z0-9+.-]*:", target) or target.startswith("#"):
+            continue  # an absolute URL (not fetched: no network in tests) or an anchor
+        file = (path.parent / target.split("#", 1)[0]).resolve()
+        if not file.exists():
+            missing.append(f"line {number}: {target}")
+        elif REPO not in file.parents:
+            missing.append(f"line {number}: {target} leaves the repository")
+    assert not missing, f"{_relative(path)}: links that do not resolve:\n" + "\n".join(missing)
+
+
+# ------------------------------------------------------------------ the tutorials' snippets
+def runnable_snippets(text: str) -> list[tuple[str, str | None, str]]:
+    """(language, file name or None, code) of every block marked runnable, in page order."""
+    snippets, lines = [], text.splitlines()
+    for index, line in enumerate(lines):
+        marker = RUNNABLE.match(line.strip())
+        if not marker:
+            continue
+        fence = lines[index + 1].strip()
+        if not FENCE.match(fence):
+            raise AssertionError(f"line {index + 1}: a runnable marker not followed by a fence")
+        body = []
+        for code in lines[index + 2 :]:
+            if code.strip() == fence[: len(fence) - len(fence.lstrip("`~"))]:
+                break
+            body.append(code)
+        language = fence.lstrip("`~").strip().split(" ")[0]
+        snippets.append((language, marker.group(1), "\n".join(body) + "\n"))
+    return snippets
+
+
+def _environment() -> dict[str, str]:
+    environment = dict(os.environ)
+    environment["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{environment['PATH']}"
+    environment["MPLBACKEND"] = "Agg"
+    environment.pop("ENGINE_MPIEXEC", None)
+    return environment
+
+
+@pytest.mark.parametrize("path", TUTORIALS, ids=_relative)
+def test_the_runnable_snippets_of_every_tutorial_run(path, tmp_path, monkeypatch):
+    snippets = runnable_snippets(path.read_text())
+    assert snippets, f"{_relative(path)}: no snippet marked runnable"
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    for language, name, code in snippets:
+        if name is not None:
+            (tmp_path / name).write_text(code)
+        elif language in ("bash", "sh", "shell"):
+            done = subprocess.run(
+                ["bash", "-euo", "pipefail", "-c", code], cwd=tmp_path, env=_environment(),
+                capture_output=True, text=True, timeout=300,
+            )  # fmt: skip
+            assert done.returncode == 0, f"{_relative(path)}:\n{code}\n{done.stdout}{done.stderr}"
+        elif language == "python":
+            exec(compile(code, f"{_relative(path)} snippet", "exec"), namespace)
+        else:
+            raise AssertionError(f"{_relative(path)}: cannot run a {language!r} block")
+
+
+def test_the_snippet_reader_keeps_page_order_and_file_names():
+    page = "\n".join(
+        [
+            "<!-- runnable: a.toml -->", "```toml", "x = 1", "```", "text",
+            "<!-- runnable -->", "```bash", "cat a.toml", "```",
+            "```python", "not marked", "```",
+        ]
+    )  # fmt: skip
+    assert runnable_snippets(page) == [
+        ("toml", "a.toml", "x = 1\n"),
+        ("bash", None, "cat a.toml\n"),
+    ]
+
+
+def test_the_table_checker_finds_a_split_table_and_a_short_row():
+    good = "| a | b |\n| --- | --- |\n| 1 | `x \\| y` |\n"
+    assert [len(table) for table in _tables(good)] == [3]
+    assert _cells("| 1 | `x \\| y` |") == 2
+    split = good + "\n| 2 | 3 |\n"
+    second = _tables(split)[1]
+    assert len(second) == 1 and not DELIMITER.match(second[0][1])
+    assert _cells("| 1 |") == 1
+
+
+# ----------------------------------------------------------------------- the API reference
+def test_the_api_reference_builds_with_warnings_as_errors(tmp_path):
+    """Sphinx with numpydoc over the public API; numpydoc's validation (summary line, every
+    parameter and the return value documented) turns a missing piece into an error."""
+    done = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "dummy",
+         str(DOCS / "reference" / "api"), str(tmp_path / "api")],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_every_public_name_of_engine_is_in_the_api_reference():
+    import engine
+
+    index = (DOCS / "reference" / "api" / "index.rst").read_text()
+    documented = set(re.findall(r"^\.\. auto(?:function|class|data):: engine\.(\w+)", index, re.M))
+    assert set(engine.__all__) - {"__version__"} == documented
+
+
+# ---------------------------------------------------------------- the generated reference
+def test_the_committed_reference_equals_the_generated_one():
+    """docs/reference/{study-file,outputs,cli}.md: the blocks scripts/reference.py writes
+    from the key table, the results schema and the command line's help."""
+    done = subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "reference.py"), "--check"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def _known_keys(section: str) -> set[str]:
+    """The keys the parser accepts in ``section``, from its error for an unknown key."""
+    from engine.study.config import StudyConfigError, parse_study
+    from engine.study.examples import study_toml
+
+    loading = {"kind": "fretting", "amplitude": 0.001} if section == "loading" else {}
+    wear = {"sweep": {"wear1": [1.33e-7]}}
+    text = study_toml("keys", "keys.h5", wear, {section: {"not_a_key": 1}}, loading=loading)
+    with pytest.raises(StudyConfigError) as error:
+        parse_study(text)
+    assert "unknown key (known: " in str(error.value), str(error.value)
+    return set(str(error.value).split("(known: ", 1)[1].rstrip(")").split(", "))
+
+
+def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
+    from engine.study.config import SWEEPABLE
+    from engine.study.keys import SECTIONS, STUDY_KEYS
+
+    for section in SECTIONS:
+        described = {key.name for key in STUDY_KEYS if key.section == section}
+        known = _known_keys(section)
+        if section == "sweep":
+            known |= {"zip"}  # the zip groups are read before the section's own keys
+        assert described == known, section
+    units = {f"{key.section}.{key.name}": key.unit for key in STUDY_KEYS}
+    for dotted, unit in SWEEPABLE.items():
+        assert units[dotted] == unit, dotted
+
+
+def test_the_constant_defaults_of_the_key_table_are_the_parsers():
+    """Every default written as a plain number or text is the value a study without the key
+    resolves to (a cyclic study: the static defaults differ only where the table says so)."""
+    import json
+    import tomllib
+
+    from engine.study.config import parse_study
+    from engine.study.examples import study_toml
+    from engine.study.keys import STUDY_KEYS
+
+    text = study_toml("keys", "keys.h5", sweep={"wear1": [1.33e-7]})
+    given = tomllib.loads(text)
+    resolved = parse_study(text).resolved()
+    checked = 0
+    for key in STUDY_KEYS:
+        try:
+            default = json.loads(key.default)
+        except json.JSONDecodeError:
+            continue  # a default that depends on other keys, stated in words
+        if key.name in given.get(key.section, {}):
+            continue  # set by the study, not defaulted
+        if key.section in resolved and key.name in resolved[key.section]:
+            assert resolved[key.section][key.name] == default, f"[{key.section}] {key.name}"
+            checked += 1
+    assert checked >= 6
