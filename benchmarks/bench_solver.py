@@ -139,8 +139,14 @@ def run_tamaas(n: int) -> dict | None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/explanation/performance.md (block bench-solver)",
+    )  # fmt: skip
     args = parser.parse_args()
     rows = [run_size(n) for n in args.sizes]
+    if args.update_docs:
+        write_doc_table(rows)
     print("\nfrictionless (Polonsky-Keer CG with spectral preconditioner), tol 1e-8")
     print(
         f"{'n':>5} {'time s':>8} {'iter':>5} {'matvecs':>8} {'t/op':>7} {'op ms':>7} "
@@ -195,6 +201,28 @@ def main() -> None:
                     f"face residual {row['face']:.1e}); ratio ours/Tamaas = "
                     f"{row['time'] / tamaas['solve_time_s']:.3f}"
                 )
+
+
+def write_doc_table(rows: list[dict]) -> None:
+    """The contact-solver table of the manual's performance page (block ``bench-solver``)."""
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    document = Path(__file__).resolve().parents[1] / "docs" / "explanation" / "performance.md"
+    header = ("n", "frictionless: time (s)", "iterations", "operator applications", "t/op",
+              "μ = 0.2: time (s)", "iterations", "operator applications",
+              "warm-started", "FISTA warm-started")  # fmt: skip
+    table = []
+    for row in rows:
+        free, friction = row["frictionless"], row["mu=0.2"]
+        table.append((
+            row["n"], f"{free['time']:.3f}", free["iterations"], free["matvecs"],
+            f"{free['ratio']:.0f}", f"{friction['time']:.3f}", friction["iterations"],
+            friction["matvecs"], friction["warm_matvecs"], friction["fista_warm_matvecs"],
+        ))  # fmt: skip
+    note = "`OMP_NUM_THREADS=1 python benchmarks/bench_solver.py --update-docs`, one core"
+    text = measured_on(note) + "\n" + markdown_table(header, table)
+    replace_block(document, "bench-solver", text)
+    print(f"{document}: wrote the block bench-solver")
 
 
 if __name__ == "__main__":

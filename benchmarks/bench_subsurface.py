@@ -117,6 +117,10 @@ def main() -> None:
     parser.add_argument(
         "--maxiter", type=int, default=3000, help="iteration cap of the frictional solve"
     )
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/explanation/performance.md (block bench-subsurface)",
+    )  # fmt: skip
     arguments = parser.parse_args()
     threads = arguments.threads
 
@@ -148,7 +152,7 @@ def main() -> None:
     cases = {"frictionless": (pressure, None, None), "frictional": frictional}
 
     print(f"\n{'what':38s} {'cold (s)':>9s} {'warm (s)':>9s} {'warm/op':>8s} {'cache MB':>9s}")
-    rows = {}
+    rows, table = {}, []
     for what in ("plane", "block"):
         for case, tractions in cases.items():
             start = time.perf_counter()
@@ -158,6 +162,10 @@ def main() -> None:
             warm = best_time(lambda s=stress, w=what, t=tractions: getattr(s, w)(*t))
             label = f"{'x–z plane' if what == 'plane' else '3-D block'}, {case}"
             rows[(what, case)] = warm
+            megabytes = stress.kernel_cache_bytes / 1e6
+            table.append(
+                (label, f"{cold:.3f}", f"{warm:.3f}", f"{warm / t_full:.1f}", f"{megabytes:.0f}")
+            )
             print(
                 f"{label:38s} {cold:9.3f} {warm:9.3f} {warm / t_full:8.1f} "
                 f"{stress.kernel_cache_bytes / 1e6:9.1f}"
@@ -172,6 +180,28 @@ def main() -> None:
                 f"warm/solve = {rows[('plane', case)] / solve[0]:.3f} "
                 f"(target: < 1)"
             )
+
+    if arguments.update_docs:
+        write_doc_table(table, t_full, solve, threads)
+
+
+def write_doc_table(table, t_full: float, solve, threads: int) -> None:
+    """The subsurface table of the manual's performance page (block ``bench-subsurface``)."""
+    from pathlib import Path
+
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    document = Path(__file__).resolve().parents[1] / "docs" / "explanation" / "performance.md"
+    header = ("evaluation", "first call (s)", "kernels cached (s)",
+              "cached ÷ one operator application", "kernel cache (MB)")  # fmt: skip
+    note = f"`python benchmarks/bench_subsurface.py --update-docs`, {threads} thread(s); "
+    note += f"one operator application {t_full * 1e3:.2f} ms"
+    if solve is not None:
+        note += f"; a static frictional solve (μ = 0.3) {solve[1]}"
+    replace_block(
+        document, "bench-subsurface", measured_on(note) + "\n" + markdown_table(header, table)
+    )
+    print(f"{document}: wrote the block bench-subsurface")
 
 
 if __name__ == "__main__":

@@ -1,10 +1,12 @@
 """Analytic solutions for the rigid flat-ended cylindrical punch on an elastic half-space.
 
 Surface results (Sneddon 1946; paper Eqs. 17–20):
+
 - ``sneddon_pressure``: p(r) = P / (2π a0 √(a0² − r²)) for r < a0 (Eq. 17), MPa.
 - ``sneddon_load``: P = 2 E* a0 g (Eq. 18), N.
 - ``mossakovskii_ratio``: full-stick / frictionless stiffness = artanh(β)/β with Dundurs' β
-  (Eq. 20 for a rigid punch: (1−ν) ln(3−4ν)/(1−2ν)); NOTES.md.
+  (Eq. 20 for a rigid punch: (1−ν) ln(3−4ν)/(1−2ν)).
+
 Sign convention: pressure positive in compression; lengths mm, loads N, stresses MPa.
 """
 
@@ -14,7 +16,22 @@ import numpy as np
 
 
 def sneddon_pressure(r: np.ndarray, load: float, radius: float) -> np.ndarray:
-    """Frictionless contact pressure (MPa) at radius ``r`` (mm); zero outside the punch."""
+    """Frictionless contact pressure under a rigid flat punch (Sneddon; paper Eq. 17).
+
+    Parameters
+    ----------
+    r : array_like
+        Distance from the punch axis (mm).
+    load : float
+        Normal load P (N).
+    radius : float
+        Punch radius a0 (mm).
+
+    Returns
+    -------
+    numpy.ndarray
+        p(r) = P / (2π a0 √(a0² − r²)) for r < a0, 0 outside (MPa), shaped like ``r``.
+    """
     r = np.asarray(r, dtype=float)
     inside = r < radius
     pressure = np.zeros_like(r)
@@ -23,31 +40,96 @@ def sneddon_pressure(r: np.ndarray, load: float, radius: float) -> np.ndarray:
 
 
 def sneddon_load(approach: float, radius: float, contact_modulus: float) -> float:
-    """Frictionless punch load (N) for a rigid approach ``approach`` (mm), Eq. (18)."""
+    """Load of a frictionless rigid flat punch at a given approach: P = 2 E* a0 g (Eq. 18).
+
+    Parameters
+    ----------
+    approach : float
+        Rigid approach g (mm).
+    radius : float
+        Punch radius a0 (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    float
+        Load P (N).
+    """
     return 2.0 * contact_modulus * radius * approach
 
 
 def sneddon_approach(load: float, radius: float, contact_modulus: float) -> float:
-    """Frictionless rigid approach (mm) under ``load`` (N): g = P / (2 E* a0)."""
+    """Approach of a frictionless rigid flat punch under a load: g = P / (2 E* a0).
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N).
+    radius : float
+        Punch radius a0 (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    float
+        Rigid approach g (mm).
+    """
     return load / (2.0 * contact_modulus * radius)
 
 
 def mean_pressure(load: float, radius: float) -> float:
-    """p0 = P / (π a0²), MPa (Eq. 19)."""
+    """Mean pressure p0 = P / (π a0²) (Eq. 19), the paper's stress scale.
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N).
+    radius : float
+        Punch radius a0 (mm).
+
+    Returns
+    -------
+    float
+        p0 (MPa).
+    """
     return load / (np.pi * radius**2)
 
 
 def mossakovskii_ratio(dundurs_beta: float) -> float:
-    """Full-stick to frictionless normal stiffness ratio artanh(β)/β, Dundurs' β (NOTES.md).
+    """Full-stick to frictionless normal stiffness ratio artanh(β)/β (Mossakovskii).
 
-    For a rigid punch, β = (1−2ν)/(2−2ν) and this equals Eq. (20)."""
+    For a rigid punch β = (1 − 2ν)/(2 − 2ν) and this equals Eq. (20).
+
+    Parameters
+    ----------
+    dundurs_beta : float
+        Dundurs' second parameter β of the material pair.
+
+    Returns
+    -------
+    float
+        The stiffness ratio (dimensionless), 1 at β = 0.
+    """
     if dundurs_beta == 0.0:
         return 1.0
     return float(np.arctanh(dundurs_beta) / dundurs_beta)
 
 
 def mossakovskii_ratio_rigid(poisson_ratio: float) -> float:
-    """Eq. (20) as printed, for a rigid punch: (1−ν) ln(3−4ν) / (1−2ν)."""
+    """Eq. (20) as printed, for a rigid punch: (1 − ν) ln(3 − 4ν) / (1 − 2ν).
+
+    Parameters
+    ----------
+    poisson_ratio : float
+        Poisson's ratio ν of the half-space.
+
+    Returns
+    -------
+    float
+        The full-stick to frictionless stiffness ratio (dimensionless).
+    """
     nu = poisson_ratio
     return (1.0 - nu) * np.log(3.0 - 4.0 * nu) / (1.0 - 2.0 * nu)
 
@@ -56,22 +138,37 @@ def mossakovskii_ratio_rigid(poisson_ratio: float) -> float:
 
 
 def flat_punch_stress(r, z, load: float, radius: float, poisson_ratio: float) -> dict:
-    """Stresses (MPa) under a frictionless rigid flat punch: paper Appendix A, Eqs. (A1)–(A7).
+    """Stresses under a frictionless rigid flat punch: paper Appendix A, Eqs. (A1)–(A7).
 
-    ``r`` (distance from the punch axis) and ``z`` (depth into the half-space, >= 0) in mm,
-    broadcast together; ``load`` P in N; ``radius`` a0 in mm; ``poisson_ratio`` of the
-    half-space. Returns ``'rr', 'phiphi', 'zz', 'rz'`` (compression negative), with the
-    NOTES.md corrections: in (A3) the square root covers only (a0² − l1²); in (A5) the term
-    a0 z √(l2² − a0²)(2l1⁴ + r²(l1² + 3l2² − 6a0²)) / (l2²(l2² − l1²)³) is inside the bracket
-    of σ2 with a plus sign. Verified against quadrature of the Boussinesq solution over the
-    Sneddon pressure.
+    With the corrections of the reference notes: in (A3) the square root covers only
+    (a0² − l1²); in (A5) the term a0 z √(l2² − a0²)(2l1⁴ + r²(l1² + 3l2² − 6a0²)) /
+    (l2²(l2² − l1²)³) is inside the bracket of σ2 with a plus sign. Verified against quadrature
+    of the Boussinesq solution over the Sneddon pressure.
 
-    Evaluation is arranged to stay finite and accurate everywhere except the edge r = a0 at
-    z = 0 (the singularity): with A = √((r + a0)² + z²), B = √((r − a0)² + z²),
-    l1 = 2a0 r/(A + B), l2 = (A + B)/2, l2² − l1² = AB, and a0² − l1², l2² − a0² formed
-    without cancellation; the (a0 − √(a0² − l1²))/r² term of (A5) is rewritten as
-    (l1/r)²/(a0 + √(a0² − l1²)), finite on the axis r = 0. At z = 0 the z-terms take their
-    limit 0.
+    Evaluation stays finite and accurate everywhere except the edge r = a0 at z = 0 (the
+    singularity): with A = √((r + a0)² + z²), B = √((r − a0)² + z²), l1 = 2a0 r/(A + B),
+    l2 = (A + B)/2, l2² − l1² = AB, and a0² − l1², l2² − a0² formed without cancellation; the
+    (a0 − √(a0² − l1²))/r² term of (A5) is rewritten as (l1/r)²/(a0 + √(a0² − l1²)), finite on
+    the axis r = 0. At z = 0 the z-terms take their limit 0.
+
+    Parameters
+    ----------
+    r : array_like
+        Distance from the punch axis (mm).
+    z : array_like
+        Depth into the half-space (mm, ≥ 0), broadcast with ``r``.
+    load : float
+        Normal load P (N).
+    radius : float
+        Punch radius a0 (mm).
+    poisson_ratio : float
+        Poisson's ratio of the half-space.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        ``'rr', 'phiphi', 'zz', 'rz'``: the cylindrical stress components (MPa), compression
+        negative.
     """
     a = float(radius)
     nu = float(poisson_ratio)
@@ -119,9 +216,17 @@ def flat_punch_stress(r, z, load: float, radius: float, poisson_ratio: float) ->
 
 
 def von_mises_cylindrical(stress: dict) -> np.ndarray:
-    """Eq. (21) as corrected in NOTES.md (MPa), for axisymmetric fields ('rr','phiphi','zz','rz').
+    """Von Mises stress of an axisymmetric field, Eq. (21) as corrected in the notes.
 
-    σ_VM = √(½[(σrr − σφφ)² + (σφφ − σzz)² + (σzz − σrr)² + 6τrz²]).
+    Parameters
+    ----------
+    stress : dict of str to numpy.ndarray
+        ``'rr', 'phiphi', 'zz', 'rz'`` components (MPa), e.g. from :func:`flat_punch_stress`.
+
+    Returns
+    -------
+    numpy.ndarray
+        σ_VM = √(½[(σrr − σφφ)² + (σφφ − σzz)² + (σzz − σrr)² + 6τrz²]) (MPa).
     """
     rr, pp, zz, rz = stress["rr"], stress["phiphi"], stress["zz"], stress["rz"]
     return np.sqrt(0.5 * ((rr - pp) ** 2 + (pp - zz) ** 2 + (zz - rr) ** 2 + 6.0 * rz**2))
@@ -132,11 +237,28 @@ def sneddon_element_pressure(
 ) -> np.ndarray:
     """Element-averaged Sneddon pressure (Eq. 17) on the rectangles between the given edges.
 
-    ``x_edges`` (n_x + 1), ``y_edges`` (n_y + 1) in mm, increasing. Returns MPa, shape
-    (n_x, n_y): the exact integral of p over each element divided by its area, so that the
-    total force equals ``load`` (N) when the elements cover the punch. The y-integral is done
-    in closed form (arcsine), the x-integral by ``order``-point Gauss–Legendre in θ with
+    The exact integral of p over each element divided by its area. The y-integral is done in
+    closed form (arcsine), the x-integral by ``order``-point Gauss–Legendre in θ with
     x = a0 sin θ, which removes the square-root behaviour at x = ±a0.
+
+    Parameters
+    ----------
+    x_edges : array_like
+        Element edges along x (mm), increasing, n_x + 1 values.
+    y_edges : array_like
+        Element edges along y (mm), increasing, n_y + 1 values.
+    load : float
+        Normal load P (N).
+    radius : float
+        Punch radius a0 (mm).
+    order : int
+        Gauss–Legendre points of the x-integral.
+
+    Returns
+    -------
+    numpy.ndarray
+        Mean pressure of each element (MPa), shape (n_x, n_y); the total force equals ``load``
+        when the elements cover the punch.
     """
     a = float(radius)
     x_edges = np.asarray(x_edges, dtype=float)

@@ -10,7 +10,7 @@ modulus E* = ((1−ν_A²)/E_A + (1−ν_B²)/E_B)⁻¹ (MPa), load P (N), spher
 - stresses on the axis r = 0 at depth z (compression negative):
   σ_z = −p_max / (1 + z²/a²),
   σ_r = σ_θ = p_max [−(1 + ν)(1 − (z/a) arctan(a/z)) + 1 / (2 (1 + z²/a²))],
-  σ_VM = |σ_r − σ_z| (two equal principal stresses).
+  σ_VM = abs(σ_r − σ_z) (two equal principal stresses).
 
 For ν = 0.3 the axis σ_VM has its maximum 0.6200 p_max at z = 0.4809 a
 (:func:`axis_von_mises_peak` finds it numerically for any ν).
@@ -37,23 +37,85 @@ __all__ = [
 
 
 def hertz_contact_radius(load: float, radius: float, contact_modulus: float) -> float:
-    """a = (3 P R / (4 E*))^(1/3), mm."""
+    """Hertz's contact radius a = (3 P R / (4 E*))^(1/3) (Johnson Eq. 4.22).
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N).
+    radius : float
+        Sphere radius R (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    float
+        Contact radius a (mm).
+    """
     return (3.0 * load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
 
 
 def hertz_approach(load: float, radius: float, contact_modulus: float) -> float:
-    """δ = a²/R, mm."""
+    """Hertz's approach δ = a²/R of the two bodies' distant points (Johnson Eq. 4.23).
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N).
+    radius : float
+        Sphere radius R (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    float
+        Approach δ (mm).
+    """
     return hertz_contact_radius(load, radius, contact_modulus) ** 2 / radius
 
 
 def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> float:
-    """p_max = 3 P / (2 π a²), MPa."""
+    """Hertz's peak pressure p_max = 3 P / (2 π a²) at the centre of the contact.
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N).
+    radius : float
+        Sphere radius R (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    float
+        Peak pressure p_max (MPa).
+    """
     a = hertz_contact_radius(load, radius, contact_modulus)
     return 3.0 * load / (2.0 * math.pi * a**2)
 
 
 def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: float):
-    """p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside (MPa)."""
+    """Hertz's pressure p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside.
+
+    Parameters
+    ----------
+    r : array_like
+        Radial distance from the contact's centre (mm).
+    load : float
+        Normal load P (N).
+    radius : float
+        Sphere radius R (mm).
+    contact_modulus : float
+        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+
+    Returns
+    -------
+    numpy.ndarray
+        Contact pressure (MPa), positive in compression, shaped like ``r``.
+    """
     a = hertz_contact_radius(load, radius, contact_modulus)
     p_max = hertz_peak_pressure(load, radius, contact_modulus)
     r = np.asarray(r, dtype=float)
@@ -61,7 +123,25 @@ def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: f
 
 
 def axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """(σ_r, σ_z)/p_max on the axis at depth ``z`` given in units of a (z > 0)."""
+    """Stresses on the axis r = 0 below a Hertzian contact (Johnson Eq. 3.45).
+
+    σ_z = −1/(1 + z²), σ_r = σ_θ = −(1 + ν)(1 − z arctan(1/z)) + 1/(2(1 + z²)), in units of
+    p_max with z in units of a; compression negative.
+
+    Parameters
+    ----------
+    z : array_like
+        Depth below the surface in units of the contact radius a (z > 0).
+    nu : float
+        Poisson's ratio of the half-space.
+
+    Returns
+    -------
+    sigma_r : numpy.ndarray
+        Radial (and hoop) stress σ_r / p_max.
+    sigma_z : numpy.ndarray
+        Normal stress σ_z / p_max.
+    """
     z = np.asarray(z, dtype=float)
     sigma_z = -1.0 / (1.0 + z**2)
     sigma_r = -(1.0 + nu) * (1.0 - z * np.arctan(1.0 / z)) + 0.5 / (1.0 + z**2)
@@ -69,13 +149,41 @@ def axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def axis_von_mises(z: np.ndarray, nu: float) -> np.ndarray:
-    """σ_VM/p_max on the axis at depth ``z``/a."""
+    """Von Mises stress on the axis below a Hertzian contact, σ_VM = abs(σ_r − σ_z).
+
+    Parameters
+    ----------
+    z : array_like
+        Depth below the surface in units of the contact radius a (z > 0).
+    nu : float
+        Poisson's ratio of the half-space.
+
+    Returns
+    -------
+    numpy.ndarray
+        σ_VM / p_max, shaped like ``z``.
+    """
     sigma_r, sigma_z = axis_stresses(z, nu)
     return np.abs(sigma_r - sigma_z)
 
 
 def axis_von_mises_peak(nu: float) -> tuple[float, float]:
-    """(σ_VM/p_max, z/a) of the axis maximum, found to 1e-10 by bounded minimisation."""
+    """The largest von Mises stress on the axis and its depth, found to 1e-10 by bounded search.
+
+    For ν = 0.3: 0.6200 p_max at z = 0.4809 a.
+
+    Parameters
+    ----------
+    nu : float
+        Poisson's ratio of the half-space.
+
+    Returns
+    -------
+    peak : float
+        max σ_VM / p_max.
+    depth : float
+        Its depth z / a.
+    """
     result = minimize_scalar(
         lambda z: -float(axis_von_mises(z, nu)),
         bounds=(0.05, 2.0),

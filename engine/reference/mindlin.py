@@ -63,7 +63,18 @@ __all__ = [
 
 
 def compliance_sum(materials: MaterialPair) -> float:
-    """S = (2 − ν_A)/G_A + (2 − ν_B)/G_B, in 1/MPa."""
+    """The compliance sum S = (2 − ν_A)/G_A + (2 − ν_B)/G_B of the tangential problem.
+
+    Parameters
+    ----------
+    materials : engine.material.MaterialPair
+        The two elastic bodies (moduli in MPa).
+
+    Returns
+    -------
+    float
+        S (1/MPa).
+    """
     return (2.0 - materials.nu_A) / materials.shear_modulus_A + (
         2.0 - materials.nu_B
     ) / materials.shear_modulus_B
@@ -85,15 +96,48 @@ def _ratio(force, limit) -> np.ndarray:
 
 
 def stick_radius_ratio(force, load: float, friction: float) -> np.ndarray:
-    """c/a = (1 − Q/μP)^{1/3} under a monotone force Q (N) (Johnson 7.40)."""
+    """Radius of the stick zone under a monotone tangential force: c/a = (1 − Q/μP)^{1/3}.
+
+    Cattaneo–Mindlin, Johnson Eq. 7.40.
+
+    Parameters
+    ----------
+    force : float or array_like
+        Tangential force Q (N), 0 ≤ Q ≤ μP.
+    load : float
+        Normal load P (N).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        c/a (dimensionless).
+    """
     return (1.0 - _ratio(force, friction * load)) ** (1.0 / 3.0)
 
 
 def slip_displacement(load, radius, materials: MaterialPair, friction: float) -> np.ndarray:
-    """δ_slip = 3 μP S / (16 a) (mm): the displacement amplitude at the onset of gross slip.
+    """δ_slip = 3 μP S / (16 a): the displacement amplitude at the onset of gross slip.
 
-    ``load`` (N) may be an array: δ_slip(P) ∝ P^{2/3} is the partial/gross boundary line of
-    the running-condition fretting map.
+    With ``load`` an array, δ_slip(P) ∝ P^{2/3} is the partial/gross boundary line of the
+    running-condition fretting map.
+
+    Parameters
+    ----------
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        δ_slip (mm), shaped like ``load``.
     """
     load = np.asarray(load, dtype=float)
     a = hertz_contact_radius(load, radius, materials.contact_modulus)
@@ -101,15 +145,52 @@ def slip_displacement(load, radius, materials: MaterialPair, friction: float) ->
 
 
 def tangential_displacement(force, load, radius, materials, friction) -> np.ndarray:
-    """δ(Q) = δ_slip [1 − (1 − Q/μP)^{2/3}] (mm), monotone loading 0 → Q ≤ μP (Johnson 7.42)."""
+    """The Cattaneo–Mindlin compliance curve δ(Q) = δ_slip [1 − (1 − Q/μP)^{2/3}].
+
+    Johnson Eq. 7.42.
+
+    Parameters
+    ----------
+    force : float or array_like
+        Tangential force Q (N) of a monotone loading 0 → Q ≤ μP.
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rigid tangential displacement δ (mm).
+    """
     slip, limit = _scale(load, radius, materials, friction)
     return slip * (1.0 - (1.0 - _ratio(force, limit)) ** (2.0 / 3.0))
 
 
 def tangential_force(displacement, load, radius, materials, friction) -> np.ndarray:
-    """Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}] (N), the inverse of the compliance curve.
+    """The inverse of the compliance curve: Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}].
 
-    For δ ≥ δ_slip the sphere slides: Q = μP.
+    Parameters
+    ----------
+    displacement : float or array_like
+        Rigid tangential displacement δ (mm); for δ ≥ δ_slip the sphere slides.
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Tangential force Q (N); μP where the sphere slides.
     """
     slip, limit = _scale(load, radius, materials, friction)
     d = np.clip(np.asarray(displacement, dtype=float) / slip, 0.0, 1.0)
@@ -117,10 +198,30 @@ def tangential_force(displacement, load, radius, materials, friction) -> np.ndar
 
 
 def unloading_displacement(force, amplitude, load, radius, materials, friction):
-    """δ (mm) on the unloading branch from (δ*, Q*) down to Q (N) (Masing construction).
+    """δ on the unloading branch from (δ*, Q*) down to Q (Masing construction).
 
-    δ = δ* − 2 δ_mono((Q* − Q)/2) for −Q* ≤ Q ≤ Q*, ``amplitude`` = Q* ≤ μP (N). The
-    reloading branch is its point reflection: δ_reload(Q) = −δ_unload(−Q).
+    δ = δ* − 2 δ_mono((Q* − Q)/2); the reloading branch is its point reflection,
+    δ_reload(Q) = −δ_unload(−Q).
+
+    Parameters
+    ----------
+    force : float or array_like
+        Tangential force Q (N), −Q* ≤ Q ≤ Q*.
+    amplitude : float
+        Force amplitude Q* ≤ μP (N).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rigid tangential displacement δ (mm).
     """
     peak = tangential_displacement(amplitude, load, radius, materials, friction)
     half = (amplitude - np.asarray(force, dtype=float)) / 2.0
@@ -128,10 +229,28 @@ def unloading_displacement(force, amplitude, load, radius, materials, friction):
 
 
 def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndarray:
-    """Energy dissipated per cycle between ±Q* < μP (mJ), Mindlin–Deresiewicz (Johnson 7.53).
+    """Energy dissipated per cycle between ±Q* < μP, Mindlin–Deresiewicz (Johnson Eq. 7.53).
 
     W = (9 (μP)² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})], q = Q*/μP,
     from W = 4 Q* δ* − 8 ∫₀^{Q*} δ_mono(u) du (the module docstring derives it).
+
+    Parameters
+    ----------
+    amplitude : float or array_like
+        Force amplitude Q* ≤ μP (N).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Energy per cycle W (mJ = N·mm).
     """
     slip, limit = _scale(load, radius, materials, friction)
     # 9 L² S / (10 a) = (24/5) L δ_slip
@@ -144,12 +263,22 @@ def _energy_bracket(q) -> np.ndarray:
 
 
 def energy_ratio(displacement_ratio) -> np.ndarray:
-    """Fouvry's energy ratio A = W / (4 δ* Q*) against x = δ*/δ_slip (both dimensionless).
+    """Fouvry's energy ratio A = W / (4 δ* Q*) against x = δ*/δ_slip.
 
     One curve for every load, radius, material pair and μ (K = 0): with q = 1 − (1 − x)^{3/2},
-    A = 1.2 [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})] / (x q) in partial slip (x ≤ 1;
-    → 0 as x → 0), A = (0.8 + 4 (x − 1)) / (4x) in gross slip; A = 0.2 at x = 1, → 1 as
-    x → ∞. The partial/gross boundary of a measured loop is where A crosses 0.2.
+    A = 1.2 [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})] / (x q) in partial slip (x ≤ 1),
+    A = (0.8 + 4 (x − 1)) / (4x) in gross slip. The partial/gross boundary of a measured loop
+    is where A crosses 0.2.
+
+    Parameters
+    ----------
+    displacement_ratio : float or array_like
+        x = δ*/δ_slip (dimensionless, > 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        A (dimensionless): 0.2 at x = 1, → 1 as x → ∞.
     """
     x = np.asarray(displacement_ratio, dtype=float)
     if np.any(x <= 0.0):
@@ -162,16 +291,53 @@ def energy_ratio(displacement_ratio) -> np.ndarray:
 
 
 def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
-    """W ≈ S Q*³ / (36 a μP) (mJ), the leading term for Q* ≪ μP (Johnson 7.54)."""
+    """W ≈ S Q*³ / (36 a μP), the leading term for Q* ≪ μP (Johnson Eq. 7.54).
+
+    Parameters
+    ----------
+    amplitude : float or array_like
+        Force amplitude Q* (N).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Energy per cycle W (mJ).
+    """
     a = hertz_contact_radius(load, radius, materials.contact_modulus)
     amplitude = np.asarray(amplitude, dtype=float)
     return compliance_sum(materials) * amplitude**3 / (36.0 * a * friction * load)
 
 
 def gross_slip_energy(displacement_amplitude, load, radius, materials, friction):
-    """Energy per cycle (mJ) under a displacement amplitude δ* ≥ δ_slip (gross slip).
+    """Energy per cycle under a displacement amplitude δ* ≥ δ_slip (gross slip).
 
-    W = W_MD(Q* = μP) + 4 μP (δ* − δ_slip); W_MD(μP) = 0.8 μP δ_slip.
+    W = W_MD(Q* = μP) + 4 μP (δ* − δ_slip), with W_MD(μP) = 0.8 μP δ_slip.
+
+    Parameters
+    ----------
+    displacement_amplitude : float or array_like
+        δ* ≥ δ_slip (mm).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Energy per cycle W (mJ).
     """
     slip, limit = _scale(load, radius, materials, friction)
     excess = np.asarray(displacement_amplitude, dtype=float) - slip
@@ -181,12 +347,50 @@ def gross_slip_energy(displacement_amplitude, load, radius, materials, friction)
 
 
 def force_amplitude(displacement_amplitude, load, radius, materials, friction):
-    """Q* (N) reached under a displacement amplitude δ* (mm): Q(δ*) below δ_slip, μP above."""
+    """The force amplitude Q* reached under a displacement amplitude δ*: Q(δ*) or μP.
+
+    Parameters
+    ----------
+    displacement_amplitude : float or array_like
+        δ* (mm).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Q* (N).
+    """
     return tangential_force(displacement_amplitude, load, radius, materials, friction)
 
 
 def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
-    """Energy per stabilised cycle (mJ) under a displacement amplitude δ* (mm), any regime."""
+    """Energy per stabilised cycle under a displacement amplitude δ*, in either regime.
+
+    Parameters
+    ----------
+    displacement_amplitude : float or array_like
+        δ* (mm).
+    load : float or array_like
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        Energy per cycle W (mJ): Mindlin–Deresiewicz below δ_slip, gross slip above.
+    """
     slip, _ = _scale(load, radius, materials, friction)
     d = np.asarray(displacement_amplitude, dtype=float)
     partial = partial_slip_energy(
@@ -210,12 +414,34 @@ def fretting_loop(
     force_amplitude: float | None = None,
     points: int = 201,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The stabilised loop (δ in mm, Q in N), closed, starting and ending at (δ*, Q*).
+    """The stabilised fretting loop (δ, Q), closed, starting and ending at (δ*, Q*).
 
-    Give exactly one of ``displacement_amplitude`` δ* (partial or gross slip) or
-    ``force_amplitude`` Q* ≤ μP. The unloading branch runs from (δ*, Q*) to (−δ*, −Q*)
-    (Masing curve, then sliding at Q = −μP in gross slip); the reloading branch is its point
-    reflection. Each branch has ``points`` points.
+    The unloading branch runs from (δ*, Q*) to (−δ*, −Q*) (Masing curve, then sliding at
+    Q = −μP in gross slip); the reloading branch is its point reflection.
+
+    Parameters
+    ----------
+    load : float
+        Normal load P (N), held constant.
+    radius : float
+        Sphere radius R (mm).
+    materials : engine.material.MaterialPair
+        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+    friction : float
+        Coulomb friction coefficient μ.
+    displacement_amplitude : float, optional
+        δ* (mm), partial or gross slip; give exactly one of the two amplitudes.
+    force_amplitude : float, optional
+        Q* ≤ μP (N).
+    points : int
+        Points per branch.
+
+    Returns
+    -------
+    displacement : numpy.ndarray
+        δ (mm) around the loop.
+    force : numpy.ndarray
+        Q (N) around the loop.
     """
     if (displacement_amplitude is None) == (force_amplitude is None):
         raise ValueError("give exactly one of displacement_amplitude and force_amplitude")
