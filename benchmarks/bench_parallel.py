@@ -101,12 +101,33 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=6, help="increments per half cycle")
     parser.add_argument("--cycles", type=int, default=100000)
     parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/explanation/performance.md (block bench-parallel)",
+    )  # fmt: skip
     args = parser.parse_args()
-    for n in args.n:
-        measure(n, args.steps, args.cycles, args.repeat)
+    rows = [measure(n, args.steps, args.cycles, args.repeat) for n in args.n]
+    if args.update_docs:
+        write_doc_table(rows, args)
 
 
-def measure(n: int, steps: int, cycles: int, repeat: int) -> None:
+def write_doc_table(rows: list[tuple], args) -> None:
+    """The MPI table of the manual's performance page (block ``bench-parallel``)."""
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    document = REPO / "docs" / "explanation" / "performance.md"
+    header = ("n", "CPU per case (s)", "1 rank (s)", "2 ranks (s)", "wall ratio",
+              "load-independent ratio", "fixed CPU of a run (s)")  # fmt: skip
+    note = "`python benchmarks/bench_parallel.py --update-docs`: four equal cyclic cases, "
+    note += f"{args.cycles:,} cycles, {args.steps} increments per half cycle, whole command "
+    note += f"timed, best of {args.repeat}"
+    replace_block(
+        document, "bench-parallel", measured_on(note) + "\n" + markdown_table(header, rows)
+    )
+    print(f"{document}: wrote the block bench-parallel")
+
+
+def measure(n: int, steps: int, cycles: int, repeat: int) -> tuple:
     """Four equal cases on 1 and 2 ranks, alternating, best of ``repeat``; prints the ratio,
     the per-case CPU and the fixed CPU of a run (start-up, set-up, writing)."""
     with tempfile.TemporaryDirectory() as folder:
@@ -150,6 +171,10 @@ def measure(n: int, steps: int, cycles: int, repeat: int) -> None:
         f"{min(estimates):.3f}. Other processes on the cores inflate the wall ratio.",
         flush=True,
     )
+    return (
+        n, f"{min(case_cpu):.2f}", f"{one:.2f}", f"{two:.2f}", f"{two / one:.3f}",
+        f"{min(estimates):.3f}", f"{min(fixed_cpu):.2f}",
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

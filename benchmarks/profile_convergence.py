@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -43,6 +44,8 @@ from engine.solvers.subsurface import SubsurfaceStress, depth_layers
 
 FACE, EDGE, CONTACT, HALF_WIDTH, NU = 1.0, 1.0, 1.2, 1.3, 0.3
 UNIT_CONTACT_MODULUS = MaterialPair(2.0 * (1.0 - NU**2), NU, 2.0 * (1.0 - NU**2), NU)  # E* = 1
+
+REPO = Path(__file__).resolve().parents[1]
 
 
 def solve(grid, material, profile, load, tol=1e-10):
@@ -60,7 +63,16 @@ def edge_stress(grid, result, depth):
     return plane.peak().value, plane.peak(depths[1]).value
 
 
-def rounded_table(sizes):
+def emit(lines: list[str], text: str) -> None:
+    """Print ``text``; keep the rows of a Markdown table (without the timing suffix)."""
+    print(text, flush=True)
+    if text.startswith("|"):
+        lines.append(text.split("  (", 1)[0])
+
+
+def rounded_table(sizes) -> str:
+    """The rounded punch against its reference at each size; returns the Markdown table."""
+    lines: list[str] = []
     reference = rounded_punch_contact(FACE, EDGE, UNIT_CONTACT_MODULUS.contact_modulus)
     load = reference.load(CONTACT * FACE)
     radius = reference.contact_radius(load)
@@ -68,16 +80,18 @@ def rounded_table(sizes):
     samples = np.linspace(0.95 * FACE, radius, 400)
     pressures = reference.pressures(samples, radius)
     peak = float(pressures.max())
-    print(
+    emit(
+        lines,
         f"rounded punch b = {FACE}, rho = {EDGE}, E* = 1, P = {load:.6g}: reference a/b = "
         f"{radius / FACE:.4f}, approach {approach:.6g}, p_max {peak:.6g} at r/b = "
-        f"{samples[pressures.argmax()]:.4f}"
+        f"{samples[pressures.argmax()]:.4f}",
     )
-    print(
+    emit(
+        lines,
         "| n | approach err | p_max err | p err r<=0.8b (of p(0)) | σ_VM surface | Δ | "
-        "σ_VM below | Δ | flat punch σ_VM surface | Δ |"
+        "σ_VM below | Δ | flat punch σ_VM surface | Δ |",
     )
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    emit(lines, "|---|---|---|---|---|---|---|---|---|---|")
     previous = None
     for n in sizes:
         start = time.perf_counter()
@@ -98,15 +112,19 @@ def rounded_table(sizes):
             else [f"{(value / old - 1.0):+.3f}" for value, old in zip(row, previous, strict=True)]
         )
         previous = row
-        print(
+        emit(
+            lines,
             f"| {n} | {result.approach / approach - 1:+.4f} | "
             f"{result.pressure.max() / peak - 1:+.4f} | {error:.4f} | {surface:.4f} | "
             f"{deltas[0]} | {below:.4f} | {deltas[1]} | {flat_surface:.4f} | {deltas[2]} |"
-            f"  ({time.perf_counter() - start:.0f} s)"
+            f"  ({time.perf_counter() - start:.0f} s)",
         )
+    return "\n".join(lines) + "\n"
 
 
-def sphere_table(sizes):
+def sphere_table(sizes) -> str:
+    """The sphere against Hertz at each size; returns the Markdown table."""
+    lines: list[str] = []
     material = MaterialPair(200000.0, NU, 2.0e7, NU)
     radius, load = 10.0, 750.0
     modulus = material.contact_modulus
@@ -114,9 +132,12 @@ def sphere_table(sizes):
     p_max = hertz.hertz_peak_pressure(load, radius, modulus)
     approach = hertz.hertz_approach(load, radius, modulus)
     vm, depth = hertz.axis_von_mises_peak(NU)
-    print(f"\nsphere R = {radius} mm, P = {load} N: Hertz a = {a:.5f} mm, p_max = {p_max:.2f} MPa")
-    print("| n | a err | approach err | p_max err | axis σ_VM max err | its depth err |")
-    print("|---|---|---|---|---|---|")
+    emit(
+        lines,
+        f"\nsphere R = {radius} mm, P = {load} N: Hertz a = {a:.5f} mm, p_max = {p_max:.2f} MPa",
+    )
+    emit(lines, "| n | a err | approach err | p_max err | axis σ_VM max err | its depth err |")
+    emit(lines, "|---|---|---|---|---|---|")
     for n in sizes:
         grid = Grid.square(n, 1.5 * a)
         result = solve(grid, material, SphericalPunch(radius), load)
@@ -125,19 +146,34 @@ def sphere_table(sizes):
         plane = SubsurfaceStress(grid, NU, depths).plane(result.pressure)
         column = plane.von_mises[int(np.argmin(np.abs(plane.x[:, 0])))]
         k = int(np.argmax(column))
-        print(
+        emit(
+            lines,
             f"| {n} | {contact / a - 1:+.4f} | {result.approach / approach - 1:+.5f} | "
             f"{result.pressure.max() / p_max - 1:+.4f} | {column[k] / p_max / vm - 1:+.5f} | "
-            f"{depths[k] / a / depth - 1:+.4f} |"
+            f"{depths[k] / a / depth - 1:+.4f} |",
         )
+    return "\n".join(lines) + "\n"
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256])
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write both tables into docs/how-to/sweeps-and-profiles.md (profile-convergence)",
+    )  # fmt: skip
     args = parser.parse_args()
-    rounded_table(args.sizes)
-    sphere_table(args.sizes)
+    rounded = rounded_table(args.sizes)
+    sphere = sphere_table(args.sizes)
+    if args.update_docs:
+        from engine.analysis.markdown import measured_on, replace_block
+
+        document = REPO / "docs" / "how-to" / "sweeps-and-profiles.md"
+        note = "`python benchmarks/profile_convergence.py --update-docs`, one core"
+        text = f"{measured_on(note)}\nRounded punch against its reference:\n\n{rounded}\n"
+        text += f"Sphere against Hertz:\n\n{sphere}"
+        replace_block(document, "profile-convergence", text)
+        print(f"{document}: wrote the block profile-convergence")
 
 
 if __name__ == "__main__":

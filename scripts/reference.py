@@ -7,7 +7,8 @@ Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME 
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
   default, unit and meaning (:mod:`engine.study.keys`), and ``sweepable-keys``: the dotted keys
-  ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration);
+  ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), and ``bundled-studies``:
+  every study of ``studies/`` with the title and the time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
   (:mod:`engine.schema`, the table the writers and the reader share);
@@ -94,6 +95,36 @@ def datasets() -> str:
     return markdown_table(("path in the case group", "units", "description"), rows)
 
 
+def _header_title(line: str) -> str:
+    """The study's first header line up to its first colon, semicolon or parenthesis."""
+    title = line.removeprefix("#").strip()
+    for mark in (":", ";", " ("):
+        title = title.split(mark, 1)[0]
+    return title.strip()
+
+
+def _header_time(lines: list[str]) -> str:
+    """What the header's ``Time here ...: T with ...`` line says, up to its first comma or
+    parenthesis."""
+    for line in lines:
+        if "Time here" in line:
+            text = line.split(":", 1)[1].strip()
+            for mark in (" (", ",", ";"):
+                text = text.split(mark, 1)[0]
+            return text.strip().rstrip(".")
+    return "–"
+
+
+def bundled_studies() -> str:
+    """Every study of ``studies/``: what it computes and how long it takes, from its header."""
+    rows = []
+    for path in sorted((REPO / "studies").glob("*.toml")):
+        header = [line for line in path.read_text().splitlines() if line.startswith("#")]
+        title = _header_title(header[0]) if header else "–"
+        rows.append((f"`studies/{path.name}`", title, _header_time(header)))
+    return markdown_table(("file", "what it computes", "time here (from its header)"), rows)
+
+
 def _help(*command: str) -> str:
     """``python -m engine ... --help`` at a fixed width, in a text block."""
     environment = dict(os.environ, COLUMNS="100")
@@ -108,6 +139,7 @@ def _help(*command: str) -> str:
 BLOCKS = {
     (STUDY_FILE, "study-keys"): study_keys,
     (STUDY_FILE, "sweepable-keys"): sweepable_keys,
+    (STUDY_FILE, "bundled-studies"): bundled_studies,
     (OUTPUTS, "summary-columns"): summary_columns,
     (OUTPUTS, "datasets"): datasets,
     (CLI, "cli-run"): lambda: _help(),

@@ -6,11 +6,8 @@
 # Usage:  bash scripts/results.sh [RANKS]        (RANKS: MPI ranks per study, default 2)
 #         FRESH=1 bash scripts/results.sh        (recompute instead of reusing complete results)
 #         STUDIES="section_7_1_static" bash scripts/results.sh   (a subset)
-# Time here (2 ranks, FRESH, 2026-11-23): on a quiet machine (load < 1) 1 s (Section 7.1),
-#   10 s (7.2, 64²), 3 s (7.2, 32²), 28 s (7.3, 64²), 10 s (7.3, 32²) of computing, the
-#   whole script under 3.5 minutes; with the cores shared with other jobs up to 5 minutes.
-#   Existing complete results are reused (the engine resumes); the figures and tables are
-#   redrawn every time.
+# Existing complete results are reused (the engine resumes); the figures and tables are
+# redrawn every time. The time of each study is in its header (studies/*.toml).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ranks="${1:-2}"

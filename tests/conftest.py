@@ -49,3 +49,35 @@ def small_text(monkeypatch):
 
     monkeypatch.setattr(figures.plt, "close", checked_close)
     return small
+
+
+# ------------------------------------------------------------------ the validation table
+class ValidationRecorder:
+    """Writes a test's measured figure for the manual's validation table.
+
+    ``scripts/validation.py`` runs the tests marked ``validation`` with the environment
+    variable ``ENGINE_VALIDATION_RECORD`` naming a file; each call of :meth:`record` then
+    appends one row (JSON) to it. Without the variable nothing is written. Record after the
+    asserts, so that a row exists only when its check passed.
+    """
+
+    def __init__(self, path: str | None, test: str) -> None:
+        self.path, self.test = path, test
+
+    def record(self, check: str, tolerance: str, measured: str) -> None:
+        """One row: what is compared, the tolerance and why, the measured figure (text)."""
+        if not self.path:
+            return
+        import json
+
+        row = {"test": self.test, "check": check, "tolerance": tolerance, "measured": measured}
+        with open(self.path, "a", encoding="utf-8") as file:
+            file.write(json.dumps(row, ensure_ascii=False) + "\n")
+
+
+@pytest.fixture
+def validation(request):
+    """A :class:`ValidationRecorder` for this test (see scripts/validation.py)."""
+    import os
+
+    return ValidationRecorder(os.environ.get("ENGINE_VALIDATION_RECORD"), request.node.nodeid)

@@ -22,7 +22,8 @@ from engine.solvers.static import static_analysis
 from tests.conftest import LOAD, RADIUS
 
 
-def test_frictionless_punch_matches_sneddon(frictionless_64, material):
+@pytest.mark.validation
+def test_frictionless_punch_matches_sneddon(frictionless_64, material, validation):
     """Acceptance 1: Eq. (18) within 1 % and Eq. (17) within 3 % for r <= 0.8 a0 at 64²."""
     result = frictionless_64.solve_load(LOAD)
     assert result.converged, result.message
@@ -35,6 +36,14 @@ def test_frictionless_punch_matches_sneddon(frictionless_64, material):
     # The whole punch face is in contact and nothing outside it carries load.
     assert np.all(result.pressure[r <= RADIUS] > 0)
     assert np.all(result.pressure[r > RADIUS] == 0)
+    validation.record(
+        "frictionless punch, 64²: approach vs Eq. 18", "1 % (discretisation)",
+        f"{result.approach / expected - 1:+.2%}",
+    )  # fmt: skip
+    validation.record(
+        "frictionless punch, 64²: pressure vs Eq. 17, r ≤ 0.8 a0", "3 % (discretisation)",
+        f"{error.max():.2%}",
+    )  # fmt: skip
 
 
 def test_displacement_control_reproduces_load_control(frictionless_64):
@@ -45,7 +54,8 @@ def test_displacement_control_reproduces_load_control(frictionless_64):
     assert by_approach.load == pytest.approx(LOAD, rel=1e-6)
 
 
-def test_equilibrium_is_exact(frictionless_64):
+@pytest.mark.validation
+def test_equilibrium_is_exact(frictionless_64, validation):
     """Acceptance 4: Σ p ΔA = P to 1e-8 relative, with and without friction."""
     area = frictionless_64.grid.element_area
     for mu in (0.0, 0.2):
@@ -53,9 +63,14 @@ def test_equilibrium_is_exact(frictionless_64):
         result = solver.solve_load(LOAD)
         assert result.pressure.sum() * area == pytest.approx(LOAD, rel=1e-8)
         assert result.load == pytest.approx(LOAD, rel=1e-8)
+        validation.record(
+            f"equilibrium Σ p ΔA = P, μ = {mu:g}, 64²", "1e-8 rel. (round-off)",
+            f"{abs(result.pressure.sum() * area / LOAD - 1):.0e} rel.",
+        )  # fmt: skip
 
 
-def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material):
+@pytest.mark.validation
+def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material, validation):
     """Acceptance 2: μ = 1 sticks everywhere; k(stick)/k(frictionless) within 0.5 % of Eq. 20
     (artanh(β)/β with Dundurs' β for E_B = 100 E_A, 1.02745; 1.02863 for a rigid punch)."""
     frictionless = frictionless_64.solve_load(LOAD)
@@ -66,9 +81,15 @@ def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material):
     ratio = frictionless.approach / stuck.approach  # same load: k ∝ 1/approach
     assert ratio == pytest.approx(mossakovskii_ratio(material.dundurs_beta), rel=0.005)
     assert mossakovskii_ratio_rigid(0.3) == pytest.approx(1.02863, rel=1e-5)
+    expected = mossakovskii_ratio(material.dundurs_beta)
+    validation.record(
+        f"full stick (μ = 1), 64²: stiffness ratio vs Mossakovskii artanh(β)/β = {expected:.5f}",
+        "0.5 % (discretisation)", f"{ratio:.5f} ({ratio / expected - 1:+.2%})",
+    )  # fmt: skip
 
 
-def test_stiffness_rises_monotonically_with_friction(frictionless_64):
+@pytest.mark.validation
+def test_stiffness_rises_monotonically_with_friction(frictionless_64, validation):
     """Acceptance 2, Fig. 3b: the stiffness ratio grows with μ on 0 … 0.4 (static analysis
     in two increments, path dependent), and the stick zone grows with it."""
     ratios, stick = [], []
@@ -81,6 +102,10 @@ def test_stiffness_rises_monotonically_with_friction(frictionless_64):
     assert np.all(np.diff(ratios) > 0), ratios
     assert np.all(np.diff(stick) >= 0), stick
     assert ratios[0] == pytest.approx(1.0, abs=1e-9)
+    validation.record(
+        "stiffness ratio rises with μ = 0, 0.1, 0.2, 0.3, 0.4 (Fig. 3b)", "strictly monotone",
+        ", ".join(f"{ratio:.4f}" for ratio in ratios),
+    )  # fmt: skip
 
 
 def test_slip_is_outward_for_soft_half_space(frictionless_64):

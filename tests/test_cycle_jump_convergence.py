@@ -64,7 +64,8 @@ def reference(material, case):
     [{"max_wear_fraction": 0.002}, {"steps": 20}],
     ids=["half-wear-per-jump", "double-increments"],
 )
-def test_cycle_jumping_converges(material, case, refinement):
+@pytest.mark.validation
+def test_cycle_jumping_converges(material, case, refinement, validation):
     depth, volume, simulated = reference(material, case)
     wear, cycles, n = CASES[case]
     fine_depth, fine_volume, fine_simulated = final_wear(
@@ -80,3 +81,10 @@ def test_cycle_jumping_converges(material, case, refinement):
     assert abs(fine_depth / depth - 1) < 0.02
     assert abs(fine_volume / volume - 1) < 0.02
     assert np.isfinite(depth) and depth > 0
+    change = (
+        "halve the wear per jump" if "max_wear_fraction" in refinement else "double the increments"
+    )
+    validation.record(
+        f"cycle jumping, {case}: {change}", "2 % on depth and volume",
+        f"depth {fine_depth / depth - 1:+.2%}, volume {fine_volume / volume - 1:+.2%}",
+    )  # fmt: skip

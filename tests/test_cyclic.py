@@ -24,7 +24,8 @@ def analysis(material, n, mu1, mu2, i1, i2, beta_deg, cycles, record, steps=5, t
     return CyclicAnalysis(solver, WearLaw(i1, i2, beta), settings)
 
 
-def test_wear_volume_is_the_sum_of_archard_increments(material):
+@pytest.mark.validation
+def test_wear_volume_is_the_sum_of_archard_increments(material, validation):
     """Acceptance 1: V = Σ_cycles ΔN Σ_increments Σ_elements i p |Δs| ΔA to round-off."""
     run = analysis(material, 24, 0.2, 0.2, WEAR, WEAR, 0, cycles=300, record=(10, 300))
     per_row: dict[int, float] = {}
@@ -43,9 +44,15 @@ def test_wear_volume_is_the_sum_of_archard_increments(material):
     # The count lands exactly on the recorded and final cycles.
     assert {10, 300} <= set(result.history["cycle"].astype(int))
     assert sorted(result.records) == [10, 300]
+    error = abs(result.history["wear_volume"][-1] / expected - 1)
+    validation.record(
+        "wear volume = Σ ΔN Σ i p |Δs| ΔA over cycles, increments, elements",
+        "1e-12 rel. (round-off)", f"{error:.0e} rel.",
+    )  # fmt: skip
 
 
-def test_wear_decreases_with_friction(material):
+@pytest.mark.validation
+def test_wear_decreases_with_friction(material, validation):
     """Acceptance 3 (Section 7.2, P = 750 N, i = 1.33e-7 1/MPa, 32², 10⁵ cycles): maximum
     wear depth and wear volume decrease over μ = 0.1, 0.2, 0.4."""
     depth, volume = [], []
@@ -56,9 +63,15 @@ def test_wear_decreases_with_friction(material):
         volume.append(result.history["wear_volume"][-1])
     assert depth[0] > depth[1] > depth[2], depth
     assert volume[0] > volume[1] > volume[2], volume
+    validation.record(
+        "wear decreases with μ = 0.1, 0.2, 0.4 after 10⁵ cycles, 32²", "strictly",
+        "depth " + ", ".join(f"{d * 1e3:.3f}" for d in depth) + " µm; volume "
+        + ", ".join(f"{v:.1e}" for v in volume) + " mm³",
+    )  # fmt: skip
 
 
-def test_orthotropic_wear_is_invariant_with_beta(material):
+@pytest.mark.validation
+def test_orthotropic_wear_is_invariant_with_beta(material, validation):
     """Acceptance 4 (Section 7.3: μ1 = 0.1, μ2 = 0.4, i2 = i1 μ2/μ1, 32², 10⁴ cycles): maximum
     wear depth and wear volume agree within 3 % for β = 0, 45, 90°; the β = 90° wear field
     is the β = 0 field rotated by 90° (to the solver tolerance)."""
@@ -76,6 +89,12 @@ def test_orthotropic_wear_is_invariant_with_beta(material):
     np.testing.assert_allclose(wear_90, np.rot90(wear_0, 1), atol=1e-5 * wear_0.max())
     # Not axisymmetric: the wear differs along e1 and e2.
     assert not np.allclose(wear_0, wear_0.T, atol=0.05 * wear_0.max())
+    validation.record(
+        "orthotropic (μ1 = 0.1, μ2 = 0.4, i2 = 4 i1), 32², 10⁴ cycles: invariance with "
+        "β = 0, 45, 90°; β = 90° field = rotated β = 0° field", "3 % (cycle jumping)",
+        f"depth spread {np.ptp(depth) / depth.mean():.2%}, volume spread "
+        f"{np.ptp(volume) / volume.mean():.2%}",
+    )  # fmt: skip
 
 
 def test_save_interrupt_resume_gives_identical_histories(material, tmp_path):

@@ -282,3 +282,59 @@ def test_the_constant_defaults_of_the_key_table_are_the_parsers():
             assert resolved[key.section][key.name] == default, f"[{key.section}] {key.name}"
             checked += 1
     assert checked >= 6
+
+
+# ------------------------------------------------------------ measured numbers carry their run
+BLOCK = re.compile(r"<!-- BEGIN (generated|report) ([\w-]+) -->\n(.*?)<!-- END \1 \2 -->", re.S)
+MEASURED_PAGES = ("explanation/performance.md", "explanation/validation.md")
+
+
+def _blocks() -> list[tuple[Path, str, str, str]]:
+    return [
+        (path, kind, name, body)
+        for path in MARKDOWN
+        for kind, name, body in BLOCK.findall(path.read_text())
+    ]
+
+
+def test_every_generated_block_is_filled_and_measured_ones_say_when_and_where():
+    """A generated block is never left empty; a block of measured figures (every one but the
+    reference blocks, which scripts/reference.py derives from the code) starts with the date
+    and the machine of its run."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    try:
+        from reference import BLOCKS
+    finally:
+        sys.path.remove(str(REPO / "scripts"))
+    derived = {name for _, name in BLOCKS}
+    for path, kind, name, body in _blocks():
+        assert body.strip(), f"{_relative(path)}: block {name} is empty"
+        if kind == "generated" and name not in derived:
+            assert re.match(r"\*Measured \d{4}-\d{2}-\d{2} on .+\*", body), (
+                f"{_relative(path)}: block {name} does not start with its date and machine"
+            )
+
+
+@pytest.mark.parametrize("page", MEASURED_PAGES)
+def test_every_table_of_the_performance_and_validation_pages_is_generated(page):
+    """Their figures cannot go stale: each table sits inside a block written by the script or
+    benchmark that measured it."""
+    text = (DOCS / page).read_text()
+    outside = BLOCK.sub("", text)
+    tables = _tables(outside)
+    assert not tables, f"docs/{page}: tables typed by hand at lines " + ", ".join(
+        str(table[0][0]) for table in tables
+    )
+
+
+def test_every_page_of_the_manual_is_linked_from_its_index():
+    """No orphan pages: docs/index.md links every Markdown page under docs/."""
+    index = DOCS / "index.md"
+    linked = {
+        (index.parent / target.split("#", 1)[0]).resolve()
+        for _, target in _targets(index.read_text())
+        if not re.match(r"^[a-z][a-z0-9+.-]*:", target)
+    }
+    pages = {path.resolve() for path in DOCS.rglob("*.md")} - {index.resolve()}
+    orphans = sorted(_relative(path) for path in pages - linked)
+    assert not orphans, "pages missing from docs/index.md: " + ", ".join(orphans)

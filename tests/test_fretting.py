@@ -65,7 +65,8 @@ def ramp(analysis):
     return np.array(seen)
 
 
-def test_cattaneo_mindlin_force_ramp():
+@pytest.mark.validation
+def test_cattaneo_mindlin_force_ramp(validation):
     """Force control 0 → 0.8 μP in 8 increments at 48² (16 elements per contact radius):
     δ(Q) within 1 % and c/a within 0.03 of the closed forms (c from the stick area √(A/π);
     one element is 0.0625 a, so 0.03 is half an element). Measured: δ 0.29 %, c/a 0.014;
@@ -78,6 +79,12 @@ def test_cattaneo_mindlin_force_ramp():
     ratio = np.sqrt(stick / math.pi) / A_HERTZ
     expected = mindlin.stick_radius_ratio(force, LOAD, MU)
     np.testing.assert_allclose(ratio, expected, atol=0.03)
+    validation.record(
+        "fretting, sphere, K = 0, μ = 0.5: Cattaneo–Mindlin δ(Q) and stick radius c/a under a "
+        "force ramp to 0.8 μP, 48²", "1 % / 0.03 (half an element)",
+        f"{np.max(np.abs(delta / mindlin_displacement(force) - 1)):.2%} / "
+        f"{np.max(np.abs(ratio - expected)):.3f}",
+    )  # fmt: skip
 
 
 def test_displacement_control_gives_the_force_control_curve():
@@ -94,7 +101,8 @@ def test_displacement_control_gives_the_force_control_curve():
     np.testing.assert_allclose(driven[:, 1], expected, rtol=0.005)
 
 
-def test_beta_invariance_orthotropic():
+@pytest.mark.validation
+def test_beta_invariance_orthotropic(validation):
     """μ1 = 0.6, μ2 = 0.3: the loop for β = 90°, direction 90° is the loop for β = 0,
     direction 0 turned by 90° (an exact symmetry of the square grid): δ exactly, Q to 1e-6
     of its amplitude (measured 1.5e-8: the two runs differ by round-off in the iterations);
@@ -118,6 +126,12 @@ def test_beta_invariance_orthotropic():
     np.testing.assert_array_equal(turned[:, 1], first[:, 0])
     np.testing.assert_allclose(turned[:, 3], first[:, 2], atol=1e-6 * scale)
     np.testing.assert_allclose(turned[:, 2], -first[:, 3], atol=1e-6 * scale)
+    error = max(np.abs(turned[:, 3] - first[:, 2]).max(), np.abs(turned[:, 2] + first[:, 3]).max())
+    validation.record(
+        "fretting, orthotropic μ1 = 0.6, μ2 = 0.3, 24²: β = 90° with the direction turned "
+        "gives the turned loop and stick zone", "1e-6 of Q* (solver round-off)",
+        f"{error / scale:.0e}",
+    )  # fmt: skip
 
 
 def collect(analysis, **options):

@@ -78,7 +78,8 @@ def _masing_force(delta, peak_delta, peak_force, unloading):
     return -_masing_force(-delta, peak_delta, peak_force, True)
 
 
-def test_force_amplitude_loop_matches_mindlin_deresiewicz():
+@pytest.mark.validation
+def test_force_amplitude_loop_matches_mindlin_deresiewicz(validation):
     """Q* = 0.6 μP (partial slip): the loop passes through (±δ(Q*), ±Q*), follows the Masing
     branches and encloses the Mindlin–Deresiewicz energy."""
     peak_force = 0.6 * LIMIT
@@ -107,6 +108,10 @@ def test_force_amplitude_loop_matches_mindlin_deresiewicz():
     assert history["energy"][-1] == pytest.approx(_trapezoid(delta, force), rel=1e-12)
     assert history["energy"][-1] == pytest.approx(polygon, rel=1e-2)  # mesh: −0.24 %
     assert history["energy"][-1] == pytest.approx(exact, rel=1.5e-2)  # + 8 steps: −0.64 %
+    validation.record(
+        "fretting loop energy vs Mindlin–Deresiewicz, force amplitude 0.6 μP, 32²",
+        "1.5 % (mesh and 8 steps per quarter)", f"{history['energy'][-1] / exact - 1:+.2%}",
+    )  # fmt: skip
 
 
 @pytest.mark.parametrize(
@@ -114,7 +119,10 @@ def test_force_amplitude_loop_matches_mindlin_deresiewicz():
     [(0.5, 0, 2e-2, 1.5e-2), (2.0, 1, 1e-2, 5e-3)],
     ids=["partial_slip", "gross_slip"],
 )
-def test_displacement_amplitude_loop_and_energy(factor, regime, energy_tol, polygon_tol):
+@pytest.mark.validation
+def test_displacement_amplitude_loop_and_energy(
+    factor, regime, energy_tol, polygon_tol, validation
+):
     """δ* = 0.5 δ_slip (partial) and 2 δ_slip (gross): Q* = Q(δ*) or μP, the loop follows
     the Masing branches (and slides at ±μP in gross slip), energy = W_MD(Q*) or
     W_MD(μP) + 4μP(δ* − δ_slip). Tolerances: measured errors (module table) ×≈2."""
@@ -139,3 +147,8 @@ def test_displacement_amplitude_loop_and_energy(factor, regime, energy_tol, poly
     exact = float(mindlin.energy_per_cycle(peak_delta, *ARGS))
     assert history["energy"][-1] == pytest.approx(_trapezoid(delta, reference), rel=polygon_tol)
     assert history["energy"][-1] == pytest.approx(exact, rel=energy_tol)
+    validation.record(
+        f"fretting loop energy vs Mindlin–Deresiewicz, displacement {factor:g} δ_slip, 32²",
+        f"{energy_tol:.1%} (mesh and steps per quarter)",
+        f"{history['energy'][-1] / exact - 1:+.2%}",
+    )  # fmt: skip

@@ -108,7 +108,8 @@ def test_rounded_reference_tends_to_the_flat_punch():
 # ------------------------------------------------------------------ sphere vs Hertz
 
 
-def test_sphere_frictionless_against_hertz_64():
+@pytest.mark.validation
+def test_sphere_frictionless_against_hertz_64(validation):
     """64² over 1.5 a, paper materials (K ≠ 0 does not couple without friction).
 
     Tolerances: contact radius (√(area/π)) 2 %: the contact edge is located to within one
@@ -136,6 +137,15 @@ def test_sphere_frictionless_against_hertz_64():
     value, depth = hertz.axis_von_mises_peak(NU)
     assert column[k] / p_max == pytest.approx(value, rel=0.02)
     assert depths[k] / a == pytest.approx(depth, rel=0.02)
+    errors = (
+        contact / a - 1, result.approach / hertz.hertz_approach(load, radius, modulus) - 1,
+        result.pressure.max() / p_max - 1, column[k] / p_max / value - 1, depths[k] / a / depth - 1,
+    )  # fmt: skip
+    validation.record(
+        "sphere, frictionless, 64², K = 0.196, vs Hertz: contact radius / approach / p_max / "
+        "axis σ_VM max value and depth", "2 % / 0.2 % / 0.5 % / 2 % / 2 % (discretisation)",
+        " / ".join(f"{error:+.2%}" for error in errors),
+    )  # fmt: skip
 
 
 # ------------------------------------------------------------------ rounded punch
@@ -148,7 +158,8 @@ def _rounded_case():
     return reference, reference.load(1.2), 1.2
 
 
-def test_rounded_punch_against_axisymmetric_reference_64():
+@pytest.mark.validation
+def test_rounded_punch_against_axisymmetric_reference_64(validation):
     """Tolerances (measured at 64²: 0.015 %, 0.36 %, 0.15 %): approach 0.2 %, peak pressure
     2 % (the peak, at r = 1.063 b, is sampled at element centres), pressure for r ≤ 0.8 b
     1 % of p(0) (smooth there; element-centre sampling of the torus)."""
@@ -165,6 +176,12 @@ def test_rounded_punch_against_axisymmetric_reference_64():
     assert error < 0.01 * profile[0]
     peak = reference.pressures(np.linspace(1.0, 1.12, 49), a).max()
     assert result.pressure.max() == pytest.approx(peak, rel=0.02)
+    validation.record(
+        "rounded punch vs the axisymmetric Sneddon-integral reference, 64²: approach / "
+        "peak pressure / pressure r ≤ 0.8 b", "0.2 % / 2 % / 1 % of p(0) (discretisation)",
+        f"{result.approach / reference.approach(a) - 1:+.2%} / "
+        f"{result.pressure.max() / peak - 1:+.2%} / {error / profile[0]:.2%}",
+    )  # fmt: skip
 
 
 def test_rounded_edge_values_converge_sharp_ones_grow():
@@ -263,7 +280,8 @@ def ring_reference_sphere(friction):
 
 
 @pytest.mark.parametrize("friction, n", [(0.1, 64), (0.1, 128), (0.2, 64)])
-def test_frictional_sphere_against_ring_reference(friction, n):
+@pytest.mark.validation
+def test_frictional_sphere_against_ring_reference(friction, n, validation):
     """Frictional sphere, K = 0.196 (β = 0.280), n² over 1.5 a_H, 8 load increments, against
     the independent axisymmetric ring computation (no grid, no FFT: Hankel-form half-space
     kernels on rings, incremental Coulomb stick/slip per ring).
@@ -307,6 +325,12 @@ def test_frictional_sphere_against_ring_reference(friction, n):
     excess = reference["stiffness_ratio"] - 1.0
     stiffening = frictionless.final.approach / result.approach
     assert stiffening - 1.0 == pytest.approx(excess, rel=0.05)
+    validation.record(
+        f"frictional sphere, K = 0.196, μ = {friction:g}, {n}²: stick radius c/a and k_μ/k_0 "
+        "vs the ring boundary-element reference", "c/a: one element + one ring; k_μ/k_0 − 1: 5 %",
+        f"c/a {stick / contact:.3f} vs {reference['stick_area_ratio'][-1]:.3f}; "
+        f"k {stiffening:.6f} vs {reference['stiffness_ratio']:.6f}",
+    )  # fmt: skip
 
 
 # ------------------------------------------------------------------ mesh border

@@ -83,7 +83,8 @@ def _compare_with_appendix_a(field: StressField) -> dict[str, float]:
 
 
 @pytest.mark.parametrize("source", ["sneddon", "solver"])
-def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source):
+@pytest.mark.validation
+def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source, validation):
     # Acceptance 1. 2 % on σ_VM and 0.02 p0 on σrr, σφφ, σzz, τrz away from the edge
     # (r ≤ 0.8 a0 or r ≥ 1.2 a0, 0.1 a0 ≤ z ≤ 2 a0). Measured at 128²: 0.23 % / 0.0008 p0
     # with the element-averaged Sneddon pressure (only the discretisation of the load into
@@ -95,6 +96,12 @@ def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source)
     assert errors["von_mises"] < 0.02, errors
     for k in ("rr", "phiphi", "zz", "rz"):
         assert errors[k] < 0.02, errors
+    worst = max(errors[k] for k in ("rr", "phiphi", "zz", "rz"))
+    validation.record(
+        f"subsurface σ_VM vs Appendix A, 128², {source} pressure, r ≤ 0.8 a0 or ≥ 1.2 a0, "
+        "0.1 ≤ z/a0 ≤ 2", "2 % on σ_VM; 0.02 p0 on the components (discretisation)",
+        f"{errors['von_mises']:.2%}; {worst:.4f} p0",
+    )  # fmt: skip
 
 
 def test_oblique_plane_matches_appendix_a(paper_stress):
@@ -256,7 +263,8 @@ def _disk_fraction_shear(radius, z):
     return -1.0 + 1.5 * z / rho - 0.5 * z**3 / rho**3
 
 
-def test_every_depth_plane_carries_the_applied_forces():
+@pytest.mark.validation
+def test_every_depth_plane_carries_the_applied_forces(validation):
     # Acceptance 3. ∫σzz dA = −P, ∫σxz dA = −Q_x, ∫σyz dA = −Q_y over a plane much wider than
     # the contact (radius 12 mm vs. contact radius 0.5 mm). The lattice sum over the disk is
     # completed by the far field of the resultant forces outside it (point-load fractions
@@ -279,6 +287,7 @@ def test_every_depth_plane_carries_the_applied_forces():
     field = stress.block(pressure, traction_x, traction_y, margin=12.1)
     radius = 12.0
     inside = field.r[:, :, 0] <= radius
+    worst = {"zz": 0.0, "shear": 0.0}
     for k, z in enumerate(depths):
         integrals = {
             c: field.components[c][:, :, k][inside].sum() * grid.element_area
@@ -293,12 +302,19 @@ def test_every_depth_plane_carries_the_applied_forces():
                 c,
                 z,
             )
+            key = "zz" if c == "zz" else "shear"
+            worst[key] = max(worst[key], abs(integrals[c] + force) / forces["zz"])
+    validation.record(
+        "∫σzz = −P and ∫σxz, σyz = −Q on wide planes at every depth",
+        "2e-4 of P (far-field completion)", f"{worst['zz']:.0e}; {worst['shear']:.0e}",
+    )  # fmt: skip
 
 
 # --- Acceptance 4: location of the peak --------------------------------------------------------
 
 
-def test_frictionless_peak_is_at_the_contact_edge_near_the_surface():
+@pytest.mark.validation
+def test_frictionless_peak_is_at_the_contact_edge_near_the_surface(validation):
     # Acceptance 4 (Fig. 5b: maximum at x/a0 = 1, z/a0 = 0). Both peaks, with and without the
     # surface layer, must sit within two element pitches of r = a0 and within 5 % of a0 of the
     # surface; the peak value exceeds the mean pressure (σ_VM/p0 ≥ 1 around the edge).
@@ -314,6 +330,13 @@ def test_frictionless_peak_is_at_the_contact_edge_near_the_surface():
         assert peak.z <= 0.05 * A0, peak
         assert peak.value > P0, peak
     assert peaks["overall"].value >= peaks["below_surface_layer"].value
+    peak = peaks["overall"]
+    validation.record(
+        "frictionless σ_VM peak at the contact edge near the surface (Fig. 5b)",
+        "two element pitches of r = a0, z ≤ 0.05 a0",
+        f"r = {math.hypot(peak.x, peak.y) / A0:.4f} a0, z = {peak.z / A0:.1e} a0 "
+        f"(σ_VM/p0 = {peak.value / P0:.2f})",
+    )  # fmt: skip
 
 
 # --- depths, results, API details --------------------------------------------------------------

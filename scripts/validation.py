@@ -1,0 +1,89 @@
+"""Write the validation table of the manual from the tests that measure it.
+
+    python scripts/validation.py            # run the tests marked `validation`, write the table
+    python scripts/validation.py tests/test_contact.py   # only these files (the rest kept)
+
+Every test marked ``@pytest.mark.validation`` compares the engine with an analytic solution
+and, after its asserts, records what it compared, the tolerance and why, and the measured
+figure (the ``validation`` fixture of ``tests/conftest.py``). This script runs those tests
+with ``ENGINE_VALIDATION_RECORD`` set, collects the rows and rewrites the block
+``<!-- BEGIN generated validation -->`` of ``docs/explanation/validation.md`` with the date
+and the machine. A check that fails writes no row and the script stops with the pytest
+output, leaving the page unchanged. About two minutes here.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from engine.analysis.markdown import markdown_table, measured_on, read_block, replace_block
+
+REPO = Path(__file__).resolve().parents[1]
+DOCUMENT = REPO / "docs" / "explanation" / "validation.md"
+HEADER = ("check", "tolerance and why", "measured", "test")
+
+
+def _test_name(node: str) -> str:
+    """``tests/test_contact.py::test_x[64]`` -> ``test_contact.py::test_x``."""
+    return node.split("[", 1)[0].removeprefix("tests/")
+
+
+def _spaced(text: str) -> str:
+    """``+0.49%`` -> ``+0.49 %``: a space before the per cent sign, as in the manual."""
+    return re.sub(r"(\d)%", r"\1 %", text)
+
+
+def run(paths: list[str]) -> list[dict]:
+    """Run the validation tests of ``paths`` and return their rows, in the order they ran."""
+    with tempfile.TemporaryDirectory() as folder:
+        record = Path(folder) / "rows.jsonl"
+        environment = dict(os.environ, ENGINE_VALIDATION_RECORD=str(record))
+        command = [sys.executable, "-m", "pytest", "-q", "-m", "validation", "-p",
+                   "no:cacheprovider", *paths]  # fmt: skip
+        done = subprocess.run(command, cwd=REPO, env=environment, capture_output=True, text=True)
+        if done.returncode != 0:
+            print(done.stdout + done.stderr)
+            raise SystemExit(f"validation tests failed (exit {done.returncode}); page unchanged")
+        lines = record.read_text().splitlines() if record.exists() else []
+    return [json.loads(line) for line in lines]
+
+
+def _existing_rows() -> list[tuple[str, ...]]:
+    """The rows of the committed table (to keep those of files not rerun)."""
+    rows = []
+    for line in read_block(DOCUMENT, "validation").splitlines():
+        if line.startswith("| ") and not line.startswith("| check |"):
+            cells = [cell.strip().replace("\\|", "|") for cell in line.strip("|").split(" | ")]
+            rows.append(tuple(cells))
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    paths = list(sys.argv[1:] if argv is None else argv)
+    rows = [
+        (
+            row["check"],
+            _spaced(row["tolerance"]),
+            _spaced(row["measured"]),
+            f"`{_test_name(row['test'])}`",
+        )
+        for row in run(paths or ["tests"])
+    ]
+    if paths:  # keep the rows of the files not rerun, in their place
+        rerun = {Path(path).name for path in paths}
+        kept = [row for row in _existing_rows() if row[3].strip("`").split("::")[0] not in rerun]
+        rows = kept + rows
+    note = "`python scripts/validation.py`: every row is a test marked `validation`"
+    replace_block(DOCUMENT, "validation", measured_on(note) + "\n" + markdown_table(HEADER, rows))
+    print(f"{DOCUMENT.relative_to(REPO)}: {len(rows)} rows")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
