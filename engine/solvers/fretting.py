@@ -138,18 +138,34 @@ class FrettingSettings:
         return np.concatenate([down, up])
 
 
-def shifted_state(state: ContactState, rigid_increment: np.ndarray) -> ContactState:
+def shifted_state(
+    state: ContactState, rigid_increment: np.ndarray, stretch: np.ndarray | None = None
+) -> ContactState:
     """``state`` with its tangential displacements shifted by the rigid increment Δδ (mm):
     the contact solver's slip u_t − u_t^prev then is u_t − u_t^prev − Δδ (Eq. 2, g_t,o = −δ).
-    The arrays are new; ``state`` is unchanged."""
+    ``stretch`` (mm, (n_x, n_y)): an imposed increment of the half-space's surface
+    displacement along x (the bulk strain of :func:`bulk_stretch`), which adds to the slip:
+    Δs = u_t + stretch − u_t^prev − Δδ. The arrays are new; ``state`` is unchanged."""
+    displacement_x = state.displacement_x + float(rigid_increment[0])
+    if stretch is not None:
+        displacement_x = displacement_x - stretch
     return ContactState(
         state.pressure,
         state.traction_x,
         state.traction_y,
-        state.displacement_x + float(rigid_increment[0]),
+        displacement_x,
         state.displacement_y + float(rigid_increment[1]),
         state.approach,
     )
+
+
+def bulk_stretch(grid, strain_increment: float) -> np.ndarray:
+    """Δε·x (mm, (n_x, n_y)): the surface displacement along x of the half-space (the flat)
+    when its bulk strain along x grows by ``strain_increment`` Δε, measured from the
+    material point under the punch axis (x = 0), which the punch's rigid displacement δ
+    refers to (fretting fatigue: Nowell & Hills 1987; ``engine.reference.line_contact``)."""
+    x, _ = grid.coordinates()
+    return strain_increment * x
 
 
 def total_force(result, element_area: float) -> np.ndarray:
