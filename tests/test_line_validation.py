@@ -183,3 +183,39 @@ def test_rounded_pad_against_ciavarella():
     error = result.pressure[:, 0] - expected
     mean = load / (2 * a)
     assert math.sqrt(np.mean(error**2)) < 1e-2 * mean
+
+
+def test_fretting_fatigue_cycle_keeps_the_shifted_stick_zone():
+    """Q and σ_B oscillating in phase (±Q*, ±σ_B, force control): at the extremes of the
+    cycle the stick zone is Nowell & Hills' (half-width c, centre e = σ_B a/(4μp0)), the same
+    at +Q* (σ_B) and −Q* (−σ_B); 8 increments per quarter, 256 elements over ±1.25a."""
+    solver = _solver(256, 1.25 * HALF_WIDTH, CylinderProfile(RADIUS), tol=1e-9)
+    force, bulk_stress = 0.5 * MU * LOAD, 120.0
+    settings = FrettingSettings(
+        load=LOAD,
+        steps=8,
+        cycles=1,
+        force_amplitude=force,
+        bulk_stress_max=bulk_stress,
+        bulk_stress_min=-bulk_stress,
+    )
+    analysis = FrettingAnalysis(solver, WearLaw(0.0, 0.0), settings)
+    outcome = analysis.run()
+    assert outcome.converged, outcome.message
+    assert abs(analysis.peak_bulk_stress) == bulk_stress
+    grid = solver.grid
+    stick_x = grid.x[outcome.final.status[:, 0] == 1]
+    offset = bulk_stress * HALF_WIDTH / (4 * MU * PEAK)
+    assert abs(0.5 * (stick_x.min() + stick_x.max()) - offset) <= grid.dx
+    c = ref.cattaneo_line_stick_half_width(HALF_WIDTH, force, LOAD, MU)
+    assert abs(0.5 * (stick_x.max() - stick_x.min() + grid.dx) - c) <= 1.5 * grid.dx
+
+
+def test_bulk_stress_needs_a_line_contact():
+    from engine.geometry import SphericalPunch
+
+    grid = Grid.square(16, 1.0)
+    solver = ContactSolver(grid, STEEL, SphericalPunch(10.0), FrictionLaw(MU, MU))
+    settings = FrettingSettings(load=10.0, steps=2, cycles=1, amplitude=1e-3, bulk_stress_max=5)
+    with pytest.raises(ValueError, match="line \\(plane-strain\\) contacts only"):
+        FrettingAnalysis(solver, WearLaw(0.0, 0.0), settings)
