@@ -182,7 +182,7 @@ def test_rounded_pad_against_ciavarella():
     expected = ref.pad_pressure(grid.x, load, b, radius, E_STAR)
     error = result.pressure[:, 0] - expected
     mean = load / (2 * a)
-    assert math.sqrt(np.mean(error**2)) < 1e-2 * mean
+    assert math.sqrt(np.mean(error**2)) < 1e-2 * mean  # measured 0.11 %
 
 
 def test_fretting_fatigue_cycle_keeps_the_shifted_stick_zone():
