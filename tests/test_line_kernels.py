@@ -108,3 +108,14 @@ def test_profiles_need_a_line_grid():
         RoundedPadProfile(2.0, 5.0).check_grid(Grid.line(64, 1.0))
     gap = RoundedPadProfile(0.5, 4.0).gap(Grid.line(4, 1.0))[:, 0]
     np.testing.assert_allclose(gap, [0.25**2 / 8, 0.0, 0.0, 0.25**2 / 8])
+
+
+def test_border_of_a_line_grid_is_its_two_ends():
+    from engine.geometry import border_contact, may_reach_border
+
+    pressure = np.zeros((8, 1))
+    pressure[1:7] = 1.0
+    assert border_contact(pressure) == 0
+    pressure[7] = 1.0
+    assert border_contact(pressure) == 1
+    assert may_reach_border(CylinderProfile(6.0), Grid.line(8, 1.0))
