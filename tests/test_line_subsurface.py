@@ -100,3 +100,49 @@ def test_sliding_traction_gives_the_trailing_edge_tension(fine_grid):
     # square-root edge sampled at element centres): measured 0.908, 0.931, 0.965 of 2μp0
     # with 250, 1000 and 4000 elements over ±2a; here between 0.9 and 1.
     assert 0.9 * 2 * mu * PEAK < xx[trailing] <= 2 * mu * PEAK
+
+
+def test_fretting_probes_see_the_bulk_stress_of_their_increment():
+    """The peak tracker's plane carries σ_B of the peak increment (σ_xx gains σ_B,
+    σ_yy = ν(σ_xx + σ_zz)); the contact half-width is the line's."""
+    from engine.kernels.line import line_operator
+    from engine.line_profiles import CylinderProfile
+    from engine.material import MaterialPair
+    from engine.solvers.contact import ContactSolver
+    from engine.solvers.fretting import FrettingAnalysis, FrettingSettings
+    from engine.solvers.friction import FrictionLaw, WearLaw
+    from engine.solvers.line_subsurface import LinePeakTracker
+
+    steel = MaterialPair(200e3, 0.3, 200e3, 0.3)
+    grid = Grid.line(64, 0.3)
+    solver = ContactSolver(
+        grid,
+        steel,
+        CylinderProfile(6.0),
+        FrictionLaw(0.5, 0.5),
+        operator=line_operator(grid, steel, 10.0),
+    )
+    stress = LineSubsurfaceStress(grid, 0.3, [0.001, 0.02, 0.05, 0.2])
+    tracker = LinePeakTracker(stress, 0.113)
+    settings = FrettingSettings(
+        load=185.0,
+        steps=2,
+        cycles=1,
+        force_amplitude=40.0,
+        bulk_stress_max=150.0,
+        bulk_stress_min=-50.0,
+    )
+    analysis = FrettingAnalysis(solver, WearLaw(0.0, 0.0), settings, peak_probe=tracker)
+    analysis.bulk_stress_listener = lambda value: setattr(stress, "bulk_stress", value)
+    outcome = analysis.run()
+    assert outcome.converged, outcome.message
+    assert analysis.peak_bulk_stress in (150.0, -50.0)
+    plane = tracker.last_plane
+    peak = outcome.final  # the peak increment of the last cycle, which the tracker saw
+    without = stress.plane(peak.pressure, peak.traction_x, bulk_stress=0.0)
+    difference = plane.components["xx"] - without.components["xx"]
+    np.testing.assert_allclose(difference, analysis.peak_bulk_stress, rtol=1e-12)
+    xx, zz = plane.components["xx"], plane.components["zz"]
+    np.testing.assert_allclose(plane.components["yy"], 0.3 * (xx + zz), rtol=1e-14)
+    half_width = 0.5 * np.count_nonzero(outcome.final.pressure > 0) * grid.dx
+    assert outcome.history["contact_radius"][-1] == half_width

@@ -373,6 +373,9 @@ class FrettingAnalysis(CyclicAnalysis):
             )
         self.increment_probe = increment_probe
         self.peak_bulk_stress = 0.0  # σ_B (MPa) at the peak increment of the last cycle
+        # Called with σ_B (MPa) before each probe, so that the stresses the probes evaluate
+        # include the bulk stress of the increment they look at (line contacts).
+        self.bulk_stress_listener: Callable[[float], None] | None = None
         self.driver = TangentialDriver(
             solver, settings.load, settings.unit_direction, settings.force_tol
         )
@@ -503,6 +506,7 @@ class FrettingAnalysis(CyclicAnalysis):
                 peak, peak_norm, peak_index = result, norm, index
                 self.peak_bulk_stress = self.settings.bulk_stress(value)
             if recorded and self.increment_probe is not None:
+                self._announce_bulk_stress(self.settings.bulk_stress(value))
                 probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
                 cycle_vm = probe if cycle_vm is None or probe[0] > cycle_vm[0] else cycle_vm
             increments.append(_starting_point(result.state, zeros))
@@ -520,7 +524,12 @@ class FrettingAnalysis(CyclicAnalysis):
         return cycle in self.settings.record or cycle >= self.settings.cycles
 
     # ------------------------------------------------------------- history and records
+    def _announce_bulk_stress(self, bulk_stress: float) -> None:
+        if self.bulk_stress_listener is not None:
+            self.bulk_stress_listener(bulk_stress)
+
     def _append_history(self, state, peak: IncrementResult, jump: int, area: float) -> None:
+        self._announce_bulk_stress(self.peak_bulk_stress)  # the peak probe sees the peak's σ_B
         super()._append_history(state, peak, jump, area)
         cycle = self._cycle
         loop = cycle.loop

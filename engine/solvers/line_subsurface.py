@@ -21,9 +21,10 @@ import numpy as np
 from ..grid import Grid
 from ..kernels.line_stress import strip_stress_coefficients
 from ..validation import require_finite, require_poisson
+from .peak import PeakTracker
 from .subsurface import StressField
 
-__all__ = ["LineSubsurfaceStress"]
+__all__ = ["LineSubsurfaceStress", "LinePeakTracker"]
 
 _TERMS = (  # (stress component, load) pairs of the sum
     ("xx", "pressure"),
@@ -37,7 +38,8 @@ _TERMS = (  # (stress component, load) pairs of the sum
 
 class LineSubsurfaceStress:
     """Stresses under the surface tractions of a line grid at ``depths`` (mm, all > 0) for a
-    flat of Poisson ratio ``poisson_ratio``."""
+    flat of Poisson ratio ``poisson_ratio``; ``plane`` has the signature of
+    ``SubsurfaceStress.plane``, so the peak tracking of ``engine.solvers.peak`` applies."""
 
     def __init__(self, grid: Grid, poisson_ratio: float, depths):
         if not grid.is_line:
@@ -49,6 +51,7 @@ class LineSubsurfaceStress:
             raise ValueError(f"depths must be a non-empty list of values > 0 mm, got {depths!r}")
         self._length = 2 * grid.n_x
         self._spectra = self._kernel_spectra()
+        self.bulk_stress = 0.0  # σ_B (MPa) used by ``plane`` when none is passed
 
     def _kernel_spectra(self) -> dict[tuple[str, str], np.ndarray]:
         """rfft of the wrapped kernels, shape (n_z, n + 1) per (component, load)."""
@@ -63,9 +66,29 @@ class LineSubsurfaceStress:
             spectra[component, load] = np.fft.rfft(wrapped, axis=1)
         return spectra
 
-    def plane(self, pressure, traction_x, bulk_stress: float = 0.0) -> StressField:
+    def plane(
+        self,
+        pressure,
+        traction_x=None,
+        traction_y=None,
+        angle: float = 0.0,
+        half_length: float | None = None,
+        *,
+        bulk_stress: float | None = None,
+    ) -> StressField:
         """The x–z field (n_x, n_z) of ``pressure`` and ``traction_x`` (MPa, (n_x, 1) or
-        (n_x,)) and a bulk stress σ_B (MPa) along x."""
+        (n_x,); None: zero) and a bulk stress σ_B (MPa) along x (default: the attribute
+        ``bulk_stress``, 0 unless set). The signature of ``SubsurfaceStress.plane``:
+        ``traction_y`` must be zero (plane strain), ``angle`` 0 (the plane is the x–z plane)
+        and ``half_length`` None (the grid)."""
+        if angle != 0.0 or half_length is not None:
+            raise ValueError("a line contact's stresses are on the x–z plane over its grid")
+        if traction_y is not None and np.any(np.asarray(traction_y) != 0.0):
+            raise ValueError("a line contact has no traction along y (plane strain)")
+        bulk_stress = self.bulk_stress if bulk_stress is None else bulk_stress
+        zeros = np.zeros(self.grid.n_x)
+        pressure = zeros if pressure is None else pressure
+        traction_x = zeros if traction_x is None else traction_x
         bulk_stress = require_finite("bulk_stress", bulk_stress)
         n, length = self.grid.n_x, self._length
         loads = {
@@ -85,4 +108,16 @@ class LineSubsurfaceStress:
         zeros = np.zeros_like(fields["xx"])
         fields["xy"], fields["yz"] = zeros, zeros.copy()
         x, z = np.meshgrid(self.grid.x, self.depths, indexing="ij")
-        return StressField.from_components(x, np.zeros_like(x), z, fields, depths=self.depths)
+        return StressField.from_components(
+            x, np.zeros_like(x), z, fields, s=x, angle=0.0, depths=self.depths.copy()
+        )
+
+
+class LinePeakTracker(PeakTracker):
+    """:class:`~engine.solvers.peak.PeakTracker` on a line contact's x–z plane: its
+    ``contact_radius`` is the contact half-width (half the length of the elements with
+    p > 0, mm), and ``punch_radius`` the nominal contact half-width a0 (mm)."""
+
+    def contact_radius(self, pressure: np.ndarray) -> float:
+        grid = self.stress.grid
+        return 0.5 * np.count_nonzero(np.asarray(pressure) > 0.0) * grid.dx
