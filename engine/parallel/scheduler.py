@@ -70,9 +70,10 @@ class CaseQueue:
     """The cases still to hand out, for a run whose cases are not all known at the start.
 
     A threshold search creates its next case when the previous one's outcome arrives: the
-    caller keeps the queue ``open``, ``put``\ s new cases from its outcome handler (rank 0,
-    main thread) and ``close``\ s it when no more will come. Meanwhile a rank that asks for a
-    case while the queue is empty waits (it is not told to exit); it gets the next case put.
+    caller keeps the queue ``open``, puts new cases (:meth:`put`) from its outcome handler
+    (rank 0, main thread) and closes it (:meth:`close`) when no more will come. Meanwhile a
+    rank that asks for a case while the queue is empty waits (it is not told to exit); it
+    gets the next case put.
     A plain list passed to :meth:`Scheduler.run` is a closed queue.
     """
 
