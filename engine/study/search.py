@@ -39,10 +39,16 @@ ends with the same threshold, bit for bit, as an uninterrupted run.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
+
+from engine.schema import CaseStatus
+
+from .plan import Case, Plan, setting_names
+from .plan import _format as format_value
 
 __all__ = [
     "SearchSpec",
@@ -50,6 +56,7 @@ __all__ = [
     "SearchResult",
     "SearchStatus",
     "StepFailure",
+    "SearchCampaign",
     "search_tolerance",
 ]
 
@@ -65,6 +72,7 @@ class SearchStatus:
 
 
 METHODS = ("bisection", "illinois")
+ID_RESOLUTION = 1e-8  # finest relative tolerance: case ids carry 10 significant digits
 
 
 @dataclass(frozen=True)
@@ -117,6 +125,20 @@ class SearchSpec:
             found.append(("high", self.high, f"must be finite and greater than low = {self.low}"))
         if not (self.rtol >= 0.0 and self.atol >= 0.0 and self.rtol + self.atol > 0.0):
             found.append(("rtol", self.rtol, "rtol and atol must be ≥ 0, one of them > 0"))
+        span = max(abs(self.low), abs(self.high))
+        if (
+            0.0 < self.rtol + self.atol
+            and self.rtol < ID_RESOLUTION
+            and self.atol < ID_RESOLUTION * span
+        ):
+            found.append(
+                (
+                    "rtol",
+                    self.rtol,
+                    f"rtol ≥ {ID_RESOLUTION:g} or atol ≥ {ID_RESOLUTION:g}·max(|low|, "
+                    "|high|): finer steps would share a case id (10 significant digits)",
+                )
+            )
         if self.rtol >= 0.5:
             found.append(("rtol", self.rtol, "must be < 0.5 (a relative tolerance on x)"))
         if self.method not in METHODS:
@@ -149,7 +171,7 @@ class SearchResult:
     ``threshold`` (parameter units) is NaN unless ``status`` is converged; ``lower`` and
     ``upper`` are the final bracket (the ends when the bracket check failed), ``lower_value``
     and ``upper_value`` the column there; ``steps`` the cases evaluated; ``evaluations`` the
-    (parameter, column value) pairs in the order they were taken.
+    (parameter, column value) pairs in the order they were taken (the ends low, high first).
     """
 
     status: str
@@ -218,18 +240,23 @@ class Search:
         if x not in self._pending:
             raise ValueError(f"the search did not ask for {self.spec.parameter} = {x!r}")
         self._pending.remove(x)
-        self._result.evaluations.append((x, value))
         self._result.steps += 1
+        if self._lower is None:  # the bracket check waits for both ends, whatever they hold
+            self._ends[x] = value
+            if not self._pending:
+                self._result.evaluations.extend(sorted(self._ends.items()))
+                self._check_bracket()
+            return
+        self._result.evaluations.append((x, value))
+        if not self._failed(x, value):
+            self._step(x, value)
+
+    def _failed(self, x: float, value: Any) -> bool:
+        """Finish as failed when ``value`` is unusable; True then."""
         problem = self._unusable(value)
         if problem:
             self._finish(SearchStatus.FAILED, message=f"{self.spec.parameter} = {x!r}: {problem}")
-            return
-        if self._lower is None:
-            self._ends[x] = value
-            if not self._pending:
-                self._check_bracket()
-            return
-        self._step(x, value)
+        return bool(problem)
 
     def replay(self, lookup: Callable[[float], Any]) -> tuple[float, ...]:
         """Feed every pending value that ``lookup(x)`` knows (a completed case: its column
@@ -268,6 +295,8 @@ class Search:
 
     def _check_bracket(self) -> None:
         low, high = self.spec.low, self.spec.high
+        if self._failed(low, self._ends[low]) or self._failed(high, self._ends[high]):
+            return
         lower = _End(low, self._ends[low], self._f(self._ends[low]))
         upper = _End(high, self._ends[high], self._f(self._ends[high]))
         self._lower, self._upper = lower, upper
@@ -355,6 +384,123 @@ class Search:
             result.lower_value, result.upper_value = self._lower.value, self._upper.value
         else:
             result.lower, result.upper = self.spec.low, self.spec.high
-            result.lower_value = self._ends.get(self.spec.low, math.nan)
-            result.upper_value = self._ends.get(self.spec.high, math.nan)
+            values = {x: _plain(value) for x, value in self._ends.items()}
+            result.lower_value = values.get(self.spec.low, math.nan)
+            result.upper_value = values.get(self.spec.high, math.nan)
         self._pending = []
+
+
+def _plain(value: Any) -> Any:
+    """A column value for the table: NaN for a :class:`StepFailure`."""
+    return math.nan if isinstance(value, StepFailure) else value
+
+
+# ---------------------------------------------------------------------- the study's searches
+class SearchCampaign:
+    """Every search of a study: one per case of the ``[sweep]`` plan (each combination of
+    its values), each step a :class:`~engine.study.plan.Case` with the searched parameter
+    added to its settings.
+
+    A step's case id is the combination's id with ``_<name><x>`` appended (``name``: the last
+    part of the dotted parameter, as for swept keys), e.g. ``mu0.5_w0_b0_load100_amplitude0.004``.
+    Rank 0 owns the campaign: :meth:`start` replays the completed cases of an existing
+    results file and returns the cases to run now; :meth:`record` takes an outcome's row and
+    returns the cases it unlocks; :meth:`cases` lists every case so far in the canonical
+    order (search by search, steps in the order taken), the same after any interruption.
+    """
+
+    def __init__(self, spec: SearchSpec, plan: Plan, swept_keys: tuple[str, ...] = ()) -> None:
+        self.spec = spec
+        self.bases = plan.cases
+        self.searches = [Search(spec) for _ in plan.cases]
+        self.name = setting_names((*swept_keys, spec.parameter))[spec.parameter]
+        self._steps: dict[str, tuple[int, float]] = {}  # case id -> (search number, x)
+        self._cases: dict[str, Case] = {}
+
+    @property
+    def finished(self) -> bool:
+        return all(search.finished for search in self.searches)
+
+    def case_for(self, number: int, x: float) -> Case:
+        """The case of search ``number`` at parameter value ``x`` (parameter units)."""
+        base = self.bases[number]
+        case_id = f"{base.case_id}_{self.name}{format_value(x)}"
+        known = self._steps.get(case_id)
+        if known is not None and known != (number, x):
+            raise ValueError(
+                f"two steps of a search share the case id {case_id!r} "
+                f"({self.spec.parameter} = {known[1]!r} and {x!r}): loosen rtol/atol"
+            )
+        if case_id not in self._cases:
+            settings = (*base.settings, (self.spec.parameter, x))
+            case = dataclasses.replace(base, case_id=case_id, settings=settings)
+            self._steps[case_id] = (number, x)
+            self._cases[case_id] = case
+        return self._cases[case_id]
+
+    def start(self, rows: Mapping[str, Mapping[str, Any]] | None = None) -> list[Case]:
+        """Replay every search on the stored rows (case id -> summary row, e.g. of the results
+        file being resumed) and return the cases to run now, search by search."""
+        rows = rows or {}
+        todo = []
+        for number, search in enumerate(self.searches):
+
+            def lookup(x: float, number: int = number) -> Any:
+                return self._stored_value(rows.get(self.case_for(number, x).case_id), x)
+
+            todo.extend(self.case_for(number, x) for x in search.replay(lookup))
+        return todo
+
+    def record(self, case_id: str, row: Mapping[str, Any]) -> list[Case]:
+        """The outcome of one step (its summary row, status included); returns the cases
+        its search newly asks for (none when it has ended or waits for its other end)."""
+        number, x = self._steps[case_id]
+        value = self._stored_value(row, x)
+        if value is None:
+            raise ValueError(f"case {case_id!r} has not completed (status {row.get('status')})")
+        search = self.searches[number]
+        asked = set(search.pending()) - {x}  # handed out already
+        search.record(x, value)
+        return [self.case_for(number, new) for new in search.pending() if new not in asked]
+
+    def _stored_value(self, row: Mapping[str, Any] | None, x: float) -> Any:
+        """A step's value from its summary row: the column, a :class:`StepFailure` for a
+        failed case, None while it is not done (or holds another value of the parameter)."""
+        if row is None or row.get(self.spec.parameter) != x:
+            return None
+        status = row.get("status")
+        if status == CaseStatus.FAILED:
+            return StepFailure(f"case {row.get('case_id')} failed")
+        if status != CaseStatus.COMPLETED:
+            return None
+        return row.get(self.spec.column, math.nan)
+
+    def cases(self) -> list[Case]:
+        """Every case created so far, search by search in the order its steps were taken
+        (the pending ones last), with ``index`` its position."""
+        ordered = []
+        for number, search in enumerate(self.searches):
+            xs = [x for x, _ in search.result.evaluations] + list(search.pending())
+            ordered.extend(self.case_for(number, x) for x in xs)
+        return [dataclasses.replace(case, index=i) for i, case in enumerate(ordered)]
+
+    def table(self) -> list[dict[str, Any]]:
+        """One row per search (plan order): the combination's parameters (as in the summary),
+        then threshold, lower, upper (parameter units), lower_value, upper_value (the
+        column's), steps, status, message."""
+        rows = []
+        for base, search in zip(self.bases, self.searches, strict=True):
+            result = search.result
+            row = {key: value for key, value in base.parameters().items() if key != "index"}
+            row.update(
+                threshold=result.threshold,
+                lower=result.lower,
+                upper=result.upper,
+                lower_value=result.lower_value,
+                upper_value=result.upper_value,
+                steps=result.steps,
+                status=result.status,
+                message=result.message,
+            )
+            rows.append(row)
+        return rows
