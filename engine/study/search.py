@@ -440,13 +440,17 @@ class SearchCampaign:
 
     def start(self, rows: Mapping[str, Mapping[str, Any]] | None = None) -> list[Case]:
         """Replay every search on the stored rows (case id -> summary row, e.g. of the results
-        file being resumed) and return the cases to run now, search by search."""
+        file being resumed: its completed cases) and return the cases to run now, search by
+        search."""
         rows = rows or {}
         todo = []
         for number, search in enumerate(self.searches):
 
             def lookup(x: float, number: int = number) -> Any:
-                return self._stored_value(rows.get(self.case_for(number, x).case_id), x)
+                row = rows.get(self.case_for(number, x).case_id)
+                if row is None or row.get("status") != CaseStatus.COMPLETED:
+                    return None  # a failed case is run again on resume, as in any study
+                return self._stored_value(row, x)
 
             todo.extend(self.case_for(number, x) for x in search.replay(lookup))
         return todo
@@ -504,3 +508,72 @@ class SearchCampaign:
             )
             rows.append(row)
         return rows
+
+
+# ---------------------------------------------------------------------- the [search] section
+SEARCH_KEYS = ("parameter", "low", "high", "column", "target", "rtol", "atol", "method")
+SEARCH_KEYS += ("max_steps",)
+#: Sweepable keys that take integers: no threshold between two neighbours to search for.
+INTEGER_KEYS = ("mesh.n", "loading.steps", "loading.cycles", "subsurface.layers", "solver.maxiter")
+
+
+def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> SearchSpec:
+    """Validate the ``[search]`` table of a study file into a :class:`SearchSpec`; errors
+    name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
+    from engine.schema import COLUMN_UNITS, SUMMARY_COLUMNS, TEXT_COLUMNS
+
+    from .config import _MISSING, SWEEPABLE, StudyConfigError
+
+    def error(key: str, value: Any, problem: str) -> StudyConfigError:
+        return StudyConfigError(source, f"search.{key}", value, problem)
+
+    if not isinstance(table, dict):
+        raise StudyConfigError(source, "search", table, "must be a table ([search])")
+    for key, value in table.items():
+        if key not in SEARCH_KEYS:
+            raise error(key, value, f"unknown key (known: {', '.join(SEARCH_KEYS)})")
+    for key in SEARCH_KEYS[:5]:
+        if key not in table:
+            raise error(key, _MISSING, "required key is missing")
+    parameter = table["parameter"]
+    if parameter not in SWEEPABLE or parameter in INTEGER_KEYS:
+        known = ", ".join(key for key in SWEEPABLE if key not in INTEGER_KEYS)
+        raise error("parameter", parameter, f"not a continuous sweepable key (known: {known})")
+    if parameter in swept_keys:
+        raise error("parameter", parameter, "is swept in [sweep]: search it or sweep it")
+    for key in ("low", "high", "rtol", "atol"):
+        value = table.get(key, 0.0)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise error(key, value, "must be a number")
+    column, target = table["column"], table["target"]
+    known_columns = set(SUMMARY_COLUMNS) | set(COLUMN_UNITS) | set(TEXT_COLUMNS)
+    if column not in known_columns - {"case_id", "status"}:
+        raise error("column", column, "not a summary column")
+    if column in TEXT_COLUMNS and not isinstance(target, str):
+        raise error("target", target, f"{column} is a text column: the target is its text")
+    if column not in TEXT_COLUMNS and (
+        isinstance(target, bool) or not isinstance(target, int | float)
+    ):
+        raise error("target", target, f"{column} is a numeric column: the target is a number")
+    max_steps = table.get("max_steps", 60)
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int):
+        raise error("max_steps", max_steps, "must be an integer")
+    spec = SearchSpec(
+        parameter=parameter,
+        low=float(table["low"]),
+        high=float(table["high"]),
+        column=column,
+        target=target if isinstance(target, str) else float(target),
+        rtol=float(table.get("rtol", 0.0)),
+        atol=float(table.get("atol", 0.0)),
+        method=str(table.get("method", "")),
+        max_steps=max_steps,
+    )
+    for key, value, problem in spec.problems():
+        raise error(key, value, problem)
+    return spec
+
+
+def search_section(spec: SearchSpec) -> dict[str, Any]:
+    """The ``[search]`` table of the resolved study (every key, defaults filled in)."""
+    return dataclasses.asdict(spec)
