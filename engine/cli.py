@@ -260,6 +260,10 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     plan = make_plan(config)
     check_memory(config, ranks_on_node, plan=plan)
     strategy = choose_strategy(config.study.output_strategy, ranks)
+    if config.search is not None:  # searches create their cases as they go: single writer
+        from engine.searching import search_strategy
+
+        strategy = search_strategy(config, strategy)
     if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None
         if not args.fresh:
@@ -427,10 +431,19 @@ def _compute(comm, config, plan, strategy, layout, args, command_line, stop_even
     scheduler = Scheduler(
         comm, writer.computing(runner), stop_event=stop_event, peers=_STOP_STATE["peers"]
     )
+    searches = None
     if rank == 0:
         _settle_existing(config, plan, args, existing, command_line)
+        if config.search is not None:  # engine.searching: the plan known so far
+            from engine.searching import prepare_searches
+
+            searches = prepare_searches(config, plan, fresh=args.fresh)
     try:
-        completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
+        completed = writer.prepare(
+            plan if searches is None else searches.plan,
+            _metadata(config, command_line, plan),
+            fresh=args.fresh,
+        )
     except StoppedDuringSetUp as stopped:  # on rank 0, or on every rank at once (mpio)
         if rank == 0:
             print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
@@ -441,9 +454,14 @@ def _compute(comm, config, plan, strategy, layout, args, command_line, stop_even
         if rank != 0:
             scheduler.run()
             return EXIT_OK  # replaced by rank 0's code in the final bcast
-        todo = plan.dispatch_order(skip=completed)
-        _announce(config, plan, completed, todo, comm.Get_size(), writer.announce_suffix)
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
+        todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
+        known = plan if searches is None else searches.plan
+        _announce(config, known, completed, todo, comm.Get_size(), writer.announce_suffix)
+        report = _run_with_progress(
+            scheduler, writer, known, completed, todo, args, comm, runner, searches
+        )
+        if searches is not None:
+            print(searches.finish(writer), flush=True)
     _remove_empty_checkpoint_dir(config)
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
@@ -479,8 +497,9 @@ def _idle_ranks_warning(cases: int, ranks: int) -> str | None:
     )
 
 
-def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner):
-    """Hand out ``todo``; every outcome goes to the writer, then to the progress display.
+def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner, searches):
+    """Hand out ``todo``; every outcome goes to the writer, then to the progress display
+    (with ``searches``, :class:`engine.searching.SearchRun`, then to its search).
 
     Rank 0's own cases report their progress through a queue, the workers' by MPI
     (``engine.output.progress``); the dispatcher drains both at every pass of its loop.
@@ -509,6 +528,8 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, run
         progress.update(outcome)
 
     try:
+        if searches is not None:
+            return searches.run(scheduler, writer, progress, on_outcome, on_poll=channel.drain)
         return scheduler.run(todo, on_outcome, on_poll=channel.drain)
     finally:
         channel.drain()  # reports that arrived with the last results

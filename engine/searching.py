@@ -36,22 +36,24 @@ from engine.schema import CaseStatus
 from engine.study.plan import Case, Plan
 from engine.study.search import SearchCampaign, SearchStatus
 
-__all__ = ["SearchRun", "prepare_searches", "check_search_strategy"]
+__all__ = ["SearchRun", "prepare_searches", "search_strategy", "describe_thresholds"]
 
 
-def check_search_strategy(config, strategy: str) -> None:
-    """A ``[search]`` study needs the single writer (see the module docstring)."""
-    if config.search is not None and strategy == "mpio":
-        from engine.study.config import StudyConfigError
+def search_strategy(config, strategy: str) -> str:
+    """The output strategy of a ``[search]`` study: the single writer (see the module
+    docstring); an explicit ``mpio`` is refused, naming the key."""
+    if config.study.output_strategy != "mpio":
+        return "single"
+    from engine.study.config import StudyConfigError
 
-        raise StudyConfigError(
-            config.source,
-            "study.output_strategy",
-            strategy,
-            "a [search] study creates its cases as its searches advance, which the collective "
-            'mpio writer cannot (it pre-creates every case on every rank): use "single" or '
-            '"auto"',
-        )
+    raise StudyConfigError(
+        config.source,
+        "study.output_strategy",
+        strategy,
+        "a [search] study creates its cases as its searches advance, which the collective "
+        'mpio writer cannot (it pre-creates every case on every rank): use "single" or '
+        '"auto"',
+    )
 
 
 @dataclass
@@ -83,12 +85,13 @@ class SearchRun:
 
         return scheduler.run(queue, handle, on_poll=on_poll)
 
-    def finish(self, writer) -> list[dict[str, Any]]:
-        """Canonical order of the cases, then the thresholds table (returned)."""
+    def finish(self, writer) -> str:
+        """Canonical order of the cases, then the thresholds table; returns a line saying
+        how the searches ended."""
         writer.arrange(Plan(tuple(self.campaign.cases())))
         table = self.campaign.table()
         writer.write_thresholds(table, self.campaign.spec)
-        return table
+        return describe_thresholds(table, self.campaign.spec)
 
 
 def prepare_searches(config, base_plan: Plan, *, fresh: bool) -> SearchRun:
