@@ -6,7 +6,7 @@ the user-facing layer and radians inside the numerical code.
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "load_summary"]
+__all__ = ["__version__", "load_summary", "load_thresholds"]
 
 
 def __getattr__(name: str):
@@ -15,4 +15,8 @@ def __getattr__(name: str):
         from engine.output.summary import load_summary
 
         return load_summary
+    if name == "load_thresholds":
+        from engine.output.thresholds import load_thresholds
+
+        return load_thresholds
     raise AttributeError(f"module 'engine' has no attribute {name!r}")

@@ -259,11 +259,12 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     config = dataclasses.replace(config, study=study)
     plan = make_plan(config)
     check_memory(config, ranks_on_node, plan=plan)
-    strategy = choose_strategy(config.study.output_strategy, ranks)
     if config.search is not None:  # searches create their cases as they go: single writer
         from engine.searching import search_strategy
 
-        strategy = search_strategy(config, strategy)
+        strategy = search_strategy(config)
+    else:
+        strategy = choose_strategy(config.study.output_strategy, ranks)
     if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None
         if not args.fresh:

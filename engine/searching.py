@@ -39,7 +39,7 @@ from engine.study.search import SearchCampaign, SearchStatus
 __all__ = ["SearchRun", "prepare_searches", "search_strategy", "describe_thresholds"]
 
 
-def search_strategy(config, strategy: str) -> str:
+def search_strategy(config) -> str:
     """The output strategy of a ``[search]`` study: the single writer (see the module
     docstring); an explicit ``mpio`` is refused, naming the key."""
     if config.study.output_strategy != "mpio":
@@ -49,7 +49,7 @@ def search_strategy(config, strategy: str) -> str:
     raise StudyConfigError(
         config.source,
         "study.output_strategy",
-        strategy,
+        "mpio",
         "a [search] study creates its cases as its searches advance, which the collective "
         'mpio writer cannot (it pre-creates every case on every rank): use "single" or '
         '"auto"',
