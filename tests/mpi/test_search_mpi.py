@@ -1,7 +1,7 @@
 """Threshold searches under ``mpiexec -n 2``: real ranks, real HDF5 files, real signals.
 
-Three searches (a sphere at three loads, the partial/gross-slip boundary in the amplitude,
-n = 16, one fretting cycle: ~0.3 s a case, about 10 cases a search) run at once over the two ranks.
+Two searches (a sphere at two loads, the partial/gross-slip boundary in the amplitude,
+n = 16, one fretting cycle: ~0.3 s a case, 9 cases a search) run at once over the two ranks.
 An uninterrupted run on one rank is the reference; a two-rank run, and two-rank runs killed
 (SIGKILL, as the OOM killer would) or stopped (SIGTERM, as a batch system would) in the
 middle of the searches and then resumed, must all give the same file — every case, the
@@ -31,14 +31,14 @@ STUDY = {
     "punch": {"shape": "sphere", "radius": 10.0},
     "mesh": {"n": 16},
     "loading": {"kind": "fretting", "load": None, "cycles": 1, "record": [1], "steps": 2},
-    "sweep": {"mu1": [0.5], "wear1": [0.0], "loading.load": [50.0, 100.0, 200.0]},
+    "sweep": {"mu1": [0.5], "wear1": [0.0], "loading.load": [50.0, 200.0]},
     "search": {
         "parameter": "loading.amplitude",
         "low": 1e-3,
         "high": 6e-3,
         "column": "slip_regime",
         "target": "gross",
-        "rtol": 5e-3,
+        "rtol": 1e-2,
     },
 }
 
@@ -102,7 +102,7 @@ def test_two_ranks_give_the_one_rank_results(reference, tmp_path):
     study = search_study(tmp_path)
     result = run_engine(study, timeout=300)
     assert result.returncode == 0, result.stderr
-    assert "3 of 3 searches converged" in result.stdout
+    assert "2 of 2 searches converged" in result.stdout
     comparison = same_results(reference, study.with_suffix(".h5"))
     assert comparison.returncode == 0, comparison.stdout
     csv = same_results(reference.with_suffix(".csv"), study.with_suffix(".csv"))
@@ -111,12 +111,12 @@ def test_two_ranks_give_the_one_rank_results(reference, tmp_path):
     assert thresholds.read_bytes() == tmp_path.joinpath("search_thresholds.csv").read_bytes()
 
 
-@pytest.mark.parametrize("signum, after", [(signal.SIGKILL, 9), (signal.SIGTERM, 13)])
+@pytest.mark.parametrize("signum, after", [(signal.SIGKILL, 5), (signal.SIGTERM, 9)])
 def test_a_search_interrupted_midway_resumes_to_the_same_thresholds(
     reference, tmp_path, signum, after
 ):
     """SIGKILL (nothing saved: the cases without their completion flag are recomputed) or
-    SIGTERM (exit 3) after ``after`` of the 31 cases; the rerun replays the completed steps
+    SIGTERM (exit 3) after ``after`` of the 18 cases; the rerun replays the completed steps
     and ends with the same file, thresholds included, bit for bit."""
     total = len(engine.load_summary(reference))
     code, rerun = _interrupt_and_resume(tmp_path, signum, after, total)
