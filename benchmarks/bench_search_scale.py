@@ -7,7 +7,8 @@ scheduler with its open case queue, the searches (:class:`engine.searching.Searc
 single writer creating every step's group and writing its summary row to a real HDF5 file —
 with synthetic cases in place of the solver: search ``i`` looks for the load at which a
 Hertzian approach ``c_i P^(2/3)`` reaches a target (numeric column, Illinois, rtol 1e-4), and
-a case sleeps 100–300 ms (--case-ms 200: the mean) (deterministic per case) before returning its row. Printed per rank
+a case sleeps 100–300 ms (``--case-ms``: the mean, 200 by default; deterministic per case)
+before returning its row. Printed per rank
 count: cases, wall time, the end of the first round (the 400 bracket ends), and the busy
 fraction (time holding a case / time) of every rank after the first round — the issue's
 target is ≥ 90 % on every rank — and over the whole run.
@@ -64,7 +65,8 @@ def root_of(case) -> float:
 
 
 def run_case(case, should_stop):
-    """A synthetic step: sleep 20–60 ms, then the approach c P^(2/3) at the case's load."""
+    """A synthetic step: sleep 0.5–1.5 × CASE_SECONDS, then the approach c P^(2/3) at the
+    case's load."""
     from engine.study.case import CaseOutcome
 
     load = dict(case.settings)["loading.load"]

@@ -29,7 +29,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .config import _MISSING, PROPORTIONAL, StudyConfig, StudyConfigError
+from .config import MISSING as _MISSING
+from .config import PROPORTIONAL, StudyConfig, StudyConfigError
 
 __all__ = ["Case", "Plan", "make_plan", "case_id_for", "cost_scale", "setting_names"]
 

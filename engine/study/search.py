@@ -522,7 +522,7 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
     name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
     from engine.schema import COLUMN_UNITS, SUMMARY_COLUMNS, TEXT_COLUMNS
 
-    from .config import _MISSING, SWEEPABLE, StudyConfigError
+    from .config import MISSING, SWEEPABLE, StudyConfigError
 
     def error(key: str, value: Any, problem: str) -> StudyConfigError:
         return StudyConfigError(source, f"search.{key}", value, problem)
@@ -534,7 +534,7 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
             raise error(key, value, f"unknown key (known: {', '.join(SEARCH_KEYS)})")
     for key in SEARCH_KEYS[:5]:
         if key not in table:
-            raise error(key, _MISSING, "required key is missing")
+            raise error(key, MISSING, "required key is missing")
     parameter = table["parameter"]
     if parameter not in SWEEPABLE or parameter in INTEGER_KEYS:
         known = ", ".join(key for key in SWEEPABLE if key not in INTEGER_KEYS)
