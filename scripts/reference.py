@@ -6,9 +6,9 @@
 Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->``):
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
-  default, unit and meaning (:mod:`engine.study.keys`), and ``sweepable-keys``: the dotted keys
-  ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), and ``bundled-studies``:
-  every study of ``studies/`` with the title and the time of its header;
+  default, unit and meaning (:mod:`engine.study.config.keys`), and ``sweepable-keys``: the
+  dotted keys ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), and
+  ``bundled-studies``: every study of ``studies/`` with the title and time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
   (:mod:`engine.schema`, the table the writers and the reader share);
@@ -27,7 +27,7 @@ from pathlib import Path
 from engine import schema
 from engine.analysis.markdown import markdown_table, read_block, replace_block
 from engine.study.config import SWEEPABLE
-from engine.study.keys import SECTIONS, STUDY_KEYS
+from engine.study.config.keys import SECTIONS, STUDY_KEYS
 
 REPO = Path(__file__).resolve().parents[1]
 STUDY_FILE = REPO / "docs" / "reference" / "study-file.md"

@@ -243,9 +243,15 @@ def _known_keys(section: str) -> set[str]:
 
 
 def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
-    from engine.study.config import SWEEPABLE
-    from engine.study.keys import SECTIONS, STUDY_KEYS
+    from engine.study.config import SWEEPABLE, StudyConfigError, parse_study
+    from engine.study.config.keys import SECTIONS, STUDY_KEYS
+    from engine.study.examples import study_toml
 
+    text = study_toml("keys", "keys.h5", {"sweep": {"wear1": [1.33e-7]}, "not_a_section": {}})
+    with pytest.raises(StudyConfigError) as error:
+        parse_study(text)
+    known = re.findall(r"\[(\w+)\]", str(error.value).split("(known: ", 1)[1])
+    assert set(SECTIONS) == set(known) | {"search"}  # [search] is read by engine.study.search
     for section in SECTIONS:
         described = {key.name for key in STUDY_KEYS if key.section == section}
         known = _known_keys(section)
@@ -264,8 +270,8 @@ def test_the_constant_defaults_of_the_key_table_are_the_parsers():
     import tomllib
 
     from engine.study.config import parse_study
+    from engine.study.config.keys import STUDY_KEYS
     from engine.study.examples import study_toml
-    from engine.study.keys import STUDY_KEYS
 
     text = study_toml("keys", "keys.h5", sweep={"wear1": [1.33e-7]})
     given = tomllib.loads(text)

@@ -36,17 +36,30 @@ __all__ = [
 ]
 
 
+# The parameters several functions share, written once and filled into their
+# docstrings by _shared_parameters (the rendered docstrings list them in full).
+_HERTZ = """load : float
+    Normal load P (N).
+radius : float
+    Sphere radius R (mm).
+contact_modulus : float
+    Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa)."""
+
+
+def _shared_parameters(function):
+    """Write the shared load, radius and contact-modulus entries into the docstring."""
+    indented = _HERTZ.replace("\n", "\n    ")
+    function.__doc__ = function.__doc__.replace("{hertz}", indented)
+    return function
+
+
+@_shared_parameters
 def hertz_contact_radius(load: float, radius: float, contact_modulus: float) -> float:
     """Hertz's contact radius a = (3 P R / (4 E*))^(1/3) (Johnson Eq. 4.22).
 
     Parameters
     ----------
-    load : float
-        Normal load P (N).
-    radius : float
-        Sphere radius R (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+    {hertz}
 
     Returns
     -------
@@ -56,17 +69,13 @@ def hertz_contact_radius(load: float, radius: float, contact_modulus: float) -> 
     return (3.0 * load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
 
 
+@_shared_parameters
 def hertz_approach(load: float, radius: float, contact_modulus: float) -> float:
     """Hertz's approach δ = a²/R of the two bodies' distant points (Johnson Eq. 4.23).
 
     Parameters
     ----------
-    load : float
-        Normal load P (N).
-    radius : float
-        Sphere radius R (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+    {hertz}
 
     Returns
     -------
@@ -76,17 +85,13 @@ def hertz_approach(load: float, radius: float, contact_modulus: float) -> float:
     return hertz_contact_radius(load, radius, contact_modulus) ** 2 / radius
 
 
+@_shared_parameters
 def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> float:
     """Hertz's peak pressure p_max = 3 P / (2 π a²) at the centre of the contact.
 
     Parameters
     ----------
-    load : float
-        Normal load P (N).
-    radius : float
-        Sphere radius R (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+    {hertz}
 
     Returns
     -------
@@ -97,6 +102,7 @@ def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> f
     return 3.0 * load / (2.0 * math.pi * a**2)
 
 
+@_shared_parameters
 def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: float):
     """Hertz's pressure p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside.
 
@@ -104,12 +110,7 @@ def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: f
     ----------
     r : array_like
         Radial distance from the contact's centre (mm).
-    load : float
-        Normal load P (N).
-    radius : float
-        Sphere radius R (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
+    {hertz}
 
     Returns
     -------

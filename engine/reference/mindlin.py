@@ -62,6 +62,25 @@ __all__ = [
 ]
 
 
+# The parameters several functions share, written once and filled into their
+# docstrings by _shared_parameters (the rendered docstrings list them in full).
+_CONTACT = """load : float or array_like
+    Normal load P (N), held constant.
+radius : float
+    Sphere radius R (mm).
+materials : engine.material.MaterialPair
+    The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
+friction : float
+    Coulomb friction coefficient μ."""
+
+
+def _shared_parameters(function):
+    """Write the shared load, radius, materials and friction entries into the docstring."""
+    indented = _CONTACT.replace("\n", "\n    ")
+    function.__doc__ = function.__doc__.replace("{contact}", indented)
+    return function
+
+
 def compliance_sum(materials: MaterialPair) -> float:
     """The compliance sum S = (2 − ν_A)/G_A + (2 − ν_B)/G_B of the tangential problem.
 
@@ -117,6 +136,7 @@ def stick_radius_ratio(force, load: float, friction: float) -> np.ndarray:
     return (1.0 - _ratio(force, friction * load)) ** (1.0 / 3.0)
 
 
+@_shared_parameters
 def slip_displacement(load, radius, materials: MaterialPair, friction: float) -> np.ndarray:
     """δ_slip = 3 μP S / (16 a): the displacement amplitude at the onset of gross slip.
 
@@ -125,14 +145,7 @@ def slip_displacement(load, radius, materials: MaterialPair, friction: float) ->
 
     Parameters
     ----------
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -144,6 +157,7 @@ def slip_displacement(load, radius, materials: MaterialPair, friction: float) ->
     return 3.0 * friction * load * compliance_sum(materials) / (16.0 * a)
 
 
+@_shared_parameters
 def tangential_displacement(force, load, radius, materials, friction) -> np.ndarray:
     """The Cattaneo–Mindlin compliance curve δ(Q) = δ_slip [1 − (1 − Q/μP)^{2/3}].
 
@@ -153,14 +167,7 @@ def tangential_displacement(force, load, radius, materials, friction) -> np.ndar
     ----------
     force : float or array_like
         Tangential force Q (N) of a monotone loading 0 → Q ≤ μP.
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -171,6 +178,7 @@ def tangential_displacement(force, load, radius, materials, friction) -> np.ndar
     return slip * (1.0 - (1.0 - _ratio(force, limit)) ** (2.0 / 3.0))
 
 
+@_shared_parameters
 def tangential_force(displacement, load, radius, materials, friction) -> np.ndarray:
     """The inverse of the compliance curve: Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}].
 
@@ -178,14 +186,7 @@ def tangential_force(displacement, load, radius, materials, friction) -> np.ndar
     ----------
     displacement : float or array_like
         Rigid tangential displacement δ (mm); for δ ≥ δ_slip the sphere slides.
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -197,6 +198,7 @@ def tangential_force(displacement, load, radius, materials, friction) -> np.ndar
     return limit * (1.0 - (1.0 - d) ** 1.5)
 
 
+@_shared_parameters
 def unloading_displacement(force, amplitude, load, radius, materials, friction):
     """δ on the unloading branch from (δ*, Q*) down to Q (Masing construction).
 
@@ -209,14 +211,7 @@ def unloading_displacement(force, amplitude, load, radius, materials, friction):
         Tangential force Q (N), −Q* ≤ Q ≤ Q*.
     amplitude : float
         Force amplitude Q* ≤ μP (N).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -228,6 +223,7 @@ def unloading_displacement(force, amplitude, load, radius, materials, friction):
     return peak - 2.0 * tangential_displacement(half, load, radius, materials, friction)
 
 
+@_shared_parameters
 def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndarray:
     """Energy dissipated per cycle between ±Q* < μP, Mindlin–Deresiewicz (Johnson Eq. 7.53).
 
@@ -238,14 +234,7 @@ def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndar
     ----------
     amplitude : float or array_like
         Force amplitude Q* ≤ μP (N).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -290,6 +279,7 @@ def energy_ratio(displacement_ratio) -> np.ndarray:
     return np.where(x <= 1.0, partial, gross)
 
 
+@_shared_parameters
 def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
     """W ≈ S Q*³ / (36 a μP), the leading term for Q* ≪ μP (Johnson Eq. 7.54).
 
@@ -297,14 +287,7 @@ def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, fric
     ----------
     amplitude : float or array_like
         Force amplitude Q* (N).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -316,6 +299,7 @@ def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, fric
     return compliance_sum(materials) * amplitude**3 / (36.0 * a * friction * load)
 
 
+@_shared_parameters
 def gross_slip_energy(displacement_amplitude, load, radius, materials, friction):
     """Energy per cycle under a displacement amplitude δ* ≥ δ_slip (gross slip).
 
@@ -325,14 +309,7 @@ def gross_slip_energy(displacement_amplitude, load, radius, materials, friction)
     ----------
     displacement_amplitude : float or array_like
         δ* ≥ δ_slip (mm).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -346,6 +323,7 @@ def gross_slip_energy(displacement_amplitude, load, radius, materials, friction)
     return 0.8 * limit * slip + 4.0 * limit * np.maximum(excess, 0.0)
 
 
+@_shared_parameters
 def force_amplitude(displacement_amplitude, load, radius, materials, friction):
     """The force amplitude Q* reached under a displacement amplitude δ*: Q(δ*) or μP.
 
@@ -353,14 +331,7 @@ def force_amplitude(displacement_amplitude, load, radius, materials, friction):
     ----------
     displacement_amplitude : float or array_like
         δ* (mm).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
@@ -370,6 +341,7 @@ def force_amplitude(displacement_amplitude, load, radius, materials, friction):
     return tangential_force(displacement_amplitude, load, radius, materials, friction)
 
 
+@_shared_parameters
 def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
     """Energy per stabilised cycle under a displacement amplitude δ*, in either regime.
 
@@ -377,14 +349,7 @@ def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
     ----------
     displacement_amplitude : float or array_like
         δ* (mm).
-    load : float or array_like
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
+    {contact}
 
     Returns
     -------
