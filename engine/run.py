@@ -289,7 +289,9 @@ def study_metadata(config, command_line: str, plan):
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
-    grid = Grid.square(*mesh) if mesh is not None else None
+    grid = None
+    if mesh is not None:  # a line contact's grid: n elements along x, one along y
+        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
