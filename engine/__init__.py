@@ -7,7 +7,8 @@ The public API:
 
 - :func:`run_study` runs (or resumes) a study file, TOML text or configuration, on this process
   or on the ranks of a communicator, and returns a :class:`StudyRun`;
-- :func:`load_summary` reads a study's summary table as a pandas DataFrame.
+- :func:`load_summary` reads a study's summary table as a pandas DataFrame;
+- :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section.
 
 ``import engine`` stays light: NumPy, h5py, mpi4py and pandas load when a function needs them.
 """
@@ -16,7 +17,14 @@ __version__ = "0.1.0"
 
 from engine.run import RUN_STATUSES, StudyRun, run_study  # noqa: E402 (needs __version__)
 
-__all__ = ["__version__", "RUN_STATUSES", "StudyRun", "run_study", "load_summary"]
+__all__ = [
+    "__version__",
+    "RUN_STATUSES",
+    "StudyRun",
+    "run_study",
+    "load_summary",
+    "load_thresholds",
+]
 
 
 def load_summary(path):
@@ -27,5 +35,18 @@ def load_summary(path):
     >>> frame.pivot(index="mu1", columns="beta", values="max_wear_depth")   # doctest: +SKIP
     """
     from engine.output.summary import load_summary as load
+
+    return load(path)
+
+
+def load_thresholds(path):
+    """Thresholds table of a study with a ``[search]`` section as a :class:`pandas.DataFrame`
+    (one row per search), from the results ``.h5`` file or ``NAME_thresholds.csv``; the units
+    in ``frame.attrs["units"]`` (:func:`engine.output.thresholds.load_thresholds`).
+
+    >>> frame = engine.load_thresholds("results/fretting_threshold.h5")   # doctest: +SKIP
+    >>> frame.plot(x="loading.load", y="threshold")                      # doctest: +SKIP
+    """
+    from engine.output.thresholds import load_thresholds as load
 
     return load(path)

@@ -243,7 +243,12 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
     config = _configure(study, options)
     plan = make_plan(config)
     check_memory(config, ranks_on_node, plan=plan)
-    strategy = choose_strategy(config.study.output_strategy, ranks)
+    if config.search is not None:  # searches create their cases as they go: single writer
+        from engine.searching import search_strategy
+
+        strategy = search_strategy(config)
+    else:
+        strategy = choose_strategy(config.study.output_strategy, ranks)
     output = config.study.output
     if options.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None
@@ -421,11 +426,17 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         should_stop=stop_event.is_set,
     )
     scheduler = Scheduler(comm, writer.computing(runner), stop_event=stop_event, peers=peers)
+    searches = None
     if rank == 0:
         _settle_existing(prepared, options, command_line)
+        if config.search is not None:  # engine.searching: the cases known so far
+            from engine.searching import prepare_searches
+
+            searches = prepare_searches(config, plan, fresh=options.fresh)
     try:
         metadata = study_metadata(config, command_line, plan)
-        completed = writer.prepare(plan, metadata, fresh=options.fresh)
+        known = plan if searches is None else searches.plan
+        completed = writer.prepare(known, metadata, fresh=options.fresh)
     except StoppedDuringSetUp as stopped:  # on rank 0, or on every rank at once (mpio)
         if rank == 0:
             print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
@@ -436,9 +447,13 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         if rank != 0:
             scheduler.run()
             return None
-        todo = plan.dispatch_order(skip=completed)
-        _announce(config, plan, completed, todo, comm.Get_size(), writer.announce_suffix)
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, runner)
+        todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
+        _announce(config, known, completed, todo, comm.Get_size(), writer.announce_suffix)
+        report = _run_with_progress(
+            scheduler, writer, known, completed, todo, options, comm, runner, searches
+        )
+        if searches is not None:
+            print(searches.finish(writer), flush=True)
     _remove_empty_checkpoint_dir(config)
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
@@ -474,8 +489,9 @@ def idle_ranks_warning(cases: int, ranks: int) -> str | None:
     )
 
 
-def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, runner):
-    """Hand out ``todo``; every outcome goes to the writer, then to the progress display.
+def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, runner, searches):
+    """Hand out ``todo``; every outcome goes to the writer, then to the progress display
+    (with ``searches``, a :class:`engine.searching.SearchRun`, then to its search).
 
     Rank 0's own cases report their progress through a queue, the workers' by MPI
     (``engine.output.progress``); the dispatcher drains both at every pass of its loop.
@@ -505,6 +521,8 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, 
         progress.update(outcome)
 
     try:
+        if searches is not None:
+            return searches.run(scheduler, writer, progress, on_outcome, on_poll=channel.drain)
         return scheduler.run(todo, on_outcome, on_poll=channel.drain)
     finally:
         channel.drain()  # reports that arrived with the last results

@@ -194,9 +194,10 @@ def make_plan(config: StudyConfig) -> Plan:
     cases = []
     seen: dict[str, tuple] = {}
     index = 0
+    searched = () if config.search is None else ((config.search.parameter, config.search.low),)
     for settings in _settings_combinations(config):
         try:
-            case_config = config.for_case(settings)
+            case_config = config.for_case(settings + searched)  # a search's base: at low
         except StudyConfigError as error:
             shown = ", ".join(f"{key} = {value!r}" for key, value in settings)
             raise StudyConfigError(

@@ -106,6 +106,7 @@ class StudyConfig:
     solver: SolverConfig
     testing: TestingConfig
     wear: WearConfig = WearConfig()
+    search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -144,12 +145,16 @@ class StudyConfig:
         if not settings:
             return self
         case = _parse_tables(substituted(self.tables, settings), self.source)
-        return dataclasses.replace(case, study=self.study, sweep=self.sweep, tables=self.tables)
+        return dataclasses.replace(
+            case, study=self.study, sweep=self.sweep, tables=self.tables, search=self.search
+        )
 
     def resolved(self) -> dict[str, dict[str, Any]]:
         """The configuration with every default filled in, as plain TOML-able data."""
         out: dict[str, dict[str, Any]] = {}
         swept = set(self.sweep.swept_keys)
+        if self.search is not None:  # searched like a swept key: its value is each case's
+            swept.add(self.search.parameter)
         if swept:  # defaults computed from swept keys belong to each case, not to the study
             swept |= set(self.derived_defaults)
         for field in dataclasses.fields(self):
@@ -160,6 +165,10 @@ class StudyConfig:
                 continue
             if field.name == "wear" and self.wear == WearConfig():
                 continue  # the default law, left out so that older results files resume
+            if field.name == "search":
+                if self.search is not None:
+                    out["search"] = dataclasses.asdict(self.search)
+                continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
                 if value is None or f"{field.name}.{key}" in swept:
@@ -223,12 +232,19 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise toml_error(source, text, error) from None
+    search_table = data.pop("search", None)
     axes, tables = split_sweep(source, data)
     first = {key: axis.values[0][i] for axis in axes for i, key in enumerate(axis.keys)}
+    search = _search_spec(source, search_table, tables, tuple(first))
+    if search is not None:  # the base study at the bracket's low end
+        first[search.parameter] = search.low
     swept = set(first)
     try:
         config = _parse_tables(substituted(tables, first), source)
     except StudyConfigError as error:
+        if search is not None and error.key == search.parameter:
+            problem = f"invalid: {error.problem}"
+            raise StudyConfigError(source, "search.low", search.low, problem) from None
         if error.key not in swept:
             raise
         axis = next(axis for axis in axes if error.key in axis.keys)
@@ -241,8 +257,40 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
                 _parse_tables(substituted(tables, settings), source)
             except StudyConfigError as error:
                 raise axis_error(source, axis, position, error) from None
+    if search is not None:
+        _check_search_end(source, search, tables, first)
     sweep = dataclasses.replace(config.sweep, axes=axes)
-    return dataclasses.replace(config, sweep=sweep, tables=tables)
+    return dataclasses.replace(config, sweep=sweep, tables=tables, search=search)
+
+
+def _search_spec(source: str, table: Any, tables: dict[str, Any], swept: tuple[str, ...]):
+    """The ``[search]`` section (None without one; :func:`engine.study.search.parse_search`);
+    its parameter must be left out of its own section: the search sets it case by case."""
+    if table is None:
+        return None
+    from ..search import parse_search
+
+    search = parse_search(source, table, swept)
+    section, name = search.parameter.split(".", 1)
+    if name in (tables.get(section) or {}):
+        raise StudyConfigError(
+            source,
+            search.parameter,
+            tables[section][name],
+            "is set by [search] case by case: leave it out here",
+        )
+    return search
+
+
+def _check_search_end(source: str, search, tables: dict[str, Any], first: dict) -> None:
+    """The study at the bracket's high end must be valid too (the low end is the base)."""
+    settings = dict(first)
+    settings[search.parameter] = search.high
+    try:
+        _parse_tables(substituted(tables, settings), source)
+    except StudyConfigError as error:
+        problem = f"invalid: {error.problem}"
+        raise StudyConfigError(source, "search.high", search.high, problem) from None
 
 
 def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
