@@ -572,6 +572,17 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     if existing is not None and existing.kind != "resume":
         existing.report(sys.stdout)  # damaged: what a run would do with it
     states = _planned_states(config, plan, existing, options.fresh)
+    if config.search is not None:  # the cases known now: completed steps, the next ones
+        from engine.searching import describe_search, prepare_searches
+
+        searches = prepare_searches(config, plan, fresh=options.fresh)
+        print(describe_search(searches))
+        plan, waiting = searches.plan, {case.case_id for case in searches.todo}
+        fresh_states = _planned_states(config, plan, None, False)  # run, or from a checkpoint
+        states = {
+            case_id: fresh_states[case_id] if case_id in waiting else "complete: skip"
+            for case_id in plan.case_ids
+        }
     if options.fresh:
         present = [
             str(path)
