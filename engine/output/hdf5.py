@@ -68,6 +68,7 @@ from engine.study.plan import Case, Plan
 
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .summary import pending_row, write_summary_csv
+from .thresholds import thresholds_path
 
 __all__ = [
     "FORMAT",
@@ -159,11 +160,13 @@ def check_resumable(path: Path, metadata: StudyMetadata) -> None:
 
 
 def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
-    """--fresh: delete the results file, its summary and the checkpoints of a previous run
+    """--fresh: delete the results file, its summary (and thresholds) and the checkpoints of a
+    previous run
     (under the output lock: never while another run holds it, see engine.output.lock)."""
     output.unlink(missing_ok=True)
     creating_path(output).unlink(missing_ok=True)
     output.with_suffix(".csv").unlink(missing_ok=True)
+    thresholds_path(output.with_suffix(".csv")).unlink(missing_ok=True)  # a [search] study's
     if checkpoint_dir.exists():
         shutil.rmtree(checkpoint_dir)
 
