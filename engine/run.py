@@ -254,7 +254,7 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
         existing = None
         if not options.fresh:
             existing = inspect_existing(output, study_metadata(config, "", plan), plan)
-        return _Prepared(config, plan, strategy, None, existing)
+        return _Prepared(config, plan, strategy, None, _for_searches(config, existing))
     check_output_path(output)
     lock = OutputLock(output)
     lock.acquire()  # before anything else touches the output, fresh included
@@ -272,7 +272,16 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
         _check_may_resume(output, options)
         existing = inspect_existing(output, study_metadata(config, "", plan), plan)
     layout = plan_layout(config, plan) if strategy == "mpio" else None
-    return _Prepared(config, plan, strategy, layout, existing)
+    return _Prepared(config, plan, strategy, layout, _for_searches(config, existing))
+
+
+def _for_searches(config, existing):
+    """A ``[search]`` study's cases are its searches' steps, not the plan's combinations:
+    the look at the existing file neither counts them stale nor the combinations new (the
+    searches replay the file, engine.searching)."""
+    if config.search is None or existing is None:
+        return existing
+    return dataclasses.replace(existing, stale=[], new_cases=0)
 
 
 class ExistingOutput(ValueError):
