@@ -254,7 +254,7 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
         existing = None
         if not options.fresh:
             existing = inspect_existing(output, study_metadata(config, "", plan), plan)
-        return _Prepared(config, plan, strategy, None, existing)
+        return _Prepared(config, plan, strategy, None, _for_searches(config, existing))
     check_output_path(output)
     lock = OutputLock(output)
     lock.acquire()  # before anything else touches the output, fresh included
@@ -272,7 +272,16 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
         _check_may_resume(output, options)
         existing = inspect_existing(output, study_metadata(config, "", plan), plan)
     layout = plan_layout(config, plan) if strategy == "mpio" else None
-    return _Prepared(config, plan, strategy, layout, existing)
+    return _Prepared(config, plan, strategy, layout, _for_searches(config, existing))
+
+
+def _for_searches(config, existing):
+    """A ``[search]`` study's cases are its searches' steps, not the plan's combinations:
+    the look at the existing file neither counts them stale nor the combinations new (the
+    searches replay the file, engine.searching)."""
+    if config.search is None or existing is None:
+        return existing
+    return dataclasses.replace(existing, stale=[], new_cases=0)
 
 
 class ExistingOutput(ValueError):
@@ -574,6 +583,17 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     if existing is not None and existing.kind != "resume":
         existing.report(sys.stdout)  # damaged: what a run would do with it
     states = _planned_states(config, plan, existing, options.fresh)
+    if config.search is not None:  # the cases known now: completed steps, the next ones
+        from engine.searching import describe_search, prepare_searches
+
+        searches = prepare_searches(config, plan, fresh=options.fresh)
+        print(describe_search(searches))
+        plan, waiting = searches.plan, {case.case_id for case in searches.todo}
+        fresh_states = _planned_states(config, plan, None, False)  # run, or from a checkpoint
+        states = {
+            case_id: fresh_states[case_id] if case_id in waiting else "complete: skip"
+            for case_id in plan.case_ids
+        }
     if options.fresh:
         present = [
             str(path)
