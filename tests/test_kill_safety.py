@@ -172,7 +172,7 @@ def test_truncated_file_is_salvaged_and_the_rest_recomputed(tmp_path):
     assert existing.kind == "salvage", existing
     assert 1 <= len(existing.completed) < len(plan)
     apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
-    assert (tmp_path / "r.h5.damaged").exists()
+    assert (tmp_path / "r.h5.damaged.1").exists()
     with SingleWriter(path) as writer:
         completed = writer.prepare(plan, metadata(config))
     assert completed == set(existing.completed)
@@ -197,7 +197,7 @@ def test_file_with_a_torn_header_starts_over_with_a_message(tmp_path, capsys):
     existing.report(__import__("sys").stdout)
     assert "starts over" in capsys.readouterr().out
     apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
-    assert not path.exists() and (tmp_path / "r.h5.damaged").exists()
+    assert not path.exists() and (tmp_path / "r.h5.damaged.1").exists()
 
 
 def test_file_killed_before_any_case_completed_starts_over(tmp_path):

@@ -66,6 +66,7 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
+from .checksum import CASE_CHECKSUM, DATASET_CHECKSUM, case_checksum, manifest_entry
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .summary import pending_row, write_summary_csv
 
@@ -443,6 +444,7 @@ class ResultsWriter:
         set_attribute(group, "rank", record["rank"])
         set_attribute(group, "runtime_s", record["runtime_s"])
         set_attribute(group, "summary", json.dumps(_json_safe(record["row"])))
+        set_attribute(group, CASE_CHECKSUM, record["checksum"])
 
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
@@ -595,17 +597,21 @@ def open_writer(
 def case_record(outcome: CaseOutcome) -> dict[str, Any]:
     """What :meth:`ResultsWriter._store_case` writes for ``outcome``: datasets (arrays, or
     ``written`` for a dataset its rank has already filled), attributes, summary row."""
-    datasets = {}
+    datasets, manifest = {}, {}
     for path, record in outcome.datasets.items():
         item: dict[str, Any] = {"units": record.units, "description": record.description}
-        if getattr(record, "attrs", None):
-            item["attrs"] = dict(record.attrs)
+        item["attrs"] = dict(getattr(record, "attrs", None) or {})
         if getattr(record, "written", False):
             item["written"] = True
+            entry = tuple(record.manifest)  # computed by the rank that wrote the data
         else:
             item["data"] = np.asarray(record.data)
+            entry = manifest_entry(item["data"])
+        item["attrs"][DATASET_CHECKSUM] = entry[2]
+        manifest[path] = entry
         datasets[path] = item
     return {
+        "checksum": case_checksum(manifest),
         "case_id": outcome.case_id,
         "status": outcome.status,
         "row": _json_safe(dict(outcome.row)),
