@@ -70,13 +70,13 @@ def call_isolated(
     Raises :class:`IsolatedCallStopped` when ``should_stop()`` turns true and
     :class:`IsolatedCallTimedOut` after ``time_limit`` seconds (the child is killed in both
     cases)."""
-    request = pickle.dumps((function.__module__, function.__qualname__, args, kwargs))
-    with tempfile.TemporaryFile() as reply:
+    request = pickle.dumps((_module_name(function), function.__qualname__, args, kwargs))
+    with tempfile.TemporaryFile() as reply, tempfile.TemporaryFile() as errors:
         child = subprocess.Popen(
             [sys.executable, "-m", "engine.output.isolated"],
             stdin=subprocess.PIPE,
             stdout=reply,
-            stderr=subprocess.DEVNULL,
+            stderr=errors,
             env=_child_environment(),
         )
         try:
@@ -91,12 +91,27 @@ def call_isolated(
                 child.wait()
         reply.seek(0)
         answer = reply.read()
+        errors.seek(0)
+        last_error = (errors.read().decode(errors="replace").strip().splitlines() or [""])[-1]
     if not answer:
-        raise RuntimeError(f"the child process reading the file ended with code {child.returncode}")
+        raise RuntimeError(
+            f"the child process reading the file ended with code {child.returncode}: {last_error}"
+        )
     kind, value = pickle.loads(answer)
     if kind == "error":
         raise value
     return value
+
+
+def _module_name(function: Callable[..., Any]) -> str:
+    """The importable name of ``function``'s module (also when it runs as ``__main__``)."""
+    name = function.__module__
+    if name == "__main__":
+        spec = getattr(sys.modules["__main__"], "__spec__", None)
+        if spec is None:
+            raise ValueError(f"{function.__qualname__}: its module cannot be imported by name")
+        name = spec.name
+    return name
 
 
 def _wait(child: subprocess.Popen, should_stop: Callable[[], bool], time_limit: float) -> None:
