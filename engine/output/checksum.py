@@ -19,10 +19,12 @@ filtered datasets collectively only), and it would change the layout of every fi
 from __future__ import annotations
 
 import hashlib
+import json
 from dataclasses import dataclass
 
 import h5py
 import numpy as np
+from h5py import h5a, h5d, h5o, h5s, h5t
 
 from engine.schema import CaseStatus
 
@@ -118,30 +120,22 @@ def verify_case(group: h5py.Group) -> CaseCheck:
 
 
 def _read_and_compare(group: h5py.Group, check: CaseCheck) -> None:
-    import json
-
-    attrs = dict(group.attrs)
-    json.loads(attrs["summary"])
+    json.loads(group.attrs["summary"])
     manifest: dict[str, tuple[str, tuple[int, ...], str]] = {}
     mismatched: list[str] = []
     missing: list[str] = []
-    paths: list[str] = []
-    group.visit(paths.append)
-    for path in paths:
-        item = group[path]
-        if not isinstance(item, h5py.Dataset):
-            continue
-        data = item[()]
+    for path, dataset in _datasets(group):
+        data = _read(dataset)
         entry = manifest_entry(data)
         manifest[path] = entry
         check.datasets += 1
         check.bytes_read += int(np.asarray(data).nbytes)
-        stored = item.attrs.get(DATASET_CHECKSUM)
+        stored = _text_attribute(dataset, DATASET_CHECKSUM)
         if stored is None:
             missing.append(path)
-        elif _text(stored) != entry[2]:
+        elif stored != entry[2]:
             mismatched.append(path)
-    stored_case = attrs.get(CASE_CHECKSUM)
+    stored_case = _text_attribute(group.id, CASE_CHECKSUM)
     if stored_case is None:
         check.verified = False
         return
@@ -149,8 +143,43 @@ def _read_and_compare(group: h5py.Group, check: CaseCheck) -> None:
         check.problem = "checksum mismatch in " + _listed(mismatched)
     elif missing:
         check.problem = "no checksum on " + _listed(missing)
-    elif _text(stored_case) != case_checksum(manifest):
+    elif stored_case != case_checksum(manifest):
         check.problem = "datasets missing, added or reshaped (case checksum mismatch)"
+
+
+# Reading through h5py's low-level API: a case of a small study is ~80 datasets, and the
+# high-level objects (wrappers, attribute managers) cost about half the time of reading it.
+def _datasets(group: h5py.Group) -> list[tuple[str, h5d.DatasetID]]:
+    """(path, opened dataset) of every dataset below ``group``, in HDF5's visiting order."""
+    paths: list[bytes] = []
+
+    def collect(name: bytes, info) -> None:
+        if info.type == h5o.TYPE_DATASET:
+            paths.append(name)
+
+    h5o.visit(group.id, collect, info=True)
+    return [(path.decode(), h5o.open(group.id, path)) for path in paths]
+
+
+def _read(dataset: h5d.DatasetID) -> np.ndarray:
+    """The whole dataset as an array (text datasets through h5py's high-level reader)."""
+    if dataset.dtype.kind not in "biuf":
+        return np.asarray(h5py.Dataset(dataset)[()])
+    array = np.empty(dataset.shape, dtype=dataset.dtype)
+    if array.size:
+        dataset.read(h5s.ALL, h5s.ALL, array)
+    return array
+
+
+def _text_attribute(object_id, name: str) -> str | None:
+    """The text attribute ``name`` of an object (its low-level identifier), or None."""
+    key = name.encode()
+    if not h5a.exists(object_id, key):
+        return None
+    attribute = h5a.open(object_id, key)
+    value = np.empty((), dtype=attribute.dtype)
+    attribute.read(value, mtype=h5t.py_create(attribute.dtype))
+    return _text(value[()])
 
 
 def _text(value) -> str:
