@@ -5,7 +5,10 @@ dtype, shape and bytes (C order, as stored). The case group carries ``checksum``
 of its *manifest*, one line ``path dtype shape sha256`` per dataset in sorted order, so a
 dataset that vanished, was renamed or reshaped is noticed as well as a changed byte.
 
-Both are functions of the data alone (no time, rank or host goes in), so equal results give
+The root carries ``metadata_checksum`` over its other attributes (the study it holds), so
+a damaged root is not taken for another study.
+
+All are functions of the data alone (no time, rank or host goes in), so equal results give
 equal files whichever writer strategy and rank count wrote them. They are computed where the
 data is in memory — by the writing rank, before the write — and checked by reading the stored
 data back (:func:`verify_case`): before a resumed run trusts a completed case, and by
@@ -29,6 +32,10 @@ from h5py import h5a, h5d, h5o, h5s, h5t
 from engine.schema import CaseStatus
 
 __all__ = [
+    "ROOT_CHECKSUM",
+    "DamagedRoot",
+    "root_checksum",
+    "check_root",
     "DATASET_CHECKSUM",
     "CASE_CHECKSUM",
     "data_checksum",
@@ -39,6 +46,26 @@ __all__ = [
 
 DATASET_CHECKSUM = "sha256"  # attribute of every dataset of a completed case
 CASE_CHECKSUM = "checksum"  # attribute of a completed case group (over its manifest)
+ROOT_CHECKSUM = "metadata_checksum"  # root attribute, over the other root attributes
+
+
+class DamagedRoot(ValueError):
+    """The root attributes (the study the file holds) fail their checksum."""
+
+
+def root_checksum(attrs: dict) -> str:
+    """SHA-256 (hex) of the root attributes (the study, version, command line, …) but itself:
+    a damaged root is told apart from a file of another study."""
+    text = json.dumps({k: _text(v) for k, v in attrs.items() if k != ROOT_CHECKSUM}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def check_root(attrs: dict) -> None:
+    """Raise :class:`DamagedRoot` when the stored root checksum differs (files written before
+    it existed carry none and pass)."""
+    stored = attrs.get(ROOT_CHECKSUM)
+    if stored is not None and _text(stored) != root_checksum(attrs):
+        raise DamagedRoot("root attributes damaged (metadata checksum mismatch)")
 
 
 def data_checksum(data) -> str:

@@ -50,6 +50,7 @@ pending group of a case and the structural write of a finished one. Its strategi
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -66,8 +67,16 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
-from .checksum import CASE_CHECKSUM, DATASET_CHECKSUM, case_checksum, manifest_entry
+from .checksum import (
+    CASE_CHECKSUM,
+    DATASET_CHECKSUM,
+    ROOT_CHECKSUM,
+    case_checksum,
+    manifest_entry,
+    root_checksum,
+)
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
+from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space
 from .summary import pending_row, write_summary_csv
 
 __all__ = [
@@ -194,6 +203,7 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
     """Root attributes and the grid coordinates; identical calls in every strategy (in mpio
     mode they are collective, so every rank makes them with the same arguments)."""
     file.attrs.update(metadata.attrs)
+    file.attrs[ROOT_CHECKSUM] = root_checksum(metadata.attrs)
     if metadata.grid_x is None:
         return  # the grid differs between cases: each case group holds its own
     grid = file.require_group("grid")
@@ -300,6 +310,7 @@ class ResultsWriter:
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.drop_stale = drop_stale
         self.is_root = True  # the rank that keeps the summary CSV
+        self.full: OutputFull | None = None  # set when the file system filled up
         self._file: h5py.File | None = None
         self._plan: Plan | None = None
         self._rows: dict[str, dict[str, Any]] = {}
@@ -499,18 +510,55 @@ class SingleWriter(ResultsWriter):
         return completed
 
     def close(self) -> None:
-        if self._file is not None:
+        if self._file is None:
+            return
+        try:
             self._commit_flags(force=True)
             self._file.flush()
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, MARGIN)
+        with contextlib.suppress(Exception) if self.full else contextlib.nullcontext():
             self._file.close()
-            self._file = None
+        self._file = None
+        try:
             self._write_summary(force=True)
+        except OSError as error:  # the next run rewrites the summary from the file
+            if not is_no_space(error):
+                raise
+            self.full = self.full or OutputFull(self.path, MARGIN)
 
     def write(self, outcome: CaseOutcome) -> None:
         """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
-        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
+        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush.
+
+        A case that does not fit on the file system is not begun; the writer is then ``full``
+        (:class:`engine.output.space.OutputFull`) and writes nothing more: the cases written
+        so far stay complete, the rest is computed by the next run."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
+        if self.full is not None:
+            return
+        record = case_record(outcome)
+        try:
+            ensure_space(self.path, _record_bytes(record), remaining_cases=self._remaining())
+            self._write_record(outcome, record)
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, _record_bytes(record) * self._remaining())
+
+    def _remaining(self) -> int:
+        return sum(1 for row in self._rows.values() if row.get("status") == CaseStatus.PENDING)
+
+    def _became_full(self, error: BaseException, needed: int) -> None:
+        """Commit what was written before the disk filled (if it can still be flushed)."""
+        self.full = error if isinstance(error, OutputFull) else OutputFull(self.path, needed)
+        with contextlib.suppress(Exception):  # an HDF5 flush that failed leaves nothing to do
+            self._commit_flags(force=True)
+
+    def _write_record(self, outcome: CaseOutcome, record: dict[str, Any]) -> None:
         cases = self._cases
         if outcome.case_id in self._pristine:  # prepared and untouched since: no checks
             self._pristine.discard(outcome.case_id)
@@ -519,7 +567,7 @@ class SingleWriter(ResultsWriter):
             group = cases[outcome.case_id] if outcome.case_id in cases else None
             if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
                 group = self._reset_group(cases, outcome.case)  # a pristine group is reused
-        self._store_case(group, case_record(outcome))
+        self._store_case(group, record)
         self._rows[outcome.case_id] = dict(outcome.row)
         self._unflagged.append((group, outcome.status))
         if self._commit_flags():
@@ -622,6 +670,11 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
         "runtime_s": float(outcome.runtime_s),
         "datasets": datasets,
     }
+
+
+def _record_bytes(record: dict[str, Any]) -> int:
+    """Bytes a :func:`case_record` takes in the file (:func:`engine.output.space.case_bytes`)."""
+    return case_bytes(item.get("data") for item in record["datasets"].values())
 
 
 def stale_row(group: h5py.Group) -> dict[str, Any]:

@@ -40,7 +40,7 @@ from engine.schema import CaseStatus
 from engine.study.config import fill_former_defaults
 from engine.study.plan import Plan
 
-from .checksum import CaseCheck, verify_case
+from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT, ResultsMismatch, StudyMetadata
 from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
 
@@ -170,6 +170,7 @@ def inspect_existing(path: Path, metadata: StudyMetadata, plan: Plan) -> Existin
     try:
         with h5py.File(path, "r") as file:
             attrs = dict(file.attrs)
+            check_root(attrs)
             check_identity(path, attrs, metadata)
             checks = check_cases(file)
     except ResultsMismatch:

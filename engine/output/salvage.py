@@ -30,7 +30,7 @@ import h5py
 
 from engine.study.plan import Plan
 
-from .checksum import CaseCheck, verify_case
+from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_root
 from .identity import ExistingResults, check_identity, damaged_path, verdict
 from .isolated import call_isolated, time_limit_for
@@ -45,7 +45,9 @@ def scan_damaged(path: Path, metadata: StudyMetadata, plan: Plan, problem: str) 
     checksums (:func:`engine.output.checksum.verify_case`)."""
     try:
         with readable_copy(path) as file:
-            check_identity(path, dict(file.attrs), metadata)
+            attrs = dict(file.attrs)
+            check_root(attrs)  # a damaged root: whose study it holds is unknown, start over
+            check_identity(path, attrs, metadata)
             names = list(file["cases"])
             checks = [_checked(file, name) for name in names]
     except ResultsMismatch:

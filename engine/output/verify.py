@@ -31,7 +31,7 @@ import h5py
 
 from engine.schema import CaseStatus
 
-from .checksum import CaseCheck, verify_case
+from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT
 from .isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated, time_limit_for
 from .summary import summary_csv
@@ -75,6 +75,7 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
         with h5py.File(path, "r") as file:
             if file.attrs.get("format") != FORMAT:
                 raise NotResultsFile(f"{path}: not a results file of this engine")
+            check_root(dict(file.attrs))
             cases = file["cases"]
             for name in cases:
                 check.cases.append(_checked(cases, name))
