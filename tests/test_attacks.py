@@ -46,7 +46,8 @@ CASES = 6
 
 
 def _compare_module():
-    spec = importlib.util.spec_from_file_location("compare_results", REPO / "scripts" / "compare_results.py")
+    script = REPO / "scripts" / "compare_results.py"
+    spec = importlib.util.spec_from_file_location("compare_results", script)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
