@@ -341,3 +341,14 @@ def test_lock_of_a_killed_but_unreaped_process_is_stale(tmp_path):
     assert lock.replaced is not None and lock.replaced.pid == child.pid
     lock.release()
     child.wait()
+
+
+def test_a_lock_path_that_is_a_directory_is_an_input_error_and_garbage_is_stale(tmp_path):
+    output = tmp_path / "r.h5"
+    lock_path_for(output).mkdir()
+    with pytest.raises(OutputPathError, match=r"r\.h5\.lock exists and is not a regular file"):
+        OutputLock(output).acquire()
+    lock_path_for(output).rmdir()
+    lock_path_for(output).write_bytes(b"\xff\xfe not text")  # garbage: a crashed writer's
+    with OutputLock(output) as lock:
+        assert lock.replaced is not None

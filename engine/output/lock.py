@@ -132,6 +132,11 @@ class OutputLock:
 
     def acquire(self) -> None:
         """Take the lock or raise :class:`OutputInUse` / :class:`OutputPathError`."""
+        if self.path.is_dir() or (self.path.exists() and not self.path.is_file()):
+            raise OutputPathError(
+                f"output {self.output}: the lock path {self.path} exists and is not a regular "
+                "file; move it away"
+            )
         private = self.path.with_name(f".{self.path.name}.{self.owner.pid}")
         try:
             private.write_text(self.owner.line())
@@ -185,9 +190,14 @@ class OutputLock:
 
     def _read_owner(self) -> LockOwner | None:
         try:
-            text = self.path.read_text()
+            text = self.path.read_text(errors="replace")
         except FileNotFoundError:
             return None
+        except OSError as error:  # not readable by this user, not a file
+            raise OutputPathError(
+                f"output {self.output}: the lock {self.path} cannot be read: "
+                f"{_describe(error)}; move it away"
+            ) from None
         owner = LockOwner.parse(text)
         # unreadable content: never written by this engine's link method; treat as the
         # owner's, on this host, dead (a crash while writing through _create_exclusive)
@@ -200,7 +210,7 @@ class OutputLock:
             os.replace(self.path, stale)
         except FileNotFoundError:
             return
-        if LockOwner.parse(stale.read_text()) not in (other, None):
+        if LockOwner.parse(stale.read_text(errors="replace")) not in (other, None):
             os.replace(stale, self.path)  # someone else took it meanwhile: put it back
             return
         stale.unlink(missing_ok=True)
