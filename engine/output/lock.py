@@ -25,7 +25,14 @@ import socket
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["OutputLock", "OutputInUse", "OutputPathError", "lock_path_for", "check_output_path"]
+__all__ = [
+    "OutputLock",
+    "OutputInUse",
+    "OutputPathError",
+    "lock_path_for",
+    "check_output_path",
+    "check_output_name",
+]
 
 
 class OutputInUse(ValueError):
@@ -95,6 +102,20 @@ def _start_ticks(pid: int) -> str:
 
 def _describe(error: OSError) -> str:
     return error.strerror or str(error)
+
+
+RESULTS_SUFFIXES = (".h5", ".hdf5")
+
+
+def check_output_name(output: Path, where: str = "--output") -> None:
+    """The rule of ``[study] output`` for an output given elsewhere (``--output``): a path
+    ending in .h5 or .hdf5 (the summary CSV is written beside it with the suffix .csv, so any
+    other name could make the two one file). Raises :class:`OutputPathError`."""
+    if not str(output).endswith(RESULTS_SUFFIXES) or str(output).endswith(("/", os.sep)):
+        raise OutputPathError(
+            f"{where} {output}: must be a path ending in .h5 or .hdf5 (the results file; the "
+            "summary is written beside it as .csv)"
+        )
 
 
 def check_output_path(output: Path) -> None:

@@ -17,8 +17,11 @@ still-full disk says so at once and changes nothing.
 from __future__ import annotations
 
 import errno
+import math
 import shutil
 from pathlib import Path
+
+import numpy as np
 
 __all__ = [
     "OutputFull",
@@ -27,6 +30,7 @@ __all__ = [
     "case_bytes",
     "ensure_space",
     "check_space",
+    "planned_bytes",
     "format_bytes",
 ]
 
@@ -76,6 +80,18 @@ def case_bytes(arrays) -> int:
     return sum(int(getattr(array, "nbytes", 0)) for array in arrays) + DATASET_OVERHEAD * len(
         arrays
     )
+
+
+def planned_bytes(layout: dict, case_ids) -> int:
+    """Bytes the datasets known from the plan take for ``case_ids`` (``layout``: case id ->
+    path -> shape and dtype, :func:`engine.study.layout.plan_layout`); a lower bound (the
+    histories' lengths are decided at run time)."""
+    total = 0
+    for case_id in case_ids:
+        shapes = layout.get(case_id, {})
+        data = sum(math.prod(spec.shape) * np.dtype(spec.dtype).itemsize for spec in shapes.values())
+        total += data + DATASET_OVERHEAD * len(shapes)
+    return total
 
 
 def ensure_space(path: Path, needed: int, *, remaining_cases: int = 1) -> None:

@@ -36,7 +36,15 @@ from .hdf5 import FORMAT
 from .isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated, time_limit_for
 from .summary import summary_csv
 
-__all__ = ["FileCheck", "verify_file", "compare_summary", "main", "EXIT_CLEAN", "EXIT_DAMAGED"]
+__all__ = [
+    "FileCheck",
+    "verify_file",
+    "check_after_run",
+    "compare_summary",
+    "main",
+    "EXIT_CLEAN",
+    "EXIT_DAMAGED",
+]
 
 EXIT_CLEAN, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_DAMAGED = 0, 2, 3, 4
 
@@ -111,6 +119,31 @@ def _stored_row(cases: h5py.Group, name: str) -> tuple[int, dict] | None:
         return int(attrs.get("index", 0)), row
     except Exception:  # noqa: BLE001 - reported by the case's own check
         return None
+
+
+def check_after_run(path: Path, written: set[str]) -> list[CaseCheck]:
+    """The bad cases of a results file a run has just closed: every case group and status
+    readable, and the cases ``written`` by the run read back in full with their checksums
+    (the others were verified when the run began). In-process: the file is this run's own."""
+    bad = []
+    try:
+        with h5py.File(path, "r") as file:
+            check_root(dict(file.attrs))
+            cases = file["cases"]
+            for name in cases:
+                check = _checked(cases, name) if name in written else _status_only(cases, name)
+                if not check.sound:
+                    bad.append(check)
+    except Exception as error:  # noqa: BLE001 - any failure to read is damage
+        bad.append(CaseCheck("(file)", "", problem=_short(error)))
+    return bad
+
+
+def _status_only(cases: h5py.Group, name: str) -> CaseCheck:
+    try:
+        return CaseCheck(name, str(cases[name].attrs.get("status", "")))
+    except Exception as error:  # noqa: BLE001 - the group itself cannot be opened
+        return CaseCheck(name, "", problem=f"unreadable ({_short(error)})")
 
 
 def compare_summary(summary: Path, stored: dict[str, tuple[int, dict]]) -> list[tuple[str, str]]:
