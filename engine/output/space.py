@@ -89,7 +89,7 @@ def planned_bytes(layout: dict, case_ids) -> int:
     total = 0
     for case_id in case_ids:
         shapes = layout.get(case_id, {})
-        data = sum(math.prod(spec.shape) * np.dtype(spec.dtype).itemsize for spec in shapes.values())
+        data = sum(math.prod(s.shape) * np.dtype(s.dtype).itemsize for s in shapes.values())
         total += data + DATASET_OVERHEAD * len(shapes)
     return total
 
