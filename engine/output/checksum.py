@@ -5,8 +5,8 @@ dtype, shape and bytes (C order, as stored). The case group carries ``checksum``
 of its *manifest*, one line ``path dtype shape sha256`` per dataset in sorted order, so a
 dataset that vanished, was renamed or reshaped is noticed as well as a changed byte.
 
-The root carries ``metadata_checksum`` over its other attributes (the study it holds), so
-a damaged root is not taken for another study.
+The root carries ``metadata_checksum`` over the attributes that say which study it holds
+(format, name, identity, fingerprint), so a damaged root is not taken for another study.
 
 All are functions of the data alone (no time, rank or host goes in), so equal results give
 equal files whichever writer strategy and rank count wrote them. They are computed where the
@@ -53,11 +53,16 @@ class DamagedRoot(ValueError):
     """The root attributes (the study the file holds) fail their checksum."""
 
 
+# the root attributes that say which study a file holds (compared by the identity check);
+# the command line, output path and version may differ between equal files
+IDENTITY_ATTRIBUTES = ("format", "study_name", "study_identity", "study_fingerprint")
+
+
 def root_checksum(attrs: dict) -> str:
-    """SHA-256 (hex) of the root attributes (the study, version, command line, …) but itself:
-    a damaged root is told apart from a file of another study."""
-    text = json.dumps({k: _text(v) for k, v in attrs.items() if k != ROOT_CHECKSUM}, sort_keys=True)
-    return hashlib.sha256(text.encode()).hexdigest()
+    """SHA-256 (hex) of the root attributes that say which study the file holds (present
+    ones of ``IDENTITY_ATTRIBUTES``): a damaged root is told apart from another study."""
+    values = {name: _text(attrs[name]) for name in IDENTITY_ATTRIBUTES if name in attrs}
+    return hashlib.sha256(json.dumps(values, sort_keys=True).encode()).hexdigest()
 
 
 def check_root(attrs: dict) -> None:
