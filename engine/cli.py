@@ -48,6 +48,7 @@ from engine import __version__
 from engine.schema import CaseStatus
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
+EXIT_DAMAGED, EXIT_OUTPUT_FULL = 4, 5
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 
 
@@ -216,7 +217,7 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
         return EXIT_INTERNAL
 
 
-_OUTPUT_COMMANDS = ("plot", "report")  # post-processing of a results file: serial, no MPI
+_OUTPUT_COMMANDS = ("plot", "report", "verify")  # on a results file: serial, no MPI
 
 
 def _output_command(argv: list[str], prog: str | None) -> int:
@@ -224,6 +225,8 @@ def _output_command(argv: list[str], prog: str | None) -> int:
     (engine.analysis.report)."""
     if argv[0] == "plot":
         from engine.analysis.figures import main as command
+    elif argv[0] == "verify":
+        from engine.output.verify import main as command
     else:
         from engine.analysis.report import main as command
     try:
@@ -232,7 +235,7 @@ def _output_command(argv: list[str], prog: str | None) -> int:
         return int(exit_.code or 0)
 
 
-def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
+def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list, stop_event):
     """Validate everything that can be wrong with the input, in this order, before any file is
     created or changed: the study file and its plan (incl. the memory a case needs), the
     output path, the lock on the output (taken here, appended to ``lock_holder``), then the
@@ -243,9 +246,15 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     existing results file (:class:`engine.output.identity.ExistingResults`).
     """
     from engine.output.collective import choose_strategy
-    from engine.output.identity import inspect_existing
-    from engine.output.lock import OutputLock, check_output_path, check_summary_path
+    from engine.output.identity import inspect_existing_isolated
+    from engine.output.lock import (
+        OutputLock,
+        check_output_name,
+        check_output_path,
+        check_summary_path,
+    )
     from engine.study.config import load_study
+    from engine.study.feasibility import check_feasible
     from engine.study.layout import plan_layout
     from engine.study.plan import make_plan
     from engine.study.resources import check_memory
@@ -253,17 +262,22 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     config = load_study(args.study)
     study = config.study
     if args.output is not None:
+        check_output_name(args.output)
         study = dataclasses.replace(study, output=args.output)
     if args.output_strategy is not None:
         study = dataclasses.replace(study, output_strategy=args.output_strategy)
     config = dataclasses.replace(config, study=study)
     plan = make_plan(config)
+    check_feasible(config, plan)
     check_memory(config, ranks_on_node, plan=plan)
     strategy = choose_strategy(config.study.output_strategy, ranks)
     if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None
         if not args.fresh:
-            existing = inspect_existing(config.study.output, _metadata(config, "", plan), plan)
+            metadata = _metadata(config, "", plan)
+            existing = inspect_existing_isolated(
+                config.study.output, metadata, plan, should_stop=stop_event.is_set
+            )
         return config, plan, strategy, None, existing
     output = config.study.output
     check_output_path(output)
@@ -280,9 +294,21 @@ def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
     check_summary_path(output, config.study.summary_path)
     existing = None
     if not args.fresh:
-        existing = inspect_existing(output, _metadata(config, "", plan), plan)
-    layout = plan_layout(config, plan) if strategy == "mpio" else None
-    return config, plan, strategy, layout, existing
+        existing = inspect_existing_isolated(
+            output, _metadata(config, "", plan), plan, should_stop=stop_event.is_set
+        )
+    layout = plan_layout(config, plan)
+    _check_space(output, plan, layout, existing)
+    return config, plan, strategy, layout if strategy == "mpio" else None, existing
+
+
+def _check_space(output, plan, layout, existing) -> None:
+    """Refuse to start (``OutputFull``) when the data the remaining cases will write (known
+    from the plan: a lower bound) does not fit on the output's file system."""
+    from engine.output.space import check_space, planned_bytes
+
+    completed = set(existing.completed) if existing is not None else set()
+    check_space(output, planned_bytes(layout, [c for c in plan.case_ids if c not in completed]))
 
 
 def _metadata(config, command_line: str, plan):
@@ -314,8 +340,11 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
 
     from engine.output.collective import ParallelH5pyMissing
     from engine.output.hdf5 import ResultsMismatch
+    from engine.output.isolated import IsolatedCallStopped
     from engine.output.lock import OutputInUse, OutputPathError
+    from engine.output.space import OutputFull
     from engine.study.config import StudyConfigError
+    from engine.study.feasibility import ImpossibleCases
 
     rank = comm.Get_rank()
     ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
@@ -327,7 +356,9 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
             try:
                 verdict = (
                     "ok",
-                    *_prepare_on_root(args, comm.Get_size(), ranks_on_node, lock_holder),
+                    *_prepare_on_root(
+                        args, comm.Get_size(), ranks_on_node, lock_holder, stop_event
+                    ),
                 )
             except (
                 StudyConfigError,
@@ -335,17 +366,23 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
                 ParallelH5pyMissing,
                 OutputInUse,
                 OutputPathError,
+                ImpossibleCases,
             ) as error:
                 print(f"error: {error}", file=sys.stderr, flush=True)
                 verdict = ("bad-input", None, None, None, None, None)
+            except OutputFull as error:
+                print(f"error: {error}", file=sys.stderr, flush=True)
+                verdict = ("full", None, None, None, None, None)
+            except IsolatedCallStopped:
+                verdict = ("stopped", None, None, None, None, None)
         kind, config, plan, strategy, layout, existing = comm.bcast(verdict, root=0)
-        if kind != "ok":
-            return EXIT_BAD_INPUT
+        if kind in ("full", "bad-input"):
+            return EXIT_OUTPUT_FULL if kind == "full" else EXIT_BAD_INPUT
         if args.dry_run:
             if rank == 0:
                 _print_plan(config, plan, args, comm.Get_size(), strategy, existing)
             return EXIT_OK
-        if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a signal during start-up
+        if comm.allreduce(stop_event.is_set() or kind == "stopped", op=MPI.LOR):  # start-up
             if rank == 0:
                 print(
                     "stop signal received during start-up: nothing computed, no file "
@@ -386,18 +423,25 @@ def _install_stop_handlers(stop_event: threading.Event) -> None:
         signal.signal(getattr(signal, name), handler)
 
 
-def _settle_existing(config, plan, args, existing, command_line) -> None:
+def _settle_existing(config, plan, args, existing, command_line, stop_event) -> bool:
     """Rank 0, under the lock: --fresh removes the old outputs; a damaged file is salvaged or
-    moved aside (engine.output.salvage)."""
+    moved aside (engine.output.salvage). False when a stop signal ended the salvage (nothing
+    was changed)."""
     from engine.output.hdf5 import remove_outputs
+    from engine.output.isolated import IsolatedCallStopped
     from engine.output.salvage import apply_existing
 
     if args.fresh:
         remove_outputs(config.study.output, config.study.checkpoint_dir)
     elif existing is not None:
-        apply_existing(
-            existing, plan, _metadata(config, command_line, plan), config.study.checkpoint_dir
-        )
+        metadata = _metadata(config, command_line, plan)
+        try:
+            apply_existing(
+                existing, plan, metadata, config.study.checkpoint_dir, should_stop=stop_event.is_set
+            )
+        except IsolatedCallStopped:
+            return False
+    return True
 
 
 def _compute(comm, config, plan, strategy, layout, args, command_line, stop_event, existing) -> int:
@@ -427,8 +471,13 @@ def _compute(comm, config, plan, strategy, layout, args, command_line, stop_even
     scheduler = Scheduler(
         comm, writer.computing(runner), stop_event=stop_event, peers=_STOP_STATE["peers"]
     )
+    settled = True
     if rank == 0:
-        _settle_existing(config, plan, args, existing, command_line)
+        settled = _settle_existing(config, plan, args, existing, command_line, stop_event)
+    if not comm.bcast(settled, root=0):  # every rank, before the writer's first collective call
+        if rank == 0:
+            print("stopped while salvaging the damaged file; nothing changed", file=sys.stderr)
+        return EXIT_INTERRUPTED
     try:
         completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
     except StoppedDuringSetUp as stopped:  # on rank 0, or on every rank at once (mpio)
@@ -443,11 +492,42 @@ def _compute(comm, config, plan, strategy, layout, args, command_line, stop_even
             return EXIT_OK  # replaced by rank 0's code in the final bcast
         todo = plan.dispatch_order(skip=completed)
         _announce(config, plan, completed, todo, comm.Get_size(), writer.announce_suffix)
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
+        report = _run_with_progress(
+            scheduler, writer, plan, completed, todo, args, comm, runner, stop_event
+        )
     _remove_empty_checkpoint_dir(config)
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
-    return _report(config, [row["status"] for row in writer.rows()], report)
+    code = _report(config, [row["status"] for row in writer.rows()], report)
+    return _check_results(config, writer, todo, code)
+
+
+def _check_results(config, writer, todo, code: int) -> int:
+    """A run never ends in success while a case it counts as complete cannot be read: the
+    cases it wrote are read back (engine.output.verify.check_after_run). A full disk ends
+    with its own code (rerun to resume, once there is space)."""
+    from engine.output.verify import check_after_run
+
+    if writer.full is not None:
+        print(f"error: {writer.full}", file=sys.stderr, flush=True)
+        return EXIT_OUTPUT_FULL
+    ran = {case.case_id for case in todo}
+    written = {
+        row["case_id"]
+        for row in writer.rows()
+        if row["case_id"] in ran and row["status"] == CaseStatus.COMPLETED
+    }
+    bad = check_after_run(config.study.output, written)
+    if not bad:
+        return code
+    shown = "; ".join(f"{check.case_id}: {check.problem}" for check in bad[:5])
+    print(
+        f"error: {config.study.output} cannot be read back after writing ({shown}); "
+        "rerun to recompute those cases",
+        file=sys.stderr,
+        flush=True,
+    )
+    return EXIT_DAMAGED
 
 
 def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
@@ -479,7 +559,7 @@ def _idle_ranks_warning(cases: int, ranks: int) -> str | None:
     )
 
 
-def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner):
+def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner, stop_event):
     """Hand out ``todo``; every outcome goes to the writer, then to the progress display.
 
     Rank 0's own cases report their progress through a queue, the workers' by MPI
@@ -487,10 +567,11 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, run
     """
     from engine.output.progress import ProgressChannel, ProgressReporter
 
+    planned = set(plan.case_ids)  # stale cases of a shrunk sweep are not in the plan
     measured = [
         (float(row.get("runtime_s") or 0.0), plan.by_id(row["case_id"]).expected_cost)
         for row in writer.rows()
-        if row.get("status") == CaseStatus.COMPLETED
+        if row.get("status") == CaseStatus.COMPLETED and row["case_id"] in planned
     ]
     progress = ProgressReporter(
         len(plan),
@@ -507,6 +588,8 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, run
     def on_outcome(outcome):
         writer.write(outcome)
         progress.update(outcome)
+        if writer.full is not None:  # no space for more cases: stop handing them out
+            stop_event.set()
 
     try:
         return scheduler.run(todo, on_outcome, on_poll=channel.drain)
