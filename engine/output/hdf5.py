@@ -245,9 +245,11 @@ def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> 
 _SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
 
 
-def reattach_grid_scales(group: h5py.Group) -> None:
+def reattach_grid_scales(group: h5py.Group, source: h5py.Group | None = None) -> None:
     """After ``H5Ocopy`` into another file (salvage) the object references of dimension
-    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own."""
+    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own,
+    in the order the fields were attached in ``source`` (the original group), so the copy's
+    scale attributes equal the original's."""
     paths: list[str] = []
     group.visit(paths.append)
     datasets = [path for path in paths if isinstance(group[path], h5py.Dataset)]
@@ -256,7 +258,27 @@ def reattach_grid_scales(group: h5py.Group) -> None:
         for name in _SCALE_ATTRIBUTES:
             if name in attrs:
                 del attrs[name]
-    attach_grid_scales(group, {path: group[path] for path in datasets})
+    first = attached_fields(source) if source is not None else []
+    ordered = [path for path in first if path in datasets]
+    ordered += [path for path in datasets if path not in ordered]
+    attach_grid_scales(group, {path: group[path] for path in ordered})
+
+
+def attached_fields(group: h5py.Group) -> list[str]:
+    """Paths (relative to ``group``) of the fields attached to its ``grid/x`` scale, in the
+    order they were attached; [] when it cannot be read."""
+    try:
+        references = group["grid/x"].attrs["REFERENCE_LIST"]
+        paths: list[str] = []
+        group.visit(paths.append)
+        objects = {path: group[path] for path in paths}
+        order = []
+        for entry in references:  # a path of an object opened by reference may be unknown
+            target = group.file[entry[0]]
+            order += [path for path, item in objects.items() if item == target]
+        return order
+    except Exception:  # noqa: BLE001 - a damaged list: the default order
+        return []
 
 
 def settle_stale_cases(

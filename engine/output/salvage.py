@@ -33,7 +33,7 @@ from engine.study.plan import Plan
 from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_root
 from .identity import ExistingResults, check_identity, damaged_path, verdict
-from .isolated import call_isolated, time_limit_for
+from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
 
 __all__ = ["scan_damaged", "apply_existing", "readable_copy"]
 
@@ -127,16 +127,23 @@ def apply_existing(
     kept_as = existing.kept_as or damaged_path(path)
     if existing.kind == "salvage":
         temporary = path.with_name(f".{path.name}.salvaged")
-        copied = call_isolated(
-            copy_sound_cases,
-            path,
-            temporary,
-            metadata,
-            list(existing.completed),
-            should_stop=should_stop,
-            time_limit=time_limit_for(path),
-        )
+        try:
+            copied = call_isolated(
+                copy_sound_cases,
+                path,
+                temporary,
+                metadata,
+                list(existing.completed),
+                should_stop=should_stop,
+                time_limit=time_limit_for(path),
+            )
+        except IsolatedCallTimedOut as error:  # HDF5 stuck while copying: start over
+            temporary.unlink(missing_ok=True)
+            copied = []
+            existing.kind, existing.problem = "start-over", f"{existing.problem}; copying: {error}"
+            print(f"note: salvage abandoned ({error}); the study starts over", flush=True)
         existing.completed[:] = copied
+    if existing.kind == "salvage":
         os.replace(path, kept_as)
         os.replace(temporary, path)
     else:
@@ -159,7 +166,7 @@ def copy_sound_cases(
         for case_id in case_ids:
             try:
                 source.copy(source["cases"][case_id], cases, name=case_id)
-                reattach_grid_scales(cases[case_id])
+                reattach_grid_scales(cases[case_id], source["cases"][case_id])
                 copied.append(case_id)
             except Exception:  # noqa: BLE001 - could be read but not copied: recompute
                 if case_id in cases:
