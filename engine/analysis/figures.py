@@ -156,6 +156,13 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if not args.results.exists():
         print(f"error: {args.results}: no such file", file=sys.stderr)
         return 2
+    from .threshold_figures import has_thresholds, threshold_figures
+
+    if has_thresholds(args.results):  # a [search] study: its boundary curves
+        out = args.out or args.results.with_name(f"{args.results.stem}_figures")
+        for path in threshold_figures(args.results, out):
+            print(path)
+        return 0
     from .report import _STUDY_WIDE, study_settings, swept_keys
 
     settings = study_settings(args.results)
