@@ -152,13 +152,29 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--progress-interval",
-        type=float,
+        type=_seconds,
         default=30.0,
         metavar="S",
         help="seconds between progress lines on stderr (cases done, cycles of the running "
         "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
         "0 turns them off (default 30)",
     )
+
+
+MAX_PROGRESS_INTERVAL = 86400.0  # s: a progress line at least once a day
+
+
+def _seconds(text: str) -> float:
+    """--progress-interval: a finite number of seconds in [0, 86400] (0: no progress lines)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not 0.0 <= value <= MAX_PROGRESS_INTERVAL:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(
+            f"{text} must lie in [0, {MAX_PROGRESS_INTERVAL:g}] s (0 turns the lines off)"
+        )
+    return value
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:

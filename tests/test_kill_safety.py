@@ -244,6 +244,31 @@ RANGE_ERRORS = {
     "load tiny": (("load = 750", "load = 1e-300"), "[loading] load", "small strains"),
     "mu huge": (("mu1 = [0.1, 0.4]", "mu1 = [0.1, 1e300]"), "[sweep] mu1", "[0, 10]"),
     "wear huge": (("wear1 = [1.33e-07]", "wear1 = [1e300]"), "[sweep] wear1", "1/MPa"),
+    # every count and control key bounded, the refusal naming the key at fault and why
+    "steps 1e9": (("steps = 4", "steps = 1e9"), "[loading] steps", "write 1000000000"),
+    "steps 10^9": (("steps = 4", "steps = 1000000000"), "[loading] steps", "<= 10000"),
+    "cycles 10^15": (
+        ("cycles = 100\n", "cycles = 1000000000000000\n"),
+        "[loading] cycles",
+        "<= 1e+09",
+    ),
+    "max_wear_fraction 1e300": (
+        ("[loading]\n", "[loading]\nmax_wear_fraction = 1e300\n"),
+        "[loading] max_wear_fraction",
+        "<= 1 (wear per cycle jump",
+    ),
+    "layers 10^6": (("layers = 8", "layers = 1000000"), "[subsurface] layers", "<= 1024"),
+    "depth 1e300": (("depth = 1.0", "depth = 1e300"), "[subsurface] depth", "<= 100"),
+    "maxiter 10^12": (
+        ("beta = [0, 45]\n", SOLVER + "maxiter = 1000000000000\n"),
+        "[solver] maxiter",
+        "<= 1e+07",
+    ),
+    "threads 10^6": (
+        ("beta = [0, 45]\n", SOLVER + "threads = 1000000\n"),
+        "[solver] threads",
+        "<= 1024",
+    ),
 }
 
 
@@ -352,3 +377,20 @@ def test_a_lock_path_that_is_a_directory_is_an_input_error_and_garbage_is_stale(
     lock_path_for(output).write_bytes(b"\xff\xfe not text")  # garbage: a crashed writer's
     with OutputLock(output) as lock:
         assert lock.replaced is not None
+
+
+def test_a_study_file_with_a_byte_order_mark_is_read(tmp_path):
+    from engine.study.config import load_study
+
+    path = tmp_path / "s.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + VALID.encode())  # what some Windows editors write
+    assert load_study(path).resolved() == parse_study(VALID).resolved()
+
+
+@pytest.mark.parametrize("value", ["-5", "nan", "inf", "1e9", "soon"])
+def test_progress_interval_outside_0_to_a_day_is_refused(value, capsys):
+    from engine.cli import build_parser
+
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["s.toml", "--progress-interval", value])
+    assert "--progress-interval" in capsys.readouterr().err
