@@ -177,11 +177,20 @@ def _seconds(text: str) -> float:
     return value
 
 
-def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+def main(
+    argv: list[str] | None = None,
+    prog: str | None = None,
+    stop_event: threading.Event | None = None,
+) -> int:
+    """The command line; ``stop_event``: one that early stop-signal handlers already set
+    (``python -m engine`` installs them before importing this module)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] in _OUTPUT_COMMANDS:
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C ends them at once
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGUSR1, signal.SIG_DFL)
         return _output_command(argv, prog)
-    stop_event = threading.Event()
+    stop_event = stop_event if stop_event is not None else threading.Event()
     _install_stop_handlers(stop_event)  # first: a signal during start-up is a stop, too
     code = _main_mpi(argv, prog, stop_event)
     return _quiet_shutdown(code, stop_event)
