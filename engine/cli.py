@@ -149,7 +149,7 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=30.0,
         metavar="S",
-        help="seconds between progress lines on stderr (cases done, cycles of the running "
+        help="seconds between progress lines on stderr (cases completed, cycles of the running "
         "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
         "0 turns them off (default 30)",
     )
