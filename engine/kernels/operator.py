@@ -41,6 +41,8 @@ class HalfSpaceOperator:
 
     ``apply(p_x, p_y, p_n) -> (u_x, u_y, u_n)`` for the full 3×3 block of Eq. (4);
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
+    ``influence``: the kernels to apply (default: the 3-D half-space kernels of ``grid`` and
+    ``material``; ``engine.kernels.line`` passes the plane-strain kernels of a line grid).
     """
 
     def __init__(
@@ -50,12 +52,13 @@ class HalfSpaceOperator:
         *,
         threads: int = 1,
         planner_effort: str = DEFAULT_EFFORT,
+        influence: SurfaceInfluence | None = None,
     ):
         self.grid = grid
         self.material = material
         self.threads = threads
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
-        self.influence = SurfaceInfluence.build(grid, material)
+        self.influence = influence or SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
         self.planner_effort = planner_effort
         spectra = {}
