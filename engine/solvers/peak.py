@@ -194,7 +194,9 @@ class PeakTracker:
         distance = np.hypot(*np.meshgrid(grid.x, grid.y, indexing="ij"))
         self._centre = distance <= distance.min() * (1.0 + 1e-9) + 1e-12
         self._element_area = grid.element_area
-        self._window, self._band = _centre_band(grid, self.angle)
+        # a line contact's plane (LineSubsurfaceStress, no block) is its row of element
+        # centres already: the plane itself decides the regions there
+        self._centres = _centre_band(grid, self.angle) if hasattr(stress, "block") else None
         self.last_plane: StressField | None = None
 
     def contact_radius(self, pressure: np.ndarray) -> float:
@@ -209,9 +211,15 @@ class PeakTracker:
     def regions(self, pressure, traction_x, traction_y, radius: float) -> tuple[str, str]:
         """Region words of the largest σ_VM over all depths and at z >= 0.1 a0, both taken
         at the element centres beside the plane (module docstring), for contact radius
-        ``radius`` (mm)."""
-        centres = self.stress.block(pressure, traction_x, traction_y, window=self._window)
-        band = np.broadcast_to(self._band[..., None], centres.z.shape)
+        ``radius`` (mm). A line contact's plane (a stress object without ``block``) is its
+        row of element centres: there the last plane decides."""
+        if self._centres is None:
+            centres = self.last_plane
+            band = np.ones(centres.z.shape, dtype=bool)
+        else:
+            window, band = self._centres
+            centres = self.stress.block(pressure, traction_x, traction_y, window=window)
+            band = np.broadcast_to(band[..., None], centres.z.shape)
         words = []
         for mask in (band, band & (centres.z >= self.deep_depth)):
             peak = _maximum(centres, mask)
