@@ -1,10 +1,22 @@
 """``python -m engine STUDY.toml`` — see :mod:`engine.cli`.
 
-mpiexec -n 2 python -m engine studies/demo.toml
+.venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml
+
+A Python without the engine's dependencies (the system's, say) gets one paragraph saying
+which interpreter ran, what it lacks and what to type instead (:mod:`engine.interpreter`).
 """
 
 import sys
 
-from engine.cli import main
+from engine.interpreter import check_interpreter, environment_error
 
-sys.exit(main(prog="python -m engine"))
+if code := check_interpreter(sys.argv[1:]):
+    sys.exit(code)
+try:
+    from engine.cli import main
+
+    code = main(prog="python -m engine")
+except ImportError as error:  # present but broken, e.g. mpi4py without its MPI library
+    print(environment_error([error.name or "?"], sys.argv[1:], str(error)), file=sys.stderr)
+    code = 2
+sys.exit(code)
