@@ -89,3 +89,14 @@ def test_a_launcher_of_another_mpi_is_recognised():
     assert launcher_mismatch(2, {"PMI_SIZE": "2", "PMI_RANK": "0"}) is None  # agree
     assert launcher_mismatch(1, {}) is None  # no launcher: a serial run
     assert launcher_mismatch(1, {"PMI_SIZE": "1"}) is None
+
+
+def test_the_readme_writes_every_command_with_the_environments_programs():
+    """One form throughout: the environment's own programs (``.venv/bin/…``)."""
+    readme = " ".join((REPO / "README.md").read_text().split())  # line breaks as spaces
+    for command in ("python -m engine", "mpiexec -n"):
+        starts = [i for i in range(len(readme)) if readme.startswith(command, i)]
+        assert starts, command
+        for start in starts:
+            context = readme[max(0, start - 40) : start + 40]
+            assert readme[max(0, start - 10) : start] == ".venv/bin/", context
