@@ -77,6 +77,8 @@ __all__ = [
     "grid_dataset",
     "case_dataset",
     "pending_row",
+    "THRESHOLDS_GROUP",
+    "threshold_columns",
 ]
 
 
@@ -395,3 +397,29 @@ def pending_row(parameters: dict[str, Any], status: str = CaseStatus.PENDING) ->
     row.update({k: v for k, v in parameters.items() if k in row or "." in k})
     row["status"] = str(status)
     return row
+
+
+# ------------------------------------------------------------------ thresholds table
+#: Group of the thresholds table of a study with a ``[search]`` section: one 1-D dataset per
+#: column (one entry per search, i.e. per combination of the sweep), the search's settings as
+#: attributes (parameter, column, target, rtol, atol, method, max_steps).
+THRESHOLDS_GROUP = "thresholds"
+
+
+def threshold_columns(parameter: str, parameter_units: str, column: str, column_units: str):
+    """Units and description of the search columns of the thresholds table (the sweep's
+    parameter columns come before them, in the units of the summary)."""
+    where = f"{parameter} ({parameter_units})"
+    value = f"{column} ({column_units})" if column_units else column
+    return {
+        "threshold": DatasetSpec(parameter_units, f"{where} at which {column} crosses the target"),
+        "lower": DatasetSpec(parameter_units, f"lower end of the final bracket, {where}"),
+        "upper": DatasetSpec(parameter_units, f"upper end of the final bracket, {where}"),
+        "lower_value": DatasetSpec(column_units or "1", f"{value} at the lower end"),
+        "upper_value": DatasetSpec(column_units or "1", f"{value} at the upper end"),
+        "steps": DatasetSpec("1", "cases the search took, both ends included"),
+        "status": DatasetSpec(
+            "1", "converged | not-bracketed | not-converged | failed | unfinished"
+        ),
+        "message": DatasetSpec("1", "why a search did not converge (empty otherwise)"),
+    }

@@ -19,8 +19,9 @@ import pandas as pd
 import pytest
 
 import engine
-from engine.cli import _idle_ranks_warning, build_parser
+from engine.cli import build_parser
 from engine.output.progress import ProgressReporter, format_duration, plural
+from engine.run import idle_ranks_warning as _idle_ranks_warning
 from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]

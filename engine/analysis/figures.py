@@ -201,6 +201,13 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if not args.results.exists():
         print(f"error: {args.results}: no such file", file=sys.stderr)
         return 2
+    from .threshold_figures import has_thresholds, threshold_figures
+
+    if has_thresholds(args.results):  # a [search] study: its boundary curves
+        out = args.out or args.results.with_name(f"{args.results.stem}_figures")
+        for number, path in enumerate(threshold_figures(args.results, out), start=1):
+            print(f"plot: [{number}] {path}", flush=True)
+        return 0
     study = read_results(args.results)
     try:
         if args.case is not None:

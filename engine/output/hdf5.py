@@ -523,6 +523,33 @@ class SingleWriter(ResultsWriter):
         if self._commit_flags():
             self._write_summary()
 
+    def add_case(self, case: Case) -> None:
+        """A case created while the study runs (a step of a threshold search): its pending
+        group and summary row, listed after the cases known so far."""
+        if case.case_id in self._rows:
+            return
+        self._reset_group(self._cases, case)
+        self._pristine.add(case.case_id)
+        self._rows[case.case_id] = pending_row(case.parameters())
+        self._order.append(case.case_id)
+
+    def arrange(self, plan: Plan) -> None:
+        """The final order of the cases (``index`` = position in ``plan``; others after it),
+        for a study whose cases were created in the order their outcomes arrived."""
+        planned = set(plan.case_ids)
+        others = [case_id for case_id in self._order if case_id not in planned]
+        renumber_cases(self._cases, plan, others)
+        self._plan = plan
+        self._order = list(plan.case_ids) + others
+
+    def write_thresholds(self, rows: list[dict[str, Any]], spec) -> None:
+        """The thresholds table of a ``[search]`` study (:mod:`engine.output.thresholds`),
+        in the file and as ``NAME_thresholds.csv`` beside the summary."""
+        from .thresholds import thresholds_path, write_thresholds
+
+        write_thresholds(self._file, thresholds_path(self.summary_path), rows, spec)
+        self._file.flush()
+
     def _commit_flags(self, force: bool = False) -> bool:
         """Flush the written cases, then set their ``status`` and flush again — the completion
         flag reaches the file only after the data. Done after every case while that costs

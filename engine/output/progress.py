@@ -197,6 +197,17 @@ class ProgressReporter:
             self._bar.update(1)  # the bar counts completed cases; the others are in its postfix
         self._show_status(force=True)
 
+    def add(self, case) -> None:
+        """A case created while the run goes on (a step of a threshold search): one more to
+        do, waiting at the end of the queue."""
+        self.total += 1
+        self._costs[case.case_id] = float(case.expected_cost)
+        self._waiting[case.case_id] = None
+        self._waiting_cost += self._costs[case.case_id]
+        if self._bar is not None:
+            self._bar.total = self.total
+            self._bar.refresh()
+
     def tick(self) -> None:
         """Print (or refresh the bar with) the status if ``interval`` has passed."""
         self._show_status(force=False)
