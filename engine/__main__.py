@@ -3,15 +3,14 @@
 .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml
 
 A Python without the engine's dependencies (the system's, say) gets one paragraph saying
-which interpreter ran, what it lacks and what to type instead (:mod:`engine.interpreter`).
+which interpreter ran, what it lacks and what to type instead (:mod:`engine.interpreter`,
+checked first thing by :func:`engine.cli.main`).
 """
 
 import sys
 
-from engine.interpreter import check_interpreter, environment_error
+from engine.interpreter import environment_error
 
-if code := check_interpreter(sys.argv[1:]):
-    sys.exit(code)
 try:
     from engine.cli import main
 

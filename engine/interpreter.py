@@ -47,8 +47,9 @@ REQUIRED = {
 }
 OUTPUT_REQUIRED = ("numpy", "h5py", "pandas", "matplotlib")  # plot, report: no MPI
 _OUTPUT_COMMANDS = ("plot", "report")
-# world size the launcher announces to each rank: MPICH/Hydra, Open MPI, SLURM's srun
-_LAUNCHER_SIZE = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE", "SLURM_NTASKS")
+# world size a launcher gives each rank it starts: MPICH's Hydra and srun (PMI), Open MPI.
+# Not SLURM_NTASKS: a serial run inside a many-task allocation is legitimate.
+_LAUNCHER_SIZE = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE")
 
 
 def missing_modules(names: Sequence[str]) -> list[str]:
@@ -112,7 +113,7 @@ def environment_error(missing: Sequence[str], arguments: Sequence[str], detail: 
 
 
 def announced_rank(environ: Mapping[str, str] = os.environ) -> int:
-    """The rank a launcher gave this process (MPICH/Hydra, Open MPI, SLURM), 0 without one."""
+    """The rank a launcher gave this process (MPICH/Hydra, Open MPI, srun), 0 without one."""
     for name in ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID"):
         if environ.get(name, "").isdigit():
             return int(environ[name])
