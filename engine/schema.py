@@ -385,6 +385,8 @@ COLUMN_UNITS = {
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
+    # line contacts with wear only (engine.solvers.scar)
+    "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
 #: What each summary column holds (the manual's outputs reference is generated from these,
@@ -441,6 +443,10 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
     "alpha": "energy wear law: the dissipated-energy wear coefficient",
+    "scar_depth": "line contacts: largest wear depth of the flat",
+    "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
+    "scar_area": "line contacts: worn area of the flat per unit length, Σ h Δx",
+    "pad_wear_depth": "line contacts: largest wear depth of the pad",
 }
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

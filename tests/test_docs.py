@@ -234,8 +234,12 @@ def _known_keys(section: str) -> set[str]:
     from engine.study.examples import study_toml
 
     loading = {"kind": "fretting", "amplitude": 0.001} if section == "loading" else {}
-    wear = {"sweep": {"wear1": [1.33e-7]}}
-    text = study_toml("keys", "keys.h5", wear, {section: {"not_a_key": 1}}, loading=loading)
+    layers = [{"sweep": {"wear1": [1.33e-7]}}]
+    if section in ("mesh", "loading"):  # a line contact: the keys only line contacts take
+        layers.append({"punch": {"shape": "cylinder", "radius": 6.0}})
+        loading["load"] = 185.0  # N/mm
+    layers.append({section: {"not_a_key": 1}})
+    text = study_toml("keys", "keys.h5", *layers, loading=loading)
     with pytest.raises(StudyConfigError) as error:
         parse_study(text)
     assert "unknown key (known: " in str(error.value), str(error.value)

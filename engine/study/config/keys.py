@@ -79,15 +79,20 @@ STUDY_KEYS = (
     _K("material", "nu_B", "number", REQUIRED, "1", "Poisson's ratio of the punch, in (−1, 0.5)"),
     _K("punch", "shape", "text", '"flat"', "–",
        '`"flat"` (flat-ended cylinder, sharp edge), `"rounded"` (flat face with a toroidal '
-       'edge) or `"sphere"`'),
+       'edge), `"sphere"`; line contacts in plane strain: `"cylinder"` or `"pad"` (a flat '
+       'pad with rounded edges)'),
     _K("punch", "radius", "number", REQUIRED, "mm",
-       "flat: punch radius a0; rounded: radius of the flat face; sphere: sphere radius R"),
-    _K("punch", "edge_radius", "number", 'required for `"rounded"`', "mm",
-       'edge radius of a rounded punch (0 is the sharp flat punch); only with `shape = "rounded"`'),
+       "flat: punch radius a0; rounded: radius of the flat face; sphere and cylinder: radius "
+       "R; pad: half-width b of the flat"),
+    _K("punch", "edge_radius", "number", 'required for `"rounded"` and `"pad"`', "mm",
+       'edge radius of a rounded punch (0 is the sharp flat punch) or of a pad\'s rounds'),
     _K("mesh", "n", "integer", REQUIRED, "1", "elements per side of the square grid (≥ 8)"),
     _K("mesh", "half_width", "number",
        "flat: 1.05·radius; rounded: 1.05·(radius + edge_radius); sphere: 1.5 Hertz radii", "mm",
        "half-width of the square grid; a contact that reaches its border fails the case"),
+    _K("mesh", "reference_distance", "number", "10", "mm",
+       "line contacts: distance of the datum of the 2-D surface displacements (the size of the "
+       "bodies; at least 2·half_width)"),
     _K("loading", "kind", "text", REQUIRED, "–",
        '`"static"` (one loading), `"cyclic"` (normal load cycles with wear, the paper\'s '
        'Section 7.2) or `"fretting"` (a held normal load and an oscillating tangential motion)'),
@@ -106,9 +111,15 @@ STUDY_KEYS = (
     _K("loading", "force_amplitude", "number", "one of the two (fretting)", "N",
        "tangential force amplitude Q* (force control); must be below μP"),
     _K("loading", "direction", "number", "0", "degree", "sliding direction, from x (fretting)"),
+    _K("loading", "bulk_stress_max", "number", "0", "MPa",
+       "line fretting: bulk stress along x in the flat at +Q* (or +δ*), in phase with the signal"),
+    _K("loading", "bulk_stress_min", "number", "0", "MPa",
+       "line fretting: bulk stress along x in the flat at −Q* (or −δ*)"),
     _K("wear", "law", "text", '"archard"', "–",
        '`"archard"`: Archard\'s orthotropic law (Eqs. 12–14), `[sweep] wear1, wear2` in 1/MPa; '
        '`"energy"`: depth increment = α × local frictional work, `[sweep] alpha` in mm³/J'),
+    _K("wear", "pad_coefficient", "number", "none (the pad does not wear)", "1/MPa or mm^3/J",
+       "line contacts: the pad's wear coefficient, in the unit of the flat's law"),
     _K("subsurface", "depth", "number", "1.5", "punch radii",
        "depth of the stress plane, in punch radii (sphere: Hertz contact radii)"),
     _K("subsurface", "layers", "integer", "16", "1",
