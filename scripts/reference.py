@@ -12,8 +12,8 @@ Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME 
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
   (:mod:`engine.schema`, the table the writers and the reader share);
-- ``docs/reference/cli.md``, ``cli-run``, ``cli-plot``, ``cli-report``: the help of each
-  command as ``python -m engine`` prints it.
+- ``docs/reference/cli.md``, ``cli-run``, ``cli-plot``, ``cli-report``, ``cli-verify``: the
+  help of each command as ``python -m engine`` prints it.
 """
 
 from __future__ import annotations
@@ -145,6 +145,7 @@ BLOCKS = {
     (CLI, "cli-run"): lambda: _help(),
     (CLI, "cli-plot"): lambda: _help("plot"),
     (CLI, "cli-report"): lambda: _help("report"),
+    (CLI, "cli-verify"): lambda: _help("verify"),
 }
 
 
