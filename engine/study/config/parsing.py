@@ -62,7 +62,7 @@ from typing import Any
 
 from engine.solvers import defaults
 
-from .checks import MAX_FRICTION, MAX_TOLERANCE, check_physical_ranges
+from .checks import MAX_FRICTION, MAX_TOLERANCE, bound, check_physical_ranges
 from .compat import STATIC_PLACEHOLDERS
 from .reader import Section, toml_error
 from .sections import (
@@ -212,7 +212,7 @@ def load_study(path: str | Path) -> StudyConfig:
     path = Path(path)
     source = str(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark is not TOML
     except FileNotFoundError:
         raise StudyConfigError(source, "study", MISSING, "study file not found") from None
     except (OSError, UnicodeDecodeError) as error:
@@ -229,7 +229,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     :func:`engine.study.plan.make_plan`.
     """
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # a byte-order mark is not TOML
     except tomllib.TOMLDecodeError as error:
         raise toml_error(source, text, error) from None
     search_table = data.pop("search", None)
@@ -483,10 +483,10 @@ def _parse_loading(s: Section) -> LoadingConfig:
             | BULK_STRESS_KEYS
         )
     load = s.number("load", minimum=0.0, strict=True, unit="N")
-    steps = s.integer("steps", 10, minimum=1)
+    steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
     if kind == "static":
         return LoadingConfig(kind, load, steps, 0, (), None)
-    cycles = s.integer("cycles", minimum=1)
+    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
     record_raw = s.raw("record", [cycles])
     record_list = record_raw if isinstance(record_raw, list) else [record_raw]
     record = []
@@ -501,7 +501,11 @@ def _parse_loading(s: Section) -> LoadingConfig:
     if len(set(record)) != len(record):
         raise s.error("record", record_raw, "cycles must not repeat")
     max_wear_fraction = s.number(
-        "max_wear_fraction", defaults.MAX_WEAR_FRACTION, minimum=0.0, strict=True
+        "max_wear_fraction",
+        defaults.MAX_WEAR_FRACTION,
+        minimum=0.0,
+        strict=True,
+        **bound("loading.max_wear_fraction"),
     )
     loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
     if kind == "fretting":
@@ -550,8 +554,10 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:
     s.check_known({"depth", "layers"})
     return SubsurfaceConfig(
-        depth=s.number("depth", 1.5, minimum=0.0, strict=True, unit="punch radii"),
-        layers=s.integer("layers", 16, minimum=2),
+        depth=s.number(
+            "depth", 1.5, minimum=0.0, strict=True, unit="punch radii", **bound("subsurface.depth")
+        ),
+        layers=s.integer("layers", 16, minimum=2, **bound("subsurface.layers")),
     )
 
 
@@ -597,8 +603,8 @@ def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
         else defaults.STATIC_TOLERANCE
     )
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
-    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1)
-    threads = s.integer("threads", 1, minimum=1)
+    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
+    threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))
     fft_planner = s.string("fft_planner", "estimate")
     if fft_planner not in ("estimate", "measure"):
         raise s.error("fft_planner", fft_planner, 'must be "estimate" or "measure"')
