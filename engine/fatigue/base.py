@@ -29,7 +29,7 @@ from typing import ClassVar
 import numpy as np
 
 from .history import Elasticity, StressHistory
-from .quantities import AMPLITUDE_METHODS, plane_family
+from .quantities import AMPLITUDE_METHODS, check_plane_step
 
 __all__ = ["CriterionField", "FatigueCriterion", "FatigueOptions"]
 
@@ -49,7 +49,7 @@ class FatigueOptions:
                 f"amplitude_method must be one of {AMPLITUDE_METHODS}, "
                 f"got {self.amplitude_method!r}"
             )
-        plane_family(self.plane_step)  # validates the step
+        check_plane_step(self.plane_step)
 
 
 @dataclass(frozen=True)
