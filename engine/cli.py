@@ -63,7 +63,8 @@ _USAGE = """\
 _DESCRIPTION = """\
 Run a fretting-wear parameter study (flat, rounded or spherical punch; FFT boundary elements)
 across all MPI ranks and gather the results in one HDF5 file with a CSV summary. Launch it with
-`mpiexec -n N python -m engine STUDY.toml` or `srun python -m engine STUDY.toml`.
+`.venv/bin/mpiexec -n N .venv/bin/python -m engine STUDY.toml` (or, the environment
+activated, `mpiexec -n N python -m engine STUDY.toml`; `srun python -m engine …` under SLURM).
 
 subcommands (serial, no MPI):
   plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
@@ -78,7 +79,7 @@ unusable output path, or output in use by another run or holding another study (
 computed or changed), 3 interrupted by a signal (rerun to resume), 4 a case written cannot
 be read back (rerun), 5 the output's file system is full (free space, rerun to resume), 70
 internal error or a dead rank.
-Example: mpiexec -n 2 python -m engine studies/demo.toml --dry-run"""
+Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run"""
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
@@ -155,7 +156,7 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
         type=_seconds,
         default=30.0,
         metavar="S",
-        help="seconds between progress lines on stderr (cases done, cycles of the running "
+        help="seconds between progress lines on stderr (cases completed, cycles of the running "
         "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
         "0 turns them off (default 30)",
     )
@@ -185,6 +186,10 @@ def main(
     """The command line; ``stop_event``: one that early stop-signal handlers already set
     (``python -m engine`` installs them before importing this module)."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    from engine.interpreter import check_interpreter
+
+    if code := check_interpreter(argv):  # a Python without the engine's packages: exit 2
+        return code
     if argv and argv[0] in _OUTPUT_COMMANDS:
         signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C ends them at once
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -215,6 +220,13 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
     from mpi4py import MPI
 
     comm = MPI.COMM_WORLD
+    from engine.interpreter import launcher_mismatch
+
+    mismatch = launcher_mismatch(comm.Get_size())  # an mpiexec of another MPI
+    if mismatch is not None:
+        if mismatch:
+            print(mismatch, file=sys.stderr, flush=True)
+        return EXIT_BAD_INPUT
     rank = comm.Get_rank()
     quiet = contextlib.redirect_stdout(open(os.devnull, "w")) if rank else contextlib.nullcontext()
     quiet_err = (

@@ -36,6 +36,7 @@ import os
 import socket
 import sys
 import threading
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -278,7 +279,7 @@ def _prepare_on_root(
         existing = None
         if not options.fresh:
             existing = inspect(output, plan)
-        return _Prepared(config, plan, strategy, None, existing)
+        return _Prepared(config, plan, strategy, None, _for_searches(config, existing))
     check_output_path(output)
     lock = OutputLock(output)
     lock.acquire()  # before anything else touches the output, fresh included
@@ -297,7 +298,17 @@ def _prepare_on_root(
         existing = inspect(output, plan)
     layout = plan_layout(config, plan)
     _check_space(output, plan, layout, existing)
-    return _Prepared(config, plan, strategy, layout if strategy == "mpio" else None, existing)
+    layout = layout if strategy == "mpio" else None
+    return _Prepared(config, plan, strategy, layout, _for_searches(config, existing))
+
+
+def _for_searches(config, existing):
+    """A ``[search]`` study's cases are its searches' steps, not the plan's combinations:
+    the look at the existing file neither counts them stale nor the combinations new (the
+    searches replay the file, engine.searching)."""
+    if config.search is None or existing is None:
+        return existing
+    return dataclasses.replace(existing, stale=[], new_cases=0)
 
 
 def _check_space(output: Path, plan, layout, existing) -> None:
@@ -329,7 +340,9 @@ def study_metadata(config, command_line: str, plan):
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
-    grid = Grid.square(*mesh) if mesh is not None else None
+    grid = None
+    if mesh is not None:  # a line contact's grid: n elements along x, one along y
+        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -661,7 +674,7 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     output = config.study.output
     print(
         f"study {config.study.name!r} ({config.source}): {plural(len(plan), 'case')}, "
-        + _loading_description(config)
+        + _loading_description(config, plan)
     )
     print(
         f"output {output} = {output.resolve()} (summary {config.study.summary_path}), "
@@ -670,6 +683,17 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     if existing is not None and existing.kind != "resume":
         existing.report(sys.stdout)  # damaged: what a run would do with it
     states = _planned_states(config, plan, existing, options.fresh)
+    if config.search is not None:  # the cases known now: completed steps, the next ones
+        from engine.searching import describe_search, prepare_searches
+
+        searches = prepare_searches(config, plan, fresh=options.fresh)
+        print(describe_search(searches))
+        plan, waiting = searches.plan, {case.case_id for case in searches.todo}
+        fresh_states = _planned_states(config, plan, None, False)  # run, or from a checkpoint
+        states = {
+            case_id: fresh_states[case_id] if case_id in waiting else "complete: skip"
+            for case_id in plan.case_ids
+        }
     if options.fresh:
         present = [
             str(path)
@@ -686,43 +710,86 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     warning = idle_ranks_warning(len(todo), ranks)
     if warning:
         print(warning, file=sys.stderr, flush=True)
-    _print_case_table(plan, todo, states)
+    _print_case_table(plan, todo, states, config.sweep.swept_keys)
 
 
-def _loading_description(config) -> str:
-    """One line on the loading of a study (its first value of each swept key)."""
-    loading = config.loading
+_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+
+
+def _values(plan, key: str) -> list:
+    """The distinct values of parameter ``key`` over the cases of ``plan``, sorted."""
+    values = {case.parameters().get(key) for case in plan}
+    return sorted(value for value in values if value is not None)
+
+
+def _range_text(values: Sequence[float], unit: str = "", form: str = "g") -> str:
+    """``"750 N"``, ``"250, 500, 750 N"`` (up to four values), ``"250 … 1000 N (7 values)"``
+    (``form``: the format of each value)."""
+    suffix = f" {unit}" if unit and unit != "1" else ""
+    if len(values) > 4:
+        first, last = format(values[0], form), format(values[-1], form)
+        return f"{first} … {last}{suffix} ({len(values)} values)"
+    return ", ".join(format(value, form) for value in values) + suffix
+
+
+def _loading_description(config, plan) -> str:
+    """One line on the loading of a study: each value as swept over the plan (the range of a
+    swept key, not only its first value), then the ranges of every swept parameter."""
+
+    from engine.output.summary import column_unit
+
+    def value(name: str, first, unit: str, form: str = "g") -> str:
+        key = f"loading.{name}"
+        return _range_text(_values(plan, key) if key in swept else [first], unit, form)
+
+    loading, swept = config.loading, set(config.sweep.swept_keys)
+    cycles = f"{value('cycles', loading.cycles, '', ',')} cycles"
     what = (
-        f"cyclic, P = {loading.load:g} N, {loading.cycles:,} cycles"
+        f"cyclic, P = {value('load', loading.load, 'N')}, {cycles}"
         if config.is_cyclic
-        else f"static, P = {loading.load:g} N"
+        else f"static, P = {value('load', loading.load, 'N')}"
     )
     if config.is_fretting:
         control = (
-            f"displacement control, amplitude {loading.amplitude:g} mm"
+            f"displacement control, amplitude {value('amplitude', loading.amplitude, 'mm')}"
             if loading.amplitude is not None
-            else f"force control, force_amplitude {loading.force_amplitude:g} N"
+            else "force control, force_amplitude "
+            + value("force_amplitude", loading.force_amplitude, "N")
         )
         what = (
-            f"fretting, P = {loading.load:g} N held, {control} along "
-            f"{loading.direction or 0.0:g}° from x, {loading.cycles:,} cycles"
+            f"fretting, P = {value('load', loading.load, 'N')} held, {control} along "
+            f"{value('direction', loading.direction or 0.0, '')}° from x, {cycles}"
         )
-    if config.sweep.swept_keys:  # the values above are the first of each swept key
-        what += "; swept: " + ", ".join(config.sweep.swept_keys)
-    return what
+    ranges = [
+        f"{key} = {_range_text(values, column_unit(key))}"
+        for key in (*_PARAMETERS, *config.sweep.swept_keys)
+        if len(values := _values(plan, key)) > 1
+    ]
+    return what + ("; swept: " + "; ".join(ranges) if ranges else "")
 
 
-def _print_case_table(plan, todo, states) -> None:
+def _print_case_table(plan, todo, states, swept: Sequence[str]) -> None:
+    """One row per case: the friction, wear and β columns, one column per swept dotted key
+    (headed by the key), the dispatch order and the action."""
     order = {case.case_id: number for number, case in enumerate(todo, start=1)}
+    names = list(swept)
+    widths = [
+        max(len(name), *(len(f"{case.parameters()[key]:g}") for case in plan))
+        for name, key in zip(names, swept, strict=True)
+    ]
+    extra = "".join(f" {name:>{width}s}" for name, width in zip(names, widths, strict=True))
     print(
         f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}"
-        "  order  action"
+        f"{extra}  order  action"
     )
     for case in plan:
         number = order.get(case.case_id)
+        settings = "".join(
+            f" {case.parameters()[key]:>{width}g}" for key, width in zip(swept, widths, strict=True)
+        )
         print(
             f"{case.case_id:<40s} {case.mu1:6g} {case.mu2:6g} {case.wear1:10.4g} "
-            f"{case.wear2:10.4g} {case.beta:6g}  {number if number else '-':>5}  "
+            f"{case.wear2:10.4g} {case.beta:6g}{settings}  {number if number else '-':>5}  "
             f"{states[case.case_id]}"
         )
 

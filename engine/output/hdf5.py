@@ -78,6 +78,7 @@ from .checksum import (
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space
 from .summary import pending_row, write_summary_csv
+from .thresholds import thresholds_path
 
 __all__ = [
     "FORMAT",
@@ -169,11 +170,13 @@ def check_resumable(path: Path, metadata: StudyMetadata) -> None:
 
 
 def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
-    """--fresh: delete the results file, its summary and the checkpoints of a previous run
+    """--fresh: delete the results file, its summary (and thresholds) and the checkpoints of a
+    previous run
     (under the output lock: never while another run holds it, see engine.output.lock)."""
     output.unlink(missing_ok=True)
     creating_path(output).unlink(missing_ok=True)
     output.with_suffix(".csv").unlink(missing_ok=True)
+    thresholds_path(output.with_suffix(".csv")).unlink(missing_ok=True)  # a [search] study's
     if checkpoint_dir.exists():
         shutil.rmtree(checkpoint_dir)
 
@@ -596,12 +599,12 @@ class SingleWriter(ResultsWriter):
             self._write_summary()
 
     def add_case(self, case: Case) -> None:
-        """A case created while the study runs (a step of a threshold search): its pending
-        group and summary row, listed after the cases known so far."""
+        """A case created while the study runs (a step of a threshold search): its summary
+        row (pending), listed after the cases known so far. Its group is created when its
+        outcome is written (one structural change per case on the dispatching thread); a
+        case a stop leaves unstarted has none, and the next run proposes it again."""
         if case.case_id in self._rows:
             return
-        self._reset_group(self._cases, case)
-        self._pristine.add(case.case_id)
         self._rows[case.case_id] = pending_row(case.parameters())
         self._order.append(case.case_id)
 
@@ -610,9 +613,12 @@ class SingleWriter(ResultsWriter):
         for a study whose cases were created in the order their outcomes arrived."""
         planned = set(plan.case_ids)
         others = [case_id for case_id in self._order if case_id not in planned]
-        renumber_cases(self._cases, plan, others)
+        self._order = [case_id for case_id in plan.case_ids if case_id in self._rows] + others
+        for index, case_id in enumerate(self._order):
+            group = self._cases.get(case_id)
+            if group is not None and group.attrs.get("index") != index:
+                group.attrs["index"] = index
         self._plan = plan
-        self._order = list(plan.case_ids) + others
 
     def write_thresholds(self, rows: list[dict[str, Any]], spec) -> None:
         """The thresholds table of a ``[search]`` study (:mod:`engine.output.thresholds`),
