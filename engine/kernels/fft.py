@@ -104,6 +104,37 @@ def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DE
     )
 
 
+class PaddedBuffers:
+    """The aligned buffers of ``PaddedRealFFT`` plans for up to ``capacity`` fields of shape
+    ``(n_x, n_y)``: plans of any batch ≤ ``capacity`` run on their leading part, so one
+    operator keeps one set of buffers for its one-, two- and three-field transforms.
+
+    Forward: ``rows`` (capacity, n_x, 2n_y) float64, ``half`` and ``spectrum`` (capacity,
+    2n_x, n_y + 1) complex128, 21·capacity·n_x·n_y·8 bytes. Inverse: ``spectrum`` and
+    ``output`` (capacity, n_x, 2n_y) float64, 12·capacity·n_x·n_y·8 bytes. All zero at
+    first; the forward plans never write the padding of ``rows`` and ``half``, so it stays
+    zero.
+    """
+
+    def __init__(self, capacity: int, shape: tuple[int, int], direction: str):
+        if direction not in ("forward", "inverse"):
+            raise ValueError(f"direction must be 'forward' or 'inverse', got {direction!r}")
+        nx, ny = (int(n) for n in shape)
+        self.capacity, self.shape, self.direction = int(capacity), (nx, ny), direction
+        self.spectrum = _zeros((capacity, 2 * nx, ny + 1), "complex128")
+        if direction == "forward":
+            self.rows = _zeros((capacity, nx, 2 * ny), "float64")
+            self.half = _zeros((capacity, 2 * nx, ny + 1), "complex128")
+        else:
+            self.output = _zeros((capacity, nx, 2 * ny), "float64")
+
+
+def _zeros(shape: tuple[int, ...], dtype: str) -> np.ndarray:
+    array = pyfftw.empty_aligned(shape, dtype=dtype)
+    array[...] = 0
+    return array
+
+
 class PaddedRealFFT:
     """Real FFTs of ``batch`` fields of shape ``(n_x, n_y)`` zero-padded to ``(2n_x, 2n_y)``
     (``direction="forward"``), or the inverse restricted to the first ``(n_x, n_y)`` block
@@ -116,8 +147,11 @@ class PaddedRealFFT:
     kernel. Forward: write into ``fields`` (batch, n_x, n_y), ``forward()`` returns the
     ``spectrum`` buffer (batch, 2n_x, n_y + 1). Inverse: write into ``spectrum``,
     ``inverse()`` returns a view (batch, n_x, n_y) of the result (valid until the next call;
-    the spectrum is overwritten). Buffers: 21·batch·n_x·n_y·8 bytes (forward), 12·… (inverse),
-    as much as the unpruned transforms of the same batch.
+    the spectrum is overwritten).
+
+    ``buffers``: a ``PaddedBuffers`` of this direction and shape with capacity ≥ ``batch``
+    whose leading part the plans use (default: buffers of their own). The plans are the
+    same either way (same shape, strides and alignment), so are the results, bit for bit.
     """
 
     def __init__(
@@ -128,23 +162,26 @@ class PaddedRealFFT:
         *,
         threads=1,
         effort=DEFAULT_EFFORT,
+        buffers: PaddedBuffers | None = None,
     ):
-        if direction not in ("forward", "inverse"):
-            raise ValueError(f"direction must be 'forward' or 'inverse', got {direction!r}")
-        nx, ny = (int(n) for n in shape)
+        buffers = buffers or PaddedBuffers(batch, shape, direction)
+        if buffers.direction != direction or buffers.shape != tuple(shape):
+            raise ValueError("buffers of another direction or shape")
+        if buffers.capacity < batch:
+            raise ValueError(f"buffers for {buffers.capacity} fields, {batch} asked")
+        nx, ny = buffers.shape
         self.shape = (nx, ny)
         options = dict(threads=threads, effort=effort)
-        self.spectrum = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
+        self.spectrum = buffers.spectrum[:batch]
         if direction == "forward":
-            self._rows = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
-            self._half = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
-            self._row_plan = plan(self._rows, self._half[:, :nx, :], (2,), **options)
-            self._column_plan = plan(self._half, self.spectrum, (1,), **options)
-            self._rows[...] = 0.0  # the padding of _rows and _half stays zero from now on
-            self._half[...] = 0.0
+            self._rows, half = buffers.rows[:batch], buffers.half[:batch]
+            self._row_plan = plan(self._rows, half[:, :nx, :], (2,), **options)
+            self._column_plan = plan(half, self.spectrum, (1,), **options)
             self.fields = self._rows[:, :, :ny]
+            self._rows[...] = 0.0  # timed planners write into the buffers: the padding of
+            half[...] = 0.0  # rows and half is zero again, and stays zero from now on
         else:
-            self._output = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
+            self._output = buffers.output[:batch]
             backward = dict(direction="FFTW_BACKWARD", **options)
             self._column_plan = plan(self.spectrum, self.spectrum, (1,), **backward)
             self._row_plan = plan(self.spectrum[:, :nx, :], self._output, (2,), **backward)

@@ -17,12 +17,13 @@ import numpy as np
 
 from ..grid import Grid
 from ..material import MaterialPair
-from .fft import DEFAULT_EFFORT, PaddedRealFFT, RealFFTPair, wrap_kernel
-from .influence import SurfaceInfluence
+from .fft import DEFAULT_EFFORT, PaddedBuffers, PaddedRealFFT, RealFFTPair, wrap_kernel
+from .influence import SurfaceInfluence, kernel_values
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
-# Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
+# Component order of the block operator: 0 = x, 1 = y, 2 = n (normal); each block is the
+# spectrum of a kernel of SurfaceInfluence with a sign (A_xz = −A_zx, A_yz = −A_zy).
 _BLOCKS = {
     (0, 0): ("xx", 1.0),
     (0, 1): ("xy", 1.0),
@@ -35,12 +36,24 @@ _BLOCKS = {
     (2, 2): ("zz", 1.0),
 }
 
+#: Rows of frequencies whose 3 × 3 symbols ``symbol_bound`` diagonalises at once.
+_SYMBOL_ROWS = 64
+
 
 class HalfSpaceOperator:
     """Relative surface displacements of two half-spaces from surface tractions.
 
     ``apply(p_x, p_y, p_n) -> (u_x, u_y, u_n)`` for the full 3×3 block of Eq. (4);
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
+
+    Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is built
+    the first time a product needs it and kept; the kernel itself is computed in blocks
+    straight into the transform's buffer and not kept. A frictionless case on an uncoupled
+    material (K = 0) builds A_zz only; a frictionless case with K ≠ 0 also A_zx and A_zy (the
+    tangential displacement its pressure produces, from which the reported slip follows);
+    a frictional case all six. The FFT buffers of one direction are shared by the plans of
+    every batch size (``PaddedBuffers``), grown to the largest batch asked.
     """
 
     def __init__(
@@ -55,27 +68,65 @@ class HalfSpaceOperator:
         self.material = material
         self.threads = threads
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
-        self.influence = SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
         self.planner_effort = planner_effort
-        spectra = {}
-        transform = RealFFTPair((1, *self.padded_shape), threads=threads, effort=planner_effort)
-        for key, kernel in self.influence.kernels.items():
-            transform.real[0] = wrap_kernel(kernel, self.padded_shape)
-            spectra[key] = transform.forward()[0].copy()
-        self._spectra = spectra
         # The block of Eq. (4) in Fourier space, with the 1/(4 n_x n_y) of the inverse FFT
         # folded in (the pruned transforms of PaddedRealFFT are unnormalised).
         self._scale = 1.0 / (self.padded_shape[0] * self.padded_shape[1])
-        self._full = np.empty((3, 3, *spectra["zz"].shape), dtype=complex)
-        for (a, b), (key, sign) in _BLOCKS.items():
-            np.multiply(spectra[key], sign * self._scale, out=self._full[a, b])
-        self._ffts: dict[int, PaddedRealFFT] = {}
-        self._inverse_ffts: dict[int, PaddedRealFFT] = {}
-        self._product = np.empty_like(spectra["zz"])
+        self._spectra: dict[str, np.ndarray] = {}
+        self._influence: SurfaceInfluence | None = None
+        self._self_coefficients: dict[str, float] = {}
+        self._transforms = {"forward": {}, "inverse": {}}
+        self._buffers: dict[str, PaddedBuffers] = {}
+        self._product: np.ndarray | None = None
         self.applications = 0
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
+        self.spectrum("zz")  # every case needs A_zz: built now, with the operator
+
+    @property
+    def influence(self) -> SurfaceInfluence:
+        """All six kernels on the offset grid (built on first use, for tests and small
+        grids: the operator itself never needs them at once)."""
+        if self._influence is None:
+            self._influence = SurfaceInfluence.build(self.grid, self.material)
+        return self._influence
+
+    @property
+    def spectra_bytes(self) -> int:
+        """Memory held by the kernel spectra built so far (bytes)."""
+        return sum(spectrum.nbytes for spectrum in self._spectra.values())
+
+    def kernel(self, key: str, index_x: np.ndarray, index_y: np.ndarray) -> np.ndarray:
+        """Kernel ``key`` (mm/MPa) at the offsets (i Δx, j Δy), i in ``index_x``, j in
+        ``index_y`` (``engine.kernels.influence.kernel_values``)."""
+        return kernel_values(self.grid, self.material, key, index_x, index_y)
+
+    def self_coefficient(self, key: str) -> float:
+        """An element's own coefficient of kernel ``key`` (offset 0; mm/MPa)."""
+        if key not in self._self_coefficients:
+            value = self.kernel(key, np.array([0]), np.array([0]))[0, 0]
+            self._self_coefficients[key] = float(value)
+        return self._self_coefficients[key]
+
+    def spectrum(self, key: str) -> np.ndarray:
+        """The spectrum of kernel ``key`` on the padded grid, 1/(4 n_x n_y) folded in
+        (complex, (2n_x, n_y + 1)); built on first use: the kernel is evaluated in blocks
+        straight into the transform's buffer in circulant order (``wrap_kernel``'s layout)."""
+        if key not in self._spectra:
+            nx, ny = self.grid.shape
+            transform = RealFFTPair(
+                (1, *self.padded_shape), threads=self.threads, effort=self._effort
+            )
+            index_y = np.arange(-(ny - 1), ny)
+            columns = index_y % self.padded_shape[1]
+            block = max(1, (1 << 16) // index_y.size)
+            for start in range(-(nx - 1), nx, block):
+                index_x = np.arange(start, min(start + block, nx))
+                rows = index_x % self.padded_shape[0]
+                transform.real[0][np.ix_(rows, columns)] = self.kernel(key, index_x, index_y)
+            self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
+        return self._spectra[key]
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -84,69 +135,114 @@ class HalfSpaceOperator:
             self._preconditioner = SpectralPreconditioner(self)
         return self._preconditioner
 
-    def _fft(self, batch: int, store: dict) -> PaddedRealFFT:
-        """Plans and buffers per batch size, forward (``_ffts``) or inverse."""
-        if batch not in store:
-            direction = "forward" if store is self._ffts else "inverse"
-            store[batch] = PaddedRealFFT(
-                batch, self.grid.shape, direction, threads=self.threads, effort=self._effort
-            )
-        return store[batch]
+    def _fft(self, batch: int, direction: str) -> PaddedRealFFT:
+        """Plans per batch size and direction on shared buffers: asked for more fields than
+        the buffers hold, the buffers are replaced by larger ones (the old ones released
+        first) and the plans made again on them (the same plans: estimate plans depend on
+        shape, strides and alignment only)."""
+        plans = self._transforms[direction]
+        if batch not in plans:
+            buffers = self._buffers.get(direction)
+            if buffers is None or buffers.capacity < batch:
+                sizes = sorted({batch, *plans})
+                plans.clear()
+                self._buffers.pop(direction, None)
+                del buffers
+                buffers = PaddedBuffers(sizes[-1], self.grid.shape, direction)
+                self._buffers[direction] = buffers
+                for size in sizes:
+                    plans[size] = self._plan(size, direction, buffers)
+            else:
+                plans[batch] = self._plan(batch, direction, buffers)
+        return plans[batch]
 
-    def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:
-        """Apply a (rows × columns) block of kernel spectra to ``fields`` (columns)."""
+    def _plan(self, batch: int, direction: str, buffers: PaddedBuffers) -> PaddedRealFFT:
+        return PaddedRealFFT(
+            batch,
+            self.grid.shape,
+            direction,
+            threads=self.threads,
+            effort=self._effort,
+            buffers=buffers,
+        )
+
+    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
+        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
+        (kernel, sign) of output a and field b (``_BLOCKS``)."""
         columns = len(fields)
-        fft = self._fft(columns, self._ffts)
+        fft = self._fft(columns, "forward")
         for index, field in enumerate(fields):
             fft.fields[index] = field
         spectrum = fft.forward()
-        rows = block.shape[0]
-        out_fft = self._fft(rows, self._inverse_ffts)
-        product = self._product
-        for a in range(rows):
+        out_fft = self._fft(len(rows), "inverse")
+        for a, row in enumerate(rows):
             target = out_fft.spectrum[a]
-            np.multiply(block[a, 0], spectrum[0], out=target)
+            key, sign = row[0]
+            np.multiply(self.spectrum(key), spectrum[0], out=target)
+            if sign < 0:
+                np.negative(target, out=target)
             for b in range(1, columns):
-                np.multiply(block[a, b], spectrum[b], out=product)
-                target += product
+                key, sign = row[b]
+                product = self._product_buffer()
+                np.multiply(self.spectrum(key), spectrum[b], out=product)
+                if sign > 0:
+                    target += product
+                else:
+                    target -= product
         self.applications += 1
         return out_fft.inverse().copy()
 
+    def _product_buffer(self) -> np.ndarray:
+        if self._product is None:
+            self._product = np.empty_like(self._spectra["zz"])
+        return self._product
+
+    @staticmethod
+    def _rows(outputs: range, inputs: range) -> tuple:
+        return tuple(tuple(_BLOCKS[(a, b)] for b in inputs) for a in outputs)
+
     def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
         """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
-        u = self._convolve(self._full, [p_x, p_y, p_n])
+        u = self._convolve(self._rows(range(3), range(3)), [p_x, p_y, p_n])
         return u[0], u[1], u[2]
 
     def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
         """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
-        return self._convolve(self._full[2:, 2:], [p_n])[0]
+        return self._convolve(self._rows(range(2, 3), range(2, 3)), [p_n])[0]
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
-        u = self._convolve(self._full[:2, :2], [p_x, p_y])
+        u = self._convolve(self._rows(range(2), range(2)), [p_x, p_y])
         return u[0], u[1]
 
     def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
         """A_zx p_x + A_zy p_y (mm): normal displacement due to tangential tractions."""
-        return self._convolve(self._full[2:, :2], [p_x, p_y])[0]
+        return self._convolve(self._rows(range(2, 3), range(2)), [p_x, p_y])[0]
 
     def coupling_to_tangential(self, p_n: np.ndarray):
-        """(A_xz p_n, A_yz p_n) (mm): tangential displacement due to pressure."""
-        u = self._convolve(self._full[:2, 2:], [p_n])
+        """(A_xz p_n, A_yz p_n) (mm): tangential displacement due to pressure (zero on an
+        uncoupled material, K = 0, without building the coupling spectra)."""
+        if self.material.coupling == 0.0:
+            return np.zeros(self.grid.shape), np.zeros(self.grid.shape)
+        u = self._convolve(self._rows(range(2), range(2, 3)), [p_n])
         return u[0], u[1]
 
     def symbol_bound(self) -> float:
         """An upper bound of the largest eigenvalue of A (mm/MPa): max over frequencies of
         the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric);
-        computed once."""
+        computed once, ``_SYMBOL_ROWS`` rows of frequencies at a time."""
         if self._symbol_bound is None:
-            symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
-            hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
-            self._symbol_bound = float(np.linalg.eigvalsh(hermitian).max())
+            rows = self.padded_shape[0]
+            largest = -np.inf
+            for start in range(0, rows, _SYMBOL_ROWS):
+                part = slice(start, min(start + _SYMBOL_ROWS, rows))
+                symbol = np.empty((part.stop - start, self.grid.n_y + 1, 3, 3), dtype=complex)
+                for (a, b), (key, sign) in _BLOCKS.items():
+                    np.multiply(self.spectrum(key)[part], sign, out=symbol[..., a, b])
+                hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
+                largest = max(largest, float(np.linalg.eigvalsh(hermitian).max()))
+            self._symbol_bound = largest
         return self._symbol_bound
-
-    def normal_symbol_bound(self) -> float:
-        return float(np.abs(self._spectra["zz"]).max())
 
 
 def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -166,27 +262,46 @@ class SpectralPreconditioner:
     Applied to a residual (gap or slip, mm) it returns a traction-like correction (MPa):
     the discrete analogue of the |ξ| (Dirichlet-to-Neumann) operator that cancels the 1/|ξ|
     smoothing of A, so that CG iterations no longer grow with the number of elements.
+    The normal part (A_zz) is built with the preconditioner, the tangential part (A_xx,
+    A_xy, A_yy) on its first use; each folded kernel is evaluated on the cell's offsets only.
     """
 
     def __init__(self, operator: HalfSpaceOperator):
-        grid = operator.grid
-        self.shape = grid.shape
-        kernels = operator.influence.kernels
-        spectrum = {
-            key: np.fft.rfft2(fold_periodic(kernels[key], self.shape)).real
-            for key in ("zz", "xx", "yy", "xy")
-        }
-        self._normal = 1.0 / spectrum["zz"]
-        determinant = spectrum["xx"] * spectrum["yy"] - spectrum["xy"] ** 2
-        self._tangential = (
-            spectrum["yy"] / determinant,
-            -spectrum["xy"] / determinant,
-            spectrum["xx"] / determinant,
-        )
+        self._operator = operator
+        self.shape = operator.grid.shape
+        self._normal = 1.0 / self._periodic_spectrum("zz")
+        self._tangential: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         # pyfftw plans of the operator's kind (estimate by default: reproducible bits).
-        effort, threads = operator.planner_effort, operator.threads
-        self._one = RealFFTPair((1, *self.shape), threads=threads, effort=effort)
-        self._two = RealFFTPair((2, *self.shape), threads=threads, effort=effort)
+        self._one = self._transform(1)
+        self._two: RealFFTPair | None = None
+
+    def _transform(self, batch: int) -> RealFFTPair:
+        operator = self._operator
+        return RealFFTPair(
+            (batch, *self.shape), threads=operator.threads, effort=operator.planner_effort
+        )
+
+    def _periodic_spectrum(self, key: str) -> np.ndarray:
+        """Real part of the spectrum of kernel ``key`` folded into the periodic cell
+        (``fold_periodic``: offsets −n/2 … n/2 − 1 on each axis, evaluated only there)."""
+        nx, ny = self.shape
+        ia = np.arange(-(nx // 2), nx - nx // 2)
+        ib = np.arange(-(ny // 2), ny - ny // 2)
+        folded = np.zeros(self.shape)
+        folded[np.ix_(ia % nx, ib % ny)] = self._operator.kernel(key, ia, ib)
+        return np.fft.rfft2(folded).real
+
+    def _tangential_symbols(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if self._tangential is None:
+            spectrum = {key: self._periodic_spectrum(key) for key in ("xx", "yy", "xy")}
+            determinant = spectrum["xx"] * spectrum["yy"] - spectrum["xy"] ** 2
+            self._tangential = (
+                spectrum["yy"] / determinant,
+                -spectrum["xy"] / determinant,
+                spectrum["xx"] / determinant,
+            )
+            self._two = self._transform(2)
+        return self._tangential
 
     def normal(self, residual: np.ndarray) -> np.ndarray:
         fft = self._one
@@ -196,12 +311,12 @@ class SpectralPreconditioner:
         return fft.inverse()[0].copy()
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
+        ixx, ixy, iyy = self._tangential_symbols()
         fft = self._two
         fft.real[0] = rx
         fft.real[1] = ry
         spectrum = fft.forward()
         fx, fy = spectrum[0].copy(), spectrum[1]
-        ixx, ixy, iyy = self._tangential
         spectrum[0] = ixx * fx + ixy * fy
         spectrum[1] = ixy * fx + iyy * fy
         real = fft.inverse()
