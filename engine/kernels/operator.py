@@ -18,7 +18,7 @@ import numpy as np
 from ..grid import Grid
 from ..material import MaterialPair
 from .fft import DEFAULT_EFFORT, PaddedBuffers, PaddedRealFFT, RealFFTPair, wrap_kernel
-from .influence import SurfaceInfluence, kernel_values
+from .influence import KERNEL_PARITY, SurfaceInfluence, kernel_quadrant, kernel_values
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
@@ -35,6 +35,11 @@ _BLOCKS = {
     (2, 1): ("zy", 1.0),
     (2, 2): ("zz", 1.0),
 }
+
+#: Kernel spectra built together (one transform): the normal one and the coupling ones
+#: (every case on a coupled material needs them: the slip of a frictionless case is the
+#: tangential displacement of its pressure), then the tangential block.
+_SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
 
 #: Rows of frequencies whose 3 × 3 symbols ``symbol_bound`` diagonalises at once.
 _SYMBOL_ROWS = 64
@@ -82,7 +87,8 @@ class HalfSpaceOperator:
         self.applications = 0
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
-        self.spectrum("zz")  # every case needs A_zz: built now, with the operator
+        # Built now, with the operator: A_zz, and on a coupled material A_zx and A_zy.
+        self._build_spectra(("zz", "zx", "zy") if material.coupling != 0.0 else ("zz",))
 
     @property
     def influence(self) -> SurfaceInfluence:
@@ -111,22 +117,29 @@ class HalfSpaceOperator:
 
     def spectrum(self, key: str) -> np.ndarray:
         """The spectrum of kernel ``key`` on the padded grid, 1/(4 n_x n_y) folded in
-        (complex, (2n_x, n_y + 1)); built on first use: the kernel is evaluated in blocks
-        straight into the transform's buffer in circulant order (``wrap_kernel``'s layout)."""
+        (complex, (2n_x, n_y + 1)); built on first use with the others of its group
+        (``_SPECTRUM_GROUPS``)."""
         if key not in self._spectra:
-            nx, ny = self.grid.shape
-            transform = RealFFTPair(
-                (1, *self.padded_shape), threads=self.threads, effort=self._effort
-            )
-            index_y = np.arange(-(ny - 1), ny)
-            columns = index_y % self.padded_shape[1]
-            block = max(1, (1 << 16) // index_y.size)
-            for start in range(-(nx - 1), nx, block):
-                index_x = np.arange(start, min(start + block, nx))
-                rows = index_x % self.padded_shape[0]
-                transform.real[0][np.ix_(rows, columns)] = self.kernel(key, index_x, index_y)
-            self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
+            group = next(keys for keys in _SPECTRUM_GROUPS if key in keys)
+            self._build_spectra(group)
         return self._spectra[key]
+
+    def _build_spectra(self, keys: tuple[str, ...]) -> None:
+        """Spectra of ``keys`` through one transform: each kernel's quadrant
+        (``kernel_quadrant``) is written into the transform's buffer in circulant order
+        (``wrap_kernel``'s layout: offset k at index k mod 2n), mirrored with its parity."""
+        nx, ny = self.grid.shape
+        transform = RealFFTPair((1, *self.padded_shape), threads=self.threads, effort=self._effort)
+        real = transform.real[0]
+        for key in keys:
+            quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
+            parity_x, parity_y = KERNEL_PARITY[key]
+            real[...] = 0.0
+            real[:nx, :ny] = quadrant
+            real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
+            real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
+            real[-1:-nx:-1, -1:-ny:-1] = (parity_x * parity_y) * quadrant[1:, 1:]
+            self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
