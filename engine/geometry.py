@@ -156,12 +156,16 @@ class ContactReachesBorder(RuntimeError):
 def may_reach_border(profile: Profile, grid: Grid) -> bool:
     """True when the punch has a surface beyond the grid's edge, so the contact could be
     truncated by it (never for a flat punch on a grid covering its face)."""
-    return profile.extent > min(grid.half_width_x, grid.half_width_y)
+    half_width = grid.half_width_x if grid.is_line else min(grid.half_width_x, grid.half_width_y)
+    return profile.extent > half_width
 
 
 def border_contact(pressure: np.ndarray) -> int:
-    """Number of elements of the outermost ring of the grid carrying pressure (> 0)."""
+    """Number of elements of the outermost ring of the grid carrying pressure (> 0); on a
+    line grid (one element along y) the ring is the two end elements along x."""
     pressure = np.asarray(pressure)
     ring = np.zeros(pressure.shape, dtype=bool)
-    ring[0, :] = ring[-1, :] = ring[:, 0] = ring[:, -1] = True
+    ring[0, :] = ring[-1, :] = True
+    if pressure.shape[1] > 1:
+        ring[:, 0] = ring[:, -1] = True
     return int(np.count_nonzero(pressure[ring] > 0.0))

@@ -3,6 +3,11 @@
 Convention used everywhere in the package: a surface field is a float array of shape
 ``(n_x, n_y)`` indexed ``[i, j]`` at the element centre ``(x[i], y[j])`` ("ij" indexing,
 axis 0 is x, axis 1 is y). Lengths in mm; the grid is centred on the punch axis.
+
+A *line grid* (:meth:`Grid.line`) is the 1-D grid of a plane-strain (line) contact: ``n``
+elements along x and one element of unit length along y (``n_y = 1``, Δy = 1 mm), so that
+loads "per unit length" (N/mm) are the loads on this 1 mm slice (N) and every solver written
+for ``(n_x, n_y)`` fields runs unchanged on ``(n, 1)`` fields.
 """
 
 from __future__ import annotations
@@ -13,6 +18,8 @@ from functools import cached_property
 import numpy as np
 
 from .validation import require_positive
+
+LINE_HALF_LENGTH = 0.5  # mm: a line grid's one element along y is 1 mm long
 
 
 @dataclass(frozen=True)
@@ -25,11 +32,26 @@ class Grid:
     def __post_init__(self) -> None:
         for name in ("n_x", "n_y"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 2:
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                 raise ValueError(f"{name} must be an integer >= 2, got {value!r}")
             object.__setattr__(self, name, int(value))
         for name in ("half_width_x", "half_width_y"):
             object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+        line = self.n_y == 1 and self.half_width_y == LINE_HALF_LENGTH
+        if self.n_x < 2 or (self.n_y < 2 and not line):
+            name, value = ("n_x", self.n_x) if self.n_x < 2 else ("n_y", self.n_y)
+            raise ValueError(f"{name} must be an integer >= 2, got {value!r}")
+
+    @classmethod
+    def line(cls, n: int, half_width: float) -> Grid:
+        """``n`` elements over ``[-half_width, half_width]`` (mm) along x and one element of
+        unit length (1 mm) along y: the grid of a plane-strain line contact."""
+        return cls(n, 1, half_width, LINE_HALF_LENGTH)
+
+    @property
+    def is_line(self) -> bool:
+        """True for a line grid (plane strain, one element of unit length along y)."""
+        return self.n_y == 1
 
     @classmethod
     def square(cls, n: int, half_width: float) -> Grid:

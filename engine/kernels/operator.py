@@ -57,7 +57,9 @@ class HalfSpaceOperator:
     straight into the transform's buffer and not kept. A frictionless case on an uncoupled
     material (K = 0) builds A_zz only; a frictionless case with K ≠ 0 also A_zx and A_zy (the
     tangential displacement its pressure produces, from which the reported slip follows);
-    a frictional case all six. The FFT buffers of one direction are shared by the plans of
+    a frictional case all six. ``influence``: kernels given whole instead (default: the
+    3-D half-space kernels of ``grid`` and ``material``, evaluated as needed;
+    ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT buffers of one direction are shared by the plans of
     every batch size (``PaddedBuffers``), grown to the largest batch asked.
     """
 
@@ -68,6 +70,7 @@ class HalfSpaceOperator:
         *,
         threads: int = 1,
         planner_effort: str = DEFAULT_EFFORT,
+        influence: SurfaceInfluence | None = None,
     ):
         self.grid = grid
         self.material = material
@@ -79,7 +82,8 @@ class HalfSpaceOperator:
         # folded in (the pruned transforms of PaddedRealFFT are unnormalised).
         self._scale = 1.0 / (self.padded_shape[0] * self.padded_shape[1])
         self._spectra: dict[str, np.ndarray] = {}
-        self._influence: SurfaceInfluence | None = None
+        self._influence = influence
+        self._given = influence is not None  # kernels given whole (line grids)
         self._self_coefficients: dict[str, float] = {}
         self._transforms = {"forward": {}, "inverse": {}}
         self._buffers: dict[str, PaddedBuffers] = {}
@@ -105,7 +109,11 @@ class HalfSpaceOperator:
 
     def kernel(self, key: str, index_x: np.ndarray, index_y: np.ndarray) -> np.ndarray:
         """Kernel ``key`` (mm/MPa) at the offsets (i Δx, j Δy), i in ``index_x``, j in
-        ``index_y`` (``engine.kernels.influence.kernel_values``)."""
+        ``index_y`` (``engine.kernels.influence.kernel_values``, or the given kernels)."""
+        if self._given:
+            nx, ny = self.grid.shape
+            rows, columns = np.asarray(index_x) + nx - 1, np.asarray(index_y) + ny - 1
+            return self._influence.kernels[key][np.ix_(rows, columns)]
         return kernel_values(self.grid, self.material, key, index_x, index_y)
 
     def self_coefficient(self, key: str) -> float:
@@ -132,6 +140,10 @@ class HalfSpaceOperator:
         transform = RealFFTPair((1, *self.padded_shape), threads=self.threads, effort=self._effort)
         real = transform.real[0]
         for key in keys:
+            if self._given:
+                real[...] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
+                self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
+                continue
             quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
             parity_x, parity_y = KERNEL_PARITY[key]
             real[...] = 0.0

@@ -29,6 +29,14 @@ increment solve warm-started from the previous evaluation. It stops when
 simulated cycle (which differs only by one jump of wear), else the last increment's δ plus
 ΔQ over the secant stiffness of the last increment.
 
+Bulk stress (fretting fatigue, line contacts): a stress σ_B along x in the half-space (the
+flat specimen) oscillates in phase with the signal, ``bulk_stress_max`` at +A and
+``bulk_stress_min`` at −A. Their mean is applied before the normal load and moves no contact
+point; after it, every change Δσ_B strains the flat's surface by Δε = (1 − ν_A²) Δσ_B / E_A
+(plane strain), a displacement Δε·x measured from the material point under the punch axis
+that adds to the slip: Δs = u_t + Δε·x − u_t^prev − Δδ (:func:`shifted_state`). This is
+Nowell & Hills' (1987) problem; ``engine.reference.line_contact`` has its stick-zone shift.
+
 One simulated cycle is +A → −A → +A (4·``steps`` increments) starting where the last one
 ended; the normal loading and the first quarter 0 → +A are solved once, in
 :meth:`FrettingAnalysis.initial_state`. Cycle jumping, warm starts, records and checkpoints
@@ -86,7 +94,9 @@ class FrettingSettings:
     normal loading), ``cycles``, ``amplitude`` (mm) XOR ``force_amplitude`` (N),
     ``direction`` θ (degrees from x), ``record``, ``max_wear_fraction``, ``max_jump_growth``,
     ``warm_start`` as :class:`~engine.solvers.cyclic.CyclicSettings`; ``force_tol`` relative
-    to the force amplitude."""
+    to the force amplitude. ``bulk_stress_max``/``bulk_stress_min`` (MPa): a bulk stress σ_B
+    along x in the half-space (the flat of a fretting-fatigue test), in phase with the signal
+    (line contacts only, :meth:`FrettingAnalysis.bulk_strain`)."""
 
     load: float
     steps: int
@@ -99,6 +109,8 @@ class FrettingSettings:
     max_jump_growth: float = MAX_JUMP_GROWTH
     warm_start: str = "previous_cycle"
     force_tol: float = FORCE_TOL
+    bulk_stress_max: float = 0.0
+    bulk_stress_min: float = 0.0
 
     def __post_init__(self) -> None:
         if (self.amplitude is None) == (self.force_amplitude is None):
@@ -110,7 +122,23 @@ class FrettingSettings:
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        for name in ("bulk_stress_max", "bulk_stress_min"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(
+                    f"{name} must be a finite number (MPa), got {getattr(self, name)!r}"
+                )
         check_schedule(self)
+
+    @property
+    def has_bulk_stress(self) -> bool:
+        return self.bulk_stress_max != 0.0 or self.bulk_stress_min != 0.0
+
+    def bulk_stress(self, value: float) -> float:
+        """σ_B (MPa) at the signal ``value``: in phase with it, ``bulk_stress_max`` at +A and
+        ``bulk_stress_min`` at −A, their mean at 0 (applied before the normal load)."""
+        mean = 0.5 * (self.bulk_stress_max + self.bulk_stress_min)
+        half_range = 0.5 * (self.bulk_stress_max - self.bulk_stress_min)
+        return mean + half_range * value / self.signal_amplitude
 
     @property
     def control(self) -> str:
@@ -138,18 +166,34 @@ class FrettingSettings:
         return np.concatenate([down, up])
 
 
-def shifted_state(state: ContactState, rigid_increment: np.ndarray) -> ContactState:
+def shifted_state(
+    state: ContactState, rigid_increment: np.ndarray, stretch: np.ndarray | None = None
+) -> ContactState:
     """``state`` with its tangential displacements shifted by the rigid increment Δδ (mm):
     the contact solver's slip u_t − u_t^prev then is u_t − u_t^prev − Δδ (Eq. 2, g_t,o = −δ).
-    The arrays are new; ``state`` is unchanged."""
+    ``stretch`` (mm, (n_x, n_y)): an imposed increment of the half-space's surface
+    displacement along x (the bulk strain of :func:`bulk_stretch`), which adds to the slip:
+    Δs = u_t + stretch − u_t^prev − Δδ. The arrays are new; ``state`` is unchanged."""
+    displacement_x = state.displacement_x + float(rigid_increment[0])
+    if stretch is not None:
+        displacement_x = displacement_x - stretch
     return ContactState(
         state.pressure,
         state.traction_x,
         state.traction_y,
-        state.displacement_x + float(rigid_increment[0]),
+        displacement_x,
         state.displacement_y + float(rigid_increment[1]),
         state.approach,
     )
+
+
+def bulk_stretch(grid, strain_increment: float) -> np.ndarray:
+    """Δε·x (mm, (n_x, n_y)): the surface displacement along x of the half-space (the flat)
+    when its bulk strain along x grows by ``strain_increment`` Δε, measured from the
+    material point under the punch axis (x = 0), which the punch's rigid displacement δ
+    refers to (fretting fatigue: Nowell & Hills 1987; ``engine.reference.line_contact``)."""
+    x, _ = grid.coordinates()
+    return strain_increment * x
 
 
 def total_force(result, element_area: float) -> np.ndarray:
@@ -194,12 +238,14 @@ class TangentialDriver:
         self.force_tol = force_tol
         self.area = solver.grid.element_area
 
-    def displacement(self, state, rigid_previous, rigid, wear=None, guess=None):
-        """Displacement control: the punch moves from ``rigid_previous`` to ``rigid`` (mm)."""
+    def displacement(self, state, rigid_previous, rigid, wear=None, guess=None, stretch=None):
+        """Displacement control: the punch moves from ``rigid_previous`` to ``rigid`` (mm);
+        ``stretch``: the half-space's imposed surface displacement increment (mm, field of
+        :func:`bulk_stretch`) or None."""
         rigid = np.asarray(rigid, dtype=float)
         increment = rigid - np.asarray(rigid_previous, dtype=float)
         result = self.solver.solve_load(
-            self.load, shifted_state(state, increment), wear=wear, guess=guess
+            self.load, shifted_state(state, increment, stretch), wear=wear, guess=guess
         )
         return TangentialIncrement(
             result,
@@ -216,9 +262,9 @@ class TangentialDriver:
         """Force control: find δ = s·d with Q(δ)·d = ``target`` (N) to ``force_tol``·``scale``.
 
         ``first_guess`` s₀ (mm); ``stiffness`` dQ/ds estimate (N/mm, > 0) for the second
-        point and for growing the steps until the target is bracketed. ``options``: ``wear``
-        and ``guess`` (the first evaluation's starting point)."""
-        wear, guess = options.get("wear"), options.get("guess")
+        point and for growing the steps until the target is bracketed. ``options``: ``wear``,
+        ``guess`` (the first evaluation's starting point) and ``stretch``."""
+        wear, guess, stretch = options.get("wear"), options.get("guess"), options.get("stretch")
         tolerance = self.force_tol * scale
         rigid_previous = np.asarray(rigid_previous, dtype=float)
         evaluations, matvecs = 0, 0
@@ -227,7 +273,9 @@ class TangentialDriver:
         s, best = float(first_guess), None
         side = 0  # Illinois: the bracket end kept twice in a row
         while evaluations < MAX_EVALUATIONS:
-            step = self.displacement(state, rigid_previous, s * self.direction, wear, guess)
+            step = self.displacement(
+                state, rigid_previous, s * self.direction, wear, guess, stretch
+            )
             evaluations += 1
             matvecs += step.matvecs
             guess = step.result.state
@@ -319,7 +367,15 @@ class FrettingAnalysis(CyclicAnalysis):
         increment_probe: Callable[..., tuple[float, float, float, float]] | None = None,
     ):
         super().__init__(solver, wear_law, settings, peak_probe)  # type: ignore[arg-type]
+        if settings.has_bulk_stress and not solver.grid.is_line:
+            raise ValueError(
+                "bulk_stress_max/bulk_stress_min apply to line (plane-strain) contacts only"
+            )
         self.increment_probe = increment_probe
+        self.peak_bulk_stress = 0.0  # σ_B (MPa) at the peak increment of the last cycle
+        # Called with σ_B (MPa) before each probe, so that the stresses the probes evaluate
+        # include the bulk stress of the increment they look at (line contacts).
+        self.bulk_stress_listener: Callable[[float], None] | None = None
         self.driver = TangentialDriver(
             solver, settings.load, settings.unit_direction, settings.force_tol
         )
@@ -342,9 +398,10 @@ class FrettingAnalysis(CyclicAnalysis):
             approaches.append(result.approach)
             loads.append(load)
         state.stiffness = self._initial_stiffness(loads, approaches)
-        rigid = np.zeros(2)
+        rigid, previous = np.zeros(2), 0.0
         for index, value in enumerate(self.settings.quarter()):
-            step = self._increment(contact, rigid, value, state, guess=None, warm=None)
+            step = self._increment(contact, rigid, (previous, value), state, None, None)
+            previous = value
             self._account(state, step.matvecs, step.converged, step.message, f"first {index}")
             contact, rigid = step.result.state, step.rigid
         state.contact, state.rigid = contact, rigid
@@ -367,12 +424,30 @@ class FrettingAnalysis(CyclicAnalysis):
         if not converged:
             state.failures.append(f"{label}: {message}")
 
-    def _increment(self, contact, rigid, value, state, guess, warm):
-        """One increment to the signal ``value`` (mm or N) from ``contact`` at ``rigid``."""
+    def bulk_strain(self, bulk_stress: float) -> float:
+        """ε = (1 − ν_A²) σ_B / E_A: the flat's surface strain along x under the bulk stress
+        σ_B (MPa) in plane strain (σ_yy = ν_A σ_B; Nowell & Hills 1987)."""
+        material = self.solver.material
+        return (1.0 - material.nu_A**2) * bulk_stress / material.E_A
+
+    def _stretch(self, previous: float, value: float) -> np.ndarray | None:
+        """The flat's surface stretch (mm) when the signal goes from ``previous`` to
+        ``value``: the bulk stress's strain increment times x (None without bulk stress)."""
+        settings = self.settings
+        if not settings.has_bulk_stress:
+            return None
+        change = settings.bulk_stress(value) - settings.bulk_stress(previous)
+        return bulk_stretch(self.solver.grid, self.bulk_strain(change))
+
+    def _increment(self, contact, rigid, values, state, guess, warm):
+        """One increment from the signal ``values[0]`` to ``values[1]`` (mm or N) from
+        ``contact`` at ``rigid``."""
         settings, direction = self.settings, self.driver.direction
+        previous, value = values
+        stretch = self._stretch(previous, value)
         if settings.control == DISPLACEMENT:
             return self.driver.displacement(
-                contact, rigid, value * direction, wear=state.wear, guess=guess
+                contact, rigid, value * direction, state.wear, guess, stretch
             )
         along = float(rigid @ direction)
         now = float(total_force(contact, self.solver.grid.element_area) @ direction)
@@ -386,6 +461,7 @@ class FrettingAnalysis(CyclicAnalysis):
             state.stiffness,
             wear=state.wear,
             guess=guess,
+            stretch=stretch,
         )
         moved = float(step.rigid @ direction) - along
         change = float(step.force @ direction) - now
@@ -410,10 +486,12 @@ class FrettingAnalysis(CyclicAnalysis):
         wear_increment, increments, zeros = np.zeros_like(wear), [], np.zeros_like(wear)
         along, evaluations, peak, peak_norm, cycle_vm = [], 0, None, -1.0, None
         warm_rigid = fretting.rigid_warm if len(fretting.rigid_warm) else None
+        previous = self.settings.signal_amplitude
         for index, value in enumerate(self.settings.cycle_signal()):
             guess = None if guesses is None else guesses(index)
             warm = None if warm_rigid is None else float(warm_rigid[index])
-            step = self._increment(state, rigid, value, fretting, guess, warm)
+            step = self._increment(state, rigid, (previous, value), fretting, guess, warm)
+            previous = value
             result = step.result
             evaluations += step.evaluations
             self._matvecs += step.matvecs
@@ -426,7 +504,9 @@ class FrettingAnalysis(CyclicAnalysis):
             norm = float(np.hypot(*step.force))
             if norm > peak_norm:
                 peak, peak_norm, peak_index = result, norm, index
+                self.peak_bulk_stress = self.settings.bulk_stress(value)
             if recorded and self.increment_probe is not None:
+                self._announce_bulk_stress(self.settings.bulk_stress(value))
                 probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
                 cycle_vm = probe if cycle_vm is None or probe[0] > cycle_vm[0] else cycle_vm
             increments.append(_starting_point(result.state, zeros))
@@ -444,7 +524,12 @@ class FrettingAnalysis(CyclicAnalysis):
         return cycle in self.settings.record or cycle >= self.settings.cycles
 
     # ------------------------------------------------------------- history and records
+    def _announce_bulk_stress(self, bulk_stress: float) -> None:
+        if self.bulk_stress_listener is not None:
+            self.bulk_stress_listener(bulk_stress)
+
     def _append_history(self, state, peak: IncrementResult, jump: int, area: float) -> None:
+        self._announce_bulk_stress(self.peak_bulk_stress)  # the peak probe sees the peak's σ_B
         super()._append_history(state, peak, jump, area)
         cycle = self._cycle
         loop = cycle.loop
