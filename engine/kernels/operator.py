@@ -52,14 +52,15 @@ class HalfSpaceOperator:
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
 
     Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
-    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is built
-    the first time a product needs it and kept; the kernel itself is computed in blocks
-    straight into the transform's buffer and not kept. A frictionless case on an uncoupled
-    material (K = 0) builds A_zz only; a frictionless case with K ≠ 0 also A_zx and A_zy (the
-    tangential displacement its pressure produces, from which the reported slip follows);
-    a frictional case all six. ``influence``: kernels given whole instead (default: the
-    3-D half-space kernels of ``grid`` and ``material``, evaluated as needed;
-    ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT buffers of one direction are shared by the plans of
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is kept;
+    the kernel itself is written from its quadrant (``kernel_quadrant``) straight into the
+    transform's buffer and not kept. A_zz is built with the operator, and on a coupled
+    material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
+    case is the tangential displacement its pressure produces); the tangential block the
+    first time a product needs it (frictional cases). ``influence``: kernels given whole
+    instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
+    needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
+    buffers of one direction are shared by the plans of
     every batch size (``PaddedBuffers``), grown to the largest batch asked.
     """
 
