@@ -104,100 +104,93 @@ def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DE
     )
 
 
-class PaddedBuffers:
-    """The aligned buffers of ``PaddedRealFFT`` plans for up to ``capacity`` fields of shape
-    ``(n_x, n_y)``: plans of any batch ≤ ``capacity`` run on their leading part, so one
-    operator keeps one set of buffers for its one-, two- and three-field transforms.
-
-    Forward: ``rows`` (capacity, n_x, 2n_y) float64, ``half`` and ``spectrum`` (capacity,
-    2n_x, n_y + 1) complex128, 21·capacity·n_x·n_y·8 bytes. Inverse: ``spectrum`` and
-    ``output`` (capacity, n_x, 2n_y) float64, 12·capacity·n_x·n_y·8 bytes. All zero at
-    first; the forward plans never write the padding of ``rows`` and ``half``, so it stays
-    zero.
-    """
-
-    def __init__(self, capacity: int, shape: tuple[int, int], direction: str):
-        if direction not in ("forward", "inverse"):
-            raise ValueError(f"direction must be 'forward' or 'inverse', got {direction!r}")
-        nx, ny = (int(n) for n in shape)
-        self.capacity, self.shape, self.direction = int(capacity), (nx, ny), direction
-        self.spectrum = _zeros((capacity, 2 * nx, ny + 1), "complex128")
-        if direction == "forward":
-            self.rows = _zeros((capacity, nx, 2 * ny), "float64")
-            self.half = _zeros((capacity, 2 * nx, ny + 1), "complex128")
-        else:
-            self.output = _zeros((capacity, nx, 2 * ny), "float64")
-
-
-def _zeros(shape: tuple[int, ...], dtype: str) -> np.ndarray:
+def aligned_zeros(shape: tuple[int, ...], dtype: str) -> np.ndarray:
+    """A zero array on an aligned buffer (FFTW's SIMD codelets; module doc)."""
     array = pyfftw.empty_aligned(shape, dtype=dtype)
     array[...] = 0
     return array
 
 
-class PaddedRealFFT:
-    """Real FFTs of ``batch`` fields of shape ``(n_x, n_y)`` zero-padded to ``(2n_x, 2n_y)``
-    (``direction="forward"``), or the inverse restricted to the first ``(n_x, n_y)`` block
-    (``"inverse"``) (DC-FFT, Liu et al. 2000).
+class PaddedTransforms:
+    """Real FFTs of up to ``capacity`` fields of shape ``(n_x, n_y)`` zero-padded to
+    ``(2n_x, 2n_y)``, and the inverse restricted to the first ``(n_x, n_y)`` block (DC-FFT,
+    Liu et al. 2000), on two buffers shared by every batch size:
+
+    - ``real`` (capacity, n_x, 2n_y) float64: the fields (their first n_y columns) and the
+      inverse's output;
+    - ``spectra`` (capacity, 2n_x, n_y + 1) complex128: the forward transform, in place.
 
     Pruned: the forward transform runs the row FFTs (last axis) on the ``n_x`` rows that hold
-    data only (the others are zero) and then the column FFTs; the inverse runs all column
-    FFTs (in place) and the row FFTs of the ``n_x`` rows that are kept. This saves a quarter
-    of the work of each full 2-D transform. Unnormalised: fold 1/(4 n_x n_y) into the
-    kernel. Forward: write into ``fields`` (batch, n_x, n_y), ``forward()`` returns the
-    ``spectrum`` buffer (batch, 2n_x, n_y + 1). Inverse: write into ``spectrum``,
-    ``inverse()`` returns a view (batch, n_x, n_y) of the result (valid until the next call;
-    the spectrum is overwritten).
+    data only and then the column FFTs in place; the inverse runs all column FFTs in place
+    and the row FFTs of the ``n_x`` rows that are kept. Unnormalised: fold 1/(4 n_x n_y)
+    into the kernel. The padding is zeroed before each forward transform (an inverse
+    transform or the in-place column FFT leave data there): 12·capacity·n_x·n_y·8 bytes in
+    all, instead of 33·… for separate forward and inverse buffers.
 
-    ``buffers``: a ``PaddedBuffers`` of this direction and shape with capacity ≥ ``batch``
-    whose leading part the plans use (default: buffers of their own). The plans are the
-    same either way (same shape, strides and alignment), so are the results, bit for bit.
+    Plans are ``plan``'s (estimate plans: the same for the same shapes, strides and
+    alignment, so the same results whatever the batch sizes asked before).
     """
 
-    def __init__(
-        self,
-        batch: int,
-        shape: tuple[int, int],
-        direction: str = "forward",
-        *,
-        threads=1,
-        effort=DEFAULT_EFFORT,
-        buffers: PaddedBuffers | None = None,
-    ):
-        buffers = buffers or PaddedBuffers(batch, shape, direction)
-        if buffers.direction != direction or buffers.shape != tuple(shape):
-            raise ValueError("buffers of another direction or shape")
-        if buffers.capacity < batch:
-            raise ValueError(f"buffers for {buffers.capacity} fields, {batch} asked")
-        nx, ny = buffers.shape
-        self.shape = (nx, ny)
-        options = dict(threads=threads, effort=effort)
-        self.spectrum = buffers.spectrum[:batch]
-        if direction == "forward":
-            self._rows, half = buffers.rows[:batch], buffers.half[:batch]
-            self._row_plan = plan(self._rows, half[:, :nx, :], (2,), **options)
-            self._column_plan = plan(half, self.spectrum, (1,), **options)
-            self.fields = self._rows[:, :, :ny]
-            self._rows[...] = 0.0  # timed planners write into the buffers: the padding of
-            half[...] = 0.0  # rows and half is zero again, and stays zero from now on
-        else:
-            self._output = buffers.output[:batch]
-            backward = dict(direction="FFTW_BACKWARD", **options)
-            self._column_plan = plan(self.spectrum, self.spectrum, (1,), **backward)
-            self._row_plan = plan(self.spectrum[:, :nx, :], self._output, (2,), **backward)
-        self.spectrum[...] = 0.0
+    def __init__(self, capacity: int, shape: tuple[int, int], *, threads=1, effort=DEFAULT_EFFORT):
+        nx, ny = (int(n) for n in shape)
+        self.capacity, self.shape = int(capacity), (nx, ny)
+        self._options = dict(threads=threads, effort=effort)
+        self.real = aligned_zeros((capacity, nx, 2 * ny), "float64")
+        self.spectra = aligned_zeros((capacity, 2 * nx, ny + 1), "complex128")
+        self._plans: dict[tuple, tuple] = {}
+        self._padding_dirty = False
 
-    def forward(self) -> np.ndarray:
-        """``spectrum`` ← unnormalised FFT of the zero-padded ``fields``."""
-        self._row_plan.execute()
-        self._column_plan.execute()
-        return self.spectrum
+    def fields(self, batch: int) -> np.ndarray:
+        """Where to write ``batch`` fields before ``forward(batch)``: (batch, n_x, n_y)."""
+        return self.real[:batch, :, : self.shape[1]]
 
-    def inverse(self) -> np.ndarray:
-        """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectrum``."""
-        self._column_plan.execute()
-        self._row_plan.execute()
-        return self._output[:, :, : self.shape[1]]
+    def forward(self, batch: int) -> np.ndarray:
+        """``spectra[:batch]`` ← unnormalised FFT of the zero-padded ``fields(batch)``."""
+        nx, ny = self.shape
+        rows, columns = self._plan("forward", batch, self.spectra)
+        if self._padding_dirty:
+            self.real[:, :, ny:] = 0.0
+            self._padding_dirty = False
+        self.spectra[:batch, nx:, :] = 0.0
+        rows.execute()
+        columns.execute()
+        return self.spectra[:batch]
+
+    def inverse(self, spectra: np.ndarray) -> np.ndarray:
+        """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectra`` (batch,
+        2n_x, n_y + 1): ``self.spectra`` or an aligned buffer of the same layout, overwritten.
+        Returns a view of ``real`` (valid until the next transform)."""
+        batch = spectra.shape[0]
+        columns, rows = self._plan("inverse", batch, spectra)
+        columns.execute()
+        rows.execute()
+        self._padding_dirty = True
+        return self.real[:batch, :, : self.shape[1]]
+
+    def _plan(self, direction: str, batch: int, spectra: np.ndarray) -> tuple:
+        key = (direction, batch, spectra.ctypes.data)
+        if key not in self._plans:
+            if batch > self.capacity or batch > spectra.shape[0]:
+                raise ValueError(f"{batch} fields asked, buffers for {self.capacity}")
+            nx = self.shape[0]
+            real, spectrum = self.real[:batch], spectra[:batch]
+            # Timed planners run transforms on the buffers they plan on: keep their data.
+            kept = (
+                None
+                if self._options["effort"] == "FFTW_ESTIMATE"
+                else (real.copy(), spectrum.copy())
+            )
+            if direction == "forward":
+                first = plan(real, spectrum[:, :nx, :], (2,), **self._options)
+                second = plan(spectrum, spectrum, (1,), **self._options)
+            else:
+                backward = dict(direction="FFTW_BACKWARD", **self._options)
+                first = plan(spectrum, spectrum, (1,), **backward)
+                second = plan(spectrum[:, :nx, :], real, (2,), **backward)
+            self._plans[key] = (first, second)
+            if kept is not None:
+                real[...], spectrum[...] = kept
+        return self._plans[key]
 
 
 class RealFFTPair:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..grid import Grid
 from ..material import MaterialPair
-from .fft import DEFAULT_EFFORT, PaddedBuffers, PaddedRealFFT, RealFFTPair, wrap_kernel
+from .fft import DEFAULT_EFFORT, PaddedTransforms, RealFFTPair, aligned_zeros, wrap_kernel
 from .influence import KERNEL_PARITY, SurfaceInfluence, kernel_quadrant, kernel_values
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
@@ -82,12 +82,12 @@ class HalfSpaceOperator:
         # The block of Eq. (4) in Fourier space, with the 1/(4 n_x n_y) of the inverse FFT
         # folded in (the pruned transforms of PaddedRealFFT are unnormalised).
         self._scale = 1.0 / (self.padded_shape[0] * self.padded_shape[1])
-        self._spectra: dict[str, np.ndarray] = {}
+        self._spectra: dict[str, tuple[np.ndarray, str]] = {}  # key -> (values, kind)
         self._influence = influence
         self._given = influence is not None  # kernels given whole (line grids)
         self._self_coefficients: dict[str, float] = {}
-        self._transforms = {"forward": {}, "inverse": {}}
-        self._buffers: dict[str, PaddedBuffers] = {}
+        self._transforms: PaddedTransforms | None = None
+        self._targets: np.ndarray | None = None  # products of multi-field blocks
         self._product: np.ndarray | None = None
         self.applications = 0
         self._symbol_bound: float | None = None
@@ -106,7 +106,7 @@ class HalfSpaceOperator:
     @property
     def spectra_bytes(self) -> int:
         """Memory held by the kernel spectra built so far (bytes)."""
-        return sum(spectrum.nbytes for spectrum in self._spectra.values())
+        return sum(values.nbytes for values, _ in self._spectra.values())
 
     def kernel(self, key: str, index_x: np.ndarray, index_y: np.ndarray) -> np.ndarray:
         """Kernel ``key`` (mm/MPa) at the offsets (i Δx, j Δy), i in ``index_x``, j in
@@ -126,8 +126,15 @@ class HalfSpaceOperator:
 
     def spectrum(self, key: str) -> np.ndarray:
         """The spectrum of kernel ``key`` on the padded grid, 1/(4 n_x n_y) folded in
-        (complex, (2n_x, n_y + 1)); built on first use with the others of its group
-        (``_SPECTRUM_GROUPS``)."""
+        (complex, (2n_x, n_y + 1)), built on first use with the others of its group
+        (``_SPECTRUM_GROUPS``). Kept as its real part (kernels even in both directions) or its
+        imaginary part (odd in one): the other part is zero up to rounding."""
+        values, kind = self._stored(key)
+        if kind == "real":
+            return values.astype(complex)
+        return 1j * values if kind == "imaginary" else values.copy()
+
+    def _stored(self, key: str) -> tuple[np.ndarray, str]:
         if key not in self._spectra:
             group = next(keys for keys in _SPECTRUM_GROUPS if key in keys)
             self._build_spectra(group)
@@ -143,7 +150,7 @@ class HalfSpaceOperator:
         for key in keys:
             if self._given:
                 real[...] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
-                self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
+                self._spectra[key] = (transform.forward()[0] * self._scale, "complex")
                 continue
             quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
             parity_x, parity_y = KERNEL_PARITY[key]
@@ -152,7 +159,11 @@ class HalfSpaceOperator:
             real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
             real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
             real[-1:-nx:-1, -1:-ny:-1] = (parity_x * parity_y) * quadrant[1:, 1:]
-            self._spectra[key] = np.multiply(transform.forward()[0], self._scale)
+            spectrum = transform.forward()[0]
+            if parity_x * parity_y > 0:  # even circulant: a real spectrum
+                self._spectra[key] = (spectrum.real * self._scale, "real")
+            else:  # odd along one axis: an imaginary spectrum
+                self._spectra[key] = (spectrum.imag * self._scale, "imaginary")
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -161,67 +172,87 @@ class HalfSpaceOperator:
             self._preconditioner = SpectralPreconditioner(self)
         return self._preconditioner
 
-    def _fft(self, batch: int, direction: str) -> PaddedRealFFT:
-        """Plans per batch size and direction on shared buffers: asked for more fields than
-        the buffers hold, the buffers are replaced by larger ones (the old ones released
-        first) and the plans made again on them (the same plans: estimate plans depend on
-        shape, strides and alignment only)."""
-        plans = self._transforms[direction]
-        if batch not in plans:
-            buffers = self._buffers.get(direction)
-            if buffers is None or buffers.capacity < batch:
-                sizes = sorted({batch, *plans})
-                plans.clear()
-                self._buffers.pop(direction, None)
-                del buffers
-                buffers = PaddedBuffers(sizes[-1], self.grid.shape, direction)
-                self._buffers[direction] = buffers
-                for size in sizes:
-                    plans[size] = self._plan(size, direction, buffers)
-            else:
-                plans[batch] = self._plan(batch, direction, buffers)
-        return plans[batch]
+    def _transform(self, batch: int) -> PaddedTransforms:
+        """The padded transforms, with room for ``batch`` fields: replaced by larger ones
+        (the old ones released first) when asked for more."""
+        if self._transforms is None or self._transforms.capacity < batch:
+            self._transforms = None
+            self._transforms = PaddedTransforms(
+                batch, self.grid.shape, threads=self.threads, effort=self._effort
+            )
+        return self._transforms
 
-    def _plan(self, batch: int, direction: str, buffers: PaddedBuffers) -> PaddedRealFFT:
-        return PaddedRealFFT(
-            batch,
-            self.grid.shape,
-            direction,
-            threads=self.threads,
-            effort=self._effort,
-            buffers=buffers,
-        )
-
-    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
-        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
-        (kernel, sign) of output a and field b (``_BLOCKS``)."""
-        columns = len(fields)
-        fft = self._fft(columns, "forward")
-        for index, field in enumerate(fields):
-            fft.fields[index] = field
-        spectrum = fft.forward()
-        out_fft = self._fft(len(rows), "inverse")
-        for a, row in enumerate(rows):
-            target = out_fft.spectrum[a]
-            key, sign = row[0]
-            np.multiply(self.spectrum(key), spectrum[0], out=target)
-            if sign < 0:
-                np.negative(target, out=target)
-            for b in range(1, columns):
-                key, sign = row[b]
-                product = self._product_buffer()
-                np.multiply(self.spectrum(key), spectrum[b], out=product)
-                if sign > 0:
-                    target += product
-                else:
-                    target -= product
-        self.applications += 1
-        return out_fft.inverse().copy()
+    def _target_buffer(self, rows: int) -> np.ndarray:
+        """Aligned (rows, 2n_x, n_y + 1) buffer for the products of a multi-field block."""
+        if self._targets is None or self._targets.shape[0] < rows:
+            self._targets = None
+            shape = (rows, self.padded_shape[0], self.grid.n_y + 1)
+            self._targets = aligned_zeros(shape, "complex128")
+        return self._targets[:rows]
 
     def _product_buffer(self) -> np.ndarray:
         if self._product is None:
-            self._product = np.empty_like(self._spectra["zz"])
+            self._product = np.empty((self.padded_shape[0], self.grid.n_y + 1), complex)
         return self._product
+
+    def _multiply(self, spectrum: np.ndarray, key: str, out: np.ndarray) -> np.ndarray:
+        """``out`` ← (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
+        ``spectrum``. A real or imaginary kernel spectrum multiplies the real and imaginary
+        parts (as float pairs) by a real array: half the flops of a complex product."""
+        values, kind = self._stored(key)
+        if kind == "complex":
+            return np.multiply(spectrum, values, out=out)
+        pairs, result = _pairs(spectrum), _pairs(out)
+        if kind == "real":
+            np.multiply(pairs, values[..., None], out=result)
+            return out
+        real_part = pairs[..., 0] * values  # (a + ib)(ik) = −bk + i ak
+        np.multiply(pairs[..., 1], values, out=result[..., 0])
+        np.negative(result[..., 0], out=result[..., 0])
+        result[..., 1] = real_part
+        return out
+
+    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
+        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
+        (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
+        its own transform pair, the product taken in place (no further buffer)."""
+        nx, ny = self.grid.shape
+        result = np.empty((len(rows), nx, ny))
+        if len(fields) == 1:
+            transform = self._transform(1)
+            for a, ((key, sign),) in enumerate(rows):
+                transform.fields(1)[0] = fields[0]
+                spectrum = transform.forward(1)
+                self._multiply(spectrum[0], key, out=spectrum[0])
+                if sign < 0:
+                    np.negative(spectrum, out=spectrum)
+                result[a] = transform.inverse(spectrum)[0]
+        else:
+            transform = self._transform(max(len(fields), len(rows)))
+            destination = transform.fields(len(fields))
+            for index, field in enumerate(fields):
+                destination[index] = field
+            spectra = transform.forward(len(fields))
+            targets = self._target_buffer(len(rows))
+            for a, row in enumerate(rows):
+                self._accumulate(targets[a], row, spectra)
+            result[...] = transform.inverse(targets)
+        self.applications += 1
+        return result
+
+    def _accumulate(self, target: np.ndarray, row: tuple, spectra: np.ndarray) -> None:
+        """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]``."""
+        for b, (key, sign) in enumerate(row):
+            if b == 0:
+                self._multiply(spectra[0], key, out=target)
+                if sign < 0:
+                    np.negative(target, out=target)
+                continue
+            product = self._multiply(spectra[b], key, out=self._product_buffer())
+            if sign > 0:
+                target += product
+            else:
+                target -= product
 
     @staticmethod
     def _rows(outputs: range, inputs: range) -> tuple:
@@ -264,11 +295,18 @@ class HalfSpaceOperator:
                 part = slice(start, min(start + _SYMBOL_ROWS, rows))
                 symbol = np.empty((part.stop - start, self.grid.n_y + 1, 3, 3), dtype=complex)
                 for (a, b), (key, sign) in _BLOCKS.items():
-                    np.multiply(self.spectrum(key)[part], sign, out=symbol[..., a, b])
+                    values, kind = self._stored(key)
+                    factor = {"real": 1.0, "imaginary": 1j, "complex": 1.0}[kind] * sign
+                    np.multiply(values[part], factor, out=symbol[..., a, b])
                 hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
                 largest = max(largest, float(np.linalg.eigvalsh(hermitian).max()))
             self._symbol_bound = largest
         return self._symbol_bound
+
+
+def _pairs(spectrum: np.ndarray) -> np.ndarray:
+    """A contiguous complex array as float pairs (..., 2): real and imaginary parts."""
+    return spectrum.view(np.float64).reshape(*spectrum.shape, 2)
 
 
 def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
