@@ -92,16 +92,34 @@ def wrap_kernel(
     return wrapped
 
 
-def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DEFAULT_EFFORT):
+def plan(
+    source,
+    target,
+    axes,
+    *,
+    direction="FFTW_FORWARD",
+    threads=1,
+    effort=DEFAULT_EFFORT,
+    flags=(),
+):
     """A pyfftw plan from ``source`` to ``target`` over ``axes`` (unnormalised when executed
-    with ``execute()``); estimate plans are made with the wisdom forgotten (module doc)."""
+    with ``execute()``); estimate plans are made with the wisdom forgotten (module doc),
+    timed ones with this machine's wisdom loaded first and saved after
+    (``engine.kernels.wisdom``)."""
     if effort not in EFFORTS:
         raise ValueError(f"planner effort must be one of {EFFORTS}, got {effort!r}")
     if effort == "FFTW_ESTIMATE":
         pyfftw.forget_wisdom()
-    return pyfftw.FFTW(
-        source, target, axes=axes, direction=direction, threads=threads, flags=(effort,)
+    else:
+        from . import wisdom
+
+        wisdom.load()
+    made = pyfftw.FFTW(
+        source, target, axes=axes, direction=direction, threads=threads, flags=(effort, *flags)
     )
+    if effort != "FFTW_ESTIMATE":
+        wisdom.save()
+    return made
 
 
 def aligned_zeros(shape: tuple[int, ...], dtype: str) -> np.ndarray:
@@ -210,23 +228,9 @@ class RealFFTPair:
         self.real = pyfftw.empty_aligned(shape, dtype="float64")
         self.spectrum = pyfftw.empty_aligned((*shape[:-1], shape[-1] // 2 + 1), dtype="complex128")
         axes = (len(shape) - 2, len(shape) - 1)
-        flags = (effort, "FFTW_DESTROY_INPUT")
-        if effort == "FFTW_ESTIMATE":
-            # Wisdom left by timed planners would be reused by the estimate: forget it.
-            pyfftw.forget_wisdom()
-        self._forward = pyfftw.FFTW(
-            self.real, self.spectrum, axes=axes, threads=threads, flags=flags
-        )
-        if effort == "FFTW_ESTIMATE":
-            pyfftw.forget_wisdom()
-        self._inverse = pyfftw.FFTW(
-            self.spectrum,
-            self.real,
-            axes=axes,
-            direction="FFTW_BACKWARD",
-            threads=threads,
-            flags=flags,
-        )
+        options = dict(threads=threads, effort=effort, flags=("FFTW_DESTROY_INPUT",))
+        self._forward = plan(self.real, self.spectrum, axes, **options)
+        self._inverse = plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
         self.scale = 1.0 / float(self._inverse.N)  # what pyfftw's normalised call applies
         self.real[...] = 0.0
         self.spectrum[...] = 0.0

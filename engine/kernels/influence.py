@@ -195,6 +195,12 @@ def kernel_quadrant(grid: Grid, material: MaterialPair, key: str, counts: tuple[
         cx, cy = np.meshgrid(corners_x[start : stop + 1], corners_y, indexing="ij")
         f = _combine(key, _antiderivatives(cx, cy, KERNEL_INTEGRALS[key]), material)
         quadrant[start:stop] = f[1:, 1:] - f[1:, :-1] - f[:-1, 1:] + f[:-1, :-1]
+    # An odd kernel integrates to exactly 0 over an element centred on its axis of symmetry.
+    parity_x, parity_y = KERNEL_PARITY[key]
+    if parity_x < 0:
+        quadrant[0] = 0.0
+    if parity_y < 0:
+        quadrant[:, 0] = 0.0
     return quadrant
 
 
