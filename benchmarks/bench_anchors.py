@@ -19,6 +19,9 @@ coupling), and ASPHER's ``FrictionSolver`` (Coulomb μ = 0.2, uncoupled Cerruti 
 the same normal load followed by a tangential force of 0.5 μP (partial slip): not the same
 problem, the same class (normal and tangential unknowns on every element).
 
+``--baseline DIR`` also runs the engine of another source tree (e.g. ``git archive <rev> |
+tar -x -C /tmp/old``) in each round, for before/after figures.
+
 Nothing is installed: a code that cannot be imported is skipped and said so. The anchors are
 imported by ``--anchors-python`` (default: this interpreter), e.g. a scratch environment::
 
@@ -50,7 +53,7 @@ from _single_core import single_core_env
 
 REPO = Path(__file__).resolve().parents[1]
 RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION = 1.8, 714.0, 1.05, 1e-8, 0.2
-CODES = ("engine", "aspher", "tamaas")
+CODES = ("engine", "aspher", "tamaas", "baseline")  # baseline: the engine of --baseline DIR
 
 
 def _peak_mb() -> float:
@@ -172,12 +175,14 @@ def child_tamaas(n: int, frictional: bool) -> dict:
     )
 
 
-def run_child(code: str, n: int, frictional: bool, python: str) -> dict | str:
-    """One measurement in a fresh process; the result dict, or why the code was skipped."""
-    command = [python, __file__, "--child", code, "--sizes", str(n)]
+def run_child(code: str, n: int, frictional: bool, python: str, tree: Path = REPO):
+    """One measurement in a fresh process, with the engine of ``tree``; the result dict,
+    or why the code was skipped."""
+    child = "engine" if code == "baseline" else code
+    command = [python, __file__, "--child", child, "--sizes", str(n)]
     command += ["--frictional"] if frictional else []
     done = subprocess.run(
-        command, env=single_core_env(REPO), capture_output=True, text=True, cwd=REPO
+        command, env=single_core_env(tree), capture_output=True, text=True, cwd=tree
     )
     lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
     if done.returncode != 0 or not lines:
@@ -198,18 +203,19 @@ def child_main(code: str, n: int, frictional: bool) -> None:
     print(json.dumps(row))
 
 
-def measure(sizes, repeats, frictional, anchors_python, tamaas_max) -> dict:
+def measure(sizes, repeats, frictional, anchors_python, tamaas_max, baseline=None) -> dict:
     """rows[(n, code)] = list of results over the rounds (codes alternate in each round)."""
-    rows, skipped = {}, {}
+    rows, skipped = {}, {} if baseline is not None else {"baseline": "no --baseline"}
     for round_ in range(repeats):
         for n in sizes:
             for code in CODES:
                 if code in skipped or (code == "tamaas" and n > tamaas_max):
                     continue
-                python = sys.executable if code == "engine" else anchors_python
-                result = run_child(code, n, frictional, python)
+                python = anchors_python if code in ("aspher", "tamaas") else sys.executable
+                tree = baseline if code == "baseline" else REPO
+                result = run_child(code, n, frictional, python, tree)
                 if isinstance(result, str):
-                    if code == "engine":
+                    if code in ("engine", "baseline"):
                         raise SystemExit(f"engine failed at n = {n}: {result}")
                     skipped[code] = result
                     print(f"{code}: skipped ({result})", flush=True)
@@ -260,6 +266,9 @@ def main() -> None:
     parser.add_argument("--frictional", action="store_true")
     parser.add_argument("--anchors-python", default=sys.executable)
     parser.add_argument("--tamaas-max", type=int, default=256)
+    parser.add_argument(
+        "--baseline", type=Path, help="another source tree of the engine, run alongside"
+    )
     parser.add_argument("--child", choices=CODES, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -273,7 +282,14 @@ def main() -> None:
         f"{'set-up CPU':>9} {'CPU s':>8} {'peak MB':>8} {'iter':>6} {'approach err':>11} "
         f"{'converged':>9}"
     )
-    rows = measure(args.sizes, args.repeats, args.frictional, args.anchors_python, args.tamaas_max)
+    rows = measure(
+        args.sizes,
+        args.repeats,
+        args.frictional,
+        args.anchors_python,
+        args.tamaas_max,
+        args.baseline,
+    )
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
     print_ratios(rows, args.sizes)
 
