@@ -2,17 +2,56 @@
 
 Units throughout: mm, N, MPa (= N/mm²); wear coefficients in 1/MPa; angles in degrees at
 the user-facing layer and radians inside the numerical code.
+
+The public API:
+
+- :func:`run_study` runs (or resumes) a study file, TOML text or configuration, on this process
+  or on the ranks of a communicator, and returns a :class:`StudyRun`;
+- :func:`load_summary` reads a study's summary table as a pandas DataFrame;
+- :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section.
+
+``import engine`` stays light: NumPy, h5py, mpi4py and pandas load when a function needs them.
 """
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "load_summary"]
+import sys as _sys  # noqa: E402
+
+if _sys.orig_argv[1:3] == ["-m", "engine"]:  # `python -m engine`: stop signals caught first
+    from engine import _early_stop  # noqa: F401
+
+from engine.run import RUN_STATUSES, StudyRun, run_study  # noqa: E402 (needs __version__)
+
+__all__ = [
+    "__version__",
+    "RUN_STATUSES",
+    "StudyRun",
+    "run_study",
+    "load_summary",
+    "load_thresholds",
+]
 
 
-def __getattr__(name: str):
-    """``engine.load_summary`` without importing pandas/h5py for every ``import engine``."""
-    if name == "load_summary":
-        from engine.output.summary import load_summary
+def load_summary(path):
+    """Summary of a study as a :class:`pandas.DataFrame`, from the results ``.h5`` file or the
+    ``.csv`` beside it (:func:`engine.output.summary.load_summary`).
 
-        return load_summary
-    raise AttributeError(f"module 'engine' has no attribute {name!r}")
+    >>> frame = engine.load_summary("results/demo.h5")      # doctest: +SKIP
+    >>> frame.pivot(index="mu1", columns="beta", values="max_wear_depth")   # doctest: +SKIP
+    """
+    from engine.output.summary import load_summary as load
+
+    return load(path)
+
+
+def load_thresholds(path):
+    """Thresholds table of a study with a ``[search]`` section as a :class:`pandas.DataFrame`
+    (one row per search), from the results ``.h5`` file or ``NAME_thresholds.csv``; the units
+    in ``frame.attrs["units"]`` (:func:`engine.output.thresholds.load_thresholds`).
+
+    >>> frame = engine.load_thresholds("results/fretting_threshold.h5")   # doctest: +SKIP
+    >>> frame.plot(x="loading.load", y="threshold")                      # doctest: +SKIP
+    """
+    from engine.output.thresholds import load_thresholds as load
+
+    return load(path)

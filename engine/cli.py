@@ -2,10 +2,12 @@
 
 Post-processing (serial, no MPI): ``python -m engine plot RESULTS.h5 [--out DIR]`` writes the
 figures (:mod:`engine.analysis.figures`), ``python -m engine report RESULTS.h5`` prints the
-results tables in Markdown (:mod:`engine.analysis.report`).
+results tables in Markdown (:mod:`engine.analysis.report`), ``python -m engine verify
+RESULTS.h5`` reads every case back and compares its checksums (:mod:`engine.output.verify`).
 
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
-communicator. The flow:
+communicator. It parses the command line and hands the run to :func:`engine.run.run_study`,
+mapping the run's status to the exit code. The flow:
 
 1. every rank installs the stop-signal handlers (first thing) and parses the command line;
    rank 0 validates the study file, expands the plan, checks the memory a case needs, the
@@ -26,28 +28,28 @@ communicator. The flow:
 
 Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
 path, output in use by another run or holding another study (nothing computed, no output of
-another run created or changed); 3 interrupted by a signal (rerun to resume); 70 internal
-error or a dead peer (the communicator is aborted so no rank waits forever).
+another run created or changed); 3 interrupted by a signal (rerun to resume); 4 a case the
+run wrote cannot be read back (rerun to recompute it); 5 the output's file system is full
+(completed cases kept: free space and rerun to resume); 70 internal error or a dead peer (the
+communicator is aborted so no rank waits forever).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import os
 import shlex
 import signal
-import socket
 import sys
 import threading
 import traceback
 from pathlib import Path
 
 from engine import __version__
-from engine.schema import CaseStatus
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
+EXIT_DAMAGED, EXIT_OUTPUT_FULL = 4, 5
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 
 
@@ -55,24 +57,29 @@ _USAGE = """\
 %(prog)s STUDY.toml [--dry-run] [--resume | --fresh] [--drop-stale] [--output PATH]
             [--output-strategy {auto,single,mpio}] [--no-progress-bar] [--progress-interval S]
        %(prog)s plot RESULTS.h5 [--out DIR]
-       %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]"""
+       %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]
+       %(prog)s verify RESULTS.h5 [--summary CSV | --no-summary]"""
 
 _DESCRIPTION = """\
 Run a fretting-wear parameter study (flat, rounded or spherical punch; FFT boundary elements)
 across all MPI ranks and gather the results in one HDF5 file with a CSV summary. Launch it with
-`mpiexec -n N python -m engine STUDY.toml` or `srun python -m engine STUDY.toml`.
+`.venv/bin/mpiexec -n N .venv/bin/python -m engine STUDY.toml` (or, the environment
+activated, `mpiexec -n N python -m engine STUDY.toml`; `srun python -m engine …` under SLURM).
 
 subcommands (serial, no MPI):
   plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
-  report RESULTS.h5   print its results tables in Markdown; `report --help` for options"""
+  report RESULTS.h5   print its results tables in Markdown; `report --help` for options
+  verify RESULTS.h5   read every case back, compare checksums and the summary CSV with the
+                      file (exit 0 whole, 4 damaged)"""
 
 _EPILOG = """\
 Relative paths ([study] output, --output) are taken from the working directory, not from the
 folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input,
 unusable output path, or output in use by another run or holding another study (nothing
-computed or changed), 3 interrupted by a signal (rerun to resume), 70 internal error or a
-dead rank.
-Example: mpiexec -n 2 python -m engine studies/demo.toml --dry-run"""
+computed or changed), 3 interrupted by a signal (rerun to resume), 4 a case written cannot
+be read back (rerun), 5 the output's file system is full (free space, rerun to resume), 70
+internal error or a dead rank.
+Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run"""
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
@@ -146,20 +153,49 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--progress-interval",
-        type=float,
+        type=_seconds,
         default=30.0,
         metavar="S",
-        help="seconds between progress lines on stderr (cases done, cycles of the running "
+        help="seconds between progress lines on stderr (cases completed, cycles of the running "
         "cases, elapsed time, ETA) when there is no bar; one also follows each finished case; "
         "0 turns them off (default 30)",
     )
 
 
-def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+MAX_PROGRESS_INTERVAL = 86400.0  # s: a progress line at least once a day
+
+
+def _seconds(text: str) -> float:
+    """--progress-interval: a finite number of seconds in [0, 86400] (0: no progress lines)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not 0.0 <= value <= MAX_PROGRESS_INTERVAL:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(
+            f"{text} must lie in [0, {MAX_PROGRESS_INTERVAL:g}] s (0 turns the lines off)"
+        )
+    return value
+
+
+def main(
+    argv: list[str] | None = None,
+    prog: str | None = None,
+    stop_event: threading.Event | None = None,
+) -> int:
+    """The command line; ``stop_event``: one that early stop-signal handlers already set
+    (``python -m engine`` installs them before importing this module)."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    from engine.interpreter import check_interpreter
+
+    if code := check_interpreter(argv):  # a Python without the engine's packages: exit 2
+        return code
     if argv and argv[0] in _OUTPUT_COMMANDS:
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C ends them at once
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGUSR1, signal.SIG_DFL)
         return _output_command(argv, prog)
-    stop_event = threading.Event()
+    stop_event = stop_event if stop_event is not None else threading.Event()
     _install_stop_handlers(stop_event)  # first: a signal during start-up is a stop, too
     code = _main_mpi(argv, prog, stop_event)
     return _quiet_shutdown(code, stop_event)
@@ -184,6 +220,13 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
     from mpi4py import MPI
 
     comm = MPI.COMM_WORLD
+    from engine.interpreter import launcher_mismatch
+
+    mismatch = launcher_mismatch(comm.Get_size())  # an mpiexec of another MPI
+    if mismatch is not None:
+        if mismatch:
+            print(mismatch, file=sys.stderr, flush=True)
+        return EXIT_BAD_INPUT
     rank = comm.Get_rank()
     quiet = contextlib.redirect_stdout(open(os.devnull, "w")) if rank else contextlib.nullcontext()
     quiet_err = (
@@ -216,7 +259,7 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
         return EXIT_INTERNAL
 
 
-_OUTPUT_COMMANDS = ("plot", "report")  # post-processing of a results file: serial, no MPI
+_OUTPUT_COMMANDS = ("plot", "report", "verify")  # on a results file: serial, no MPI
 
 
 def _output_command(argv: list[str], prog: str | None) -> int:
@@ -224,6 +267,8 @@ def _output_command(argv: list[str], prog: str | None) -> int:
     (engine.analysis.report)."""
     if argv[0] == "plot":
         from engine.analysis.figures import main as command
+    elif argv[0] == "verify":
+        from engine.output.verify import main as command
     else:
         from engine.analysis.report import main as command
     try:
@@ -232,141 +277,42 @@ def _output_command(argv: list[str], prog: str | None) -> int:
         return int(exit_.code or 0)
 
 
-def _prepare_on_root(args, ranks: int, ranks_on_node: int, lock_holder: list):
-    """Validate everything that can be wrong with the input, in this order, before any file is
-    created or changed: the study file and its plan (incl. the memory a case needs), the
-    output path, the lock on the output (taken here, appended to ``lock_holder``), then the
-    existing results file (same study? damaged?).
-
-    Returns (config, plan, strategy, layout, existing) or raises; ``layout`` (datasets to
-    pre-create per case) only for the mpio strategy; ``existing`` is the verdict on the
-    existing results file (:class:`engine.output.identity.ExistingResults`).
-    """
-    from engine.output.collective import choose_strategy
-    from engine.output.identity import inspect_existing
-    from engine.output.lock import OutputLock, check_output_path, check_summary_path
-    from engine.study.config import load_study
-    from engine.study.layout import plan_layout
-    from engine.study.plan import make_plan
-    from engine.study.resources import check_memory
-
-    config = load_study(args.study)
-    study = config.study
-    if args.output is not None:
-        study = dataclasses.replace(study, output=args.output)
-    if args.output_strategy is not None:
-        study = dataclasses.replace(study, output_strategy=args.output_strategy)
-    config = dataclasses.replace(config, study=study)
-    plan = make_plan(config)
-    check_memory(config, ranks_on_node, plan=plan)
-    strategy = choose_strategy(config.study.output_strategy, ranks)
-    if args.dry_run:  # read-only; a dry run reports the same mismatch a run would
-        existing = None
-        if not args.fresh:
-            existing = inspect_existing(config.study.output, _metadata(config, "", plan), plan)
-        return config, plan, strategy, None, existing
-    output = config.study.output
-    check_output_path(output)
-    lock = OutputLock(output)
-    lock.acquire()  # before anything else touches the output, --fresh included
-    lock_holder.append(lock)
-    if lock.replaced is not None:
-        print(
-            f"note: removed the stale lock of a run that no longer exists (pid "
-            f"{lock.replaced.pid}, host {lock.replaced.host})",
-            file=sys.stderr,
-            flush=True,
-        )
-    check_summary_path(output, config.study.summary_path)
-    existing = None
-    if not args.fresh:
-        existing = inspect_existing(output, _metadata(config, "", plan), plan)
-    layout = plan_layout(config, plan) if strategy == "mpio" else None
-    return config, plan, strategy, layout, existing
-
-
-def _metadata(config, command_line: str, plan):
-    """Root metadata; the root grid only when every case of the plan shares it (otherwise
-    each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
-    from engine.grid import Grid
-    from engine.output.hdf5 import StudyMetadata
-    from engine.output.identity import study_identity
-
-    mesh = plan.shared_mesh()
-    grid = Grid.square(*mesh) if mesh is not None else None
-    metadata = StudyMetadata(
-        name=config.study.name,
-        source=config.source,
-        study_toml=config.to_toml(),
-        study_json=config.to_json(),
-        fingerprint=config.fingerprint(),
-        command_line=command_line,
-        version=__version__,
-        grid_x=grid.x if grid is not None else None,
-        grid_y=grid.y if grid is not None else None,
-    )
-    metadata.attrs["study_identity"] = study_identity(config.resolved())
-    return metadata
+# StudyRun.status -> exit code (the module docstring lists what each means)
+EXIT_CODES = {
+    "completed": EXIT_OK,
+    "planned": EXIT_OK,
+    "failed": EXIT_FAILED,
+    "invalid": EXIT_BAD_INPUT,
+    "interrupted": EXIT_INTERRUPTED,
+    "damaged": EXIT_DAMAGED,
+    "output-full": EXIT_OUTPUT_FULL,
+}
 
 
 def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
-    from mpi4py import MPI
+    """The study run through :func:`engine.run.run_study`; its status as the exit code."""
+    from engine.run import run_study
 
-    from engine.output.collective import ParallelH5pyMissing
-    from engine.output.hdf5 import ResultsMismatch
-    from engine.output.lock import OutputInUse, OutputPathError
-    from engine.study.config import StudyConfigError
-
-    rank = comm.Get_rank()
-    ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
-    _STOP_STATE["peers"] = comm.allgather((os.getpid(), socket.gethostname()))
-    verdict = None
-    lock_holder: list = []  # rank 0: the output lock, once taken
-    try:
-        if rank == 0:
-            try:
-                verdict = (
-                    "ok",
-                    *_prepare_on_root(args, comm.Get_size(), ranks_on_node, lock_holder),
-                )
-            except (
-                StudyConfigError,
-                ResultsMismatch,
-                ParallelH5pyMissing,
-                OutputInUse,
-                OutputPathError,
-            ) as error:
-                print(f"error: {error}", file=sys.stderr, flush=True)
-                verdict = ("bad-input", None, None, None, None, None)
-        kind, config, plan, strategy, layout, existing = comm.bcast(verdict, root=0)
-        if kind != "ok":
-            return EXIT_BAD_INPUT
-        if args.dry_run:
-            if rank == 0:
-                _print_plan(config, plan, args, comm.Get_size(), strategy, existing)
-            return EXIT_OK
-        if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a signal during start-up
-            if rank == 0:
-                print(
-                    "stop signal received during start-up: nothing computed, no file "
-                    "changed (rerun to start)",
-                    file=sys.stderr,
-                    flush=True,
-                )
-            return EXIT_INTERRUPTED
-        if rank == 0 and existing is not None:
-            existing.report(sys.stdout)
-        code = _compute(
-            comm, config, plan, strategy, layout, args, command_line, stop_event, existing
-        )
-        return comm.bcast(code, root=0)
-    finally:
-        for lock in lock_holder:
-            lock.release()
+    run = run_study(
+        args.study,
+        comm=comm,
+        output=args.output,
+        fresh=args.fresh,
+        progress=False if args.no_progress_bar else None,
+        progress_interval=args.progress_interval,
+        output_strategy=args.output_strategy,
+        drop_stale=args.drop_stale,
+        dry_run=args.dry_run,
+        stop_event=stop_event,
+        command_line=command_line,
+    )
+    if comm.Get_rank() == 0 and run.status in ("invalid", "output-full"):
+        print(f"error: {run.message}", file=sys.stderr, flush=True)
+    return EXIT_CODES[run.status]
 
 
-# the rank, once MPI is initialised (for the message); (pid, host) of every rank (PeerWatch)
-_STOP_STATE: dict = {"rank": None, "peers": None}
+# the rank, once MPI is initialised (for the message of the stop handler)
+_STOP_STATE: dict = {"rank": None}
 
 
 def _install_stop_handlers(stop_event: threading.Event) -> None:
@@ -384,231 +330,3 @@ def _install_stop_handlers(stop_event: threading.Event) -> None:
 
     for name in _STOP_SIGNALS:
         signal.signal(getattr(signal, name), handler)
-
-
-def _settle_existing(config, plan, args, existing, command_line) -> None:
-    """Rank 0, under the lock: --fresh removes the old outputs; a damaged file is salvaged or
-    moved aside (engine.output.salvage)."""
-    from engine.output.hdf5 import remove_outputs
-    from engine.output.salvage import apply_existing
-
-    if args.fresh:
-        remove_outputs(config.study.output, config.study.checkpoint_dir)
-    elif existing is not None:
-        apply_existing(
-            existing, plan, _metadata(config, command_line, plan), config.study.checkpoint_dir
-        )
-
-
-def _compute(comm, config, plan, strategy, layout, args, command_line, stop_event, existing) -> int:
-    """Every rank: open this rank's writer for the strategy (engine.output.hdf5.open_writer),
-    prepare the file (rank 0 alone, or every rank for mpio), run the scheduler, close.
-
-    Rank 0 returns the run's exit code; the others' is replaced by it in the final bcast."""
-    from engine.output.hdf5 import StoppedDuringSetUp, open_writer
-    from engine.output.progress import WorkerProgress
-    from engine.parallel.scheduler import Scheduler
-    from engine.study.case import CaseRunner
-
-    rank = comm.Get_rank()
-    runner = CaseRunner(config)
-    if rank != 0:
-        runner.on_progress = WorkerProgress(comm)
-    writer = open_writer(
-        strategy,
-        config.study.output,
-        comm=comm,
-        layout=layout,
-        summary_path=config.study.summary_path,
-        journal_dir=config.study.checkpoint_dir,
-        drop_stale=args.drop_stale,
-        should_stop=stop_event.is_set,
-    )
-    scheduler = Scheduler(
-        comm, writer.computing(runner), stop_event=stop_event, peers=_STOP_STATE["peers"]
-    )
-    if rank == 0:
-        _settle_existing(config, plan, args, existing, command_line)
-    try:
-        completed = writer.prepare(plan, _metadata(config, command_line, plan), fresh=args.fresh)
-    except StoppedDuringSetUp as stopped:  # on rank 0, or on every rank at once (mpio)
-        if rank == 0:
-            print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
-            if not writer.collective:
-                scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
-        return EXIT_INTERRUPTED
-    with writer:
-        if rank != 0:
-            scheduler.run()
-            return EXIT_OK  # replaced by rank 0's code in the final bcast
-        todo = plan.dispatch_order(skip=completed)
-        _announce(config, plan, completed, todo, comm.Get_size(), writer.announce_suffix)
-        report = _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner)
-    _remove_empty_checkpoint_dir(config)
-    if writer.closing_note() is not None:
-        print(writer.closing_note(), flush=True)
-    return _report(config, [row["status"] for row in writer.rows()], report)
-
-
-def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
-    """The start line on stdout, and a warning on stderr when ranks would stay idle."""
-    from engine.output.progress import plural
-
-    print(
-        f"study {config.study.name!r}: {plural(len(plan), 'case')}, {len(completed)} already "
-        f"complete, {len(todo)} to run on {plural(ranks, 'rank')} -> {config.study.output}"
-        + suffix,
-        flush=True,
-    )
-    warning = _idle_ranks_warning(len(todo), ranks)
-    if warning:
-        print(warning, file=sys.stderr, flush=True)
-
-
-def _idle_ranks_warning(cases: int, ranks: int) -> str | None:
-    """Every rank, rank 0 included, computes one case at a time: ranks beyond the number of
-    cases to run have nothing to do."""
-    from engine.output.progress import plural
-
-    if cases == 0 or ranks <= cases:
-        return None
-    return (
-        f"warning: {plural(ranks, 'rank')} for {plural(cases, 'case')} to run: "
-        f"{plural(ranks - cases, 'rank')} will stay idle (each rank computes one case at a "
-        f"time; use at most {cases})"
-    )
-
-
-def _run_with_progress(scheduler, writer, plan, completed, todo, args, comm, runner):
-    """Hand out ``todo``; every outcome goes to the writer, then to the progress display.
-
-    Rank 0's own cases report their progress through a queue, the workers' by MPI
-    (``engine.output.progress``); the dispatcher drains both at every pass of its loop.
-    """
-    from engine.output.progress import ProgressChannel, ProgressReporter
-
-    measured = [
-        (float(row.get("runtime_s") or 0.0), plan.by_id(row["case_id"]).expected_cost)
-        for row in writer.rows()
-        if row.get("status") == CaseStatus.COMPLETED
-    ]
-    progress = ProgressReporter(
-        len(plan),
-        len(completed),
-        todo=todo,
-        ranks=comm.Get_size(),
-        measured=measured,
-        bar=False if args.no_progress_bar else None,
-        interval=args.progress_interval,
-    )
-    channel = ProgressChannel(comm, progress)
-    runner.on_progress = channel.local
-
-    def on_outcome(outcome):
-        writer.write(outcome)
-        progress.update(outcome)
-
-    try:
-        return scheduler.run(todo, on_outcome, on_poll=channel.drain)
-    finally:
-        channel.drain()  # reports that arrived with the last results
-        progress.close()
-
-
-def _remove_empty_checkpoint_dir(config) -> None:
-    """``<output>.checkpoints/`` holds the state of interrupted cases (and, with mpio, the
-    write journals); once the run leaves it empty it goes too."""
-    with contextlib.suppress(OSError):  # not there, or not empty: keep it
-        config.study.checkpoint_dir.rmdir()
-
-
-def _report(config, statuses: list[str], report) -> int:
-    failed = statuses.count(CaseStatus.FAILED)
-    done = statuses.count(CaseStatus.COMPLETED)
-    print(
-        f"study {config.study.name!r}: {done} completed, {failed} failed, "
-        f"{len(statuses) - done - failed} not completed; wall time "
-        f"{report.wall_time_s:.1f} s; summary {config.study.summary_path}",
-        flush=True,
-    )
-    if report.stopped:
-        return EXIT_INTERRUPTED
-    return EXIT_FAILED if failed else EXIT_OK
-
-
-def _print_plan(config, plan, args, ranks: int, strategy: str, existing) -> None:
-    """--dry-run: what a run with the same options would do; reads, never writes."""
-    from engine.output.progress import plural
-
-    loading = config.loading
-    what = (
-        f"cyclic, P = {loading.load:g} N, {loading.cycles:,} cycles"
-        if config.is_cyclic
-        else f"static, P = {loading.load:g} N"
-    )
-    if config.is_fretting:
-        control = (
-            f"displacement control, amplitude {loading.amplitude:g} mm"
-            if loading.amplitude is not None
-            else f"force control, force_amplitude {loading.force_amplitude:g} N"
-        )
-        what = (
-            f"fretting, P = {loading.load:g} N held, {control} along "
-            f"{loading.direction or 0.0:g}° from x, {loading.cycles:,} cycles"
-        )
-    if config.sweep.swept_keys:  # the values above are the first of each swept key
-        what += "; swept: " + ", ".join(config.sweep.swept_keys)
-    output = config.study.output
-    print(f"study {config.study.name!r} ({config.source}): {plural(len(plan), 'case')}, {what}")
-    print(
-        f"output {output} = {output.resolve()} (summary {config.study.summary_path}), "
-        f"{strategy} writer"
-    )
-    if existing is not None and existing.kind != "resume":
-        existing.report(sys.stdout)  # damaged: what a run would do with it
-    states = _planned_states(config, plan, existing, args.fresh)
-    if args.fresh:
-        existing = [
-            str(path)
-            for path in (output, config.study.summary_path, config.study.checkpoint_dir)
-            if path.exists()
-        ]
-        deleted = ", ".join(existing) if existing else "nothing (none exists)"
-        print(f"--fresh would delete: {deleted}")
-    todo = [case for case in plan.dispatch_order() if states[case.case_id] != "complete: skip"]
-    print(
-        f"would run {plural(len(todo), 'case')} on {plural(ranks, 'rank')}; "
-        f"{len(plan) - len(todo)} complete and skipped"
-    )
-    warning = _idle_ranks_warning(len(todo), ranks)
-    if warning:
-        print(warning, file=sys.stderr, flush=True)
-    order = {case.case_id: number for number, case in enumerate(todo, start=1)}
-    print(
-        f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}"
-        "  order  action"
-    )
-    for case in plan:
-        number = order.get(case.case_id)
-        print(
-            f"{case.case_id:<40s} {case.mu1:6g} {case.mu2:6g} {case.wear1:10.4g} "
-            f"{case.wear2:10.4g} {case.beta:6g}  {number if number else '-':>5}  "
-            f"{states[case.case_id]}"
-        )
-
-
-def _planned_states(config, plan, existing, fresh: bool) -> dict[str, str]:
-    """Per case: "run", "resume from its checkpoint", "complete: skip", from the look at the
-    existing file already taken (``existing``: None without a file); --fresh runs all."""
-    if fresh:
-        return dict.fromkeys(plan.case_ids, "run")
-    completed = set(existing.completed) if existing is not None else set()
-    states = {}
-    for case_id in plan.case_ids:
-        if case_id in completed:
-            states[case_id] = "complete: skip"
-        elif (config.study.checkpoint_dir / f"{case_id}.npz").exists():
-            states[case_id] = "resume from its checkpoint"
-        else:
-            states[case_id] = "run"
-    return states

@@ -77,6 +77,8 @@ __all__ = [
     "grid_dataset",
     "case_dataset",
     "pending_row",
+    "THRESHOLDS_GROUP",
+    "threshold_columns",
 ]
 
 
@@ -382,6 +384,8 @@ COLUMN_UNITS = {
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
+    # line contacts with wear only (engine.solvers.scar)
+    "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
@@ -395,3 +399,29 @@ def pending_row(parameters: dict[str, Any], status: str = CaseStatus.PENDING) ->
     row.update({k: v for k, v in parameters.items() if k in row or "." in k})
     row["status"] = str(status)
     return row
+
+
+# ------------------------------------------------------------------ thresholds table
+#: Group of the thresholds table of a study with a ``[search]`` section: one 1-D dataset per
+#: column (one entry per search, i.e. per combination of the sweep), the search's settings as
+#: attributes (parameter, column, target, rtol, atol, method, max_steps).
+THRESHOLDS_GROUP = "thresholds"
+
+
+def threshold_columns(parameter: str, parameter_units: str, column: str, column_units: str):
+    """Units and description of the search columns of the thresholds table (the sweep's
+    parameter columns come before them, in the units of the summary)."""
+    where = f"{parameter} ({parameter_units})"
+    value = f"{column} ({column_units})" if column_units else column
+    return {
+        "threshold": DatasetSpec(parameter_units, f"{where} at which {column} crosses the target"),
+        "lower": DatasetSpec(parameter_units, f"lower end of the final bracket, {where}"),
+        "upper": DatasetSpec(parameter_units, f"upper end of the final bracket, {where}"),
+        "lower_value": DatasetSpec(column_units or "1", f"{value} at the lower end"),
+        "upper_value": DatasetSpec(column_units or "1", f"{value} at the upper end"),
+        "steps": DatasetSpec("1", "cases the search took, both ends included"),
+        "status": DatasetSpec(
+            "1", "converged | not-bracketed | not-converged | failed | unfinished"
+        ),
+        "message": DatasetSpec("1", "why a search did not converge (empty otherwise)"),
+    }

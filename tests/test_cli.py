@@ -19,8 +19,9 @@ import pandas as pd
 import pytest
 
 import engine
-from engine.cli import _idle_ranks_warning, build_parser
+from engine.cli import build_parser
 from engine.output.progress import ProgressReporter, format_duration, plural
+from engine.run import idle_ranks_warning as _idle_ranks_warning
 from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -115,7 +116,7 @@ def test_status_lines_every_interval_and_after_each_case():
     clock.now += 1.0
     reporter.tick()
     line = err.getvalue().strip()
-    assert line.startswith("progress: 0/3 cases done; running: a (rank 0, 30 s), ")
+    assert line.startswith("progress: 0/3 cases completed; running: a (rank 0, 30 s), ")
     assert "b cycle 3,000/100,000 (rank 1, 30 s)" in line
     assert line.endswith("elapsed 30 s; ETA after the first completed case")
     clock.now += 10.0
@@ -205,8 +206,8 @@ def test_progress_lines_without_a_terminal(tiny_run):
     assert "2 cases, 0 already complete, 2 to run on 1 rank ->" in run.stdout
     lines = [line for line in run.stderr.splitlines() if line.startswith("progress: ")]
     assert lines, run.stderr
-    assert lines[-1].startswith("progress: 2/2 cases done;")
-    assert any("1/2 cases done" in line and "ETA " in line for line in lines)
+    assert lines[-1].startswith("progress: 2/2 cases completed;") and lines[-1].endswith("finished")
+    assert any("1/2 cases completed" in line and "ETA " in line for line in lines)
     assert "\r" not in run.stderr  # no bar drawn into a file
 
 
@@ -265,6 +266,7 @@ def test_a_static_study_stored_in_its_results_runs_again(tmp_path):
             data = json.loads(file.attrs[name])
             data["loading"].update(cycles=0, record=[])
             file.attrs[name] = json.dumps(data, sort_keys=True)
+        del file.attrs["metadata_checksum"]  # earlier versions wrote none
     again = _engine("s.toml", cwd=tmp_path)
     assert again.returncode == 0, again.stdout + again.stderr
     assert "1 case, 1 already complete, 0 to run" in again.stdout

@@ -73,6 +73,6 @@ def test_checks_hold_against_mindlin(results):
 def test_dry_run_says_fretting_with_the_control_mode(results, capsys):
     assert main([str(results / "study.toml"), "--dry-run"]) == 0
     out = capsys.readouterr().out
-    assert "fretting, P = 100 N held, displacement control, amplitude 0.0006 mm" in out
+    assert "fretting, P = 100 N held, displacement control, amplitude 0.0006, 0.003 mm" in out
     assert "along 0° from x, 4 cycles" in out
     assert "cyclic" not in out.splitlines()[0]

@@ -21,9 +21,16 @@ fretting study (issue 13; :mod:`engine.analysis.fretting_figures`)
 Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
 z into the half-space (drawn downwards), wear depth in µm. In the σ_VM maps the black line is
 σ_VM/p0 = 1; ★ marks the peak over the whole plane (the surface layer carries the grid-
-dependent edge singularity of the flat punch) and ○ the peak below the surface layer.
-The colour scale of σ_VM/p0 is capped at ``VM_LEVEL_MAX`` (values above are drawn in the
-top colour) so that the singular edge does not wash out the rest of the plane.
+dependent edge singularity of the flat punch) and ○ the peak below the surface layer, each
+at its own signed position (x/a0, z/a0), which the panel title repeats; the figure's legend
+names the line and both markers. The colour levels are 0.1 p0 apart up to ``VM_LEVEL_MAX``
+and geometric above it (:func:`von_mises_levels`), up to the largest titled peak: every
+marked peak lies inside the colour scale, and the singular edge does not wash out the rest
+of the plane (each level band has one colour, whatever its width).
+
+Studies that sweep dotted keys (load, mesh, modulus …) get ``sweep_<key>.png``
+(:mod:`engine.analysis.sweep_figures`); when a swept key changes a0, p0 or the grid from
+case to case, the per-case figures are drawn for one case chosen with ``--case ID``.
 
 Legibility rules (issue 15): no text below ``MIN_FONT_SIZE`` points (at ``DPI``, as the PNG
 is seen at 100 %); no figure wider than ``MAX_WIDTH_PX``; cases that differ only in β get the
@@ -37,7 +44,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import matplotlib
@@ -46,6 +53,8 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import BoundaryNorm  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
 from engine.reference.flat_punch import (  # noqa: E402
@@ -56,9 +65,10 @@ from engine.reference.flat_punch import (  # noqa: E402
 
 from .fretting_figures import fretting_figures  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
-from .report import stiffness_ratios  # noqa: E402
+from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
+from .sweep_figures import sweep_figures  # noqa: E402
 
-__all__ = ["plot_study", "main", "VM_LEVEL_MAX"]
+__all__ = ["plot_study", "main", "VM_LEVEL_MAX", "von_mises_levels", "study_figures"]
 
 VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
 DPI = 95
@@ -86,26 +96,54 @@ _MARKERS = ("s", "o", "^", "D", "v", "P", "X", "<", ">")
 
 
 # ----------------------------------------------------------------------------- entry points
-def plot_study(results: str | Path | StudyResults, out_dir: str | Path) -> list[Path]:
-    """Write every figure of the study to ``out_dir`` (created); return the PNG paths."""
+def varies_normalisation(study: StudyResults) -> bool:
+    """True when a swept key changes a0, P, the grid or the material from case to case, so
+    that the per-case figures cannot share one normalisation (fretting studies excepted:
+    their figures are per case)."""
+    return bool(set(study.swept_keys) & _STUDY_WIDE) and not study.is_fretting
+
+
+def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
+    """(file name, figure) of every figure of ``study``, drawn one at a time."""
+    yield from sweep_figures(study)
+    if varies_normalisation(study):
+        return  # per-case figures: --case ID (plot_study)
+    if study.is_fretting:  # tangential fretting: engine.analysis.fretting_figures
+        yield from fretting_figures(study)
+    elif study.is_cyclic:
+        yield from _cyclic_figures(study)
+    else:
+        yield from _static_figures(study)
+
+
+def plot_study(
+    results: str | Path | StudyResults,
+    out_dir: str | Path,
+    *,
+    case: str | None = None,
+    on_figure: Callable[[Path], None] | None = None,
+) -> list[Path]:
+    """Write the figures of the study to ``out_dir`` (created); return the PNG paths.
+
+    ``case``: only the per-case figures of that case id, normalised by its own a0, p0 and grid
+    (for studies whose swept keys change them). ``on_figure(path)`` is called after each file.
+    """
     study = results if isinstance(results, StudyResults) else read_results(results)
+    if case is not None:
+        study = study.for_case(case)
     if not study.cases:
         raise ValueError(f"{study.path}: no completed case to plot")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     written = []
     with plt.rc_context(_STYLE):
-        if study.is_fretting:  # tangential fretting (issue 13): engine.analysis.fretting_figures
-            figures = fretting_figures(study)
-        elif study.is_cyclic:
-            figures = _cyclic_figures(study)
-        else:
-            figures = _static_figures(study)
-        for name, figure in figures:
+        for name, figure in study_figures(study):
             path = out / name
             figure.savefig(path, dpi=DPI)
             plt.close(figure)
             written.append(path)
+            if on_figure is not None:
+                on_figure(path)
     return written
 
 
@@ -148,6 +186,13 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         default=None,
         help="directory for the PNG files (default: <results>_figures beside the file)",
     )
+    parser.add_argument(
+        "--case",
+        default=None,
+        metavar="ID",
+        help="draw the field figures (pressure, wear, σ_VM …) of this case alone, normalised "
+        "by its own a0, p0 and grid (case ids: the summary's case_id column)",
+    )
     return parser
 
 
@@ -156,23 +201,45 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if not args.results.exists():
         print(f"error: {args.results}: no such file", file=sys.stderr)
         return 2
-    from .report import _STUDY_WIDE, study_settings, swept_keys
+    from .threshold_figures import has_thresholds, threshold_figures
 
-    settings = study_settings(args.results)
-    swept = set(swept_keys(settings)) & _STUDY_WIDE
-    # the figures normalise every case by one a0, p0 and grid; a fretting study's figures are
-    # per case (its map sweeps the load)
-    if swept and settings["loading"]["kind"] != "fretting":
-        print(
-            f"error: {args.results}: the figures need one load, punch radius, mesh and "
-            f"material for all cases, and this study sweeps {', '.join(sorted(swept))}; "
-            "use `python -m engine report` (docs/study_sweeps_and_profiles.md)",
-            file=sys.stderr,
-        )
+    if has_thresholds(args.results):  # a [search] study: its boundary curves
+        out = args.out or args.results.with_name(f"{args.results.stem}_figures")
+        for number, path in enumerate(threshold_figures(args.results, out), start=1):
+            print(f"plot: [{number}] {path}", flush=True)
+        return 0
+    study = read_results(args.results)
+    try:
+        if args.case is not None:
+            study = study.for_case(args.case)
+        if not study.cases:
+            raise ValueError(f"{args.results}: no completed case to plot")
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
         return 2
-    out = args.out or args.results.with_name(f"{args.results.stem}_figures")
-    for path in plot_study(args.results, out):
-        print(path)
+    out = args.out or args.results.with_name(
+        f"{args.results.stem}_figures" + (f"_{args.case}" if args.case else "")
+    )
+    count = len(study.cases)
+    completed = f"{count} completed case{'s' if count != 1 else ''}"
+    print(f"plot: {study.name}, {completed} -> {out}/", flush=True)
+    count = 0
+
+    def announce(path: Path) -> None:
+        nonlocal count
+        count += 1
+        print(f"plot: [{count}] {path}", flush=True)
+
+    plot_study(study, out, on_figure=announce)
+    if varies_normalisation(study):
+        first = study.cases[0].case_id
+        keys = sorted(set(study.swept_keys) & _STUDY_WIDE)
+        print(
+            f"plot: swept {', '.join(keys)} {'changes' if len(keys) == 1 else 'change'} a0, "
+            "p0, the grid or the material from case to case; the field figures of one case: "
+            f"`python -m engine plot {args.results} --case {first}` (or another case_id)",
+            flush=True,
+        )
     return 0
 
 
@@ -213,24 +280,47 @@ def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns
     return figure, list(axes.flat[:count])
 
 
-def _draw_von_mises(axis, study: StudyResults, x, z, von_mises, title: str, peaks=True):
-    """Filled σ_VM/p0 contours in the x–z plane, the σ_VM/p0 = 1 line and the peaks."""
-    a, p0 = study.radius, study.p0
-    ratio = von_mises / p0
+def von_mises_levels(top: float) -> np.ndarray:
+    """Contour levels of σ_VM/p0: 0.1 apart up to ``VM_LEVEL_MAX``, then geometric (four
+    per doubling) up to ``top`` (the largest peak to show), the last level just above it."""
     levels = np.linspace(0.0, VM_LEVEL_MAX, 21)
-    filled = axis.contourf(x / a, z / a, ratio, levels=levels, cmap="turbo", extend="max")
-    axis.contour(x / a, z / a, ratio, levels=[1.0], colors="k", linewidths=1.2)
-    if peaks:  # the values go to the title, so no box covers the plane
-        index = np.unravel_index(np.argmax(ratio), ratio.shape)
-        axis.plot(x[index] / a, z[index] / a, "*", ms=14, mfc="w", mec="k", clip_on=False)
-        title += f"\n★ max {ratio[index]:.2f} at ({abs(x[index]) / a:.2f}, {z[index] / a:.3f})"
-        depths = z[0]
-        if len(depths) > 1:
-            below = np.where(z >= depths[1], ratio, -np.inf)
-            sub = np.unravel_index(np.argmax(below), below.shape)
-            axis.plot(x[sub] / a, z[sub] / a, "o", ms=8, mfc="none", mec="w", mew=2)
-            title += f"\n○ below surface {ratio[sub]:.2f} at ({abs(x[sub]) / a:.2f}, "
-            title += f"{z[sub] / a:.3f})"
+    if not np.isfinite(top) or top <= VM_LEVEL_MAX:
+        return levels
+    count = max(int(np.ceil(4.0 * np.log2(top / VM_LEVEL_MAX))), 1)
+    above = VM_LEVEL_MAX * (top / VM_LEVEL_MAX) ** (np.arange(1, count + 1) / count)
+    above[-1] = np.nextafter(top, np.inf)
+    return np.concatenate([levels, above])
+
+
+def _von_mises_peaks(study: StudyResults, plane) -> list[tuple[str, str, tuple]]:
+    """(marker, what, (σ_VM/p0, x/a0, z/a0)) of the overall peak and the peak below the
+    surface layer, at their own signed positions (as the summary's vm_max_x, vm_sub_max_x)."""
+    a, p0 = study.radius, study.p0
+    peaks = [("★", "max", plane.peak_point())]
+    if len(plane.depths) > 1:
+        peaks.append(("○", "below surface", plane.peak_point(float(plane.depths[1]))))
+    return [(mark, what, (v / p0, x / a, z / a)) for mark, what, (v, x, _, z) in peaks]
+
+
+_PEAK_MARKERS = {
+    "★": {"marker": "*", "ms": 14, "mfc": "w", "mec": "k", "ls": "none"},
+    "○": {"marker": "o", "ms": 8, "mfc": "none", "mec": "w", "mew": 2, "ls": "none"},
+}
+
+
+def _draw_von_mises(axis, study: StudyResults, plane_xz, title: str, levels, peaks=None):
+    """Filled σ_VM/p0 contours in the x–z plane (``plane_xz``: x, z, σ_VM in mm, mm, MPa),
+    the σ_VM/p0 = 1 line and, with ``peaks`` (:func:`_von_mises_peaks`), the peaks."""
+    x, z, von_mises = plane_xz
+    a, p0 = study.radius, study.p0
+    norm = BoundaryNorm(levels, ncolors=plt.get_cmap("turbo").N, extend="max")
+    filled = axis.contourf(
+        x / a, z / a, von_mises / p0, levels=levels, cmap="turbo", norm=norm, extend="max"
+    )
+    axis.contour(x / a, z / a, von_mises / p0, levels=[1.0], colors="k", linewidths=1.2)
+    for mark, what, (value, xa, za) in peaks or []:  # values in the title: no box on the plane
+        axis.plot(xa, za, **_PEAK_MARKERS[mark], clip_on=False)
+        title += f"\n{mark} {what} {value:.2f} at ({xa:+.2f}, {za:.3f})"
     axis.set_ylim(float(np.max(z)) / a, 0.0)
     axis.set_xticks([-1.0, -0.5, 0.0, 0.5, 1.0])
     axis.set_xlabel("x/a0")
@@ -238,6 +328,16 @@ def _draw_von_mises(axis, study: StudyResults, x, z, von_mises, title: str, peak
     axis.set_title(title, fontsize=MIN_FONT_SIZE)
     axis.set_aspect("equal")
     return filled
+
+
+def _von_mises_legend(figure) -> None:
+    """What the black line and the two markers of the σ_VM panels are."""
+    handles = [
+        Line2D([], [], color="k", lw=1.2, label="σ_VM/p0 = 1"),
+        Line2D([], [], **_PEAK_MARKERS["★"], label="★ peak over the plane"),
+        Line2D([], [], **{**_PEAK_MARKERS["○"], "mec": "k"}, label="○ below the surface layer"),
+    ]
+    figure.legend(handles=handles, loc="outside lower center", ncols=3)
 
 
 def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]:
@@ -257,48 +357,44 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
     plane = panels[0].planes[key]
     span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
     width = 4.6
-    figure, axes = _panel_grid(count, width=width, height=(width - 1.1) / span + 1.35)
+    figure, axes = _panel_grid(count, width=width, height=(width - 1.1) / span + 1.6)
+    peaks = {case.case_id: _von_mises_peaks(study, case.planes[key]) for case in panels}
+    top = max(value for marked in peaks.values() for _, _, (value, _, _) in marked)
+    levels = von_mises_levels(top)
     filled = None
     axes_iter = iter(axes)
-    if analytic:
+    if analytic:  # no peak marked: the analytic edge is singular (values above: top colour)
         x, z = _analytic_plane(study, panels[0].planes[key])
         nu = study.config["material"]["nu_A"]
         stress = flat_punch_stress(np.abs(x), z, study.load, study.radius, nu)
         filled = _draw_von_mises(
-            next(axes_iter), study, x, z, von_mises_cylindrical(stress),
-            "Appendix A, μ = 0 (analytic)", peaks=False,
+            next(axes_iter), study, (x, z, von_mises_cylindrical(stress)),
+            "Appendix A, μ = 0 (analytic)", levels,
         )  # fmt: skip
     for case in panels:
         plane = case.planes[key]
         filled = _draw_von_mises(
-            next(axes_iter), study, plane.x, plane.z, plane.von_mises, case.label
-        )
-    figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=0.9, fraction=0.03, aspect=30)
-    figure.suptitle(
-        suptitle + "\npeaks ★ (whole plane) and ○ (below the surface layer) at (r/a0, z/a0)"
-    )
+            next(axes_iter), study, (plane.x, plane.z, plane.von_mises), case.label, levels,
+            peaks[case.case_id],
+        )  # fmt: skip
+    ticks = [0.0, 0.5, 1.0, 1.5, VM_LEVEL_MAX] + ([levels[-1]] if len(levels) > 21 else [])
+    label = f"σ_VM / p0 (levels 0.1 apart up to {VM_LEVEL_MAX:g}, geometric above)"
+    bar = figure.colorbar(filled, ax=axes, label=label, shrink=0.9, fraction=0.03, aspect=30)
+    bar.set_ticks(ticks, labels=[f"{tick:.3g}" for tick in ticks])
+    _von_mises_legend(figure)
+    figure.suptitle(suptitle + "\npeak positions at (x/a0, z/a0)")
     return figure
 
 
 # ----------------------------------------------------------------------------- static study
 def _static_figures(study: StudyResults):
-    figures = []
     frictionless = [case for case in study.cases if case.mu1 == 0.0 and case.mu2 == 0.0]
     if frictionless:
-        figures.append(
-            ("pressure_frictionless.png", _pressure_frictionless(study, frictionless[0]))
-        )
-    figures.append(("stiffness_ratio.png", _stiffness_ratio(study)))
-    figures.append(("traction_profiles.png", _traction_profiles(study)))
-    figures.append(
-        (
-            "von_mises_final.png",
-            _von_mises_figure(
-                study, "final", _title(study, "σ_VM/p0 in the x–z plane (y = 0)"), analytic=True
-            ),
-        )
-    )
-    return figures
+        yield "pressure_frictionless.png", _pressure_frictionless(study, frictionless[0])
+    yield "stiffness_ratio.png", _stiffness_ratio(study)
+    yield "traction_profiles.png", _traction_profiles(study)
+    title = _title(study, "σ_VM/p0 in the x–z plane (y = 0)")
+    yield "von_mises_final.png", _von_mises_figure(study, "final", title, analytic=True)
 
 
 def _pressure_frictionless(study: StudyResults, case: CaseResults):
@@ -373,27 +469,18 @@ def _traction_profiles(study: StudyResults):
 
 # ----------------------------------------------------------------------------- cyclic study
 def _cyclic_figures(study: StudyResults):
-    figures = [
-        ("wear_history.png", _wear_history(study)),
-        ("pressure_profiles.png", _pressure_profiles(study)),
-    ]
+    yield "wear_history.png", _wear_history(study)
+    yield "pressure_profiles.png", _pressure_profiles(study)
     cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
     if cycles:
         last = cycles[-1]
-        figures.append((f"surface_maps_N{last}.png", _surface_maps(study, last)))
+        yield f"surface_maps_N{last}.png", _surface_maps(study, last)
     for cycle in cycles:
-        figures.append(
-            (
-                f"von_mises_N{cycle}.png",
-                _von_mises_figure(
-                    study, cycle, _title(study, f"σ_VM/p0 in the x–z plane after N = {cycle:,}")
-                ),
-            )
-        )
-    from .regime import regime_figures  # peak regime (issue 11): studies that sweep wear
+        title = _title(study, f"σ_VM/p0 in the x–z plane after N = {cycle:,}")
+        yield f"von_mises_N{cycle}.png", _von_mises_figure(study, cycle, title)
+    from .regime import regime_figures  # peak regime: studies that sweep wear
 
-    figures.extend(regime_figures(study))
-    return figures
+    yield from regime_figures(study)
 
 
 def _wear_history(study: StudyResults):

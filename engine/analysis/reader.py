@@ -7,6 +7,7 @@ Only completed cases are loaded; the others are listed in ``StudyResults.skipped
 
 from __future__ import annotations
 
+import copy
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -197,6 +198,40 @@ class StudyResults:
     @property
     def isotropic(self) -> bool:
         return all(case.isotropic for case in self.cases)
+
+    def for_case(self, case_id: str) -> StudyResults:
+        """The study reduced to the completed case ``case_id``, with that case's values of the
+        swept dotted keys in ``config`` (so a0, P, p0 and the mesh are its own) and its grid.
+
+        Raises ValueError naming the case and the completed ones when it is not among them.
+        """
+        chosen = [case for case in self.cases if case.case_id == case_id]
+        if not chosen:
+            skipped = dict(self.skipped)
+            why = f"its status is {skipped[case_id]!r}" if case_id in skipped else "no such case"
+            known = ", ".join(case.case_id for case in self.cases[:8])
+            more = ", …" if len(self.cases) > 8 else ""
+            raise ValueError(
+                f"{self.path}: case {case_id!r} cannot be plotted ({why}); completed cases: "
+                f"{known}{more}"
+            )
+        config = copy.deepcopy(self.config)
+        for key, value in chosen[0].settings.items():
+            section, name = key.split(".", 1)
+            config.setdefault(section, {})[name] = value
+            config.get("sweep", {}).pop(key, None)
+        with h5py.File(self.path, "r") as file:
+            group = file["cases"][case_id]
+            grid = group["grid"] if "grid" in group else file["grid"] if "grid" in file else None
+            grid_x, grid_y = (
+                (np.asarray(grid["x"]), np.asarray(grid["y"]))
+                if grid is not None
+                else (self.grid_x, self.grid_y)
+            )
+        return StudyResults(
+            path=self.path, name=f"{self.name} {case_id}", config=config, grid_x=grid_x,
+            grid_y=grid_y, cases=chosen,
+        )  # fmt: skip
 
 
 def read_results(path: str | Path) -> StudyResults:

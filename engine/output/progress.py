@@ -16,13 +16,24 @@ the other ranks by a small MPI message (tag ``TAG_PROGRESS``, at most one per
 drains both between its other duties (``ProgressChannel.drain``), so no extra thread touches
 MPI.
 
+What is counted. A finished case is counted by its status: ``completed``, ``failed`` or
+``interrupted`` (stopped by a signal; its state is checkpointed and a rerun resumes it); only
+completed cases count towards ``k/N cases completed``. Once a case has been interrupted the
+run is stopping: no case starts any more, so the line gives the cases left unstarted instead
+of an ETA. The last status line, printed after the last finished case, therefore has the
+same counts as the closing summary (completed, failed, and interrupted plus unstarted = not
+completed).
+
 The ETA. Each case has a relative cost guess (``Case.expected_cost``: low friction slips
 more and takes longer). The measured seconds per unit of that cost, over the cases completed
-so far (in this run and in the runs it resumes), give a predicted time per case; a running
-case needs its prediction minus the time it has already run (at least 0), and the cases not
-yet started are handed, in dispatch order, to whichever rank frees up first — as the
-scheduler does. The ETA is when the last rank finishes. Before the first case completes
-there is no measurement and the line says so.
+so far (in this run and in the runs it resumes), give a predicted time per case. A running
+case needs its prediction minus the time it has already run; once it has run longer than
+predicted, its remaining time is extrapolated from the cycles it has reached (elapsed ×
+(cycles − cycle)/cycle: an upper bound with cycle jumping, whose later jumps are longer),
+and a case without a cycle report that is past its prediction makes the ETA a lower bound
+("more than …"). The cases not yet started are handed, in dispatch order, to whichever
+rank frees up first — as the scheduler does. The ETA is when the last rank finishes. Before
+the first case completes there is no measurement and the line says so.
 """
 
 from __future__ import annotations
@@ -120,7 +131,8 @@ class ProgressReporter:
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.total = total
-        self.done = done
+        self.done = done  # finished cases, whatever their status (earlier runs: completed)
+        self.counts = {CaseStatus.COMPLETED: done, CaseStatus.FAILED: 0, CaseStatus.INTERRUPTED: 0}
         self.ranks = max(1, ranks)
         self.stream = stream or sys.stdout
         self.status_stream = status_stream or sys.stderr
@@ -166,6 +178,8 @@ class ProgressReporter:
     def update(self, outcome) -> None:
         """A case finished (any status): its line on ``stream``, then a status line."""
         self.done += 1
+        status = CaseStatus(outcome.status)
+        self.counts[status] = self.counts.get(status, 0) + 1
         self._finished.add(outcome.case_id)
         self._running.pop(outcome.case_id, None)
         self._leave_queue(outcome.case_id)
@@ -179,9 +193,20 @@ class ProgressReporter:
         if outcome.status == CaseStatus.FAILED and outcome.message:
             text += f": {outcome.message.splitlines()[0]}"
         self.line(text)
-        if self._bar is not None:
-            self._bar.update(1)
+        if self._bar is not None and status == CaseStatus.COMPLETED:
+            self._bar.update(1)  # the bar counts completed cases; the others are in its postfix
         self._show_status(force=True)
+
+    def add(self, case) -> None:
+        """A case created while the run goes on (a step of a threshold search): one more to
+        do, waiting at the end of the queue."""
+        self.total += 1
+        self._costs[case.case_id] = float(case.expected_cost)
+        self._waiting[case.case_id] = None
+        self._waiting_cost += self._costs[case.case_id]
+        if self._bar is not None:
+            self._bar.total = self.total
+            self._bar.refresh()
 
     def tick(self) -> None:
         """Print (or refresh the bar with) the status if ``interval`` has passed."""
@@ -204,16 +229,19 @@ class ProgressReporter:
             return None
         return self._measured_seconds / self._measured_cost
 
+    @property
+    def stopping(self) -> bool:
+        """A case was interrupted: the run stops, no further case starts."""
+        return self.counts[CaseStatus.INTERRUPTED] > 0
+
     def eta_seconds(self) -> float | None:
-        """Seconds until the last case should finish (None without a measured case)."""
+        """Seconds until the last case should finish (None without a measured case); a lower
+        bound when :meth:`overdue` is not empty."""
         rate = self.seconds_per_cost()
         if rate is None:
             return None if (self._running or self._waiting) else 0.0
         now = self.clock()
-        free_at = [
-            max(running.cost * rate - (now - running.started), 0.0)
-            for running in self._running.values()
-        ]
+        free_at = [self._remaining(running, rate, now) for running in self._running.values()]
         free_at += [0.0] * max(self.ranks - len(free_at), 0)
         if len(self._waiting) > EXACT_QUEUE:
             return _balanced_finish(free_at, max(self._waiting_cost, 0.0) * rate)
@@ -222,11 +250,64 @@ class ProgressReporter:
             heapq.heappush(free_at, heapq.heappop(free_at) + self._costs[case_id] * rate)
         return max(free_at, default=0.0)
 
-    def status_text(self, *, short: bool = False) -> str:
-        """``3/9 cases done; running: …; elapsed 2 min 10 s; ETA 5 min 20 s`` (``short``: the
-        running cases without rank and time, and the ETA, for the postfix of the bar)."""
+    @staticmethod
+    def _remaining(running: _Running, rate: float, now: float) -> float:
+        """Seconds a running case still needs: its prediction minus the time it has run or,
+        past the prediction, the extrapolation of its cycle reports (0 without one)."""
+        elapsed = now - running.started
+        predicted = running.cost * rate - elapsed
+        if predicted > 0.0:
+            return predicted
+        if running.cycle and running.cycles:
+            return elapsed * max(running.cycles - running.cycle, 0) / running.cycle
+        return 0.0
+
+    def overdue(self) -> list[str]:
+        """Running cases past their prediction with no cycle report to extrapolate from."""
+        rate = self.seconds_per_cost()
+        if rate is None:
+            return []
         now = self.clock()
-        parts = [] if short else [f"{self.done}/{plural(self.total, 'case')} done"]  # bar: n/N
+        return [
+            item.case_id
+            for item in self._running.values()
+            if not (item.cycle and item.cycles) and item.cost * rate <= now - item.started
+        ]
+
+    def counts_text(self) -> str:
+        """``"3/9 cases completed, 1 failed, 1 interrupted"`` (zero counts left out)."""
+        text = f"{self.counts[CaseStatus.COMPLETED]}/{plural(self.total, 'case')} completed"
+        for status in (CaseStatus.FAILED, CaseStatus.INTERRUPTED):
+            if self.counts[status]:
+                text += f", {self.counts[status]} {status}"
+        return text
+
+    def _eta_text(self) -> str:
+        """The ETA part of a status line (or why there is none)."""
+        if self.stopping:
+            unstarted = len(self._waiting)
+            return "stopping" + (f", {unstarted} not started" if unstarted else "")
+        if not (self._running or self._waiting):
+            return "finished"
+        eta = self.eta_seconds()
+        if eta is None:
+            return "ETA after the first completed case"
+        overdue = len(self.overdue())
+        if not overdue:
+            return f"ETA {format_duration(eta)}"
+        past = f"{plural(overdue, 'case')} running past the estimate"
+        if eta > 0.0:
+            return f"ETA more than {format_duration(eta)} ({past})"
+        return f"ETA unknown ({past})"
+
+    def status_text(self, *, short: bool = False) -> str:
+        """``3/9 cases completed, 1 failed; running: …; elapsed 2 min 10 s; ETA 5 min 20 s``
+        (``short``: the running cases without rank and time, and the ETA, for the postfix of
+        the bar, whose counter shows the completed cases)."""
+        now = self.clock()
+        parts = [] if short else [self.counts_text()]
+        if short and self.done > self.counts[CaseStatus.COMPLETED]:
+            parts.append(self.counts_text().split(", ", 1)[1])
         running = sorted(self._running.values(), key=lambda item: item.rank)
         if running:
             listed = [self._describe(item, now, short) for item in running[:MAX_LISTED]]
@@ -235,10 +316,7 @@ class ProgressReporter:
             parts.append("running: " + ", ".join(listed))
         if not short:
             parts.append(f"elapsed {format_duration(now - self.start)}")
-        eta = self.eta_seconds()
-        parts.append(
-            "ETA after the first completed case" if eta is None else f"ETA {format_duration(eta)}"
-        )
+        parts.append(self._eta_text())
         return "; ".join(parts)
 
     @staticmethod

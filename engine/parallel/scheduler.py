@@ -46,7 +46,7 @@ from typing import Any
 
 from engine.schema import CaseStatus
 
-__all__ = ["Scheduler", "SchedulerReport", "PeerDied"]
+__all__ = ["Scheduler", "SchedulerReport", "PeerDied", "CaseQueue"]
 
 TAG_TO_MASTER = 71
 TAG_TO_WORKER = 72
@@ -64,6 +64,34 @@ class SchedulerReport:
     not_started: list[str] = field(default_factory=list)  # rank 0 only
     cases_per_rank: dict[int, int] = field(default_factory=dict)  # rank 0 only
     wall_time_s: float = 0.0
+
+
+class CaseQueue:
+    """The cases still to hand out, for a run whose cases are not all known at the start.
+
+    A threshold search creates its next case when the previous one's outcome arrives: the
+    caller keeps the queue ``open``, puts new cases (:meth:`put`) from its outcome handler
+    (rank 0, main thread) and closes it (:meth:`close`) when no more will come. Meanwhile a
+    rank that asks for a case while the queue is empty waits (it is not told to exit); it
+    gets the next case put.
+    A plain list passed to :meth:`Scheduler.run` is a closed queue.
+    """
+
+    def __init__(self, cases: Iterable[Any] = (), *, open: bool = False) -> None:
+        self.cases: deque = deque(cases)
+        self.open = open
+
+    def put(self, case: Any) -> None:
+        self.cases.append(case)
+
+    def close(self) -> None:
+        self.open = False
+
+    def __len__(self) -> int:
+        return len(self.cases)
+
+
+_WAIT = object()  # _Dispatcher._next_case: none now, but the open queue may get one
 
 
 class _LocalWorker(threading.Thread):
@@ -170,20 +198,20 @@ class Scheduler:
 
     def run(
         self,
-        cases: Iterable[Any] | None = None,
+        cases: Iterable[Any] | CaseQueue | None = None,
         on_outcome: Callable[[Any], None] | None = None,
         on_poll: Callable[[], None] | None = None,
     ) -> SchedulerReport:
-        """Rank 0: pass the cases (dispatch order) and the outcome handler; others: nothing.
+        """Rank 0: pass the cases (dispatch order, or a :class:`CaseQueue` that grows while
+        the run goes on) and the outcome handler; others: nothing.
 
         ``on_poll()`` (rank 0, main thread) is called once per pass of the dispatch loop, i.e.
         about every ``poll_interval`` seconds: the progress display drains its reports there.
         """
         start = time.perf_counter()
         if self.rank == 0:
-            report = self._dispatch(
-                list(cases or []), on_outcome or (lambda outcome: None), on_poll
-            )
+            queue_ = cases if isinstance(cases, CaseQueue) else CaseQueue(cases or [])
+            report = self._dispatch(queue_, on_outcome or (lambda outcome: None), on_poll)
         else:
             report = self._work()
         report.wall_time_s = time.perf_counter() - start
@@ -192,7 +220,7 @@ class Scheduler:
     # ------------------------------------------------------------------ rank 0
     def _dispatch(
         self,
-        cases: list[Any],
+        cases: CaseQueue,
         on_outcome: Callable[[Any], None],
         on_poll: Callable[[], None] | None = None,
     ) -> SchedulerReport:
@@ -246,15 +274,19 @@ class _Dispatcher:
     """Rank 0's side of one :meth:`Scheduler.run`: hands ``cases`` out to the worker
     ranks and to rank 0's own computing thread as each becomes free, settles every message
     before handing out the next case, then delivers outcomes to ``on_outcome`` (writing may
-    take a while: the rank that computed a case already has its next one)."""
+    take a while: the rank that computed a case already has its next one). With an open
+    :class:`CaseQueue`, a rank asking while it is empty waits in ``parked`` (rank 0's own
+    thread in ``local_parked``) until a case is put or the queue closes."""
 
     def __init__(self, scheduler: Scheduler, cases, on_outcome, on_poll) -> None:
         self.scheduler, self.comm, self.rank = scheduler, scheduler.comm, scheduler.rank
         self.stop_event = scheduler.stop_event
         self.on_outcome, self.on_poll = on_outcome, on_poll
         self.report = SchedulerReport(scheduler.rank, scheduler.size)
-        self.pending = deque(cases)
+        self.pending = cases
         self.busy: dict[int, Any] = {}
+        self.parked: deque[int] = deque()  # workers waiting for the open queue
+        self.local_parked = False
         self.workers_alive = set(range(1, scheduler.size))
         self.stop_sent: set[int] = set()
         self.local = _LocalWorker(scheduler.run_case, self.stop_event.is_set, self.rank)
@@ -271,26 +303,57 @@ class _Dispatcher:
                 self.on_poll()
             if self.stop_event.is_set():
                 self._send_stops()
+            self._feed_parked()
             progressed = self._service_local()
             progressed = self._service_workers(MPI.ANY_SOURCE, status) or progressed
             if not progressed:
                 self._idle()
         self.local.join()
         self.report.stopped = self.stop_event.is_set()
-        self.report.not_started = [case.case_id for case in self.pending]
+        self.report.not_started = [case.case_id for case in self.pending.cases]
         return self.report
 
     def _next_case(self):
-        if self.stop_event.is_set() or not self.pending:
+        """The next case; None: none will come (stop, or the queue is empty and closed);
+        ``_WAIT``: none now, the open queue may get one."""
+        if self.stop_event.is_set():
             return None
-        return self.pending.popleft()
+        if not self.pending.cases:
+            return _WAIT if self.pending.open else None
+        return self.pending.cases.popleft()
+
+    def _feed_parked(self) -> None:
+        """Hand the cases put since the waiting ranks asked (or exit once none will come)."""
+        while self.parked:
+            case = self._next_case()
+            if case is _WAIT:
+                break
+            self._send_next(self.parked.popleft(), case)
+        if self.local_parked and self._next_case_ready():
+            self.local_parked = False
+            self._feed_local()
+        idle = not self.busy and not self.pending.cases and not self.stop_event.is_set()
+        if self.pending.open and idle:
+            raise RuntimeError("the case queue is open but no case runs that could add one")
+
+    def _next_case_ready(self) -> bool:
+        return self.stop_event.is_set() or bool(self.pending.cases) or not self.pending.open
+
+    def _send_next(self, source: int, case) -> None:
+        """Send worker ``source`` its next case, or exit when ``case`` is None."""
+        if case is None:
+            self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
+            self.workers_alive.discard(source)
+        else:
+            self.busy[source] = case
+            self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
 
     def _settle(self, rank: int, kind: str, payload: Any) -> bool:
         """Bookkeeping of a message (cheap, before the next case is handed out); True when
         it carries an outcome to deliver."""
         case = self.busy.pop(rank)
         if kind == "returned":  # the worker was stopped (its own signal): the job stops
-            self.pending.appendleft(case)
+            self.pending.cases.appendleft(case)
             self.stop_event.set()
             return False
         if payload.status == INTERRUPTED:
@@ -305,7 +368,9 @@ class _Dispatcher:
 
     def _feed_local(self) -> None:
         case = self._next_case()
-        if case is None:
+        if case is _WAIT:
+            self.local_parked = True
+        elif case is None:
             self.local.inbox.put(None)
             self.local_alive = False
         else:
@@ -349,12 +414,10 @@ class _Dispatcher:
             has_outcome = kind in ("result", "returned") and self._settle(source, kind, payload)
             self.stop_sent.discard(source)
             case = self._next_case()
-            if case is None:
-                self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
-                self.workers_alive.discard(source)
+            if case is _WAIT:
+                self.parked.append(source)
             else:
-                self.busy[source] = case
-                self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
+                self._send_next(source, case)
             if has_outcome:
                 self._deliver(source, payload)
             self._service_local()  # rank 0's own computing is never starved by the workers

@@ -122,7 +122,10 @@ def solve_normal(
         np.maximum(pressure, 0.0, out=pressure)
         overlap = mask & (pressure <= 0.0) & (gap < 0.0)
         conjugate = not np.any(overlap)
-        pressure[overlap] -= step * gap[overlap]
+        # Re-entry along the gap; never below zero (a step of round-off size and the wrong
+        # sign near convergence would otherwise leave a negative pressure, whose friction
+        # bound then has no meaning).
+        pressure[overlap] = np.maximum(pressure[overlap] - step * gap[overlap], 0.0)
         pressure *= target / pressure.sum()
     return NormalSolution(
         pressure, approach, iterations, residual, residual <= tol, converged_image

@@ -264,7 +264,13 @@ class SubsurfaceStress:
         return tractions
 
     def block(
-        self, pressure, traction_x=None, traction_y=None, *, margin: float = 0.0
+        self,
+        pressure,
+        traction_x=None,
+        traction_y=None,
+        *,
+        margin: float = 0.0,
+        window: tuple[slice, slice] | None = None,
     ) -> StressField:
         """Stresses at every element centre of the grid and every depth.
 
@@ -272,7 +278,9 @@ class SubsurfaceStress:
         of shape ``(n_x, n_y, n_z)``. With ``margin`` > 0 (mm) the block is extended on every
         side by ceil(margin/Δ) element pitches beyond the grid (zero traction there), e.g. to
         see the field outside a contact grid that barely covers the punch; the shape grows
-        accordingly.
+        accordingly. ``window`` = (rows, columns), slices of element indices (step 1): only
+        those element centres (e.g. the two rows beside the x–z plane), at the cost of a
+        lattice that size; not combined with ``margin``.
         """
         grid = self.grid
         margin = float(margin)
@@ -281,6 +289,14 @@ class SubsurfaceStress:
         extra = [int(math.ceil(margin / step - 1e-9)) for step in (grid.dx, grid.dy)]
         origin = (grid.x[0] - extra[0] * grid.dx, grid.y[0] - extra[1] * grid.dy)
         counts = (grid.n_x + 2 * extra[0], grid.n_y + 2 * extra[1])
+        if window is not None:
+            if margin > 0.0:
+                raise ValueError("block: give either margin or window, not both")
+            ranges = [range(n)[part] for n, part in zip(grid.shape, window, strict=True)]
+            if any(len(r) == 0 or r.step != 1 for r in ranges):
+                raise ValueError(f"window must be two non-empty slices of step 1, got {window!r}")
+            origin = (grid.x[ranges[0].start], grid.y[ranges[1].start])
+            counts = (len(ranges[0]), len(ranges[1]))
         lattice = self._lattice((float(origin[0]), float(origin[1])), counts)
         components = lattice.evaluate(
             self.depths, self._tractions(pressure, traction_x, traction_y)

@@ -29,7 +29,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .config import _MISSING, PROPORTIONAL, StudyConfig, StudyConfigError
+from .config import MISSING as _MISSING
+from .config import PROPORTIONAL, StudyConfig, StudyConfigError
 
 __all__ = ["Case", "Plan", "make_plan", "case_id_for", "cost_scale", "setting_names"]
 
@@ -193,9 +194,10 @@ def make_plan(config: StudyConfig) -> Plan:
     cases = []
     seen: dict[str, tuple] = {}
     index = 0
+    searched = () if config.search is None else ((config.search.parameter, config.search.low),)
     for settings in _settings_combinations(config):
         try:
-            case_config = config.for_case(settings)
+            case_config = config.for_case(settings + searched)  # a search's base: at low
         except StudyConfigError as error:
             shown = ", ".join(f"{key} = {value!r}" for key, value in settings)
             raise StudyConfigError(

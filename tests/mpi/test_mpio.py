@@ -160,7 +160,7 @@ STOP_DURING_CREATION = """
 import sys
 from pathlib import Path
 from mpi4py import MPI
-from engine.cli import _metadata
+from engine.run import study_metadata as _metadata
 from engine.output.collective import CollectiveWriter
 from engine.output.hdf5 import StoppedDuringSetUp, creating_path
 from engine.study.config import parse_study

@@ -42,8 +42,9 @@ def test_progress_lines_of_a_real_run(tmp_path):
     result = run(tmp_path, [0.1, 0.2, 0.4], "--progress-interval", "0.2")
     assert result.returncode == 0, result.stdout + result.stderr
     lines = [line for line in result.stderr.splitlines() if line.startswith("progress: ")]
-    assert any(line.startswith("progress: 1/3 cases done") and "ETA " in line for line in lines)
-    assert lines[-1].startswith("progress: 3/3 cases done")
+    first = [line for line in lines if line.startswith("progress: 1/3 cases completed")]
+    assert any("ETA " in line for line in first)
+    assert lines[-1].startswith("progress: 3/3 cases completed")
     assert "warning" not in result.stderr
 
 

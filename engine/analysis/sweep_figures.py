@@ -1,0 +1,136 @@
+"""Figures of studies that sweep dotted keys (load, modulus, mesh, punch radius, amplitude …).
+
+``python -m engine plot RESULTS.h5`` draws, for every swept dotted key ``K``, the figure
+``sweep_<K>.png``: each summary quantity of the completed cases against the values of ``K``,
+one line per combination of the other swept parameters (μ, wear coefficient, β and the other
+dotted keys), in the summary's units (engine/output/summary.py) except wear depth and
+approach, drawn in µm. The quantities (those the study has values for):
+
+cyclic and static studies
+    maximum wear depth, wear volume, σ_VM maximum over the x–z plane and below its surface
+    layer, the depth of the latter, stick fraction at peak load, approach g_n;
+fretting studies
+    the same, and the tangential force amplitude Q*, the energy dissipated per cycle and the
+    slip regime (partial or gross slip).
+
+The same numbers as the tables of ``python -m engine report`` (:mod:`.sweep_report`, which
+groups the cases the same way). The per-case field figures of such a study use that case's
+own a0, p0 and grid: ``python -m engine plot RESULTS.h5 --case ID``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+
+from engine.output.summary import column_unit, load_summary
+
+from .reader import StudyResults
+from .sweep_report import _completed, _groups
+
+__all__ = ["SWEEP_QUANTITIES", "SweepQuantity", "sweep_figures"]
+
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
+
+
+@dataclass(frozen=True)
+class SweepQuantity:
+    """A summary column drawn against a swept key: its name, scale to the drawn unit, the
+    drawn unit and (slip regime) the names of its codes."""
+
+    column: str
+    name: str
+    scale: float = 1.0
+    unit: str | None = None  # None: the summary's unit of the column
+    categories: tuple[str, ...] = ()
+
+    def label(self) -> str:
+        unit = column_unit(self.column) if self.unit is None else self.unit
+        unit = unit.replace("^3", "³").replace("^2", "²")
+        return f"{self.name} ({unit})" if unit else self.name
+
+
+SWEEP_QUANTITIES = (
+    SweepQuantity("max_wear_depth", "maximum wear depth", 1e3, "µm"),
+    SweepQuantity("wear_volume", "wear volume"),
+    SweepQuantity("vm_max", "σ_VM max, x–z plane"),
+    SweepQuantity("vm_sub_max", "σ_VM max below the surface layer"),
+    SweepQuantity("vm_sub_max_z", "its depth z"),
+    SweepQuantity("stick_fraction", "stick fraction at peak load", unit=""),
+    SweepQuantity("approach", "approach g_n", 1e3, "µm"),
+    SweepQuantity("q_amplitude", "tangential force amplitude Q*"),
+    SweepQuantity("energy_per_cycle", "energy dissipated per cycle"),
+    SweepQuantity("slip_regime", "slip regime", unit="", categories=("partial", "gross")),
+)
+
+
+def _present(rows: pd.DataFrame) -> list[SweepQuantity]:
+    """The quantities with at least one finite non-zero value in ``rows`` (a static study
+    has no wear: its wear panels would be flat lines at zero)."""
+    present = []
+    for quantity in SWEEP_QUANTITIES:
+        if quantity.column not in rows:
+            continue
+        values = pd.to_numeric(rows[quantity.column], errors="coerce").to_numpy(float)
+        if quantity.categories or np.any(np.isfinite(values) & (values != 0.0)):
+            present.append(quantity)
+    return present
+
+
+def _key_label(key: str) -> str:
+    unit = column_unit(key)
+    return f"{key} ({unit})" if unit else key
+
+
+def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str):
+    """One panel per quantity against ``key``; one line per combination of the others."""
+    rows = _completed(summary)
+    quantities = _present(rows)
+    columns = min(3, max(len(quantities), 1))
+    count = -(-len(quantities) // columns)
+    figure, axes = plt.subplots(
+        count, columns, figsize=(4.4 * columns + 2.6, 3.3 * count), squeeze=False,
+        layout="constrained",
+    )  # fmt: skip
+    values = rows[key].astype(float)
+    logarithmic = bool((values > 0).all() and values.max() >= 10.0 * values.min())
+    groups = list(_groups(rows, key, swept))
+    for axis, quantity in zip(axes.flat, quantities, strict=False):
+        for number, (label, group) in enumerate(groups):
+            data = pd.to_numeric(group[quantity.column], errors="coerce") * quantity.scale
+            axis.plot(
+                group[key].astype(float), data, marker=_MARKERS[number % len(_MARKERS)],
+                ms=5, lw=1.4, color=f"C{number % 10}", label=label or "all cases",
+            )  # fmt: skip
+        if quantity.categories:
+            axis.set_yticks(range(len(quantity.categories)), quantity.categories)
+            axis.set_ylim(-0.5, len(quantity.categories) - 0.5)
+        if logarithmic:
+            axis.set_xscale("log")
+        axis.set_xlabel(_key_label(key))
+        axis.set_ylabel(quantity.label())
+        axis.grid(alpha=0.3, which="both")
+    for axis in axes.flat[len(quantities) :]:
+        axis.set_visible(False)
+    if len(groups) > 1 or groups[0][0]:
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        figure.legend(handles, labels, loc="outside right upper", title="other parameters")
+    figure.suptitle(f"{title}: summary against {key} ({len(rows)} completed cases)")
+    return figure
+
+
+def sweep_figures(study: StudyResults):
+    """(file name, figure) of ``sweep_<key>.png`` for every swept dotted key, one at a time."""
+    keys = study.swept_keys
+    if not keys:
+        return
+    summary = load_summary(study.path)
+    if _completed(summary).empty:
+        return
+    for key in keys:
+        if _completed(summary)[key].nunique() < 2:
+            continue  # one value among the completed cases: nothing to draw against
+        yield f"sweep_{key}.png", sweep_figure(summary, key, keys, study.name)

@@ -1,0 +1,126 @@
+"""The protocol of a fatigue criterion, and its result on a stress history.
+
+A criterion is a class with four class attributes and one method:
+
+- ``name``: its key in ``engine.fatigue.CRITERIA`` and in a study's ``[fatigue]`` ``criteria``;
+- ``column``: the summary column of its hot-spot value (``crossland_risk``, ``swt`` …), from
+  which the columns ``<column>_x``, ``<column>_z``, ``<column>_critical`` and, where the
+  criterion gives them, ``<column>_angle`` and ``<column>_life`` are named;
+- ``unit``: the unit of its value ("1" for a risk, "MPa", …);
+- ``constants``: the names of its material constants, all required (no defaults), and
+  ``constant_units`` their units ({name: "MPa" | "1"});
+- ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
+  angle and a life (then the columns ``_angle`` and ``_life`` exist);
+- ``evaluate(history) -> CriterionField``: its value at every point of a ``StressHistory``,
+  vectorised over points (and planes, instants).
+
+``FatigueCriterion`` implements the constructor shared by the four bundled criteria:
+``Criterion(constants, elasticity, options)`` checks that ``constants`` holds exactly the
+names of ``constants`` (finite numbers) and keeps them as attributes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .history import Elasticity, StressHistory
+from .quantities import AMPLITUDE_METHODS, plane_family
+
+__all__ = ["CriterionField", "FatigueCriterion", "FatigueOptions"]
+
+
+@dataclass(frozen=True)
+class FatigueOptions:
+    """How the shared quantities are computed: ``amplitude_method`` of √J2,a ("chord": half
+    the longest chord, default; "ball": the minimum circumscribed ball) and ``plane_step``
+    (deg), the resolution of the critical-plane search (a divisor of 180)."""
+
+    amplitude_method: str = "chord"
+    plane_step: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.amplitude_method not in AMPLITUDE_METHODS:
+            raise ValueError(
+                f"amplitude_method must be one of {AMPLITUDE_METHODS}, "
+                f"got {self.amplitude_method!r}"
+            )
+        plane_family(self.plane_step)  # validates the step
+
+
+@dataclass(frozen=True)
+class CriterionField:
+    """A criterion's ``value`` at every point (shape (n_points,), in the criterion's unit),
+    the critical-plane ``angle`` (deg, module ``quantities``; None for invariant criteria)
+    and the predicted ``life`` (cycles; None where the criterion gives none)."""
+
+    value: np.ndarray
+    angle: np.ndarray | None = None
+    life: np.ndarray | None = None
+
+    def take(self, points) -> CriterionField:
+        """The field at a subset of the points."""
+        return CriterionField(
+            self.value[points],
+            None if self.angle is None else self.angle[points],
+            None if self.life is None else self.life[points],
+        )
+
+
+class FatigueCriterion:
+    """Base class of the bundled criteria (module docstring)."""
+
+    name: ClassVar[str]
+    column: ClassVar[str]
+    unit: ClassVar[str]
+    constants: ClassVar[tuple[str, ...]]
+    constant_units: ClassVar[dict[str, str]]
+    reports_angle: ClassVar[bool] = False
+    reports_life: ClassVar[bool] = False
+
+    def __init__(
+        self,
+        constants: Mapping[str, float],
+        elasticity: Elasticity,
+        options: FatigueOptions | None = None,
+    ):
+        missing = [key for key in self.constants if key not in constants]
+        if missing:
+            raise ValueError(
+                f"fatigue criterion {self.name!r} needs the constants {list(self.constants)}; "
+                f"missing {missing}"
+            )
+        for key in self.constants:
+            value = constants[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"fatigue constant {key!r} must be a number, got {value!r}")
+            if not math.isfinite(value):
+                raise ValueError(f"fatigue constant {key!r} must be finite, got {value!r}")
+            setattr(self, key, float(value))
+        self.elasticity = elasticity
+        self.options = options or FatigueOptions()
+        self.check()
+
+    def check(self) -> None:
+        """Further checks of the constants (a subclass raises ValueError naming the key)."""
+
+    def _require_positive(self, *keys: str) -> None:
+        for key in keys:
+            if not getattr(self, key) > 0.0:
+                raise ValueError(
+                    f"fatigue constant {key!r} must be > 0, got {getattr(self, key)!r}"
+                )
+
+    def _require_negative(self, *keys: str) -> None:
+        for key in keys:
+            if not getattr(self, key) < 0.0:
+                raise ValueError(
+                    f"fatigue constant {key!r} must be < 0, got {getattr(self, key)!r}"
+                )
+
+    def evaluate(self, history: StressHistory) -> CriterionField:  # pragma: no cover
+        raise NotImplementedError

@@ -1,0 +1,75 @@
+"""The Fatemi–Socie parameter on the critical plane (Fatemi & Socie, Fatigue Fract. Eng.
+Mater. Struct. 11 (1988) 149).
+
+    FS = γ_a (1 + k σ_n,max / σ_y)   (dimensionless),
+
+on the plane of maximum shear strain amplitude γ_a (engineering shear strain γ = τ/G, G the
+flat's shear modulus; elastic stresses), σ_n,max the maximum normal stress on that plane over
+the cycle, k and σ_y (MPa) material constants. Per plane, γ_a is the larger of the amplitudes
+(half ranges) of the shear along the plane's trace and along y (``engine.fatigue.quantities``);
+among planes whose γ_a is within 1e-9 (relative) of the maximum, the largest FS is taken
+(uniaxial loading has two such planes, ±45°). Life from
+
+    FS = (τ_f/G) (2N)^{b0} + γ_f (2N)^{c0}
+
+(τ_f MPa, b0 < 0, γ_f > 0, c0 < 0). Pure torsion τ_a gives FS = τ_a/G (σ_n = 0 on the shear
+planes); fully reversed uniaxial σ_a gives γ_a = σ_a/(2G) at 45° with σ_n,max = σ_a/2.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import CriterionField, FatigueCriterion
+from .history import StressHistory
+from .quantities import cycle_range, invert_life, plane_family, point_chunks, resolve
+
+_TIE = 1e-9  # relative tolerance of equal shear amplitudes (rounding of the resolution)
+
+
+class FatemiSocie(FatigueCriterion):
+    name = "fatemi_socie"
+    column = "fs"
+    unit = "1"
+    constants = ("tau_f", "gamma_f", "b0", "c0", "k", "sigma_y")
+    reports_angle = True
+    reports_life = True
+    constant_units = {
+        "tau_f": "MPa",
+        "gamma_f": "1",
+        "b0": "1",
+        "c0": "1",
+        "k": "1",
+        "sigma_y": "MPa",
+    }
+
+    def check(self) -> None:
+        self._require_positive("tau_f", "gamma_f", "sigma_y")
+        self._require_negative("b0", "c0")
+        if self.k < 0.0:
+            raise ValueError(f"fatigue constant 'k' must be >= 0, got {self.k!r}")
+
+    def evaluate(self, history: StressHistory) -> CriterionField:
+        planes = plane_family(self.options.plane_step)
+        shear_modulus = self.elasticity.shear_modulus
+        value = np.empty(history.n_points)
+        index = np.empty(history.n_points, dtype=int)
+        for chunk in point_chunks(history, 3 * planes.angle.size):
+            tensor = history.tensor[:, chunk]
+            shear = np.maximum(
+                cycle_range(resolve(tensor, planes.shear_trace)),
+                cycle_range(resolve(tensor, planes.shear_y)),
+            )
+            strain = shear / shear_modulus
+            parameter = strain * (
+                1.0 + self.k * resolve(tensor, planes.normal).max(0) / self.sigma_y
+            )
+            critical = strain >= strain.max(axis=1, keepdims=True) * (1.0 - _TIE)
+            index[chunk] = np.argmax(np.where(critical, parameter, -np.inf), axis=1)
+            value[chunk] = np.take_along_axis(parameter, index[chunk, None], axis=1)[:, 0]
+        return CriterionField(value, planes.angle[index], self.life(value))
+
+    def life(self, value: np.ndarray) -> np.ndarray:
+        """N (cycles) of the FS values, module docstring."""
+        coefficients = [self.tau_f / self.elasticity.shear_modulus, self.gamma_f]
+        return invert_life(value, coefficients, [self.b0, self.c0])

@@ -1,0 +1,90 @@
+"""Study file (TOML) -> frozen, validated configuration (:class:`StudyConfig`).
+
+The package is split by role:
+
+- :mod:`.sections` the section records, the error every check raises, shared constants;
+- :mod:`.parsing` the study file read and validated into a :class:`StudyConfig` (the keys of
+  every section are listed there), and a case's configuration derived from the study's;
+- :mod:`.reader` one TOML table read with typed, range-checked values;
+- :mod:`.sweep` the ``[sweep]`` table's dotted keys and ``zip`` groups;
+- :mod:`.checks` physical checks (values the model cannot represent);
+- :mod:`.toml_writer` the resolved study written back as TOML;
+- :mod:`.compat` results files of earlier versions (defaults they left out).
+
+Every name below is importable from ``engine.study.config``.
+"""
+
+from .checks import (
+    MAX_FRICTION,
+    MAX_PRESSURE_OVER_MODULUS,
+    MAX_TOLERANCE,
+    MAX_WEAR_COEFFICIENT,
+    MIN_PRESSURE_OVER_MODULUS,
+    MODULUS_RANGE,
+    check_physical_ranges,
+)
+from .compat import FORMER_DEFAULTS, STATIC_PLACEHOLDERS, fill_former_defaults, same_fingerprint
+from .parsing import StudyConfig, load_study, parse_study
+from .sections import (
+    FRETTING_KEYS,
+    HERTZ_MARGIN,
+    LOADING_KINDS,
+    MISSING,
+    PROPORTIONAL,
+    PUNCH_SHAPES,
+    SWEEPABLE,
+    WEAR_LAWS,
+    LoadingConfig,
+    MaterialConfig,
+    MeshConfig,
+    PunchConfig,
+    SolverConfig,
+    StudyConfigError,
+    StudyInfo,
+    SubsurfaceConfig,
+    SweepAxis,
+    SweepConfig,
+    TestingConfig,
+    WearConfig,
+    contact_modulus,
+)
+from .toml_writer import dump_toml
+
+__all__ = [
+    "StudyConfigError",
+    "StudyConfig",
+    "StudyInfo",
+    "MaterialConfig",
+    "PunchConfig",
+    "MeshConfig",
+    "LoadingConfig",
+    "WearConfig",
+    "SubsurfaceConfig",
+    "SweepConfig",
+    "SolverConfig",
+    "TestingConfig",
+    "load_study",
+    "parse_study",
+    "dump_toml",
+    "check_physical_ranges",
+    "contact_modulus",
+    "fill_former_defaults",
+    "same_fingerprint",
+    "FORMER_DEFAULTS",
+    "STATIC_PLACEHOLDERS",
+    "FRETTING_KEYS",
+    "HERTZ_MARGIN",
+    "LOADING_KINDS",
+    "MAX_FRICTION",
+    "MAX_PRESSURE_OVER_MODULUS",
+    "MAX_TOLERANCE",
+    "MAX_WEAR_COEFFICIENT",
+    "MIN_PRESSURE_OVER_MODULUS",
+    "MODULUS_RANGE",
+    "MISSING",
+    "PROPORTIONAL",
+    "PUNCH_SHAPES",
+    "SWEEPABLE",
+    "WEAR_LAWS",
+    "SweepAxis",
+]

@@ -1,0 +1,650 @@
+"""Study file (TOML) -> frozen, validated configuration.
+
+The study file is parsed once with :mod:`tomllib` and checked once; every later layer receives
+the frozen :class:`StudyConfig` and never looks at the TOML again. Every error is a
+:class:`StudyConfigError` whose message names the file, the key and the offending value, e.g.::
+
+    studies/demo.toml: [loading] load = -750: must be > 0 (N)
+
+Units are those of the paper (Juliá & Rodríguez-Tembleque 2023, Section 7): mm, N, MPa,
+wear coefficients in 1/MPa, angles in degrees.
+
+Sections and keys (``*`` = required; defaults in brackets):
+
+``[study]``       name*, output* (path of the .h5 file, relative to the working directory;
+                  the summary is written beside it as .csv), output_strategy ["auto"]
+                  ("single": rank 0 writes; "mpio": every rank writes its cases through
+                  parallel HDF5; "auto": mpio when h5py is MPI-enabled and ranks > 1)
+``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
+``[punch]``       shape ["flat"] ("flat" | "rounded" | "sphere"), radius* (flat: punch radius;
+                  rounded: radius of the flat face; sphere: sphere radius), edge_radius*
+                  (rounded only: toroidal edge radius, >= 0; 0 is the sharp flat punch)  mm
+``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
+                  1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
+``[loading]``     kind* ("static" | "cyclic" | "fretting"), load* (N), steps [10] (increments
+                  per half cycle; for static: load increments; fretting: per quarter
+                  tangential cycle and of the normal loading), cycles* (cyclic, fretting),
+                  record [[cycles]] (cycles at which fields and stresses are stored, 0 =
+                  unworn; cyclic, fretting),
+                  max_wear_fraction [0.004] (cycle-jump control: wear per jump over the
+                  peak elastic approach; cyclic, fretting);
+                  fretting only: amplitude (mm, rigid tangential displacement) XOR
+                  force_amplitude (N, tangential force), direction [0] (degrees from x)
+                  (engine.solvers.fretting)
+``[wear]``        law ["archard"] ("archard": Eq. 12–14 with [sweep] wear1/wear2 in 1/MPa;
+                  "energy": depth = alpha × local frictional work, [sweep] alpha in mm³/J)
+``[subsurface]``  depth [1.5] (in punch radii; sphere: in Hertz contact radii), layers [16]
+``[sweep]``       mu1*, mu2 [mu1], wear1* (cyclic; [0] for static), wear2 [wear1] or
+                  "proportional" (wear1·mu2/mu1, Section 7.3), beta [0] (degrees);
+                  alpha* (mm³/J) instead of wear1/wear2 with [wear] law = "energy".
+                  Each is a list (a single number is accepted); every combination is a case.
+                  Any scalar of the other sections is a sweep axis under its quoted dotted
+                  key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0]; swept keys must
+                  not also be set in their own section. zip = [["loading.load",
+                  "mesh.n"], ...] makes the keys of each group vary together (equal list
+                  lengths) instead of forming their product. See engine.study.plan.
+``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [20000] (iterations per
+                  increment), threads [1]
+                  (FFT threads per rank), fft_planner ["estimate"] ("estimate": the same FFTW
+                  plans in every process, so runs and rank counts give bit-identical results;
+                  "measure": timed plans, faster, may differ in the last digits)
+``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from engine.solvers import defaults
+
+from .checks import MAX_FRICTION, MAX_TOLERANCE, bound, check_physical_ranges
+from .compat import STATIC_PLACEHOLDERS
+from .reader import Section, toml_error
+from .sections import (
+    BULK_STRESS_KEYS,
+    FRETTING_KEYS,
+    HERTZ_MARGIN,
+    LOADING_KINDS,
+    MISSING,
+    PROPORTIONAL,
+    PUNCH_SHAPES,
+    WEAR_LAWS,
+    LoadingConfig,
+    MaterialConfig,
+    MeshConfig,
+    PunchConfig,
+    SolverConfig,
+    StudyConfigError,
+    StudyInfo,
+    SubsurfaceConfig,
+    SweepConfig,
+    TestingConfig,
+    WearConfig,
+    contact_modulus,
+)
+from .sweep import SECTIONS_OPTIONAL, SECTIONS_REQUIRED, axis_error, split_sweep, substituted
+from .toml_writer import dump_toml
+
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """The whole study, validated. ``source`` is the study file it came from."""
+
+    source: str
+    study: StudyInfo
+    material: MaterialConfig
+    punch: PunchConfig
+    mesh: MeshConfig
+    loading: LoadingConfig
+    subsurface: SubsurfaceConfig
+    sweep: SweepConfig
+    solver: SolverConfig
+    testing: TestingConfig
+    wear: WearConfig = WearConfig()
+    search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
+    # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
+    # derives a case's configuration, and the dotted keys whose default derives from others.
+    tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
+    derived_defaults: tuple[str, ...] = ()
+
+    @property
+    def is_cyclic(self) -> bool:
+        """True for the kinds with load cycles, wear and cycle jumping (cyclic, fretting)."""
+        return self.loading.kind in ("cyclic", "fretting")
+
+    @property
+    def is_fretting(self) -> bool:
+        return self.loading.kind == "fretting"
+
+    @property
+    def contact_length(self) -> float:
+        """a0 (mm), the length unit of ``[subsurface] depth`` and of the summary's p0: the
+        punch radius (rounded: of the flat face) or, for a sphere, Hertz's contact radius
+        at the peak load; for a line contact the nominal contact half-width (Hertz's for a
+        cylinder, Ciavarella's for a pad)."""
+        if self.punch.shape == "sphere":
+            from engine.reference.hertz import hertz_contact_radius
+
+            return hertz_contact_radius(
+                self.loading.load, self.punch.radius, contact_modulus(self.material)
+            )
+        if self.punch.is_line:
+            return line_half_width(self.punch, self.material, self.loading.load)
+        return self.punch.radius
+
+    def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
+        """The configuration of one case: the swept ``settings`` ({dotted key: value})
+        substituted into the study file and validated again (derived defaults such as
+        ``mesh.half_width`` follow the swept values). Without settings: ``self``."""
+        settings = dict(settings)
+        if not settings:
+            return self
+        case = _parse_tables(substituted(self.tables, settings), self.source)
+        return dataclasses.replace(
+            case, study=self.study, sweep=self.sweep, tables=self.tables, search=self.search
+        )
+
+    def resolved(self) -> dict[str, dict[str, Any]]:
+        """The configuration with every default filled in, as plain TOML-able data."""
+        out: dict[str, dict[str, Any]] = {}
+        swept = set(self.sweep.swept_keys)
+        if self.search is not None:  # searched like a swept key: its value is each case's
+            swept.add(self.search.parameter)
+        if swept:  # defaults computed from swept keys belong to each case, not to the study
+            swept |= set(self.derived_defaults)
+        for field in dataclasses.fields(self):
+            if field.name in ("source", "tables", "derived_defaults"):
+                continue
+            if field.name == "sweep":
+                out["sweep"] = self.sweep.resolved()
+                continue
+            if field.name == "wear" and self.wear == WearConfig():
+                continue  # the default law, left out so that older results files resume
+            if field.name == "search":
+                if self.search is not None:
+                    out["search"] = dataclasses.asdict(self.search)
+                continue
+            section = {}
+            for key, value in dataclasses.asdict(getattr(self, field.name)).items():
+                if value is None or f"{field.name}.{key}" in swept:
+                    continue  # TOML has no null: None is "not applicable" (static loading)
+                if field.name == "punch" and key == "shape" and value == "flat":
+                    continue  # the default, left out so that older results files resume
+                if field.name == "loading" and key in STATIC_PLACEHOLDERS and not self.is_cyclic:
+                    continue  # no cycles in a static study (older files: fill_former_defaults)
+                if isinstance(value, Path):
+                    value = str(value)
+                if isinstance(value, tuple):
+                    value = list(value)
+                section[key] = value
+            out[field.name] = section
+        return out
+
+    def to_toml(self) -> str:
+        """Resolved study as TOML text (stored in the results file)."""
+        return dump_toml(self.resolved())
+
+    def to_json(self) -> str:
+        return json.dumps(self.resolved(), sort_keys=True)
+
+    def fingerprint(self) -> str:
+        """Everything that changes the result of a case (not the output path, not testing).
+
+        A results file made with a different fingerprint cannot be resumed.
+        """
+        resolved = self.resolved()
+        resolved.pop("study")
+        resolved.pop("testing")
+        resolved.pop("sweep")
+        resolved["solver"].pop("threads", None)
+        if self.sweep.swept_keys:  # which keys vary is part of the study's identity
+            resolved["swept_keys"] = sorted(self.sweep.swept_keys)
+        return json.dumps(resolved, sort_keys=True)
+
+
+def load_study(path: str | Path) -> StudyConfig:
+    """Read and validate the study file ``path``; raises :class:`StudyConfigError`."""
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark is not TOML
+    except FileNotFoundError:
+        raise StudyConfigError(source, "study", MISSING, "study file not found") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise StudyConfigError(source, "study", MISSING, f"cannot read: {error}") from None
+    return parse_study(text, source=source)
+
+
+def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
+    """Validate study TOML ``text``; ``source`` names the file in error messages.
+
+    Every value of every swept key is validated on its own (with the other axes at their
+    first value) before anything else happens; a bad one raises a :class:`StudyConfigError`
+    naming the key, its list position and the value. Combinations are validated by
+    :func:`engine.study.plan.make_plan`.
+    """
+    try:
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # a byte-order mark is not TOML
+    except tomllib.TOMLDecodeError as error:
+        raise toml_error(source, text, error) from None
+    search_table = data.pop("search", None)
+    axes, tables = split_sweep(source, data)
+    first = {key: axis.values[0][i] for axis in axes for i, key in enumerate(axis.keys)}
+    search = _search_spec(source, search_table, tables, tuple(first))
+    if search is not None:  # the base study at the bracket's low end
+        first[search.parameter] = search.low
+    swept = set(first)
+    try:
+        config = _parse_tables(substituted(tables, first), source)
+    except StudyConfigError as error:
+        if search is not None and error.key == search.parameter:
+            problem = f"invalid: {error.problem}"
+            raise StudyConfigError(source, "search.low", search.low, problem) from None
+        if error.key not in swept:
+            raise
+        axis = next(axis for axis in axes if error.key in axis.keys)
+        raise axis_error(source, axis, 0, error) from None
+    for axis in axes:
+        for position in range(1, len(axis)):
+            settings = dict(first)
+            settings.update(zip(axis.keys, axis.values[position], strict=True))
+            try:
+                _parse_tables(substituted(tables, settings), source)
+            except StudyConfigError as error:
+                raise axis_error(source, axis, position, error) from None
+    if search is not None:
+        _check_search_end(source, search, tables, first)
+    sweep = dataclasses.replace(config.sweep, axes=axes)
+    return dataclasses.replace(config, sweep=sweep, tables=tables, search=search)
+
+
+def _search_spec(source: str, table: Any, tables: dict[str, Any], swept: tuple[str, ...]):
+    """The ``[search]`` section (None without one; :func:`engine.study.search.parse_search`);
+    its parameter must be left out of its own section: the search sets it case by case."""
+    if table is None:
+        return None
+    from ..search import parse_search
+
+    search = parse_search(source, table, swept)
+    section, name = search.parameter.split(".", 1)
+    if name in (tables.get(section) or {}):
+        raise StudyConfigError(
+            source,
+            search.parameter,
+            tables[section][name],
+            "is set by [search] case by case: leave it out here",
+        )
+    return search
+
+
+def _check_search_end(source: str, search, tables: dict[str, Any], first: dict) -> None:
+    """The study at the bracket's high end must be valid too (the low end is the base)."""
+    settings = dict(first)
+    settings[search.parameter] = search.high
+    try:
+        _parse_tables(substituted(tables, settings), source)
+    except StudyConfigError as error:
+        problem = f"invalid: {error.problem}"
+        raise StudyConfigError(source, "search.high", search.high, problem) from None
+
+
+def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
+    """Validate the TOML tables (``[sweep]`` without dotted keys) into a StudyConfig."""
+    for name in data:
+        if name not in SECTIONS_REQUIRED + SECTIONS_OPTIONAL:
+            raise StudyConfigError(
+                source,
+                name,
+                MISSING,
+                "unknown section (known: "
+                + ", ".join(f"[{s}]" for s in SECTIONS_REQUIRED + SECTIONS_OPTIONAL)
+                + ")",
+            )
+    for name in SECTIONS_REQUIRED:
+        if name not in data:
+            raise StudyConfigError(source, name, MISSING, "required section is missing")
+
+    def section(name: str) -> Section:
+        return Section(source, name, data.get(name, {}))
+
+    study = _parse_study_info(section("study"))
+    material = _parse_material(section("material"))
+    punch = _parse_punch(section("punch"))
+    loading = _parse_loading(section("loading"))
+    wear = _parse_wear(section("wear"), loading)
+    mesh = _parse_mesh(section("mesh"), punch, material, loading)
+    subsurface = _parse_subsurface(section("subsurface"))
+    sweep = _parse_sweep(section("sweep"), loading, wear)
+    solver = _parse_solver(section("solver"), loading)
+    testing = _parse_testing(section("testing"))
+    check_physical_ranges(source, material, punch, loading, sweep)
+    _check_line_keys(source, punch, loading, wear)
+    derived = tuple(
+        key
+        for key, section_name, name in (
+            ("mesh.half_width", "mesh", "half_width"),
+            ("loading.record", "loading", "record"),
+        )
+        if name not in data.get(section_name, {})
+    )
+    return StudyConfig(
+        source,
+        study,
+        material,
+        punch,
+        mesh,
+        loading,
+        subsurface,
+        sweep,
+        solver,
+        testing,
+        wear=wear,
+        derived_defaults=derived,
+    )
+
+
+def _parse_study_info(s: Section) -> StudyInfo:
+    s.check_known({"name", "output", "output_strategy"})
+    name = s.string("name")
+    output = s.string("output")
+    if not output.endswith((".h5", ".hdf5")):
+        raise s.error("output", output, "must be a path ending in .h5 or .hdf5")
+    strategy = s.string("output_strategy", "auto")
+    if strategy not in ("auto", "single", "mpio"):
+        raise s.error("output_strategy", strategy, 'must be "auto", "single" or "mpio"')
+    return StudyInfo(name=name, output=Path(output), output_strategy=strategy)
+
+
+def _parse_material(s: Section) -> MaterialConfig:
+    s.check_known({"E_A", "nu_A", "E_B", "nu_B"})
+    return MaterialConfig(
+        E_A=s.number("E_A", minimum=0.0, strict=True, unit="MPa"),
+        nu_A=s.poisson("nu_A"),
+        E_B=s.number("E_B", minimum=0.0, strict=True, unit="MPa"),
+        nu_B=s.poisson("nu_B"),
+    )
+
+
+def _parse_punch(s: Section) -> PunchConfig:
+    s.check_known({"shape", "radius", "edge_radius"})
+    shape = s.string("shape", "flat")
+    if shape not in PUNCH_SHAPES:
+        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PUNCH_SHAPES))
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    edge_radius = None
+    if shape == "rounded":
+        edge_radius = s.number("edge_radius", minimum=0.0, unit="mm")
+    elif shape == "pad":
+        edge_radius = s.number("edge_radius", minimum=0.0, strict=True, unit="mm")
+    elif "edge_radius" in s.table:
+        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded" or "pad"')
+    return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
+
+
+def _parse_mesh(
+    s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
+) -> MeshConfig:
+    """The mesh must cover the contact: the punch face (flat, rounded) or, for a sphere,
+    Hertz's contact radius at the peak load (a default half-width of HERTZ_MARGIN times it).
+    A contact reaching the mesh border at run time fails the case (engine.geometry)."""
+    if punch.is_line:
+        return _parse_line_mesh(s, punch, material, loading)
+    s.check_known({"n", "half_width"})
+    n = s.integer("n", minimum=8)
+    if punch.shape == "sphere":
+        from engine.reference.hertz import hertz_contact_radius
+
+        contact = hertz_contact_radius(loading.load, punch.radius, contact_modulus(material))
+        default, what = HERTZ_MARGIN * contact, "Hertz contact radius"
+    else:
+        contact = punch.radius
+        default = 1.05 * (punch.radius + (punch.edge_radius or 0.0))
+        what = "punch face radius"
+    if "half_width" in s.table and s.number("half_width", unit="mm") < contact:
+        raise s.error(
+            "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
+        )
+    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    if n * contact / half_width < 4:
+        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
+    return MeshConfig(n=n, half_width=half_width)
+
+
+def line_half_width(punch: PunchConfig, material: MaterialConfig, load: float) -> float:
+    """The nominal contact half-width of a line contact (mm, load in N/mm)."""
+    from engine.study.line_contact import LineContact
+
+    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load, 8, 1.0)
+    return line.nominal_half_width(contact_modulus(material))
+
+
+def _parse_line_mesh(
+    s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
+) -> MeshConfig:
+    """A line contact's mesh: ``n`` elements along x over ``half_width`` (default
+    HERTZ_MARGIN times the nominal half-width, at least the pad's flat), and the datum of
+    its displacements ``reference_distance`` (mm, at least the mesh's length 2·half_width)."""
+    from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
+
+    s.check_known({"n", "half_width", "reference_distance"})
+    n = s.integer("n", minimum=8)
+    contact = line_half_width(punch, material, loading.load)
+    half_width = s.number("half_width", HERTZ_MARGIN * contact, minimum=0.0, strict=True)
+    if half_width < contact:
+        raise s.error(
+            "half_width", half_width, f"must be >= {contact:.6g} mm (the contact half-width)"
+        )
+    if n * contact / half_width < 4:
+        raise s.error("n", n, "fewer than 4 elements across the contact half-width; increase n")
+    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    if distance < 2.0 * half_width:
+        raise s.error(
+            "reference_distance",
+            distance,
+            f"must be at least the mesh's length 2·half_width = {2.0 * half_width:g} mm",
+        )
+    return MeshConfig(n=n, half_width=half_width, reference_distance=distance)
+
+
+def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
+    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    if punch.is_line:
+        return
+    for key, value in (
+        ("loading.bulk_stress_max", loading.bulk_stress_max),
+        ("loading.bulk_stress_min", loading.bulk_stress_min),
+        ("wear.pad_coefficient", wear.pad_coefficient),
+    ):
+        if value is not None:
+            raise StudyConfigError(
+                source, key, value, 'only for line contacts ([punch] shape = "cylinder" or "pad")'
+            )
+
+
+def _parse_loading(s: Section) -> LoadingConfig:
+    kind = s.string("kind")
+    if kind not in LOADING_KINDS:
+        raise s.error("kind", kind, 'must be "static", "cyclic" or "fretting"')
+    if kind == "static":
+        # the placeholders that results files of earlier versions stored: they parse back
+        former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
+        s.check_known({"kind", "load", "steps"} | former)
+    elif kind == "cyclic":
+        s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
+    else:
+        s.check_known(
+            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"}
+            | FRETTING_KEYS
+            | BULK_STRESS_KEYS
+        )
+    load = s.number("load", minimum=0.0, strict=True, unit="N")
+    steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
+    if kind == "static":
+        return LoadingConfig(kind, load, steps, 0, (), None)
+    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
+    record_raw = s.raw("record", [cycles])
+    record_list = record_raw if isinstance(record_raw, list) else [record_raw]
+    record = []
+    for item in record_list:
+        if isinstance(item, bool) or not isinstance(item, int):
+            raise s.error("record", record_raw, "must be a list of integer cycle numbers")
+        if not 0 <= item <= cycles:
+            raise s.error(
+                "record", record_raw, f"cycle {item} is outside 0..cycles (cycles = {cycles})"
+            )
+        record.append(item)
+    if len(set(record)) != len(record):
+        raise s.error("record", record_raw, "cycles must not repeat")
+    max_wear_fraction = s.number(
+        "max_wear_fraction",
+        defaults.MAX_WEAR_FRACTION,
+        minimum=0.0,
+        strict=True,
+        **bound("loading.max_wear_fraction"),
+    )
+    loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
+    if kind == "fretting":
+        loading = _parse_fretting(s, loading)
+    return loading
+
+
+def _parse_fretting(s: Section, loading: LoadingConfig) -> LoadingConfig:
+    """The tangential signal of the fretting kind: ``amplitude`` (mm, rigid displacement)
+    XOR ``force_amplitude`` (N, tangential force), ``direction`` [0] (degrees from x)."""
+    given = [key for key in ("amplitude", "force_amplitude") if key in s.table]
+    if len(given) != 1:
+        shown = {key: s.table[key] for key in given} if given else MISSING
+        raise s.error(
+            "amplitude" if not given else given[-1],
+            shown,
+            'kind = "fretting" needs exactly one of amplitude (mm, displacement control) '
+            "and force_amplitude (N, force control)",
+        )
+    unit = "mm" if given[0] == "amplitude" else "N"
+    value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
+    if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
+        raise s.error(given[0], value, "must be below the friction bound μP (N)")
+    direction = s.number("direction", 0.0, unit="degrees")
+    if not -360.0 <= direction <= 360.0:
+        raise s.error("direction", direction, "must lie in [-360, 360] degrees")
+    bulk = {key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table}
+    if bulk:
+        bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
+    return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
+
+
+def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
+    s.check_known({"law", "pad_coefficient"})
+    law = s.string("law", "archard")
+    if law not in WEAR_LAWS:
+        raise s.error("law", law, 'must be "archard" or "energy"')
+    if law == "energy" and loading.kind == "static":
+        raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
+    pad = None
+    if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
+        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+    return WearConfig(law=law, pad_coefficient=pad)
+
+
+def _parse_subsurface(s: Section) -> SubsurfaceConfig:
+    s.check_known({"depth", "layers"})
+    return SubsurfaceConfig(
+        depth=s.number(
+            "depth", 1.5, minimum=0.0, strict=True, unit="punch radii", **bound("subsurface.depth")
+        ),
+        layers=s.integer("layers", 16, minimum=2, **bound("subsurface.layers")),
+    )
+
+
+def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepConfig:
+    s.check_known({"mu1", "mu2", "wear1", "wear2", "beta", "alpha"})
+    mu1 = s.number_list("mu1", minimum=0.0)
+    mu2 = s.number_list("mu2", minimum=0.0) if "mu2" in s.table else None
+    if wear.law == "energy":
+        for key in ("wear1", "wear2"):
+            if key in s.table:
+                raise s.error(key, s.table[key], '[wear] law = "energy" takes alpha (mm³/J)')
+        alpha = s.number_list("alpha", minimum=0.0, unit="mm^3/J")
+        beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
+        return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
+    if "alpha" in s.table:
+        raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
+    wear_default = [0.0] if loading.kind == "static" else MISSING
+    wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
+    wear2: tuple[float, ...] | str | None = None
+    if "wear2" in s.table:
+        if s.table["wear2"] == PROPORTIONAL:
+            if any(mu == 0.0 for mu in mu1):
+                raise s.error("wear2", PROPORTIONAL, "needs every mu1 > 0 (wear1·mu2/mu1)")
+            wear2 = PROPORTIONAL
+        elif isinstance(s.table["wear2"], str):
+            raise s.error(
+                "wear2", s.table["wear2"], f'must be a list of numbers or "{PROPORTIONAL}"'
+            )
+        else:
+            wear2 = s.number_list("wear2", minimum=0.0, unit="1/MPa")
+    beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
+    return SweepConfig(mu1=mu1, mu2=mu2, wear1=wear1, wear2=wear2, beta=beta)
+
+
+def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
+    s.check_known({"tol", "maxiter", "threads", "fft_planner"})
+    # Static solves are cheap and feed the stiffness comparisons: 1e-8. A cyclic case solves
+    # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
+    # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
+    default_tol = (
+        defaults.CYCLIC_TOLERANCE
+        if loading.kind in ("cyclic", "fretting")
+        else defaults.STATIC_TOLERANCE
+    )
+    tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
+    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
+    threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))
+    fft_planner = s.string("fft_planner", "estimate")
+    if fft_planner not in ("estimate", "measure"):
+        raise s.error("fft_planner", fft_planner, 'must be "estimate" or "measure"')
+    return SolverConfig(tol=tol, maxiter=maxiter, threads=threads, fft_planner=fft_planner)
+
+
+def _parse_testing(s: Section) -> TestingConfig:
+    s.check_known({"fail_cases"})
+    raw = s.raw("fail_cases", [])
+    if not isinstance(raw, list) or not all(isinstance(item, str) for item in raw):
+        raise s.error("fail_cases", raw, "must be a list of case ids (strings)")
+    return TestingConfig(fail_cases=tuple(raw))
+
+
+def _tolerance(s: Section, tol: float) -> float:
+    """Relative residual of the solvers: above 1e-2 a solve stops before it has done anything
+    meaningful (tol = 1e300 "completed" every case with the same wrong wear)."""
+    if tol > MAX_TOLERANCE:
+        raise s.error(
+            "tol", s.table["tol"], f"must lie in (0, {MAX_TOLERANCE:g}] (relative residual)"
+        )
+    return tol
+
+
+def _axes_angles(s: Section, angles: tuple[float, ...]) -> tuple[float, ...]:
+    """β normalised to [0°, 180°): the friction and wear ellipses are centrally symmetric, so
+    β and β ± 180° are the same physics; two values that coincide are rejected."""
+    normalised = []
+    for value in angles:
+        if not -360.0 <= value <= 360.0:
+            raise s.error("beta", s.table["beta"], "angles must lie in [-360, 360] degrees")
+        normalised.append(value % 180.0)
+    for index, value in enumerate(normalised):
+        first = normalised.index(value)
+        if first != index:
+            raise s.error(
+                "beta",
+                s.table["beta"],
+                f"{angles[first]:g} and {angles[index]:g} degrees are the same axes "
+                "(β is taken modulo 180°: the friction and wear ellipses are centrally "
+                "symmetric); list each angle once",
+            )
+    return tuple(normalised)

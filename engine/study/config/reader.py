@@ -1,0 +1,151 @@
+"""Reading one TOML table of the study file: typed values, checked ranges, unknown keys, and
+errors that name the file, the section, the key and the value."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from .sections import MISSING, StudyConfigError
+
+
+class Section:
+    """Reads keys of one TOML table and remembers which ones were used."""
+
+    def __init__(self, source: str, name: str, table: Any) -> None:
+        if not isinstance(table, dict):
+            raise StudyConfigError(source, name, table, "must be a table ([section])")
+        self.source, self.name, self.table = source, name, table
+
+    def error(self, key: str, value: Any, problem: str) -> StudyConfigError:
+        return StudyConfigError(self.source, f"{self.name}.{key}", value, problem)
+
+    def raw(self, key: str, default: Any = MISSING) -> Any:
+        if key in self.table:
+            return self.table[key]
+        if default is MISSING:
+            raise self.error(key, MISSING, "required key is missing")
+        return default
+
+    def check_known(self, keys: set[str]) -> None:
+        for key in self.table:
+            if key not in keys:
+                raise self.error(
+                    key, self.table[key], f"unknown key (known: {', '.join(sorted(keys))})"
+                )
+
+    def number(
+        self,
+        key: str,
+        default: Any = MISSING,
+        *,
+        minimum: float | None = None,
+        strict: bool = False,
+        unit: str = "",
+        maximum: float | None = None,
+        why: str = "",
+    ) -> float:
+        """A finite number >= ``minimum`` (> with ``strict``) and <= ``maximum``; ``why`` says
+        where the maximum comes from (in the error)."""
+        value = self.raw(key, default)
+        number = self._check_number(key, value, minimum=minimum, strict=strict, unit=unit)
+        self._check_maximum(key, value, maximum, unit, why)
+        return number
+
+    def _check_maximum(self, key: str, value, maximum, unit: str, why: str) -> None:
+        if maximum is not None and value > maximum:
+            suffix = f" {unit}" if unit else ""
+            reason = f" ({why})" if why else ""
+            raise self.error(key, value, f"must be <= {maximum:g}{suffix}{reason}")
+
+    def _check_number(
+        self, key: str, value: Any, *, minimum: float | None, strict: bool, unit: str
+    ) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, value, "must be a number")
+        if not math.isfinite(value):
+            raise self.error(key, value, "must be finite")
+        suffix = f" ({unit})" if unit else ""
+        if minimum is not None:
+            if strict and not value > minimum:
+                raise self.error(key, value, f"must be > {minimum:g}{suffix}")
+            if not strict and not value >= minimum:
+                raise self.error(key, value, f"must be >= {minimum:g}{suffix}")
+        return float(value)
+
+    def integer(
+        self,
+        key: str,
+        default: Any = MISSING,
+        *,
+        minimum: int,
+        maximum: int | None = None,
+        why: str = "",
+    ) -> int:
+        """An integer in [``minimum``, ``maximum``]; ``why`` says where the maximum comes from.
+        A float with an integer value (``1e9``) is named as such, not as "not a number"."""
+        value = self.raw(key, default)
+        if isinstance(value, float) and value.is_integer():
+            raise self.error(key, value, f"must be an integer (write {int(value)})")
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, value, "must be an integer")
+        if value < minimum:
+            raise self.error(key, value, f"must be >= {minimum}")
+        self._check_maximum(key, value, maximum, "", why)
+        return int(value)
+
+    def string(self, key: str, default: Any = MISSING) -> str:
+        value = self.raw(key, default)
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(key, value, "must be a non-empty string")
+        return value
+
+    def poisson(self, key: str) -> float:
+        value = self.number(key)
+        if not -1.0 < value < 0.5:
+            raise self.error(key, self.table[key], "Poisson ratio must lie in (-1, 0.5)")
+        return value
+
+    def number_list(
+        self, key: str, default: Any = MISSING, *, minimum: float | None = None, unit: str = ""
+    ) -> tuple[float, ...]:
+        value = self.raw(key, default)
+        values = value if isinstance(value, list) else [value]
+        if not values:
+            raise self.error(key, value, "must list at least one value")
+        numbers = []
+        for item in values:
+            if isinstance(item, list):
+                raise self.error(key, value, "must be a flat list of numbers")
+            numbers.append(self._check_number(key, item, minimum=minimum, strict=False, unit=unit))
+        if len(set(numbers)) != len(numbers):
+            raise self.error(key, value, "values must not repeat")
+        return tuple(numbers)
+
+
+def toml_error(source: str, text: str, error: Exception) -> StudyConfigError:
+    """Malformed TOML, located: the section and key of the offending line when known
+    (``[mesh] n: malformed TOML: Cannot overwrite a value (at line 14, column 4)``)."""
+    message = str(error)
+    line_number = None
+    if "(at line " in message:
+        try:
+            line_number = int(message.split("(at line ")[1].split(",")[0])
+        except ValueError:
+            line_number = None
+    key = "study"
+    if line_number is not None:
+        lines = text.splitlines()
+        section = ""
+        for line in lines[: line_number - 1]:
+            stripped = line.strip()
+            if stripped.startswith("[") and "]" in stripped:
+                section = stripped.strip("[]").strip()
+        offending = lines[line_number - 1] if line_number <= len(lines) else ""
+        name = offending.split("=")[0].strip() if "=" in offending else ""
+        if section:
+            key = f"{section}.{name}" if name and " " not in name else section
+    problem = f"malformed TOML: {message}"
+    if "Cannot overwrite a value" in message:
+        problem += " (the key is given twice)"
+    return StudyConfigError(source, key, MISSING, problem)

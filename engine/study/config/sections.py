@@ -1,0 +1,224 @@
+"""The configuration's records: one frozen dataclass per section of the study file, the error
+every check raises, and the constants the sections share (shapes, kinds, laws, sweepable keys).
+
+Units are those of the paper (Juliá & Rodríguez-Tembleque 2023, Section 7): mm, N, MPa, wear
+coefficients in 1/MPa, angles in degrees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+PROPORTIONAL = "proportional"
+PUNCH_SHAPES = ("flat", "rounded", "sphere", "cylinder", "pad")
+LINE_SHAPES = ("cylinder", "pad")  # plane-strain line contacts (engine.study.line_contact)
+HERTZ_MARGIN = 1.5  # default sphere mesh half-width / Hertz contact radius at the load
+
+# Scalars that [sweep] accepts under their dotted key, with their units (summary columns).
+SWEEPABLE = {
+    "material.E_A": "MPa",
+    "material.nu_A": "1",
+    "material.E_B": "MPa",
+    "material.nu_B": "1",
+    "punch.radius": "mm",
+    "punch.edge_radius": "mm",
+    "mesh.n": "1",
+    "mesh.half_width": "mm",
+    "mesh.reference_distance": "mm",
+    "loading.load": "N",
+    "loading.steps": "1",
+    "loading.cycles": "1",
+    "loading.max_wear_fraction": "1",
+    "loading.amplitude": "mm",
+    "loading.force_amplitude": "N",
+    "loading.direction": "degree",
+    "loading.bulk_stress_max": "MPa",
+    "loading.bulk_stress_min": "MPa",
+    "subsurface.depth": "punch radii",
+    "subsurface.layers": "1",
+    "solver.tol": "1",
+    "solver.maxiter": "1",
+}
+
+
+class StudyConfigError(ValueError):
+    """Bad study file: carries the file, the dotted key and the value it refers to."""
+
+    def __init__(self, source: str, key: str, value: Any, problem: str) -> None:
+        self.source = source
+        self.key = key
+        self.value = value
+        self.problem = problem
+        section, _, name = key.partition(".")
+        where = f"[{section}] {name}" if name else f"[{section}]"
+        shown = "" if value is MISSING else f" = {value!r}"
+        super().__init__(f"{source}: {where}{shown}: {problem}")
+
+
+MISSING = object()  # "no value given" (distinct from None)
+
+
+@dataclass(frozen=True)
+class StudyInfo:
+    name: str
+    output: Path
+    output_strategy: str = "auto"
+
+    @property
+    def summary_path(self) -> Path:
+        return self.output.with_suffix(".csv")
+
+    @property
+    def checkpoint_dir(self) -> Path:
+        return self.output.with_name(self.output.name + ".checkpoints")
+
+
+@dataclass(frozen=True)
+class MaterialConfig:
+    E_A: float
+    nu_A: float
+    E_B: float
+    nu_B: float
+
+
+@dataclass(frozen=True)
+class PunchConfig:
+    radius: float
+    shape: str = "flat"
+    edge_radius: float | None = None  # rounded and pad only
+
+    @property
+    def is_line(self) -> bool:
+        """A cylinder or a rounded pad on a flat: a plane-strain line contact."""
+        return self.shape in LINE_SHAPES
+
+    def profile(self):
+        """The :mod:`engine.geometry` (or, for a line contact, :mod:`engine.line_profiles`)
+        profile of this punch."""
+        from engine.geometry import FlatPunch, RoundedPunch, SphericalPunch
+        from engine.line_profiles import CylinderProfile, RoundedPadProfile
+
+        if self.shape == "cylinder":
+            return CylinderProfile(self.radius)
+        if self.shape == "pad":
+            return RoundedPadProfile(self.radius, self.edge_radius)
+        if self.shape == "rounded":
+            return RoundedPunch(self.radius, self.edge_radius or 0.0)
+        if self.shape == "sphere":
+            return SphericalPunch(self.radius)
+        return FlatPunch(self.radius)
+
+
+@dataclass(frozen=True)
+class MeshConfig:
+    n: int
+    half_width: float
+    reference_distance: float | None = None  # line contacts: the displacement datum (mm)
+
+
+@dataclass(frozen=True)
+class LoadingConfig:
+    kind: str
+    load: float
+    steps: int
+    cycles: int
+    record: tuple[int, ...]
+    max_wear_fraction: float | None  # None for static loading (no cycle jumps)
+    # fretting only (None otherwise): exactly one of amplitude (mm) and force_amplitude (N);
+    # direction in degrees from x (engine.solvers.fretting)
+    amplitude: float | None = None
+    force_amplitude: float | None = None
+    direction: float | None = None
+    # line fretting only: the flat's bulk stress (MPa) at +A and at −A (fretting fatigue)
+    bulk_stress_max: float | None = None
+    bulk_stress_min: float | None = None
+
+
+@dataclass(frozen=True)
+class WearConfig:
+    """``law``: "archard" (the paper's orthotropic law, Eq. 12–14, coefficients wear1/wear2
+    in 1/MPa) or "energy" (dissipated-energy law, coefficient alpha in mm³/J)."""
+
+    law: str = "archard"
+    pad_coefficient: float | None = None  # line contacts: the pad's wear coefficient
+
+
+@dataclass(frozen=True)
+class SubsurfaceConfig:
+    depth: float
+    layers: int
+
+
+@dataclass(frozen=True)
+class SweepAxis:
+    """One axis of the product: a single dotted key, or a zip group of keys varying together.
+    ``values[i]`` holds one value per key at list position i."""
+
+    keys: tuple[str, ...]
+    values: tuple[tuple[float | int, ...], ...]
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    mu1: tuple[float, ...]
+    mu2: tuple[float, ...] | None
+    wear1: tuple[float, ...]
+    wear2: tuple[float, ...] | str | None
+    beta: tuple[float, ...]
+    axes: tuple[SweepAxis, ...] = ()
+    alpha: tuple[float, ...] | None = None  # energy wear law only (mm³/J)
+
+    @property
+    def swept_keys(self) -> tuple[str, ...]:
+        """Dotted keys of the other sections swept here, in axis order."""
+        return tuple(key for axis in self.axes for key in axis.keys)
+
+    def resolved(self) -> dict[str, Any]:
+        """TOML-able: the friction/wear lists, then every dotted key, then the zip groups."""
+        out: dict[str, Any] = {}
+        for name in ("mu1", "mu2", "wear1", "wear2", "beta", "alpha"):
+            value = getattr(self, name)
+            if value is not None:
+                out[name] = list(value) if isinstance(value, tuple) else value
+        for axis in self.axes:
+            for position, key in enumerate(axis.keys):
+                out[key] = [values[position] for values in axis.values]
+        groups = [list(axis.keys) for axis in self.axes if len(axis.keys) > 1]
+        if groups:
+            out["zip"] = groups
+        return out
+
+
+@dataclass(frozen=True)
+class SolverConfig:
+    tol: float
+    maxiter: int
+    threads: int
+    fft_planner: str = "estimate"
+
+    @property
+    def planner_effort(self) -> str:
+        """FFTW planner flag: "estimate" gives the same plan (bit-identical results) in every
+        process and run; "measure" times candidate plans (faster, last-digit differences)."""
+        return "FFTW_" + self.fft_planner.upper()
+
+
+@dataclass(frozen=True)
+class TestingConfig:
+    fail_cases: tuple[str, ...]
+
+
+LOADING_KINDS = ("static", "cyclic", "fretting")
+FRETTING_KEYS = {"amplitude", "force_amplitude", "direction"}
+BULK_STRESS_KEYS = {"bulk_stress_max", "bulk_stress_min"}  # line fretting only
+WEAR_LAWS = ("archard", "energy")
+
+
+def contact_modulus(material: MaterialConfig) -> float:
+    """E* = ((1−ν_A²)/E_A + (1−ν_B²)/E_B)⁻¹, MPa (Eq. 6)."""
+    return 1.0 / ((1.0 - material.nu_A**2) / material.E_A + (1.0 - material.nu_B**2) / material.E_B)

@@ -1,0 +1,111 @@
+"""The line (plane-strain) contact in the study layer: what a study of a cylinder or a rounded
+pad on a flat builds from its study file (docs/line_contact.md).
+
+``[punch] shape = "cylinder"`` (``radius`` R) or ``"pad"`` (``radius`` the flat half-width b,
+``edge_radius`` R of the rounds); ``[mesh] n`` elements along x over ``half_width`` and the
+displacement datum ``reference_distance`` (mm, default ``DEFAULT_REFERENCE_DISTANCE``);
+loads per unit length (N/mm). The nominal contact half-width a0 (the length unit of
+``[subsurface] depth``) is Hertz's for the cylinder and Ciavarella's for the pad, at the load;
+the summary's p0 is the mean pressure P/(2 a0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from engine.grid import Grid
+from engine.kernels.line import line_operator
+from engine.line_profiles import CylinderProfile, RoundedPadProfile
+from engine.material import MaterialPair
+from engine.reference.line_contact import hertz_line_half_width, pad_half_width
+from engine.solvers.line_subsurface import LinePeakTracker, LineSubsurfaceStress
+from engine.solvers.scar import scar_measures, two_body_wear_law
+
+__all__ = [
+    "LINE_SHAPES",
+    "DEFAULT_REFERENCE_DISTANCE",
+    "LineContact",
+    "is_line_shape",
+]
+
+LINE_SHAPES = ("cylinder", "pad")
+DEFAULT_REFERENCE_DISTANCE = 10.0  # mm: the datum of 2-D displacements (a specimen's size)
+
+
+def is_line_shape(shape: str) -> bool:
+    return shape in LINE_SHAPES
+
+
+@dataclass(frozen=True)
+class LineContact:
+    """A line contact's geometry and loading as the study file gives them: ``shape``
+    ("cylinder" | "pad"), ``radius`` (cylinder R, or the pad's flat half-width b, mm),
+    ``edge_radius`` (pad's rounds R, mm), ``load`` (N/mm), the mesh ``n`` and
+    ``half_width`` (mm) and ``reference_distance`` (mm)."""
+
+    shape: str
+    radius: float
+    edge_radius: float | None
+    load: float
+    n: int
+    half_width: float
+    reference_distance: float = DEFAULT_REFERENCE_DISTANCE
+
+    def profile(self):
+        if self.shape == "cylinder":
+            return CylinderProfile(self.radius)
+        return RoundedPadProfile(self.radius, self.edge_radius)
+
+    def grid(self) -> Grid:
+        return Grid.line(self.n, self.half_width)
+
+    def operator(self, grid: Grid, material: MaterialPair, *, threads=1, planner_effort=None):
+        options = {} if planner_effort is None else {"planner_effort": planner_effort}
+        return line_operator(grid, material, self.reference_distance, threads=threads, **options)
+
+    def nominal_half_width(self, contact_modulus: float) -> float:
+        """a0 (mm): Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width at the load."""
+        if self.shape == "cylinder":
+            return hertz_line_half_width(self.load, self.radius, contact_modulus)
+        return pad_half_width(self.load, self.radius, self.edge_radius, contact_modulus)
+
+    def nominal_pressure(self, contact_modulus: float) -> float:
+        """p0 = P/(2 a0) (MPa), the mean pressure over the nominal contact."""
+        return self.load / (2.0 * self.nominal_half_width(contact_modulus))
+
+    @staticmethod
+    def stress(grid: Grid, poisson_ratio: float, depths) -> LineSubsurfaceStress:
+        return LineSubsurfaceStress(grid, poisson_ratio, np.asarray(depths, dtype=float))
+
+    @staticmethod
+    def peak_tracker(stress: LineSubsurfaceStress, nominal_half_width: float, angle=0.0):
+        if angle != 0.0:
+            raise ValueError("a line contact slides along x (direction = 0)")
+        return LinePeakTracker(stress, nominal_half_width)
+
+
+def wear_law(flat_law, pad_ratio: float):
+    """The law of the wear the gap carries (flat + pad, ``engine.solvers.scar``)."""
+    return two_body_wear_law(flat_law, pad_ratio)
+
+
+def scar_row(grid: Grid, total_wear: np.ndarray, pad_ratio: float) -> dict[str, float]:
+    """Summary columns scar_depth, scar_width (mm), scar_area (mm²/mm), pad_wear_depth (mm)."""
+    return scar_measures(grid, total_wear, pad_ratio).row()
+
+
+def pad_ratio(pad_coefficient: float | None, flat_coefficient: float) -> float:
+    """r = k_pad / k_flat (0 without pad wear); a pad coefficient needs a flat one."""
+    if pad_coefficient is None or pad_coefficient == 0.0:
+        return 0.0
+    if not flat_coefficient > 0.0:
+        raise ValueError(
+            f"[wear] pad_coefficient = {pad_coefficient:g} needs a positive wear coefficient "
+            "of the flat (the pad's law is the flat's, scaled)"
+        )
+    if not math.isfinite(pad_coefficient) or pad_coefficient < 0.0:
+        raise ValueError(f"[wear] pad_coefficient must be >= 0, got {pad_coefficient!r}")
+    return pad_coefficient / flat_coefficient
