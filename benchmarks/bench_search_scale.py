@@ -11,9 +11,11 @@ a case sleeps 100–300 ms (``--case-ms``: the mean, 200 by default; determinist
 before returning its row. Printed per rank
 count: cases, wall time, the end of the first round (the 400 bracket ends), and the busy
 fraction (time holding a case / time) of every rank after the first round — the issue's
-target is ≥ 90 % on every rank — and over the whole run.
+target is ≥ 90 % on every rank — and over the whole run. ``--compare`` also runs, at each
+rank count, a plain sweep of about as many cases (nine loads per combination, all known at
+the start): what the scheduler's own dispatch costs, which the searches cannot beat.
 
-    python benchmarks/bench_search_scale.py                        # 2, 4, 8 ranks; ~2 min
+    python benchmarks/bench_search_scale.py --compare              # 2, 4, 8 ranks; ~12 min
     python benchmarks/bench_search_scale.py --ranks 8 --searches 50
 
 Other processes on the machine distort the figures (a sleeping case gives its core away, so
@@ -86,7 +88,17 @@ class _Progress:
         pass
 
 
-def child(directory: Path, searches: int) -> None:
+def plain_cases(searches: int, per_search: int = 9) -> list:
+    """The comparison without searches: ``per_search`` fixed loads for each combination, all
+    known at the start (a closed queue), about as many cases as the searches take."""
+    from engine.study.search import SearchCampaign
+
+    campaign = SearchCampaign(spec(), base_plan(searches), ())
+    loads = [LOW + (HIGH - LOW) * k / (per_search - 1) for k in range(per_search)]
+    return [campaign.case_for(i, load) for i in range(searches) for load in loads]
+
+
+def child(directory: Path, searches: int, plain: bool) -> None:
     """One run under mpiexec (every rank): rank 0 prints one JSON line."""
     from mpi4py import MPI
 
@@ -103,7 +115,7 @@ def child(directory: Path, searches: int) -> None:
     campaign = SearchCampaign(spec(), base_plan(searches), ())
     todo = campaign.start()
     searches_run = SearchRun(campaign, None, todo)
-    writer = SingleWriter(directory / f"scale_r{comm.Get_size()}.h5")
+    writer = SingleWriter(directory / f"scale_r{comm.Get_size()}_{int(plain)}.h5")
     metadata = StudyMetadata(
         name="scale",
         source="bench",
@@ -117,19 +129,24 @@ def child(directory: Path, searches: int) -> None:
     )
     from engine.study.plan import Plan
 
-    writer.prepare(Plan(tuple(campaign.cases())), metadata, fresh=True)
+    cases = plain_cases(searches) if plain else campaign.cases()
+    writer.prepare(Plan(tuple(cases)), metadata, fresh=True)
     intervals = []
 
     def on_outcome(outcome) -> None:
         writer.write(outcome)
-        load = dict(outcome.case.settings)["loading.load"]
-        first = load in (LOW, HIGH)
+        first = len(intervals) < 2 * searches  # plain: as many cases as the bracket ends
+        if not plain:
+            first = dict(outcome.case.settings)["loading.load"] in (LOW, HIGH)
         intervals.append((outcome.rank, outcome.attrs["start"], outcome.attrs["end"], first))
 
     start = time.time()
     with writer:
-        searches_run.run(scheduler, writer, _Progress(), on_outcome)
-        searches_run.finish(writer)
+        if plain:
+            scheduler.run(cases, on_outcome)
+        else:
+            searches_run.run(scheduler, writer, _Progress(), on_outcome)
+            searches_run.finish(writer)
     end = time.time()
     statuses = [row["status"] for row in campaign.table()]
     print(json.dumps({"intervals": intervals, "start": start, "end": end, "statuses": statuses}))
@@ -143,10 +160,11 @@ def busy_fractions(intervals, ranks: int, since: float, until: float) -> list[fl
     return [value / (until - since) for value in busy]
 
 
-def measure(ranks: int, searches: int, directory: Path) -> dict:
+def measure(ranks: int, searches: int, directory: Path, plain: bool = False) -> dict:
     mpiexec = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
     command = [mpiexec, "-n", str(ranks), sys.executable, __file__, "--child", str(directory)]
     command += ["--searches", str(searches), "--case-ms", str(1000 * CASE_SECONDS)]
+    command += ["--plain"] if plain else []
     result = subprocess.run(
         command, capture_output=True, text=True, env=single_core_env(REPO), check=True
     )
@@ -169,12 +187,16 @@ def main() -> None:
     parser.add_argument("--ranks", type=int, nargs="+", default=[2, 4, 8])
     parser.add_argument("--searches", type=int, default=200)
     parser.add_argument("--case-ms", type=float, default=200.0, help="mean case duration")
+    parser.add_argument(
+        "--compare", action="store_true", help="also run the same cases as a plain sweep"
+    )
+    parser.add_argument("--plain", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--child", type=Path, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     global CASE_SECONDS
     CASE_SECONDS = args.case_ms / 1000.0
     if args.child is not None:
-        child(args.child, args.searches)
+        child(args.child, args.searches, args.plain)
         return
     print(
         f"{args.searches} concurrent searches (rtol 1e-4, Illinois), synthetic cases of "
@@ -185,11 +207,12 @@ def main() -> None:
         f"{'busy after 1st round: min / mean':>33s} {'whole run: min':>15s}"
     )
     with tempfile.TemporaryDirectory() as folder:
-        for ranks in args.ranks:
-            figures = measure(ranks, args.searches, Path(folder))
+        for ranks, plain in [(r, p) for r in args.ranks for p in (False, True)[: 1 + args.compare]]:
+            figures = measure(ranks, args.searches, Path(folder), plain)
             after, whole = figures["after"], figures["whole"]
+            converged = "plain" if plain else f"{figures['converged']:5d}"
             print(
-                f"{ranks:5d} {figures['cases']:6d} {figures['converged']:5d} "
+                f"{ranks:5d} {figures['cases']:6d} {converged:>5s} "
                 f"{figures['wall']:7.2f} {figures['first_round']:11.2f} "
                 f"{100 * min(after):26.1f} % / {100 * sum(after) / len(after):4.1f} % "
                 f"{100 * min(whole):13.1f} %"

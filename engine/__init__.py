@@ -15,6 +15,11 @@ The public API:
 
 __version__ = "0.1.0"
 
+import sys as _sys  # noqa: E402
+
+if _sys.orig_argv[1:3] == ["-m", "engine"]:  # `python -m engine`: stop signals caught first
+    from engine import _early_stop  # noqa: F401
+
 from engine.run import RUN_STATUSES, StudyRun, run_study  # noqa: E402 (needs __version__)
 
 __all__ = [

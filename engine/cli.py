@@ -2,7 +2,8 @@
 
 Post-processing (serial, no MPI): ``python -m engine plot RESULTS.h5 [--out DIR]`` writes the
 figures (:mod:`engine.analysis.figures`), ``python -m engine report RESULTS.h5`` prints the
-results tables in Markdown (:mod:`engine.analysis.report`).
+results tables in Markdown (:mod:`engine.analysis.report`), ``python -m engine verify
+RESULTS.h5`` reads every case back and compares its checksums (:mod:`engine.output.verify`).
 
 This is the only module that touches ``MPI.COMM_WORLD``; every layer below receives a
 communicator. It parses the command line and hands the run to :func:`engine.run.run_study`,
@@ -27,8 +28,10 @@ mapping the run's status to the exit code. The flow:
 
 Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
 path, output in use by another run or holding another study (nothing computed, no output of
-another run created or changed); 3 interrupted by a signal (rerun to resume); 70 internal
-error or a dead peer (the communicator is aborted so no rank waits forever).
+another run created or changed); 3 interrupted by a signal (rerun to resume); 4 a case the
+run wrote cannot be read back (rerun to recompute it); 5 the output's file system is full
+(completed cases kept: free space and rerun to resume); 70 internal error or a dead peer (the
+communicator is aborted so no rank waits forever).
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ from pathlib import Path
 from engine import __version__
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
+EXIT_DAMAGED, EXIT_OUTPUT_FULL = 4, 5
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 
 
@@ -53,7 +57,8 @@ _USAGE = """\
 %(prog)s STUDY.toml [--dry-run] [--resume | --fresh] [--drop-stale] [--output PATH]
             [--output-strategy {auto,single,mpio}] [--no-progress-bar] [--progress-interval S]
        %(prog)s plot RESULTS.h5 [--out DIR]
-       %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]"""
+       %(prog)s report RESULTS.h5 [--cycles N ...] [--update DOC.md]
+       %(prog)s verify RESULTS.h5 [--summary CSV | --no-summary]"""
 
 _DESCRIPTION = """\
 Run a fretting-wear parameter study (flat, rounded or spherical punch; FFT boundary elements)
@@ -63,14 +68,17 @@ activated, `mpiexec -n N python -m engine STUDY.toml`; `srun python -m engine â€
 
 subcommands (serial, no MPI):
   plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
-  report RESULTS.h5   print its results tables in Markdown; `report --help` for options"""
+  report RESULTS.h5   print its results tables in Markdown; `report --help` for options
+  verify RESULTS.h5   read every case back, compare checksums and the summary CSV with the
+                      file (exit 0 whole, 4 damaged)"""
 
 _EPILOG = """\
 Relative paths ([study] output, --output) are taken from the working directory, not from the
 folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input,
 unusable output path, or output in use by another run or holding another study (nothing
-computed or changed), 3 interrupted by a signal (rerun to resume), 70 internal error or a
-dead rank.
+computed or changed), 3 interrupted by a signal (rerun to resume), 4 a case written cannot
+be read back (rerun), 5 the output's file system is full (free space, rerun to resume), 70
+internal error or a dead rank.
 Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run"""
 
 
@@ -145,7 +153,7 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--progress-interval",
-        type=float,
+        type=_seconds,
         default=30.0,
         metavar="S",
         help="seconds between progress lines on stderr (cases completed, cycles of the running "
@@ -154,15 +162,40 @@ def _add_output_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+MAX_PROGRESS_INTERVAL = 86400.0  # s: a progress line at least once a day
+
+
+def _seconds(text: str) -> float:
+    """--progress-interval: a finite number of seconds in [0, 86400] (0: no progress lines)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not 0.0 <= value <= MAX_PROGRESS_INTERVAL:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(
+            f"{text} must lie in [0, {MAX_PROGRESS_INTERVAL:g}] s (0 turns the lines off)"
+        )
+    return value
+
+
+def main(
+    argv: list[str] | None = None,
+    prog: str | None = None,
+    stop_event: threading.Event | None = None,
+) -> int:
+    """The command line; ``stop_event``: one that early stop-signal handlers already set
+    (``python -m engine`` installs them before importing this module)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     from engine.interpreter import check_interpreter
 
     if code := check_interpreter(argv):  # a Python without the engine's packages: exit 2
         return code
     if argv and argv[0] in _OUTPUT_COMMANDS:
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C ends them at once
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGUSR1, signal.SIG_DFL)
         return _output_command(argv, prog)
-    stop_event = threading.Event()
+    stop_event = stop_event if stop_event is not None else threading.Event()
     _install_stop_handlers(stop_event)  # first: a signal during start-up is a stop, too
     code = _main_mpi(argv, prog, stop_event)
     return _quiet_shutdown(code, stop_event)
@@ -226,7 +259,7 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
         return EXIT_INTERNAL
 
 
-_OUTPUT_COMMANDS = ("plot", "report")  # post-processing of a results file: serial, no MPI
+_OUTPUT_COMMANDS = ("plot", "report", "verify")  # on a results file: serial, no MPI
 
 
 def _output_command(argv: list[str], prog: str | None) -> int:
@@ -234,6 +267,8 @@ def _output_command(argv: list[str], prog: str | None) -> int:
     (engine.analysis.report)."""
     if argv[0] == "plot":
         from engine.analysis.figures import main as command
+    elif argv[0] == "verify":
+        from engine.output.verify import main as command
     else:
         from engine.analysis.report import main as command
     try:
@@ -249,6 +284,8 @@ EXIT_CODES = {
     "failed": EXIT_FAILED,
     "invalid": EXIT_BAD_INPUT,
     "interrupted": EXIT_INTERRUPTED,
+    "damaged": EXIT_DAMAGED,
+    "output-full": EXIT_OUTPUT_FULL,
 }
 
 
@@ -269,7 +306,7 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
         stop_event=stop_event,
         command_line=command_line,
     )
-    if comm.Get_rank() == 0 and run.status == "invalid":
+    if comm.Get_rank() == 0 and run.status in ("invalid", "output-full"):
         print(f"error: {run.message}", file=sys.stderr, flush=True)
     return EXIT_CODES[run.status]
 

@@ -46,7 +46,15 @@ from engine import __version__
 __all__ = ["StudyRun", "RUN_STATUSES", "run_study"]
 
 # What a run can end as (StudyRun.status); the command line maps them to its exit codes.
-RUN_STATUSES = ("completed", "failed", "invalid", "interrupted", "planned")
+RUN_STATUSES = (
+    "completed",
+    "failed",
+    "invalid",
+    "interrupted",
+    "planned",
+    "damaged",
+    "output-full",
+)
 
 
 @dataclass(frozen=True)
@@ -60,7 +68,10 @@ class StudyRun:
         ``"invalid"`` bad input, unusable output path, output in use by another run or holding
         another study (nothing computed, nothing changed; ``message`` says why);
         ``"interrupted"`` stopped by ``stop_event`` (run again to resume); ``"planned"`` a dry
-        run (nothing computed or changed).
+        run (nothing computed or changed); ``"damaged"`` a case the run wrote cannot be read
+        back (run again to recompute it); ``"output-full"`` the output's file system is full
+        (completed cases kept; free space and run again to resume; ``message`` names the
+        path and the space needed).
     output : pathlib.Path or None
         The results file (None when the study could not be read).
     name : str
@@ -223,26 +234,39 @@ def _configure(study, options: _RunOptions):
     config = _read_study(study)
     info = config.study
     if options.output is not None:
+        from engine.output.lock import check_output_name
+
+        check_output_name(options.output)
         info = dataclasses.replace(info, output=options.output)
     if options.output_strategy is not None:
         info = dataclasses.replace(info, output_strategy=options.output_strategy)
     return dataclasses.replace(config, study=info)
 
 
-def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int, locks: list):
+def _prepare_on_root(
+    study, options: _RunOptions, ranks: int, ranks_on_node: int, locks: list, stop_event
+):
     """Validate everything that can be wrong with the input, in this order, before any file is
     created or changed: the study and its plan (incl. the memory a case needs), the output
     path, the lock on the output (taken here, appended to ``locks``), then the existing
-    results file (same study? damaged?). Returns a :class:`_Prepared` or raises."""
+    results file (same study? damaged? read back in a child process that ``stop_event``
+    ends), then the free space for the cases to run. Returns a :class:`_Prepared` or
+    raises."""
     from engine.output.collective import choose_strategy
-    from engine.output.identity import inspect_existing
+    from engine.output.identity import inspect_existing_isolated
     from engine.output.lock import OutputLock, check_output_path, check_summary_path
+    from engine.study.feasibility import check_feasible
     from engine.study.layout import plan_layout
     from engine.study.plan import make_plan
     from engine.study.resources import check_memory
 
+    def inspect(output, plan):
+        metadata = study_metadata(config, "", plan)
+        return inspect_existing_isolated(output, metadata, plan, should_stop=stop_event.is_set)
+
     config = _configure(study, options)
     plan = make_plan(config)
+    check_feasible(config, plan)
     check_memory(config, ranks_on_node, plan=plan)
     if config.search is not None:  # searches create their cases as they go: single writer
         from engine.searching import search_strategy
@@ -254,8 +278,8 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
     if options.dry_run:  # read-only; a dry run reports the same mismatch a run would
         existing = None
         if not options.fresh:
-            existing = inspect_existing(output, study_metadata(config, "", plan), plan)
-        return _Prepared(config, plan, strategy, None, existing)
+            existing = inspect(output, plan)
+        return _Prepared(config, plan, strategy, None, _for_searches(config, existing))
     check_output_path(output)
     lock = OutputLock(output)
     lock.acquire()  # before anything else touches the output, fresh included
@@ -271,9 +295,30 @@ def _prepare_on_root(study, options: _RunOptions, ranks: int, ranks_on_node: int
     existing = None
     if not options.fresh:
         _check_may_resume(output, options)
-        existing = inspect_existing(output, study_metadata(config, "", plan), plan)
-    layout = plan_layout(config, plan) if strategy == "mpio" else None
-    return _Prepared(config, plan, strategy, layout, existing)
+        existing = inspect(output, plan)
+    layout = plan_layout(config, plan)
+    _check_space(output, plan, layout, existing)
+    layout = layout if strategy == "mpio" else None
+    return _Prepared(config, plan, strategy, layout, _for_searches(config, existing))
+
+
+def _for_searches(config, existing):
+    """A ``[search]`` study's cases are its searches' steps, not the plan's combinations:
+    the look at the existing file neither counts them stale nor the combinations new (the
+    searches replay the file, engine.searching)."""
+    if config.search is None or existing is None:
+        return existing
+    return dataclasses.replace(existing, stale=[], new_cases=0)
+
+
+def _check_space(output: Path, plan, layout, existing) -> None:
+    """Raise :class:`engine.output.space.OutputFull` when the data the cases still to run
+    will write (known from the plan: a lower bound) does not fit on the output's file
+    system: a rerun on a still-full disk says so at once and changes nothing."""
+    from engine.output.space import check_space, planned_bytes
+
+    completed = set(existing.completed) if existing is not None else set()
+    check_space(output, planned_bytes(layout, [c for c in plan.case_ids if c not in completed]))
 
 
 class ExistingOutput(ValueError):
@@ -295,7 +340,9 @@ def study_metadata(config, command_line: str, plan):
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
-    grid = Grid.square(*mesh) if mesh is not None else None
+    grid = None
+    if mesh is not None:  # a line contact's grid: n elements along x, one along y
+        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -317,9 +364,11 @@ def _input_errors() -> tuple[type[Exception], ...]:
     from engine.output.hdf5 import ResultsMismatch
     from engine.output.lock import OutputInUse, OutputPathError
     from engine.study.config import StudyConfigError
+    from engine.study.feasibility import ImpossibleCases
 
     return (
         StudyConfigError,
+        ImpossibleCases,
         ResultsMismatch,
         ParallelH5pyMissing,
         OutputInUse,
@@ -328,20 +377,29 @@ def _input_errors() -> tuple[type[Exception], ...]:
     )
 
 
-def _verdict(comm, study, options: _RunOptions, locks: list):
-    """Rank 0 prepares; every rank receives ``("ok", _Prepared)`` or ``("invalid", message)``."""
+def _verdict(comm, study, options: _RunOptions, locks: list, stop_event):
+    """Rank 0 prepares; every rank receives ``("ok", _Prepared)``, ``("invalid", message)``,
+    ``("output-full", message)`` or ``("stopped", "")`` (a stop signal while the existing file
+    was read)."""
     from mpi4py import MPI
+
+    from engine.output.isolated import IsolatedCallStopped
+    from engine.output.space import OutputFull
 
     verdict = None
     if comm.Get_rank() == 0:
         ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
         try:
-            verdict = (
-                "ok",
-                _prepare_on_root(study, options, comm.Get_size(), ranks_on_node, locks),
+            prepared = _prepare_on_root(
+                study, options, comm.Get_size(), ranks_on_node, locks, stop_event
             )
+            verdict = ("ok", prepared)
         except _input_errors() as error:
             verdict = ("invalid", str(error))
+        except OutputFull as error:
+            verdict = ("output-full", str(error))
+        except IsolatedCallStopped:
+            verdict = ("stopped", "")
     else:
         comm.Split_type(MPI.COMM_TYPE_SHARED)  # collective: every rank takes part
     return comm.bcast(verdict, root=0)
@@ -354,9 +412,11 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
     peers = comm.allgather((os.getpid(), socket.gethostname()))
     locks: list = []  # rank 0: the output lock, once taken
     try:
-        kind, prepared = _verdict(comm, study, options, locks)
-        if kind != "ok":
-            return StudyRun("invalid", message=prepared)
+        kind, prepared = _verdict(comm, study, options, locks, stop_event)
+        if kind in ("invalid", "output-full"):
+            return StudyRun(kind, message=prepared)
+        if kind == "stopped":
+            return _stopped_at_start_up(comm, StudyRun("interrupted"))
         config, plan = prepared.config, prepared.plan
         run = StudyRun("planned", config.study.output, config.study.name, cases=len(plan))
         if options.dry_run:
@@ -364,13 +424,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
                 print_plan(prepared, options, comm.Get_size())
             return run
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a stop during start-up
-            message = (
-                "stop signal received during start-up: nothing computed, no file changed "
-                "(rerun to start)"
-            )
-            if rank == 0:
-                print(message, file=sys.stderr, flush=True)
-            return dataclasses.replace(run, status="interrupted", message=message)
+            return _stopped_at_start_up(comm, run)
         if rank == 0 and prepared.existing is not None:
             prepared.existing.report(sys.stdout)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
@@ -380,22 +434,40 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
             lock.release()
 
 
-def _settle_existing(prepared: _Prepared, options: _RunOptions, command_line: str) -> None:
+def _stopped_at_start_up(comm, run: StudyRun) -> StudyRun:
+    message = (
+        "stop signal received during start-up: nothing computed, no file changed (rerun to start)"
+    )
+    if comm.Get_rank() == 0:
+        print(message, file=sys.stderr, flush=True)
+    return dataclasses.replace(run, status="interrupted", message=message)
+
+
+def _settle_existing(
+    prepared: _Prepared, options: _RunOptions, command_line: str, stop_event
+) -> bool:
     """Rank 0, under the lock: fresh removes the old outputs; a damaged file is salvaged or
-    moved aside (engine.output.salvage)."""
+    moved aside (engine.output.salvage, the copy in a child process that ``stop_event``
+    ends). False when a stop ended the salvage (nothing was changed)."""
     from engine.output.hdf5 import remove_outputs
+    from engine.output.isolated import IsolatedCallStopped
     from engine.output.salvage import apply_existing
 
     config = prepared.config
     if options.fresh:
         remove_outputs(config.study.output, config.study.checkpoint_dir)
     elif prepared.existing is not None:
-        apply_existing(
-            prepared.existing,
-            prepared.plan,
-            study_metadata(config, command_line, prepared.plan),
-            config.study.checkpoint_dir,
-        )
+        try:
+            apply_existing(
+                prepared.existing,
+                prepared.plan,
+                study_metadata(config, command_line, prepared.plan),
+                config.study.checkpoint_dir,
+                should_stop=stop_event.is_set,
+            )
+        except IsolatedCallStopped:
+            return False
+    return True
 
 
 def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop_event, peers):
@@ -425,9 +497,14 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         should_stop=stop_event.is_set,
     )
     scheduler = Scheduler(comm, writer.computing(runner), stop_event=stop_event, peers=peers)
-    searches = None
+    searches, settled = None, True
     if rank == 0:
-        _settle_existing(prepared, options, command_line)
+        settled = _settle_existing(prepared, options, command_line, stop_event)
+    if not comm.bcast(settled, root=0):  # every rank, before the writer's first collective
+        if rank == 0:
+            print("stopped while salvaging the damaged file; nothing changed", file=sys.stderr)
+        return {"status": "interrupted", "message": "stopped while salvaging"}
+    if rank == 0:
         if config.search is not None:  # engine.searching: the cases known so far
             from engine.searching import prepare_searches
 
@@ -449,14 +526,43 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
         _announce(config, known, completed, todo, comm.Get_size(), writer.announce_suffix)
         report = _run_with_progress(
-            scheduler, writer, known, completed, todo, options, comm, runner, searches
+            scheduler, writer, known, completed, todo, options, comm, runner, searches, stop_event
         )
         if searches is not None:
             print(searches.finish(writer), flush=True)
     _remove_empty_checkpoint_dir(config)
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
-    return _report(config, [row["status"] for row in writer.rows()], report)
+    outcome = _report(config, [row["status"] for row in writer.rows()], report)
+    return _check_results(config, writer, todo, outcome)
+
+
+def _check_results(config, writer, todo, outcome: dict[str, Any]) -> dict[str, Any]:
+    """A run never reports success while a case it counts as complete cannot be read: the
+    cases it wrote are read back (:func:`engine.output.verify.check_after_run`; the others
+    were verified when it began). A full disk ends the run as ``"output-full"``."""
+    from engine.output.verify import check_after_run
+    from engine.schema import CaseStatus
+
+    if writer.full is not None:
+        print(f"error: {writer.full}", file=sys.stderr, flush=True)
+        return {**outcome, "status": "output-full", "message": str(writer.full)}
+    ran = {case.case_id for case in todo}
+    written = {
+        row["case_id"]
+        for row in writer.rows()
+        if row["case_id"] in ran and row["status"] == CaseStatus.COMPLETED
+    }
+    bad = check_after_run(config.study.output, written)
+    if not bad:
+        return outcome
+    shown = "; ".join(f"{check.case_id}: {check.problem}" for check in bad[:5])
+    message = (
+        f"{config.study.output} cannot be read back after writing ({shown}); rerun to "
+        "recompute those cases"
+    )
+    print(f"error: {message}", file=sys.stderr, flush=True)
+    return {**outcome, "status": "damaged", "message": message}
 
 
 def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
@@ -488,7 +594,9 @@ def idle_ranks_warning(cases: int, ranks: int) -> str | None:
     )
 
 
-def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, runner, searches):
+def _run_with_progress(
+    scheduler, writer, plan, completed, todo, options, comm, runner, searches, stop_event
+):
     """Hand out ``todo``; every outcome goes to the writer, then to the progress display
     (with ``searches``, a :class:`engine.searching.SearchRun`, then to its search).
 
@@ -498,10 +606,11 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, 
     from engine.output.progress import ProgressChannel, ProgressReporter
     from engine.schema import CaseStatus
 
+    planned = set(plan.case_ids)  # stale cases of a shrunk or changed sweep are not planned
     measured = [
         (float(row.get("runtime_s") or 0.0), plan.by_id(row["case_id"]).expected_cost)
         for row in writer.rows()
-        if row.get("status") == CaseStatus.COMPLETED
+        if row.get("status") == CaseStatus.COMPLETED and row["case_id"] in planned
     ]
     progress = ProgressReporter(
         len(plan),
@@ -518,6 +627,8 @@ def _run_with_progress(scheduler, writer, plan, completed, todo, options, comm, 
     def on_outcome(outcome):
         writer.write(outcome)
         progress.update(outcome)
+        if writer.full is not None:  # no space for more cases: stop handing them out
+            stop_event.set()
 
     try:
         if searches is not None:
@@ -573,6 +684,17 @@ def print_plan(prepared: _Prepared, options: _RunOptions, ranks: int) -> None:
     if existing is not None and existing.kind != "resume":
         existing.report(sys.stdout)  # damaged: what a run would do with it
     states = _planned_states(config, plan, existing, options.fresh)
+    if config.search is not None:  # the cases known now: completed steps, the next ones
+        from engine.searching import describe_search, prepare_searches
+
+        searches = prepare_searches(config, plan, fresh=options.fresh)
+        print(describe_search(searches))
+        plan, waiting = searches.plan, {case.case_id for case in searches.todo}
+        fresh_states = _planned_states(config, plan, None, False)  # run, or from a checkpoint
+        states = {
+            case_id: fresh_states[case_id] if case_id in waiting else "complete: skip"
+            for case_id in plan.case_ids
+        }
     if options.fresh:
         present = [
             str(path)

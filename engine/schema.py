@@ -384,6 +384,8 @@ COLUMN_UNITS = {
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
+    # line contacts with wear only (engine.solvers.scar)
+    "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

@@ -36,7 +36,13 @@ from engine.schema import CaseStatus
 from engine.study.plan import Case, Plan
 from engine.study.search import SearchCampaign, SearchStatus
 
-__all__ = ["SearchRun", "prepare_searches", "search_strategy", "describe_thresholds"]
+__all__ = [
+    "SearchRun",
+    "prepare_searches",
+    "search_strategy",
+    "describe_search",
+    "describe_thresholds",
+]
 
 
 def search_strategy(config) -> str:
@@ -112,3 +118,21 @@ def describe_thresholds(table: list[dict[str, Any]], spec) -> str:
     if others:
         text += " (" + ", ".join(f"{statuses.count(s)} {s}" for s in others) + ")"
     return text
+
+
+def describe_search(searches: SearchRun) -> str:
+    """What a dry run says of the searches: how many, what they look for, where they stand."""
+    spec = searches.campaign.spec
+    ended = sum(search.finished for search in searches.campaign.searches)
+    target = (
+        f"{spec.column} = {spec.target!r}"
+        if spec.categorical
+        else (f"{spec.column} reaches {spec.target:g}")
+    )
+    return (
+        f"{len(searches.campaign.searches)} searches (one per combination of the sweep): "
+        f"{spec.parameter} from {spec.low:g} to {spec.high:g} until {target} ({spec.method}, "
+        f"rtol {spec.rtol:g}, atol {spec.atol:g}); {ended} ended. The cases listed are those "
+        "known now (completed steps and each search's next); more follow as the searches "
+        "advance"
+    )

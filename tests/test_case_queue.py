@@ -8,16 +8,7 @@ import threading
 import pytest
 
 from engine.parallel.scheduler import CaseQueue, Scheduler
-
-
-class _Outcome:
-    def __init__(self, case_id, status):
-        self.case_id, self.status, self.rank = case_id, status, -1
-
-
-class _Case:
-    def __init__(self, case_id):
-        self.case_id = case_id
+from tests.test_output import _Case, _Outcome
 
 
 def chains(queue: CaseQueue, length: int):

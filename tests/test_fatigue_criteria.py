@@ -161,6 +161,7 @@ class MaximumPrincipal(fatigue.FatigueCriterion):
     column = "principal_risk"
     unit = "1"
     constants = ("sigma_u",)
+    constant_units = {"sigma_u": "MPa"}
 
     def evaluate(self, history):
         principal = np.linalg.eigvalsh(history.matrices())[..., -1]

@@ -172,7 +172,7 @@ def test_truncated_file_is_salvaged_and_the_rest_recomputed(tmp_path):
     assert existing.kind == "salvage", existing
     assert 1 <= len(existing.completed) < len(plan)
     apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
-    assert (tmp_path / "r.h5.damaged").exists()
+    assert (tmp_path / "r.h5.damaged.1").exists()
     with SingleWriter(path) as writer:
         completed = writer.prepare(plan, metadata(config))
     assert completed == set(existing.completed)
@@ -197,7 +197,7 @@ def test_file_with_a_torn_header_starts_over_with_a_message(tmp_path, capsys):
     existing.report(__import__("sys").stdout)
     assert "starts over" in capsys.readouterr().out
     apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
-    assert not path.exists() and (tmp_path / "r.h5.damaged").exists()
+    assert not path.exists() and (tmp_path / "r.h5.damaged.1").exists()
 
 
 def test_file_killed_before_any_case_completed_starts_over(tmp_path):
@@ -244,6 +244,31 @@ RANGE_ERRORS = {
     "load tiny": (("load = 750", "load = 1e-300"), "[loading] load", "small strains"),
     "mu huge": (("mu1 = [0.1, 0.4]", "mu1 = [0.1, 1e300]"), "[sweep] mu1", "[0, 10]"),
     "wear huge": (("wear1 = [1.33e-07]", "wear1 = [1e300]"), "[sweep] wear1", "1/MPa"),
+    # every count and control key bounded, the refusal naming the key at fault and why
+    "steps 1e9": (("steps = 4", "steps = 1e9"), "[loading] steps", "write 1000000000"),
+    "steps 10^9": (("steps = 4", "steps = 1000000000"), "[loading] steps", "<= 10000"),
+    "cycles 10^15": (
+        ("cycles = 100\n", "cycles = 1000000000000000\n"),
+        "[loading] cycles",
+        "<= 1e+09",
+    ),
+    "max_wear_fraction 1e300": (
+        ("[loading]\n", "[loading]\nmax_wear_fraction = 1e300\n"),
+        "[loading] max_wear_fraction",
+        "<= 1 (wear per cycle jump",
+    ),
+    "layers 10^6": (("layers = 8", "layers = 1000000"), "[subsurface] layers", "<= 1024"),
+    "depth 1e300": (("depth = 1.0", "depth = 1e300"), "[subsurface] depth", "<= 100"),
+    "maxiter 10^12": (
+        ("beta = [0, 45]\n", SOLVER + "maxiter = 1000000000000\n"),
+        "[solver] maxiter",
+        "<= 1e+07",
+    ),
+    "threads 10^6": (
+        ("beta = [0, 45]\n", SOLVER + "threads = 1000000\n"),
+        "[solver] threads",
+        "<= 1024",
+    ),
 }
 
 
@@ -341,3 +366,31 @@ def test_lock_of_a_killed_but_unreaped_process_is_stale(tmp_path):
     assert lock.replaced is not None and lock.replaced.pid == child.pid
     lock.release()
     child.wait()
+
+
+def test_a_lock_path_that_is_a_directory_is_an_input_error_and_garbage_is_stale(tmp_path):
+    output = tmp_path / "r.h5"
+    lock_path_for(output).mkdir()
+    with pytest.raises(OutputPathError, match=r"r\.h5\.lock exists and is not a regular file"):
+        OutputLock(output).acquire()
+    lock_path_for(output).rmdir()
+    lock_path_for(output).write_bytes(b"\xff\xfe not text")  # garbage: a crashed writer's
+    with OutputLock(output) as lock:
+        assert lock.replaced is not None
+
+
+def test_a_study_file_with_a_byte_order_mark_is_read(tmp_path):
+    from engine.study.config import load_study
+
+    path = tmp_path / "s.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + VALID.encode())  # what some Windows editors write
+    assert load_study(path).resolved() == parse_study(VALID).resolved()
+
+
+@pytest.mark.parametrize("value", ["-5", "nan", "inf", "1e9", "soon"])
+def test_progress_interval_outside_0_to_a_day_is_refused(value, capsys):
+    from engine.cli import build_parser
+
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["s.toml", "--progress-interval", value])
+    assert "--progress-interval" in capsys.readouterr().err

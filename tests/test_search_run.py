@@ -124,6 +124,8 @@ def test_a_search_study_stores_every_step_and_the_thresholds_table(tmp_path):
     assert first == ["mu0.5_w0_b0_load50_amplitude0.001", "mu0.5_w0_b0_load50_amplitude0.004"]
     again = run(study)  # a rerun of a finished search study computes nothing
     assert again.returncode == 0 and "0 to run" in again.stdout
+    assert "no longer in the study" not in again.stdout + again.stderr  # steps are not stale
+    assert "sweep was extended" not in again.stdout + again.stderr
 
 
 def test_mpio_is_refused_for_a_search_study(tmp_path):

@@ -7,7 +7,10 @@ A criterion is a class with four class attributes and one method:
   which the columns ``<column>_x``, ``<column>_z``, ``<column>_critical`` and, where the
   criterion gives them, ``<column>_angle`` and ``<column>_life`` are named;
 - ``unit``: the unit of its value ("1" for a risk, "MPa", …);
-- ``constants``: the names of its material constants, all required (no defaults);
+- ``constants``: the names of its material constants, all required (no defaults), and
+  ``constant_units`` their units ({name: "MPa" | "1"});
+- ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
+  angle and a life (then the columns ``_angle`` and ``_life`` exist);
 - ``evaluate(history) -> CriterionField``: its value at every point of a ``StressHistory``,
   vectorised over points (and planes, instants).
 
@@ -75,6 +78,9 @@ class FatigueCriterion:
     column: ClassVar[str]
     unit: ClassVar[str]
     constants: ClassVar[tuple[str, ...]]
+    constant_units: ClassVar[dict[str, str]]
+    reports_angle: ClassVar[bool] = False
+    reports_life: ClassVar[bool] = False
 
     def __init__(
         self,

@@ -23,6 +23,7 @@ class Crossland(FatigueCriterion):
     column = "crossland_risk"
     unit = "1"
     constants = ("sigma_d", "tau_d")
+    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
 
     def check(self) -> None:
         self._require_positive("sigma_d", "tau_d")

@@ -40,6 +40,7 @@ class DangVan(FatigueCriterion):
     column = "dang_van_risk"
     unit = "1"
     constants = ("sigma_d", "tau_d")
+    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
 
     def check(self) -> None:
         self._require_positive("sigma_d", "tau_d")

@@ -32,6 +32,16 @@ class FatemiSocie(FatigueCriterion):
     column = "fs"
     unit = "1"
     constants = ("tau_f", "gamma_f", "b0", "c0", "k", "sigma_y")
+    reports_angle = True
+    reports_life = True
+    constant_units = {
+        "tau_f": "MPa",
+        "gamma_f": "1",
+        "b0": "1",
+        "c0": "1",
+        "k": "1",
+        "sigma_y": "MPa",
+    }
 
     def check(self) -> None:
         self._require_positive("tau_f", "gamma_f", "sigma_y")

@@ -30,6 +30,9 @@ class SmithWatsonTopper(FatigueCriterion):
     column = "swt"
     unit = "MPa"
     constants = ("sigma_f", "b", "eps_f", "c")
+    reports_angle = True
+    reports_life = True
+    constant_units = {"sigma_f": "MPa", "b": "1", "eps_f": "1", "c": "1"}
 
     def check(self) -> None:
         self._require_positive("sigma_f", "eps_f")

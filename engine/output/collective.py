@@ -48,6 +48,7 @@ from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
 
+from .checksum import manifest_entry
 from .hdf5 import ResultsWriter, StudyMetadata, case_record, publish_created
 from .lowlevel import set_attribute
 
@@ -95,9 +96,10 @@ class _Written:
 
     written = True
 
-    def __init__(self, units: str, description: str, attrs: dict | None = None) -> None:
-        self.units, self.description = units, description
-        self.attrs = dict(attrs or {})
+    def __init__(self, record: DatasetRecord) -> None:
+        self.units, self.description = record.units, record.description
+        self.attrs = dict(record.attrs or {})
+        self.manifest = manifest_entry(record.data)  # dtype, shape, SHA-256 of the data
 
 
 class CollectiveWriter(ResultsWriter):
@@ -247,7 +249,7 @@ class CollectiveWriter(ResultsWriter):
                 ):
                     continue  # not pre-created: created and written at the commit
                 group[path].write_direct(np.ascontiguousarray(record.data))
-                light[path] = _Written(record.units, record.description, record.attrs)
+                light[path] = _Written(record)
         outcome.datasets = light
         self._write_journal(_journal(outcome))
         self.write_seconds += _now() - start

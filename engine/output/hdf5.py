@@ -50,6 +50,7 @@ pending group of a case and the structural write of a finished one. Its strategi
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -66,8 +67,18 @@ from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
 
+from .checksum import (
+    CASE_CHECKSUM,
+    DATASET_CHECKSUM,
+    ROOT_CHECKSUM,
+    case_checksum,
+    manifest_entry,
+    root_checksum,
+)
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
+from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space
 from .summary import pending_row, write_summary_csv
+from .thresholds import thresholds_path
 
 __all__ = [
     "FORMAT",
@@ -159,11 +170,13 @@ def check_resumable(path: Path, metadata: StudyMetadata) -> None:
 
 
 def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
-    """--fresh: delete the results file, its summary and the checkpoints of a previous run
+    """--fresh: delete the results file, its summary (and thresholds) and the checkpoints of a
+    previous run
     (under the output lock: never while another run holds it, see engine.output.lock)."""
     output.unlink(missing_ok=True)
     creating_path(output).unlink(missing_ok=True)
     output.with_suffix(".csv").unlink(missing_ok=True)
+    thresholds_path(output.with_suffix(".csv")).unlink(missing_ok=True)  # a [search] study's
     if checkpoint_dir.exists():
         shutil.rmtree(checkpoint_dir)
 
@@ -193,6 +206,7 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
     """Root attributes and the grid coordinates; identical calls in every strategy (in mpio
     mode they are collective, so every rank makes them with the same arguments)."""
     file.attrs.update(metadata.attrs)
+    file.attrs[ROOT_CHECKSUM] = root_checksum(metadata.attrs)
     if metadata.grid_x is None:
         return  # the grid differs between cases: each case group holds its own
     grid = file.require_group("grid")
@@ -234,9 +248,11 @@ def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> 
 _SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
 
 
-def reattach_grid_scales(group: h5py.Group) -> None:
+def reattach_grid_scales(group: h5py.Group, source: h5py.Group | None = None) -> None:
     """After ``H5Ocopy`` into another file (salvage) the object references of dimension
-    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own."""
+    scales point nowhere (HDF5 does not rewrite them): drop them and attach the copy's own,
+    in the order the fields were attached in ``source`` (the original group), so the copy's
+    scale attributes equal the original's."""
     paths: list[str] = []
     group.visit(paths.append)
     datasets = [path for path in paths if isinstance(group[path], h5py.Dataset)]
@@ -245,7 +261,27 @@ def reattach_grid_scales(group: h5py.Group) -> None:
         for name in _SCALE_ATTRIBUTES:
             if name in attrs:
                 del attrs[name]
-    attach_grid_scales(group, {path: group[path] for path in datasets})
+    first = attached_fields(source) if source is not None else []
+    ordered = [path for path in first if path in datasets]
+    ordered += [path for path in datasets if path not in ordered]
+    attach_grid_scales(group, {path: group[path] for path in ordered})
+
+
+def attached_fields(group: h5py.Group) -> list[str]:
+    """Paths (relative to ``group``) of the fields attached to its ``grid/x`` scale, in the
+    order they were attached; [] when it cannot be read."""
+    try:
+        references = group["grid/x"].attrs["REFERENCE_LIST"]
+        paths: list[str] = []
+        group.visit(paths.append)
+        objects = {path: group[path] for path in paths}
+        order = []
+        for entry in references:  # a path of an object opened by reference may be unknown
+            target = group.file[entry[0]]
+            order += [path for path, item in objects.items() if item == target]
+        return order
+    except Exception:  # noqa: BLE001 - a damaged list: the default order
+        return []
 
 
 def settle_stale_cases(
@@ -299,6 +335,7 @@ class ResultsWriter:
         self.summary_path = Path(summary_path) if summary_path else self.path.with_suffix(".csv")
         self.drop_stale = drop_stale
         self.is_root = True  # the rank that keeps the summary CSV
+        self.full: OutputFull | None = None  # set when the file system filled up
         self._file: h5py.File | None = None
         self._plan: Plan | None = None
         self._rows: dict[str, dict[str, Any]] = {}
@@ -443,6 +480,7 @@ class ResultsWriter:
         set_attribute(group, "rank", record["rank"])
         set_attribute(group, "runtime_s", record["runtime_s"])
         set_attribute(group, "summary", json.dumps(_json_safe(record["row"])))
+        set_attribute(group, CASE_CHECKSUM, record["checksum"])
 
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
@@ -497,18 +535,55 @@ class SingleWriter(ResultsWriter):
         return completed
 
     def close(self) -> None:
-        if self._file is not None:
+        if self._file is None:
+            return
+        try:
             self._commit_flags(force=True)
             self._file.flush()
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, MARGIN)
+        with contextlib.suppress(Exception) if self.full else contextlib.nullcontext():
             self._file.close()
-            self._file = None
+        self._file = None
+        try:
             self._write_summary(force=True)
+        except OSError as error:  # the next run rewrites the summary from the file
+            if not is_no_space(error):
+                raise
+            self.full = self.full or OutputFull(self.path, MARGIN)
 
     def write(self, outcome: CaseOutcome) -> None:
         """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
-        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush."""
+        the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush.
+
+        A case that does not fit on the file system is not begun; the writer is then ``full``
+        (:class:`engine.output.space.OutputFull`) and writes nothing more: the cases written
+        so far stay complete, the rest is computed by the next run."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
+        if self.full is not None:
+            return
+        record = case_record(outcome)
+        try:
+            ensure_space(self.path, _record_bytes(record), remaining_cases=self._remaining())
+            self._write_record(outcome, record)
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, _record_bytes(record) * self._remaining())
+
+    def _remaining(self) -> int:
+        return sum(1 for row in self._rows.values() if row.get("status") == CaseStatus.PENDING)
+
+    def _became_full(self, error: BaseException, needed: int) -> None:
+        """Commit what was written before the disk filled (if it can still be flushed)."""
+        self.full = error if isinstance(error, OutputFull) else OutputFull(self.path, needed)
+        with contextlib.suppress(Exception):  # an HDF5 flush that failed leaves nothing to do
+            self._commit_flags(force=True)
+
+    def _write_record(self, outcome: CaseOutcome, record: dict[str, Any]) -> None:
         cases = self._cases
         if outcome.case_id in self._pristine:  # prepared and untouched since: no checks
             self._pristine.discard(outcome.case_id)
@@ -517,19 +592,19 @@ class SingleWriter(ResultsWriter):
             group = cases[outcome.case_id] if outcome.case_id in cases else None
             if group is None or len(group) or group.attrs.get("status") != CaseStatus.PENDING:
                 group = self._reset_group(cases, outcome.case)  # a pristine group is reused
-        self._store_case(group, case_record(outcome))
+        self._store_case(group, record)
         self._rows[outcome.case_id] = dict(outcome.row)
         self._unflagged.append((group, outcome.status))
         if self._commit_flags():
             self._write_summary()
 
     def add_case(self, case: Case) -> None:
-        """A case created while the study runs (a step of a threshold search): its pending
-        group and summary row, listed after the cases known so far."""
+        """A case created while the study runs (a step of a threshold search): its summary
+        row (pending), listed after the cases known so far. Its group is created when its
+        outcome is written (one structural change per case on the dispatching thread); a
+        case a stop leaves unstarted has none, and the next run proposes it again."""
         if case.case_id in self._rows:
             return
-        self._reset_group(self._cases, case)
-        self._pristine.add(case.case_id)
         self._rows[case.case_id] = pending_row(case.parameters())
         self._order.append(case.case_id)
 
@@ -538,9 +613,12 @@ class SingleWriter(ResultsWriter):
         for a study whose cases were created in the order their outcomes arrived."""
         planned = set(plan.case_ids)
         others = [case_id for case_id in self._order if case_id not in planned]
-        renumber_cases(self._cases, plan, others)
+        self._order = [case_id for case_id in plan.case_ids if case_id in self._rows] + others
+        for index, case_id in enumerate(self._order):
+            group = self._cases.get(case_id)
+            if group is not None and group.attrs.get("index") != index:
+                group.attrs["index"] = index
         self._plan = plan
-        self._order = list(plan.case_ids) + others
 
     def write_thresholds(self, rows: list[dict[str, Any]], spec) -> None:
         """The thresholds table of a ``[search]`` study (:mod:`engine.output.thresholds`),
@@ -622,17 +700,21 @@ def open_writer(
 def case_record(outcome: CaseOutcome) -> dict[str, Any]:
     """What :meth:`ResultsWriter._store_case` writes for ``outcome``: datasets (arrays, or
     ``written`` for a dataset its rank has already filled), attributes, summary row."""
-    datasets = {}
+    datasets, manifest = {}, {}
     for path, record in outcome.datasets.items():
         item: dict[str, Any] = {"units": record.units, "description": record.description}
-        if getattr(record, "attrs", None):
-            item["attrs"] = dict(record.attrs)
+        item["attrs"] = dict(getattr(record, "attrs", None) or {})
         if getattr(record, "written", False):
             item["written"] = True
+            entry = tuple(record.manifest)  # computed by the rank that wrote the data
         else:
             item["data"] = np.asarray(record.data)
+            entry = manifest_entry(item["data"])
+        item["attrs"][DATASET_CHECKSUM] = entry[2]
+        manifest[path] = entry
         datasets[path] = item
     return {
+        "checksum": case_checksum(manifest),
         "case_id": outcome.case_id,
         "status": outcome.status,
         "row": _json_safe(dict(outcome.row)),
@@ -643,6 +725,11 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
         "runtime_s": float(outcome.runtime_s),
         "datasets": datasets,
     }
+
+
+def _record_bytes(record: dict[str, Any]) -> int:
+    """Bytes a :func:`case_record` takes in the file (:func:`engine.output.space.case_bytes`)."""
+    return case_bytes(item.get("data") for item in record["datasets"].values())
 
 
 def stale_row(group: h5py.Group) -> dict[str, Any]:

@@ -11,12 +11,20 @@ Before anything is written, rank 0 inspects an existing results file (read-only)
 mismatch         another study (different name or settings): :class:`ResultsMismatch`, exit
                  code 2 naming every difference, nothing touched.
 ``salvage``      the file is damaged (killed while HDF5 metadata was being written, truncated
-                 by a full disk, a torn header) but its root and some completed cases can be
-                 read: they are copied into a new file (:mod:`engine.output.salvage`), the
-                 damaged file is kept as ``<output>.damaged``, the rest is recomputed.
-``start-over``   nothing can be read (no completed case can be rescued): the file is moved to
-                 ``<output>.damaged`` and the study starts over, saying so. Never a dead end
-                 that only ``--fresh`` opens.
+                 by a full disk, a torn header, overwritten blocks, a flipped bit) but its
+                 root and some completed cases can be read and pass their checksums: they are
+                 copied into a new file (:mod:`engine.output.salvage`), the damaged file is
+                 kept as ``<output>.damaged.N`` (the first free number: no copy is ever
+                 overwritten), the rest is recomputed.
+``start-over``   nothing can be read (no completed case can be rescued, or reading did not
+                 finish within its time limit): the file is moved to ``<output>.damaged.N``
+                 and the study starts over, saying so. Never a dead end that only
+                 ``--fresh`` opens.
+
+A completed case is trusted only after it has been read back in full and its checksums
+compared (:func:`engine.output.checksum.verify_case`), in the same pass that reads the case
+statuses. The pass runs in a child process (:func:`inspect_existing_isolated`), where a stop
+signal and a time limit reach it even if HDF5 loops on damaged metadata.
 """
 
 from __future__ import annotations
@@ -32,9 +40,18 @@ from engine.schema import CaseStatus
 from engine.study.config import fill_former_defaults
 from engine.study.plan import Plan
 
+from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT, ResultsMismatch, StudyMetadata
+from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
 
-__all__ = ["ExistingResults", "inspect_existing", "describe_differences", "study_identity"]
+__all__ = [
+    "ExistingResults",
+    "inspect_existing",
+    "inspect_existing_isolated",
+    "describe_differences",
+    "study_identity",
+    "damaged_path",
+]
 
 # settings whose change does not change any result (never compared)
 _NOT_COMPARED = {("solver", "threads")}
@@ -84,90 +101,145 @@ class ExistingResults:
 
     path: Path
     kind: str  # "resume" | "salvage" | "start-over"
-    completed: list[str] = field(default_factory=list)  # readable completed cases
+    completed: list[str] = field(default_factory=list)  # completed cases read and verified
     stale: list[str] = field(default_factory=list)  # in the file, not in the study
     new_cases: int = 0  # in the study, not in the file
     problem: str = ""  # why the file is damaged
+    damaged: dict[str, str] = field(default_factory=dict)  # case id -> what is wrong with it
+    unverified: int = 0  # completed cases without checksums (older files): read, not compared
+    kept_as: Path | None = None  # where a damaged file goes (salvage, start-over)
 
     def report(self, stream: TextIO) -> None:
         """Say what happens to the existing file (rank 0, before computing)."""
+        for line in self.notes():
+            print(line, file=stream, flush=True)
+
+    def notes(self) -> list[str]:
+        """The lines of :meth:`report`."""
+        notes = []
         if self.kind == "start-over":
-            print(
+            notes.append(
                 f"note: {self.path} is damaged and nothing in it can be read ({self.problem}); "
-                f"it is kept as {damaged_path(self.path)} and the study starts over",
-                file=stream,
-                flush=True,
+                f"it is kept as {self.kept_as} and the study starts over"
             )
         elif self.kind == "salvage":
-            print(
+            notes.append(
                 f"note: {self.path} is damaged ({self.problem}); {len(self.completed)} "
-                f"completed case(s) are copied into a new file, the rest is recomputed; the "
-                f"damaged file is kept as {damaged_path(self.path)}",
-                file=stream,
-                flush=True,
+                f"completed case(s) passed their checksums and are copied into a new file, "
+                f"{len(self.damaged)} damaged case(s) and the rest are recomputed; the damaged "
+                f"file is kept as {self.kept_as}"
+            )
+        if self.unverified:
+            notes.append(
+                f"note: {self.unverified} completed case(s) in {self.path} carry no checksums "
+                "(written by an earlier version): read in full, nothing to compare with"
             )
         if self.new_cases and self.kind == "resume":
-            print(
+            notes.append(
                 f"note: the sweep was extended: {self.new_cases} case(s) not yet in "
-                f"{self.path} are added",
-                file=stream,
-                flush=True,
+                f"{self.path} are added"
             )
         if self.stale:
             shown = ", ".join(self.stale[:10]) + (" …" if len(self.stale) > 10 else "")
-            print(
+            notes.append(
                 f"note: {len(self.stale)} case(s) in {self.path} are no longer in the study "
-                f"(the sweep shrank): {shown}; they are kept in the file and the summary "
-                "(--drop-stale deletes them)",
-                file=stream,
-                flush=True,
+                f"(the sweep shrank or changed): {shown}; they are kept in the file and the "
+                "summary (--drop-stale deletes them)"
             )
+        return notes
 
 
 def damaged_path(path: Path) -> Path:
-    return path.with_name(path.name + ".damaged")
+    """``<output>.damaged.N`` with the first N (from 1) that does not exist yet."""
+    number = 1
+    while (candidate := path.with_name(f"{path.name}.damaged.{number}")).exists():
+        number += 1
+    return candidate
 
 
 def inspect_existing(path: Path, metadata: StudyMetadata, plan: Plan) -> ExistingResults | None:
     """Read-only look at an existing results file; None when there is none.
 
-    Raises :class:`ResultsMismatch` for a file of another study or another program.
+    Reads the root and every case's status and verifies every completed case
+    (:func:`engine.output.checksum.verify_case`); a damaged file goes to
+    :func:`engine.output.salvage.scan_damaged`. Raises :class:`ResultsMismatch` for a file of
+    another study or another program.
     """
     if not path.exists():
         return None
     try:
         with h5py.File(path, "r") as file:
             attrs = dict(file.attrs)
+            check_root(attrs)
             check_identity(path, attrs, metadata)
-            cases = _case_statuses(file)
+            checks = check_cases(file)
     except ResultsMismatch:
         raise
     except Exception as error:  # noqa: BLE001 - any failure to read is damage
         from .salvage import scan_damaged
 
         return scan_damaged(path, metadata, plan, _short(error))
-    planned = set(plan.case_ids)
-    return ExistingResults(
-        path,
-        "resume",
-        completed=[case_id for case_id, status in cases.items() if status == CaseStatus.COMPLETED],
-        stale=[case_id for case_id in cases if case_id not in planned],
-        new_cases=len(planned - set(cases)),
-    )
+    return verdict(path, plan, checks, in_file=[check.case_id for check in checks])
 
 
-def _case_statuses(file: h5py.File) -> dict[str, str]:
-    """case_id -> status of every case group, reading what a resume reads (status, summary)."""
-    statuses = {}
+def inspect_existing_isolated(
+    path: Path, metadata: StudyMetadata, plan: Plan, *, should_stop=lambda: False
+) -> ExistingResults | None:
+    """:func:`inspect_existing` in a child process (:mod:`engine.output.isolated`).
+
+    A stop signal raises :class:`engine.output.isolated.IsolatedCallStopped` (nothing was
+    changed); a read that does not finish within its time limit makes the file one that
+    nothing can be read from (``start-over``: kept aside, the study starts over)."""
+    if not path.exists():
+        return None
+    try:
+        return call_isolated(
+            inspect_existing,
+            path,
+            metadata,
+            plan,
+            should_stop=should_stop,
+            time_limit=time_limit_for(path),
+        )
+    except IsolatedCallTimedOut as error:
+        return ExistingResults(path, "start-over", problem=str(error), kept_as=damaged_path(path))
+
+
+def check_cases(file: h5py.File) -> list[CaseCheck]:
+    """:func:`engine.output.checksum.verify_case` of every case group, in file order."""
     cases = file.get("cases")
     if cases is None:
         raise KeyError("no /cases group")
-    for name in cases:
-        attrs = cases[name].attrs
-        statuses[name] = str(attrs.get("status", ""))
-        if statuses[name] == CaseStatus.COMPLETED:
-            json.loads(attrs["summary"])
-    return statuses
+    return [verify_case(cases[name]) for name in cases]
+
+
+def verdict(
+    path: Path, plan: Plan, checks: list[CaseCheck], *, in_file: list[str], problem: str = ""
+) -> ExistingResults:
+    """What to do with a file whose cases were checked: resume it when every completed case is
+    sound; otherwise salvage the sound ones (or start over when there are none)."""
+    planned = set(plan.case_ids)
+    sound = [check.case_id for check in checks if check.sound]
+    trusted = [c for c in checks if c.sound and c.status == CaseStatus.COMPLETED]
+    completed = [check.case_id for check in trusted]
+    damaged = {check.case_id: check.problem for check in checks if not check.sound}
+    unverified = sum(1 for check in trusted if not check.verified)
+    if damaged and not problem:
+        first = next(iter(damaged.items()))
+        problem = f"{len(damaged)} case(s) fail their checks, e.g. {first[0]}: {first[1]}"
+    kind = "resume" if not problem else ("salvage" if completed else "start-over")
+    kept = [case_id for case_id in in_file if case_id in sound] if kind == "resume" else completed
+    return ExistingResults(
+        path,
+        kind,
+        completed=completed,
+        stale=[case_id for case_id in kept if case_id not in planned],
+        new_cases=len(planned - set(kept)),
+        problem=problem,
+        damaged=damaged,
+        unverified=unverified,
+        kept_as=None if kind == "resume" else damaged_path(path),
+    )
 
 
 def check_identity(path: Path, attrs: dict[str, Any], metadata: StudyMetadata) -> None:

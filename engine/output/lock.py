@@ -25,7 +25,14 @@ import socket
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["OutputLock", "OutputInUse", "OutputPathError", "lock_path_for", "check_output_path"]
+__all__ = [
+    "OutputLock",
+    "OutputInUse",
+    "OutputPathError",
+    "lock_path_for",
+    "check_output_path",
+    "check_output_name",
+]
 
 
 class OutputInUse(ValueError):
@@ -97,6 +104,20 @@ def _describe(error: OSError) -> str:
     return error.strerror or str(error)
 
 
+RESULTS_SUFFIXES = (".h5", ".hdf5")
+
+
+def check_output_name(output: Path, where: str = "--output") -> None:
+    """The rule of ``[study] output`` for an output given elsewhere (``--output``): a path
+    ending in .h5 or .hdf5 (the summary CSV is written beside it with the suffix .csv, so any
+    other name could make the two one file). Raises :class:`OutputPathError`."""
+    if not str(output).endswith(RESULTS_SUFFIXES) or str(output).endswith(("/", os.sep)):
+        raise OutputPathError(
+            f"{where} {output}: must be a path ending in .h5 or .hdf5 (the results file; the "
+            "summary is written beside it as .csv)"
+        )
+
+
 def check_output_path(output: Path) -> None:
     """Make the output's directory and check that files can be created in it.
 
@@ -132,6 +153,11 @@ class OutputLock:
 
     def acquire(self) -> None:
         """Take the lock or raise :class:`OutputInUse` / :class:`OutputPathError`."""
+        if self.path.is_dir() or (self.path.exists() and not self.path.is_file()):
+            raise OutputPathError(
+                f"output {self.output}: the lock path {self.path} exists and is not a regular "
+                "file; move it away"
+            )
         private = self.path.with_name(f".{self.path.name}.{self.owner.pid}")
         try:
             private.write_text(self.owner.line())
@@ -185,9 +211,14 @@ class OutputLock:
 
     def _read_owner(self) -> LockOwner | None:
         try:
-            text = self.path.read_text()
+            text = self.path.read_text(errors="replace")
         except FileNotFoundError:
             return None
+        except OSError as error:  # not readable by this user, not a file
+            raise OutputPathError(
+                f"output {self.output}: the lock {self.path} cannot be read: "
+                f"{_describe(error)}; move it away"
+            ) from None
         owner = LockOwner.parse(text)
         # unreadable content: never written by this engine's link method; treat as the
         # owner's, on this host, dead (a crash while writing through _create_exclusive)
@@ -200,7 +231,7 @@ class OutputLock:
             os.replace(self.path, stale)
         except FileNotFoundError:
             return
-        if LockOwner.parse(stale.read_text()) not in (other, None):
+        if LockOwner.parse(stale.read_text(errors="replace")) not in (other, None):
             os.replace(stale, self.path)  # someone else took it meanwhile: put it back
             return
         stale.unlink(missing_ok=True)

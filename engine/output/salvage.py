@@ -19,7 +19,6 @@ file is kept beside the output as ``<output>.damaged`` (for inspection; delete i
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 import struct
@@ -29,11 +28,12 @@ from pathlib import Path
 
 import h5py
 
-from engine.schema import CaseStatus
 from engine.study.plan import Plan
 
+from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_root
-from .identity import ExistingResults, check_identity, damaged_path
+from .identity import ExistingResults, check_identity, damaged_path, verdict
+from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
 
 __all__ = ["scan_damaged", "apply_existing", "readable_copy"]
 
@@ -41,50 +41,27 @@ _SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 
 def scan_damaged(path: Path, metadata: StudyMetadata, plan: Plan, problem: str) -> ExistingResults:
-    """Find the completed cases of a damaged file that can be read in full."""
-    planned = set(plan.case_ids)
+    """Find the completed cases of a damaged file that can be read in full and pass their
+    checksums (:func:`engine.output.checksum.verify_case`)."""
     try:
         with readable_copy(path) as file:
-            check_identity(path, dict(file.attrs), metadata)
-            rescued = [name for name in _names(file) if _complete_and_readable(file, name)]
+            attrs = dict(file.attrs)
+            check_root(attrs)  # a damaged root: whose study it holds is unknown, start over
+            check_identity(path, attrs, metadata)
+            names = list(file["cases"])
+            checks = [_checked(file, name) for name in names]
     except ResultsMismatch:
         raise
     except Exception:  # noqa: BLE001 - root or case list unreadable: nothing to rescue
-        rescued = []
-    if not rescued:
-        return ExistingResults(path, "start-over", problem=problem)
-    return ExistingResults(
-        path,
-        "salvage",
-        completed=rescued,
-        stale=[case_id for case_id in rescued if case_id not in planned],
-        new_cases=len(planned - set(rescued)),
-        problem=problem,
-    )
+        names, checks = [], []
+    return verdict(path, plan, checks, in_file=names, problem=problem)
 
 
-def _names(file: h5py.File) -> list[str]:
-    return list(file["cases"])
-
-
-def _complete_and_readable(file: h5py.File, name: str) -> bool:
-    """The case is completed, and its attributes and every dataset can be read."""
+def _checked(file: h5py.File, name: str) -> CaseCheck:
     try:
-        group = file["cases"][name]
-        attrs = dict(group.attrs)
-        if attrs.get("status") != CaseStatus.COMPLETED:
-            return False
-        json.loads(attrs["summary"])
-
-        def read(_, item):
-            if isinstance(item, h5py.Dataset):
-                item[()]
-                dict(item.attrs)
-
-        group.visititems(read)
-    except Exception:  # noqa: BLE001 - any failure: not rescued
-        return False
-    return True
+        return verify_case(file["cases"][name])
+    except Exception as error:  # noqa: BLE001 - the group itself cannot be opened
+        return CaseCheck(name, "", problem=f"unreadable ({str(error)[:200]})")
 
 
 @contextmanager
@@ -132,31 +109,67 @@ def _patch_end_of_file(path: Path) -> None:
 
 
 def apply_existing(
-    existing: ExistingResults, plan: Plan, metadata: StudyMetadata, journal_dir: Path
+    existing: ExistingResults,
+    plan: Plan,
+    metadata: StudyMetadata,
+    journal_dir: Path,
+    *,
+    should_stop=lambda: False,
 ) -> None:
     """Rank 0, under the output lock, before a writer opens the file: carry out a salvage or a
-    start-over. Journals of uncommitted collective writes refer to the damaged file: removed."""
+    start-over. The sound cases are copied in a child process (:mod:`engine.output.isolated`:
+    a stop signal or the time limit ends it, the existing file untouched); then the damaged
+    file is moved to ``existing.kept_as`` and the new one into place. Journals of uncommitted
+    collective writes refer to the damaged file: removed."""
     if existing.kind not in ("salvage", "start-over"):
         return
     path = existing.path
+    kept_as = existing.kept_as or damaged_path(path)
     if existing.kind == "salvage":
         temporary = path.with_name(f".{path.name}.salvaged")
-        with readable_copy(path) as source, h5py.File(temporary, "w") as target:
-            write_root(target, metadata)
-            cases = target.create_group("cases")
-            for case_id in list(existing.completed):
-                try:
-                    source.copy(source["cases"][case_id], cases, name=case_id)
-                    reattach_grid_scales(cases[case_id])
-                except Exception:  # noqa: BLE001 - could be read but not copied: recompute
-                    if case_id in cases:
-                        del cases[case_id]
-                    existing.completed.remove(case_id)
-            target.flush()
-        os.replace(path, damaged_path(path))
+        try:
+            copied = call_isolated(
+                copy_sound_cases,
+                path,
+                temporary,
+                metadata,
+                list(existing.completed),
+                should_stop=should_stop,
+                time_limit=time_limit_for(path),
+            )
+        except IsolatedCallTimedOut as error:  # HDF5 stuck while copying: start over
+            temporary.unlink(missing_ok=True)
+            copied = []
+            existing.kind, existing.problem = "start-over", f"{existing.problem}; copying: {error}"
+            print(f"note: salvage abandoned ({error}); the study starts over", flush=True)
+        existing.completed[:] = copied
+    if existing.kind == "salvage":
+        os.replace(path, kept_as)
         os.replace(temporary, path)
     else:
-        os.replace(path, damaged_path(path))
+        os.replace(path, kept_as)
     if journal_dir.is_dir():
         for journal in journal_dir.glob("*.written.json"):
             journal.unlink(missing_ok=True)
+
+
+def copy_sound_cases(
+    path: Path, temporary: Path, metadata: StudyMetadata, case_ids: list[str]
+) -> list[str]:
+    """Build ``temporary``: the study's root and the cases ``case_ids`` of ``path`` (copied
+    with ``H5Ocopy``, their grid scales attached anew). Returns the ids copied (a case that
+    could be read but not copied is left out: it is recomputed)."""
+    copied = []
+    with readable_copy(path) as source, h5py.File(temporary, "w") as target:
+        write_root(target, metadata)
+        cases = target.create_group("cases")
+        for case_id in case_ids:
+            try:
+                source.copy(source["cases"][case_id], cases, name=case_id)
+                reattach_grid_scales(cases[case_id], source["cases"][case_id])
+                copied.append(case_id)
+            except Exception:  # noqa: BLE001 - could be read but not copied: recompute
+                if case_id in cases:
+                    del cases[case_id]
+        target.flush()
+    return copied

@@ -53,6 +53,7 @@ from .config import StudyConfig
 from .plan import Case
 
 __all__ = [
+    "peak_tracker",
     "DatasetRecord",
     "CaseOutcome",
     "CaseRunner",
@@ -82,17 +83,46 @@ def case_wear_law(case: Case, cfg: StudyConfig):
     from engine.solvers.friction import EnergyWearLaw, WearLaw
 
     if cfg.wear.law == "energy":
-        return EnergyWearLaw(case.alpha)
-    return WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+        law = EnergyWearLaw(case.alpha)
+    else:
+        law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+    if cfg.punch.is_line:  # the gap carries the flat's and the pad's wear
+        from engine.study.line_contact import wear_law
+
+        return wear_law(law, pad_ratio(case, cfg))
+    return law
+
+
+def pad_ratio(case: Case, cfg: StudyConfig) -> float:
+    """k_pad / k_flat of a line contact (``[wear] pad_coefficient``; 0 without)."""
+    from engine.study.line_contact import pad_ratio as ratio
+
+    flat = case.alpha if cfg.wear.law == "energy" else case.wear1
+    return ratio(cfg.wear.pad_coefficient, flat)
 
 
 def nominal_mean_pressure(cfg: StudyConfig) -> float:
     """The summary's p0 (MPa): P/(π a0²) with a0 the punch radius (flat: Eq. 19; rounded:
     the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
-    contact radius (engine.reference.hertz)."""
+    contact radius (engine.reference.hertz); for a line contact P/(2 a0) with a0 the nominal
+    half-width (engine.study.line_contact)."""
     from engine.reference.flat_punch import mean_pressure
 
+    if cfg.punch.is_line:  # per unit length: P/(2 a0), a0 the nominal half-width
+        return cfg.loading.load / (2.0 * cfg.contact_length)
     return mean_pressure(cfg.loading.load, cfg.contact_length)
+
+
+def peak_tracker(stress, contact_length: float, angle: float = 0.0):
+    """The peak tracker of a case's stresses (engine.solvers.peak): a line contact's tracks
+    its contact half-width (engine.solvers.line_subsurface)."""
+    if stress.grid.is_line:
+        from engine.study.line_contact import LineContact
+
+        return LineContact.peak_tracker(stress, contact_length, angle)
+    from engine.solvers.peak import PeakTracker
+
+    return PeakTracker(stress, contact_length, angle=angle)
 
 
 class BorderCheckedSolver:
@@ -235,12 +265,19 @@ class CaseRunner:
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
-        grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
+        if cfg.punch.is_line:  # plane strain: n elements along x, unit length along y
+            grid = Grid.line(cfg.mesh.n, cfg.mesh.half_width)
+        else:
+            grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
         punch = cfg.punch.profile()
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         operator = self.operators.operator(
-            grid, material, threads=cfg.solver.threads, planner_effort=cfg.solver.planner_effort
+            grid,
+            material,
+            threads=cfg.solver.threads,
+            planner_effort=cfg.solver.planner_effort,
+            reference_distance=cfg.mesh.reference_distance,
         )
         solver = ContactSolver(
             grid,
@@ -273,6 +310,8 @@ class CaseRunner:
             planner_effort=cfg.solver.planner_effort,
             angle=math.radians(fretting_case.plane_angle(cfg)),
         )
+        if grid.is_line:
+            stress.bulk_stress = 0.0  # shared between cases: each starts without bulk stress
         return stress, depths
 
     # ---------------------------------------------------------------- static
@@ -311,7 +350,6 @@ class CaseRunner:
     # ---------------------------------------------------------------- cyclic
     def _run_cyclic(self, case: Case, cfg: StudyConfig, should_stop) -> CaseOutcome:
         from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
-        from engine.solvers.peak import PeakTracker
 
         from .checkpoint import load_cyclic_state, save_cyclic_state
 
@@ -325,7 +363,7 @@ class CaseRunner:
             max_wear_fraction=cfg.loading.max_wear_fraction,
         )
         stress, depths = self._subsurface(grid, material, cfg)
-        tracker = PeakTracker(stress, cfg.contact_length)
+        tracker = peak_tracker(stress, cfg.contact_length)
         analysis = CyclicAnalysis(solver, wear_law, settings, peak_probe=tracker)
         checkpoint = self._checkpoint_path(case)
         state = load_cyclic_state(checkpoint) if checkpoint.exists() else None
@@ -356,6 +394,7 @@ class CaseRunner:
         row = self._final_row(case, cfg, final, stress, depths, datasets, "final")
         row.update(self._peak_row(tracker, final, result.history))
         row.update(self._totals_row(result, cfg))
+        row.update(self._scar_row(case, cfg, grid, result))
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
 
     def _recorded_datasets(self, records, stress, angle=0.0, moment="peak load of"):
@@ -424,7 +463,18 @@ class CaseRunner:
         row.update(fretting_case.summary_values(result))
         fretting_case.label_plane(datasets, fretting_case.plane_angle(cfg))
         row.update(self._totals_row(result, cfg))
+        row.update(self._scar_row(case, cfg, grid, result))
         return CaseOutcome(case, COMPLETED, row=row, datasets=datasets)
+
+    @staticmethod
+    def _scar_row(case, cfg, grid, result) -> dict[str, Any]:
+        """Line contacts: scar_depth, scar_width, scar_area of the flat and pad_wear_depth
+        (engine.solvers.scar) from the final wear; nothing for the 3-D punches."""
+        if not grid.is_line:
+            return {}
+        from engine.study.line_contact import scar_row
+
+        return scar_row(grid, result.state.wear, pad_ratio(case, cfg))
 
     # ---------------------------------------------------------------- peak history
     @staticmethod

@@ -40,6 +40,7 @@ __all__ = [
     "STATIC_LOADING",
     "FRETTING_LOADING",
     "SPHERE_ON_STEEL",
+    "CYLINDER_ON_STEEL",
     "study_sections",
     "study_toml",
 ]
@@ -70,6 +71,14 @@ FRETTING_LOADING: dict[str, Any] = {
 SPHERE_ON_STEEL: dict[str, dict[str, Any]] = {
     "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},  # MPa, 1
     "punch": {"shape": "sphere", "radius": 10.0},  # mm
+}
+
+#: A layer for line (plane-strain) contacts: a steel cylinder of radius 6 mm on a steel flat
+#: (McColl et al. 2004), loads per unit length (N/mm); Hertz's a = 0.113 mm at 185 N/mm.
+CYLINDER_ON_STEEL: dict[str, dict[str, Any]] = {
+    "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},  # MPa, 1
+    "punch": {"shape": "cylinder", "radius": 6.0},  # mm
+    "mesh": {"n": 64, "half_width": 0.25},  # elements along x, mm
 }
 
 _ORDER = ("study", "material", "punch", "mesh", "loading", "subsurface", "solver", "sweep")

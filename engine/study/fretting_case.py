@@ -88,6 +88,8 @@ def settings(cfg) -> FrettingSettings:
         force_amplitude=loading.force_amplitude,
         direction=loading.direction or 0.0,
         record=loading.record,
+        bulk_stress_max=loading.bulk_stress_max or 0.0,
+        bulk_stress_min=loading.bulk_stress_min or 0.0,
         **options,
     )
 
@@ -109,15 +111,13 @@ def check_force_bound(case, fretting: FrettingSettings) -> None:
 
 def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> FrettingRun:
     """Run (or resume from ``checkpoint``) a fretting case; save the state when stopped."""
-    from engine.solvers.peak import PeakTracker
-
-    from .case import case_wear_law
+    from .case import case_wear_law, peak_tracker
     from .checkpoint import load_fretting_state, save_fretting_state
 
     fretting = settings(cfg)
     check_force_bound(case, fretting)
     angle = math.radians(plane_angle(cfg))  # the plane contains the sliding direction
-    tracker = PeakTracker(stress, cfg.contact_length, angle=angle)
+    tracker = peak_tracker(stress, cfg.contact_length, angle)
 
     def increment_probe(pressure, traction_x, traction_y):
         peak = stress.plane(pressure, traction_x, traction_y, angle=angle).peak()
@@ -130,8 +130,12 @@ def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> F
         peak_probe=tracker,
         increment_probe=increment_probe,
     )
+    if fretting.has_bulk_stress:  # the probes see the σ_B of the increment they evaluate
+        analysis.bulk_stress_listener = lambda value: setattr(stress, "bulk_stress", value)
     state = load_fretting_state(checkpoint) if checkpoint.exists() else None
     result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
+    if fretting.has_bulk_stress:  # the stored planes: σ_B of the last cycle's peak
+        stress.bulk_stress = analysis.peak_bulk_stress
     message = result.message
     if not result.completed:
         checkpoint.parent.mkdir(parents=True, exist_ok=True)

@@ -95,6 +95,8 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
 def _grid(config: StudyConfig):
     from engine.grid import Grid
 
+    if config.punch.is_line:  # a line contact: n elements along x, one along y
+        return Grid.line(config.mesh.n, config.mesh.half_width)
     return Grid.square(config.mesh.n, config.mesh.half_width)
 
 
@@ -109,11 +111,16 @@ def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     )
     # The study's planner effort: a timed plan here would leave FFTW wisdom that the cases'
     # estimate plans of the same lattice reuse, on this rank only (issue 15).
-    stress = SubsurfaceStress(
-        grid, config.material.nu_A, depths, planner_effort=config.solver.planner_effort
-    )
     zero = np.zeros(grid.shape)
-    plane = stress.plane(zero, zero, zero, angle=0.0)
+    if grid.is_line:
+        from engine.solvers.line_subsurface import LineSubsurfaceStress
+
+        plane = LineSubsurfaceStress(grid, config.material.nu_A, depths).plane(zero, zero)
+    else:
+        stress = SubsurfaceStress(
+            grid, config.material.nu_A, depths, planner_effort=config.solver.planner_effort
+        )
+        plane = stress.plane(zero, zero, zero, angle=0.0)
     arrays = {"x": plane.x, "y": plane.y, "z": plane.z, "von_mises": plane.von_mises}
     arrays.update({f"sigma_{name}": values for name, values in plane.components.items()})
     return {

@@ -18,8 +18,10 @@ import time
 import numpy as np
 
 from engine.grid import Grid
+from engine.kernels.line import line_operator
 from engine.kernels.operator import HalfSpaceOperator
 from engine.material import MaterialPair
+from engine.solvers.line_subsurface import LineSubsurfaceStress
 from engine.solvers.subsurface import SubsurfaceStress
 
 __all__ = ["OperatorCache"]
@@ -38,15 +40,32 @@ class OperatorCache:
         self.setup_s = 0.0
 
     def operator(
-        self, grid: Grid, material: MaterialPair, *, threads: int, planner_effort: str
+        self,
+        grid: Grid,
+        material: MaterialPair,
+        *,
+        threads: int,
+        planner_effort: str,
+        reference_distance: float | None = None,
     ) -> HalfSpaceOperator:
-        """The influence operator of ``grid`` and ``material`` (built on first request)."""
-        key = (grid, material, threads, planner_effort)
+        """The influence operator of ``grid`` and ``material`` (built on first request); a
+        line grid's plane-strain operator takes the displacement datum
+        ``reference_distance`` (mm, engine.kernels.line)."""
+        key = (grid, material, threads, planner_effort, reference_distance)
         if key not in self._operators:
             start = time.perf_counter()
-            operator = HalfSpaceOperator(
-                grid, material, threads=threads, planner_effort=planner_effort
-            )
+            if grid.is_line:  # plane strain: the line kernels with their datum
+                operator = line_operator(
+                    grid,
+                    material,
+                    reference_distance,
+                    threads=threads,
+                    planner_effort=planner_effort,
+                )
+            else:
+                operator = HalfSpaceOperator(
+                    grid, material, threads=threads, planner_effort=planner_effort
+                )
             operator.preconditioner  # noqa: B018 (built now, counted as set-up)
             operator.symbol_bound()
             self._operators[key] = operator
@@ -71,7 +90,11 @@ class OperatorCache:
         if (key, float(angle)) in self._planes:
             return self._stresses[key]
         start = time.perf_counter()
-        if key not in self._stresses:
+        if key not in self._stresses and grid.is_line:
+            self._stresses[key] = LineSubsurfaceStress(
+                grid, poisson_ratio, np.asarray(depths, dtype=float)
+            )
+        elif key not in self._stresses:
             self._stresses[key] = SubsurfaceStress(
                 grid,
                 poisson_ratio,
@@ -80,7 +103,7 @@ class OperatorCache:
                 planner_effort=planner_effort,
             )
         ones = np.ones(grid.shape)
-        self._stresses[key].plane(ones, ones, ones, angle=float(angle))
+        self._stresses[key].plane(ones, ones, None if grid.is_line else ones, angle=float(angle))
         self._planes.add((key, float(angle)))
         self.setup_s += time.perf_counter() - start
         return self._stresses[key]

@@ -25,6 +25,31 @@ MAX_FRICTION = 10.0
 # measured, and the cycle jump degenerates into single cycles.
 MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
 
+# Upper bounds of the count and control keys, each with the reason printed when it is passed
+# (a key beyond them is a typo or a unit slip, and would otherwise run for days or fail late).
+BOUNDS = {
+    "loading.steps": (
+        10_000,
+        "increments per half cycle, each a full contact solve: 10^4 resolve any loading path",
+    ),
+    "loading.cycles": (10**9, "fretting tests run 10^7 to 10^8 cycles"),
+    "loading.max_wear_fraction": (
+        1.0,
+        "wear per cycle jump over the peak elastic approach: beyond 1 a jump removes the "
+        "whole elastic approach and the jump control no longer holds",
+    ),
+    "subsurface.layers": (1024, "depth layers of the stress plane: 1024 resolve it to 0.1 %"),
+    "subsurface.depth": (100.0, "stresses 100 radii deep are below 1e-4 of the mean pressure"),
+    "solver.maxiter": (10**7, "iterations per increment: a solve not converged in 10^7 will not"),
+    "solver.threads": (1024, "FFT threads per rank: more than the cores of a node only slow"),
+}
+
+
+def bound(key: str) -> dict:
+    """Keyword arguments ``maximum`` and ``why`` of :class:`reader.Section` for ``key``."""
+    maximum, why = BOUNDS[key]
+    return {"maximum": maximum, "why": why}
+
 
 def check_physical_ranges(source, material, punch, loading, sweep) -> None:
     """Moduli, load (as mean pressure over contact modulus), friction and wear coefficients

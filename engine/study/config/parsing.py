@@ -62,10 +62,11 @@ from typing import Any
 
 from engine.solvers import defaults
 
-from .checks import MAX_FRICTION, MAX_TOLERANCE, check_physical_ranges
+from .checks import MAX_FRICTION, MAX_TOLERANCE, bound, check_physical_ranges
 from .compat import STATIC_PLACEHOLDERS
 from .reader import Section, toml_error
 from .sections import (
+    BULK_STRESS_KEYS,
     FRETTING_KEYS,
     HERTZ_MARGIN,
     LOADING_KINDS,
@@ -124,13 +125,16 @@ class StudyConfig:
     def contact_length(self) -> float:
         """a0 (mm), the length unit of ``[subsurface] depth`` and of the summary's p0: the
         punch radius (rounded: of the flat face) or, for a sphere, Hertz's contact radius
-        at the peak load."""
+        at the peak load; for a line contact the nominal contact half-width (Hertz's for a
+        cylinder, Ciavarella's for a pad)."""
         if self.punch.shape == "sphere":
             from engine.reference.hertz import hertz_contact_radius
 
             return hertz_contact_radius(
                 self.loading.load, self.punch.radius, contact_modulus(self.material)
             )
+        if self.punch.is_line:
+            return line_half_width(self.punch, self.material, self.loading.load)
         return self.punch.radius
 
     def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
@@ -208,7 +212,7 @@ def load_study(path: str | Path) -> StudyConfig:
     path = Path(path)
     source = str(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark is not TOML
     except FileNotFoundError:
         raise StudyConfigError(source, "study", MISSING, "study file not found") from None
     except (OSError, UnicodeDecodeError) as error:
@@ -225,7 +229,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     :func:`engine.study.plan.make_plan`.
     """
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # a byte-order mark is not TOML
     except tomllib.TOMLDecodeError as error:
         raise toml_error(source, text, error) from None
     search_table = data.pop("search", None)
@@ -319,6 +323,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
     check_physical_ranges(source, material, punch, loading, sweep)
+    _check_line_keys(source, punch, loading, wear)
     derived = tuple(
         key
         for key, section_name, name in (
@@ -374,8 +379,10 @@ def _parse_punch(s: Section) -> PunchConfig:
     edge_radius = None
     if shape == "rounded":
         edge_radius = s.number("edge_radius", minimum=0.0, unit="mm")
+    elif shape == "pad":
+        edge_radius = s.number("edge_radius", minimum=0.0, strict=True, unit="mm")
     elif "edge_radius" in s.table:
-        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded"')
+        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded" or "pad"')
     return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
 
 
@@ -385,6 +392,8 @@ def _parse_mesh(
     """The mesh must cover the contact: the punch face (flat, rounded) or, for a sphere,
     Hertz's contact radius at the peak load (a default half-width of HERTZ_MARGIN times it).
     A contact reaching the mesh border at run time fails the case (engine.geometry)."""
+    if punch.is_line:
+        return _parse_line_mesh(s, punch, material, loading)
     s.check_known({"n", "half_width"})
     n = s.integer("n", minimum=8)
     if punch.shape == "sphere":
@@ -406,6 +415,57 @@ def _parse_mesh(
     return MeshConfig(n=n, half_width=half_width)
 
 
+def line_half_width(punch: PunchConfig, material: MaterialConfig, load: float) -> float:
+    """The nominal contact half-width of a line contact (mm, load in N/mm)."""
+    from engine.study.line_contact import LineContact
+
+    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load, 8, 1.0)
+    return line.nominal_half_width(contact_modulus(material))
+
+
+def _parse_line_mesh(
+    s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
+) -> MeshConfig:
+    """A line contact's mesh: ``n`` elements along x over ``half_width`` (default
+    HERTZ_MARGIN times the nominal half-width, at least the pad's flat), and the datum of
+    its displacements ``reference_distance`` (mm, at least the mesh's length 2·half_width)."""
+    from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
+
+    s.check_known({"n", "half_width", "reference_distance"})
+    n = s.integer("n", minimum=8)
+    contact = line_half_width(punch, material, loading.load)
+    half_width = s.number("half_width", HERTZ_MARGIN * contact, minimum=0.0, strict=True)
+    if half_width < contact:
+        raise s.error(
+            "half_width", half_width, f"must be >= {contact:.6g} mm (the contact half-width)"
+        )
+    if n * contact / half_width < 4:
+        raise s.error("n", n, "fewer than 4 elements across the contact half-width; increase n")
+    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    if distance < 2.0 * half_width:
+        raise s.error(
+            "reference_distance",
+            distance,
+            f"must be at least the mesh's length 2·half_width = {2.0 * half_width:g} mm",
+        )
+    return MeshConfig(n=n, half_width=half_width, reference_distance=distance)
+
+
+def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
+    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    if punch.is_line:
+        return
+    for key, value in (
+        ("loading.bulk_stress_max", loading.bulk_stress_max),
+        ("loading.bulk_stress_min", loading.bulk_stress_min),
+        ("wear.pad_coefficient", wear.pad_coefficient),
+    ):
+        if value is not None:
+            raise StudyConfigError(
+                source, key, value, 'only for line contacts ([punch] shape = "cylinder" or "pad")'
+            )
+
+
 def _parse_loading(s: Section) -> LoadingConfig:
     kind = s.string("kind")
     if kind not in LOADING_KINDS:
@@ -418,13 +478,15 @@ def _parse_loading(s: Section) -> LoadingConfig:
         s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
     else:
         s.check_known(
-            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"} | FRETTING_KEYS
+            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"}
+            | FRETTING_KEYS
+            | BULK_STRESS_KEYS
         )
     load = s.number("load", minimum=0.0, strict=True, unit="N")
-    steps = s.integer("steps", 10, minimum=1)
+    steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
     if kind == "static":
         return LoadingConfig(kind, load, steps, 0, (), None)
-    cycles = s.integer("cycles", minimum=1)
+    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
     record_raw = s.raw("record", [cycles])
     record_list = record_raw if isinstance(record_raw, list) else [record_raw]
     record = []
@@ -439,7 +501,11 @@ def _parse_loading(s: Section) -> LoadingConfig:
     if len(set(record)) != len(record):
         raise s.error("record", record_raw, "cycles must not repeat")
     max_wear_fraction = s.number(
-        "max_wear_fraction", defaults.MAX_WEAR_FRACTION, minimum=0.0, strict=True
+        "max_wear_fraction",
+        defaults.MAX_WEAR_FRACTION,
+        minimum=0.0,
+        strict=True,
+        **bound("loading.max_wear_fraction"),
     )
     loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
     if kind == "fretting":
@@ -466,24 +532,32 @@ def _parse_fretting(s: Section, loading: LoadingConfig) -> LoadingConfig:
     direction = s.number("direction", 0.0, unit="degrees")
     if not -360.0 <= direction <= 360.0:
         raise s.error("direction", direction, "must lie in [-360, 360] degrees")
-    return dataclasses.replace(loading, **{given[0]: value}, direction=direction)
+    bulk = {key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table}
+    if bulk:
+        bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
+    return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
 
 
 def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
-    s.check_known({"law"})
+    s.check_known({"law", "pad_coefficient"})
     law = s.string("law", "archard")
     if law not in WEAR_LAWS:
         raise s.error("law", law, 'must be "archard" or "energy"')
     if law == "energy" and loading.kind == "static":
         raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
-    return WearConfig(law=law)
+    pad = None
+    if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
+        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+    return WearConfig(law=law, pad_coefficient=pad)
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:
     s.check_known({"depth", "layers"})
     return SubsurfaceConfig(
-        depth=s.number("depth", 1.5, minimum=0.0, strict=True, unit="punch radii"),
-        layers=s.integer("layers", 16, minimum=2),
+        depth=s.number(
+            "depth", 1.5, minimum=0.0, strict=True, unit="punch radii", **bound("subsurface.depth")
+        ),
+        layers=s.integer("layers", 16, minimum=2, **bound("subsurface.layers")),
     )
 
 
@@ -529,8 +603,8 @@ def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
         else defaults.STATIC_TOLERANCE
     )
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
-    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1)
-    threads = s.integer("threads", 1, minimum=1)
+    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
+    threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))
     fft_planner = s.string("fft_planner", "estimate")
     if fft_planner not in ("estimate", "measure"):
         raise s.error("fft_planner", fft_planner, 'must be "estimate" or "measure"')

@@ -42,9 +42,21 @@ class Section:
         minimum: float | None = None,
         strict: bool = False,
         unit: str = "",
+        maximum: float | None = None,
+        why: str = "",
     ) -> float:
+        """A finite number >= ``minimum`` (> with ``strict``) and <= ``maximum``; ``why`` says
+        where the maximum comes from (in the error)."""
         value = self.raw(key, default)
-        return self._check_number(key, value, minimum=minimum, strict=strict, unit=unit)
+        number = self._check_number(key, value, minimum=minimum, strict=strict, unit=unit)
+        self._check_maximum(key, value, maximum, unit, why)
+        return number
+
+    def _check_maximum(self, key: str, value, maximum, unit: str, why: str) -> None:
+        if maximum is not None and value > maximum:
+            suffix = f" {unit}" if unit else ""
+            reason = f" ({why})" if why else ""
+            raise self.error(key, value, f"must be <= {maximum:g}{suffix}{reason}")
 
     def _check_number(
         self, key: str, value: Any, *, minimum: float | None, strict: bool, unit: str
@@ -61,12 +73,25 @@ class Section:
                 raise self.error(key, value, f"must be >= {minimum:g}{suffix}")
         return float(value)
 
-    def integer(self, key: str, default: Any = MISSING, *, minimum: int) -> int:
+    def integer(
+        self,
+        key: str,
+        default: Any = MISSING,
+        *,
+        minimum: int,
+        maximum: int | None = None,
+        why: str = "",
+    ) -> int:
+        """An integer in [``minimum``, ``maximum``]; ``why`` says where the maximum comes from.
+        A float with an integer value (``1e9``) is named as such, not as "not a number"."""
         value = self.raw(key, default)
+        if isinstance(value, float) and value.is_integer():
+            raise self.error(key, value, f"must be an integer (write {int(value)})")
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(key, value, "must be an integer")
         if value < minimum:
             raise self.error(key, value, f"must be >= {minimum}")
+        self._check_maximum(key, value, maximum, "", why)
         return int(value)
 
     def string(self, key: str, default: Any = MISSING) -> str:

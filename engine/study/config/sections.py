@@ -12,7 +12,8 @@ from pathlib import Path
 from typing import Any
 
 PROPORTIONAL = "proportional"
-PUNCH_SHAPES = ("flat", "rounded", "sphere")
+PUNCH_SHAPES = ("flat", "rounded", "sphere", "cylinder", "pad")
+LINE_SHAPES = ("cylinder", "pad")  # plane-strain line contacts (engine.study.line_contact)
 HERTZ_MARGIN = 1.5  # default sphere mesh half-width / Hertz contact radius at the load
 
 # Scalars that [sweep] accepts under their dotted key, with their units (summary columns).
@@ -25,6 +26,7 @@ SWEEPABLE = {
     "punch.edge_radius": "mm",
     "mesh.n": "1",
     "mesh.half_width": "mm",
+    "mesh.reference_distance": "mm",
     "loading.load": "N",
     "loading.steps": "1",
     "loading.cycles": "1",
@@ -32,6 +34,8 @@ SWEEPABLE = {
     "loading.amplitude": "mm",
     "loading.force_amplitude": "N",
     "loading.direction": "degree",
+    "loading.bulk_stress_max": "MPa",
+    "loading.bulk_stress_min": "MPa",
     "subsurface.depth": "punch radii",
     "subsurface.layers": "1",
     "solver.tol": "1",
@@ -83,12 +87,23 @@ class MaterialConfig:
 class PunchConfig:
     radius: float
     shape: str = "flat"
-    edge_radius: float | None = None  # rounded only
+    edge_radius: float | None = None  # rounded and pad only
+
+    @property
+    def is_line(self) -> bool:
+        """A cylinder or a rounded pad on a flat: a plane-strain line contact."""
+        return self.shape in LINE_SHAPES
 
     def profile(self):
-        """The :mod:`engine.geometry` profile of this punch."""
+        """The :mod:`engine.geometry` (or, for a line contact, :mod:`engine.line_profiles`)
+        profile of this punch."""
         from engine.geometry import FlatPunch, RoundedPunch, SphericalPunch
+        from engine.line_profiles import CylinderProfile, RoundedPadProfile
 
+        if self.shape == "cylinder":
+            return CylinderProfile(self.radius)
+        if self.shape == "pad":
+            return RoundedPadProfile(self.radius, self.edge_radius)
         if self.shape == "rounded":
             return RoundedPunch(self.radius, self.edge_radius or 0.0)
         if self.shape == "sphere":
@@ -100,6 +115,7 @@ class PunchConfig:
 class MeshConfig:
     n: int
     half_width: float
+    reference_distance: float | None = None  # line contacts: the displacement datum (mm)
 
 
 @dataclass(frozen=True)
@@ -115,6 +131,9 @@ class LoadingConfig:
     amplitude: float | None = None
     force_amplitude: float | None = None
     direction: float | None = None
+    # line fretting only: the flat's bulk stress (MPa) at +A and at −A (fretting fatigue)
+    bulk_stress_max: float | None = None
+    bulk_stress_min: float | None = None
 
 
 @dataclass(frozen=True)
@@ -123,6 +142,7 @@ class WearConfig:
     in 1/MPa) or "energy" (dissipated-energy law, coefficient alpha in mm³/J)."""
 
     law: str = "archard"
+    pad_coefficient: float | None = None  # line contacts: the pad's wear coefficient
 
 
 @dataclass(frozen=True)
@@ -195,6 +215,7 @@ class TestingConfig:
 
 LOADING_KINDS = ("static", "cyclic", "fretting")
 FRETTING_KEYS = {"amplitude", "force_amplitude", "direction"}
+BULK_STRESS_KEYS = {"bulk_stress_max", "bulk_stress_min"}  # line fretting only
 WEAR_LAWS = ("archard", "energy")
 
 

@@ -1,0 +1,119 @@
+"""A full disk stops a run cleanly: completed cases kept, one line naming the path and the
+space needed, exit code 5 (free space, rerun to resume).
+
+Two guards:
+
+- before each case is written, the free space of the output's file system is compared with
+  what the case will take (its data, twice, plus a margin for HDF5 metadata: a case is never
+  begun that cannot be finished, so the file stays consistent);
+- an error of the operating system saying "no space left" (``ENOSPC``, or ``EDQUOT`` for a
+  quota) while writing becomes :class:`OutputFull` instead of a traceback.
+
+Before anything runs, :func:`check_space` compares the free space with the data the cases
+still to run will write (the datasets known from the plan; a lower bound), so a rerun on a
+still-full disk says so at once and changes nothing.
+"""
+
+from __future__ import annotations
+
+import errno
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "OutputFull",
+    "is_no_space",
+    "free_bytes",
+    "case_bytes",
+    "ensure_space",
+    "check_space",
+    "planned_bytes",
+    "format_bytes",
+]
+
+DATASET_OVERHEAD = 2048  # bytes of HDF5 metadata per dataset (header, units, description, sha256)
+MARGIN = 1 << 20  # bytes kept free besides a case's own, for the flags, the summary CSV, …
+
+
+class OutputFull(OSError):
+    """The output's file system has no room for what must be written next."""
+
+    def __init__(self, path: Path, needed: int, free: int | None = None) -> None:
+        self.path, self.needed, self.free = Path(path), int(needed), free
+        have = f"{format_bytes(free)} free, " if free is not None else ""
+        super().__init__(
+            errno.ENOSPC,
+            f"{self.path}: no space left on its file system ({have}about "
+            f"{format_bytes(self.needed)} needed for the cases still to run); completed cases "
+            "are kept: free space or choose another output, then rerun to resume",
+        )
+
+    def __str__(self) -> str:
+        return self.strerror
+
+
+def is_no_space(error: BaseException) -> bool:
+    """Whether ``error`` says the file system (or the user's quota) is full; h5py reports the
+    operating system's errno only inside its message."""
+    if isinstance(error, OutputFull):
+        return True
+    if isinstance(error, OSError) and error.errno in (errno.ENOSPC, errno.EDQUOT):
+        return True
+    text = str(error)
+    return "errno = 28" in text or "No space left" in text or "Disk quota exceeded" in text
+
+
+def free_bytes(path: Path) -> int:
+    """Bytes available to this user on the file system of ``path`` (or of its folder)."""
+    target = Path(path)
+    while not target.exists() and target != target.parent:
+        target = target.parent
+    return shutil.disk_usage(target).free
+
+
+def case_bytes(arrays) -> int:
+    """Bytes a case's datasets take in the file: their data plus HDF5 metadata."""
+    arrays = list(arrays)
+    return sum(int(getattr(array, "nbytes", 0)) for array in arrays) + DATASET_OVERHEAD * len(
+        arrays
+    )
+
+
+def planned_bytes(layout: dict, case_ids) -> int:
+    """Bytes the datasets known from the plan take for ``case_ids`` (``layout``: case id ->
+    path -> shape and dtype, :func:`engine.study.layout.plan_layout`); a lower bound (the
+    histories' lengths are decided at run time)."""
+    total = 0
+    for case_id in case_ids:
+        shapes = layout.get(case_id, {})
+        data = sum(math.prod(s.shape) * np.dtype(s.dtype).itemsize for s in shapes.values())
+        total += data + DATASET_OVERHEAD * len(shapes)
+    return total
+
+
+def ensure_space(path: Path, needed: int, *, remaining_cases: int = 1) -> None:
+    """Raise :class:`OutputFull` unless ``needed`` bytes (twice, plus a margin) fit on the
+    file system of ``path``; the message names what the ``remaining_cases`` need."""
+    free = free_bytes(path)
+    if free < 2 * needed + MARGIN:
+        raise OutputFull(path, needed * max(remaining_cases, 1) + MARGIN, free)
+
+
+def check_space(path: Path, needed: int) -> None:
+    """Before a run: raise :class:`OutputFull` when less than ``needed`` bytes plus the margin
+    are free for ``path``."""
+    free = free_bytes(path)
+    if free < needed + MARGIN:
+        raise OutputFull(path, needed + MARGIN, free)
+
+
+def format_bytes(count: int | None) -> str:
+    if count is None:
+        return "?"
+    for unit, size in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if count >= size:
+            return f"{count / size:.1f} {unit}"
+    return f"{count} B"
