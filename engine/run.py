@@ -544,8 +544,7 @@ def _check_results(config, writer, todo, outcome: dict[str, Any]) -> dict[str, A
     from engine.output.verify import check_after_run
     from engine.schema import CaseStatus
 
-    if writer.full is not None:
-        print(f"error: {writer.full}", file=sys.stderr, flush=True)
+    if writer.full is not None:  # the command line prints the message
         return {**outcome, "status": "output-full", "message": str(writer.full)}
     ran = {case.case_id for case in todo}
     written = {

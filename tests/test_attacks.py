@@ -33,6 +33,7 @@ import pytest
 
 from engine.output.verify import EXIT_DAMAGED
 from engine.study.examples import study_toml
+from tests.test_checksums import flip_bit as flip_stored_bit
 
 REPO = Path(__file__).resolve().parents[1]
 # s for reading a damaged file (ENGINE_INSPECTION_TIME_LIMIT): the endless loops end sooner;
@@ -157,12 +158,7 @@ def flip_bit(case_index: int, dataset: str, byte: int, bit: int):
     def damage(path: Path) -> None:
         with h5py.File(path, "r") as file:
             case_id = sorted(file["cases"])[case_index]
-            offset = file["cases"][case_id][dataset].id.get_offset()
-        with open(path, "r+b") as handle:
-            handle.seek(offset + byte)
-            value = handle.read(1)[0]
-            handle.seek(offset + byte)
-            handle.write(bytes([value ^ (1 << bit)]))
+        flip_stored_bit(path, case_id, dataset, byte=byte, bit=bit)
 
     return damage
 

@@ -68,11 +68,8 @@ def _closed_form(bulk: float) -> tuple[float, float]:
 def _assess(x, bulk: float, names=tuple(fatigue.CRITERIA), layers: int = 6):
     z = np.linspace(0.0, A, layers)
     xs, zs = np.meshgrid(x, z, indexing="ij")
-    history = mcewen.fretting_cycle_stress(
-        xs, zs, half_width=A, peak_pressure=P0, friction_coefficient=MU,
-        force_amplitude_ratio=RATIO, poisson_ratio=NU, instants=40,
-        bulk_mean=bulk, bulk_amplitude=bulk,
-    )  # fmt: skip
+    cycle = mcewen.FrettingCycle(A, P0, MU, RATIO, bulk_mean=bulk, bulk_amplitude=bulk)
+    history = cycle.stress(xs, zs, NU, instants=40)
     criteria = fatigue.build_criteria(list(names), CONSTANTS, STEEL)
     stress = StressHistory.from_components(history.components, xs, zs)
     return {result.name: result for result in fatigue.assess(stress, criteria)}
@@ -190,7 +187,7 @@ def test_line_solver_fields_agree_with_mcewen():
     def closed_form(x, z):
         fields = [
             mcewen.line_contact_stress(
-                x, z, mcewen.fretting_cycle_tractions(a, p0, mu, ratio, ratio * f, u, 0.0, bulk),
+                x, z, mcewen.FrettingCycle(a, p0, mu, ratio, 0.0, bulk).tractions(ratio * f, u),
                 NU,
             )
             for f, u in zip(forces, unloading, strict=True)

@@ -101,19 +101,15 @@ def test_fretting_cycle_force_and_coulomb_bound():
     load = np.pi * A * P0 / 2
     ratio = 0.7
     forces, unloading = mcewen.fretting_cycle_forces(16)
+    cycle = mcewen.FrettingCycle(A, P0, MU, ratio, bulk_mean=30.0, bulk_amplitude=50.0)
     x = np.linspace(-A, A, 4001)
     for force, unload in zip(forces, unloading, strict=True):
-        tractions = mcewen.fretting_cycle_tractions(
-            A, P0, MU, ratio, ratio * force, bool(unload), bulk_mean=30.0, bulk_amplitude=50.0
-        )
+        tractions = cycle.tractions(ratio * force, bool(unload))
         resultant = sum(t.amplitude * np.pi * t.half_width / 2 for t in tractions.shear)
         assert resultant == pytest.approx(ratio * force * MU * load, rel=1e-12, abs=1e-9)
         assert np.all(np.abs(tractions.shear_at(x)) <= MU * tractions.pressure_at(x) + 1e-9 * P0)
         assert tractions.bulk_stress == pytest.approx(30.0 + 50.0 * force)
-    bottom = [
-        mcewen.fretting_cycle_tractions(A, P0, MU, ratio, -ratio, unload, 30.0, 50.0).shear_at(x)
-        for unload in (True, False)
-    ]
+    bottom = [cycle.tractions(-ratio, unload).shear_at(x) for unload in (True, False)]
     assert np.allclose(bottom[0], bottom[1], atol=1e-9 * P0)
 
 
@@ -121,16 +117,7 @@ def test_fretting_cycle_stress_shapes_and_stick_slip():
     """The history has shape (instants, points); in the stick zone of the reversal state the
     surface traction is below μp, in the slip zones equal to μp (1e-9 p0)."""
     x = np.linspace(-A, A, 11)
-    history = mcewen.fretting_cycle_stress(
-        x,
-        0.0,
-        half_width=A,
-        peak_pressure=P0,
-        friction_coefficient=MU,
-        force_amplitude_ratio=0.5,
-        poisson_ratio=NU,
-        instants=8,
-    )
+    history = mcewen.FrettingCycle(A, P0, MU, 0.5).stress(x, 0.0, NU, instants=8)
     assert history.xx.shape == (8, 11)
     shear, pressure = -history.xz[0], -history.zz[0]
     stick = np.abs(x) < A * np.sqrt(0.5) - 1e-9

@@ -280,14 +280,15 @@ def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns
     return figure, list(axes.flat[:count])
 
 
-def von_mises_levels(top: float) -> np.ndarray:
-    """Contour levels of σ_VM/p0: 0.1 apart up to ``VM_LEVEL_MAX``, then geometric (four
-    per doubling) up to ``top`` (the largest peak to show), the last level just above it."""
-    levels = np.linspace(0.0, VM_LEVEL_MAX, 21)
-    if not np.isfinite(top) or top <= VM_LEVEL_MAX:
+def von_mises_levels(top: float, linear_top: float = VM_LEVEL_MAX, steps: int = 20) -> np.ndarray:
+    """Contour levels of σ_VM/p0: ``steps`` equal steps up to ``linear_top`` (0.1 apart by
+    default), then geometric (four per doubling) up to ``top`` (the largest peak to show), the
+    last level just above it, so that every marked peak lies inside the colour scale."""
+    levels = np.linspace(0.0, linear_top, steps + 1)
+    if not np.isfinite(top) or top <= linear_top:
         return levels
-    count = max(int(np.ceil(4.0 * np.log2(top / VM_LEVEL_MAX))), 1)
-    above = VM_LEVEL_MAX * (top / VM_LEVEL_MAX) ** (np.arange(1, count + 1) / count)
+    count = max(int(np.ceil(4.0 * np.log2(top / linear_top))), 1)
+    above = linear_top * (top / linear_top) ** (np.arange(1, count + 1) / count)
     above[-1] = np.nextafter(top, np.inf)
     return np.concatenate([levels, above])
 

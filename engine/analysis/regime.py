@@ -16,10 +16,11 @@ Drawn by ``python -m engine plot`` for a cyclic study whose cases carry the peak
     centre pressure along the same history, over p0.
 ``peak_regime_von_mises_mu<μ>.png``
     σ_VM/p0 in the x–z plane at the cycles where the region (overall or deep peak) changes,
-    for the lowest μ, case that wears most; each panel its own colour scale (topped at 1.6 ×
+    for the lowest μ, case that wears most; each panel its own colour scale (linear up to 1.6 ×
     its deep peak, at most ``VM_LEVEL_MAX``: the whole field falls several-fold with wear, a
-    shared scale would hide the worn panels' lobes), thin contours every 0.1 p0; ★ overall
-    peak, ○ deep peak.
+    shared scale would hide the worn panels' lobes; geometric above, up to the ★ peak, which
+    therefore lies inside the scale), thin contours every 0.1 p0; ★ overall peak, ○ deep
+    peak; the regions as stored (classified at the element centres beside the plane).
 
 Wear coefficient and cycle count enter the wear only through their product when the wear
 law is linear (Archard, Eq. 14): cases of one μ follow the same path in severity, the more
@@ -31,9 +32,11 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import ticker
+from matplotlib.colors import BoundaryNorm
 
 from engine.solvers.peak import AXIS_RADIUS_FRACTION, DEEP_DEPTH_FRACTION, region_name
 
+from .figures import von_mises_levels
 from .reader import CaseResults, StudyResults
 
 __all__ = ["regime_figures", "has_peak_history", "wear_severity_history"]
@@ -264,23 +267,28 @@ def _change_maps(study: StudyResults, case: CaseResults):
         overall = np.unravel_index(np.argmax(ratio), ratio.shape)
         deep = np.where(plane.z >= DEEP_DEPTH_FRACTION * a, ratio, -np.inf)
         deep_index = np.unravel_index(np.argmax(deep), deep.shape)
-        # each panel its own scale, topped at 1.6 × its deep peak (at most VM_LEVEL_MAX): the
-        # lobes stay visible as the whole field falls with wear; contours every 0.1 p0
+        # each panel its own scale, linear up to 1.6 × its deep peak (at most VM_LEVEL_MAX):
+        # the lobes stay visible as the whole field falls with wear; geometric above, up to
+        # the ★ peak, so that it lies inside the scale; thin contours every 0.1 p0
         top = min(VM_LEVEL_MAX, 1.6 * float(ratio[deep_index]))
-        levels = np.linspace(0.0, top, 17)
+        levels = von_mises_levels(float(ratio[overall]), linear_top=top, steps=16)
+        norm = BoundaryNorm(levels, ncolors=plt.get_cmap("turbo").N, extend="max")
         filled = axis.contourf(plane.x / a, plane.z / a, ratio, levels=levels, cmap="turbo",
-                               extend="max")  # fmt: skip
+                               norm=norm, extend="max")  # fmt: skip
         lines = np.arange(0.1, top, 0.1)
         axis.contour(plane.x / a, plane.z / a, ratio, levels=lines, colors="k",
                      linewidths=0.4, alpha=0.5)  # fmt: skip
-        figure.colorbar(filled, ax=axis, label="σ_VM / p0", shrink=0.8, format="%.1f")
+        bar = figure.colorbar(filled, ax=axis, label="σ_VM / p0", shrink=0.8)
+        ticks = [levels[0], levels[16] / 2, levels[16], levels[-1]]
+        bar.set_ticks(ticks, labels=[f"{tick:.2g}" for tick in ticks])
         axis.plot(plane.x[overall] / a, plane.z[overall] / a, "*", ms=15, mfc="w", mec="k",
                   clip_on=False)  # fmt: skip
         axis.plot(plane.x[deep_index] / a, plane.z[deep_index] / a, "o", ms=9, mfc="none",
                   mec="w", mew=2)  # fmt: skip
         text = (
-            f"★ {ratio[overall]:.2f} p0, {region_name(case.history['peak_region'][row])}\n"
-            f"○ {ratio[deep_index]:.2f} p0 at z/a0 = {plane.z[deep_index] / a:.2f}, "
+            f"★ plane max {ratio[overall]:.2f} p0\n"
+            f"○ deep max {ratio[deep_index]:.2f} p0 at z/a0 = {plane.z[deep_index] / a:.2f}\n"
+            f"regions: {region_name(case.history['peak_region'][row])}, deep "
             f"{region_name(case.history['deep_region'][row])}"
         )
         axis.text(
@@ -294,7 +302,9 @@ def _change_maps(study: StudyResults, case: CaseResults):
         axis.set_title(f"N = {cycle:,}, ω_max/δ0 = {severity[row]:.3f}", fontsize=10)
     figure.suptitle(
         f"{study.name}: σ_VM/p0 where the peak region changes — μ = {case.mu1:g}, "
-        f"i = {case.wear1:g} 1/MPa ({study.mesh_label})",
+        f"i = {case.wear1:g} 1/MPa ({study.mesh_label})\nthin lines: σ_VM/p0 every 0.1; "
+        "colour levels linear to 1.6 × the deep peak, geometric above, to the ★ peak; regions "
+        "classified at the element centres beside the plane",
         fontsize=12,
     )
     return figure

@@ -29,9 +29,9 @@ from typing import ClassVar
 import numpy as np
 
 from .history import Elasticity, StressHistory
-from .quantities import AMPLITUDE_METHODS, plane_family
+from .quantities import AMPLITUDE_METHODS, check_plane_step
 
-__all__ = ["CriterionField", "FatigueCriterion", "FatigueOptions"]
+__all__ = ["CriterionField", "FatigueCriterion", "FatigueLimitCriterion", "FatigueOptions"]
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class FatigueOptions:
                 f"amplitude_method must be one of {AMPLITUDE_METHODS}, "
                 f"got {self.amplitude_method!r}"
             )
-        plane_family(self.plane_step)  # validates the step
+        check_plane_step(self.plane_step)
 
 
 @dataclass(frozen=True)
@@ -124,3 +124,15 @@ class FatigueCriterion:
 
     def evaluate(self, history: StressHistory) -> CriterionField:  # pragma: no cover
         raise NotImplementedError
+
+
+class FatigueLimitCriterion(FatigueCriterion):
+    """Base of the criteria calibrated on the fully reversed tension and torsion fatigue
+    limits ``sigma_d`` and ``tau_d`` (MPa, both > 0): Crossland, Dang Van."""
+
+    unit = "1"
+    constants = ("sigma_d", "tau_d")
+    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
+
+    def check(self) -> None:
+        self._require_positive("sigma_d", "tau_d")

@@ -13,20 +13,14 @@ from __future__ import annotations
 
 import math
 
-from .base import CriterionField, FatigueCriterion
+from .base import CriterionField, FatigueLimitCriterion
 from .history import StressHistory
 from .quantities import hydrostatic, shear_amplitude
 
 
-class Crossland(FatigueCriterion):
+class Crossland(FatigueLimitCriterion):
     name = "crossland"
     column = "crossland_risk"
-    unit = "1"
-    constants = ("sigma_d", "tau_d")
-    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
-
-    def check(self) -> None:
-        self._require_positive("sigma_d", "tau_d")
 
     def evaluate(self, history: StressHistory) -> CriterionField:
         alpha = 3.0 * self.tau_d / self.sigma_d - math.sqrt(3.0)

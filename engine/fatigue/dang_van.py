@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import CriterionField, FatigueCriterion
+from .base import CriterionField, FatigueLimitCriterion
 from .history import StressHistory
 from .quantities import deviatoric_coordinates, hydrostatic, minimum_ball
 
@@ -35,15 +35,9 @@ def _mesoscopic_deviator(history: StressHistory) -> StressHistory:
     return StressHistory(tensor, history.x, history.z, history.shape)
 
 
-class DangVan(FatigueCriterion):
+class DangVan(FatigueLimitCriterion):
     name = "dang_van"
     column = "dang_van_risk"
-    unit = "1"
-    constants = ("sigma_d", "tau_d")
-    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
-
-    def check(self) -> None:
-        self._require_positive("sigma_d", "tau_d")
 
     def evaluate(self, history: StressHistory) -> CriterionField:
         alpha = 3.0 * self.tau_d / self.sigma_d - 1.5

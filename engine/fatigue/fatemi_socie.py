@@ -22,7 +22,7 @@ import numpy as np
 
 from .base import CriterionField, FatigueCriterion
 from .history import StressHistory
-from .quantities import cycle_range, invert_life, plane_family, point_chunks, resolve
+from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
 
 _TIE = 1e-9  # relative tolerance of equal shear amplitudes (rounding of the resolution)
 
@@ -50,24 +50,17 @@ class FatemiSocie(FatigueCriterion):
             raise ValueError(f"fatigue constant 'k' must be >= 0, got {self.k!r}")
 
     def evaluate(self, history: StressHistory) -> CriterionField:
-        planes = plane_family(self.options.plane_step)
-        shear_modulus = self.elasticity.shear_modulus
-        value = np.empty(history.n_points)
-        index = np.empty(history.n_points, dtype=int)
-        for chunk in point_chunks(history, 3 * planes.angle.size):
-            tensor = history.tensor[:, chunk]
-            shear = np.maximum(
-                cycle_range(resolve(tensor, planes.shear_trace)),
-                cycle_range(resolve(tensor, planes.shear_y)),
-            )
-            strain = shear / shear_modulus
-            parameter = strain * (
-                1.0 + self.k * resolve(tensor, planes.normal).max(0) / self.sigma_y
-            )
-            critical = strain >= strain.max(axis=1, keepdims=True) * (1.0 - _TIE)
-            index[chunk] = np.argmax(np.where(critical, parameter, -np.inf), axis=1)
-            value[chunk] = np.take_along_axis(parameter, index[chunk, None], axis=1)[:, 0]
-        return CriterionField(value, planes.angle[index], self.life(value))
+        value, angle = search_planes(history, self._score, self.options.plane_step, two_pass=False)
+        return CriterionField(value, angle, self.life(value))
+
+    def _score(self, resolved: ResolvedStress) -> np.ndarray:
+        """FS on the planes whose γ_a is within ``_TIE`` of the maximum at the point, −inf on
+        the others (the critical plane is that of maximum shear strain amplitude)."""
+        shear = np.maximum(cycle_range(resolved.shear_trace()), cycle_range(resolved.shear_y()))
+        strain = shear / self.elasticity.shear_modulus
+        opening = 1.0 + self.k * resolved.normal().max(axis=0) / self.sigma_y
+        critical = strain >= strain.max(axis=1, keepdims=True) * (1.0 - _TIE)
+        return np.where(critical, strain * opening, -np.inf)
 
     def life(self, value: np.ndarray) -> np.ndarray:
         """N (cycles) of the FS values, module docstring."""

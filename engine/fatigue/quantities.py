@@ -18,7 +18,9 @@ Every function takes a ``StressHistory`` (stresses in MPa, shape (n_instants, n_
   x–z plane evaluated), their trace in the x–z plane at the angle φ from +x towards +z,
   φ = 0, Δφ, …, 180° − Δφ (default Δφ = 1°); normal n = (−sin φ, 0, cos φ); resolved shear
   along the trace t = (cos φ, 0, sin φ) and along y. φ = 90° is a plane going straight down
-  from the surface.
+  from the surface. The search (``search_planes``) scores every 5° first, then every Δφ
+  around each point's best 5° plane (SWT; Fatemi–Socie, whose plane of maximum γ_a may jump
+  between two near-equal peaks, scores every Δφ).
 - **Life**: the Basquin–Coffin–Manson form Σ_i A_i (2N)^{e_i} (all e_i < 0) inverted for N
   by bisection on log(2N) ∈ [0, 30 ln 10] (60 halvings: 2N to 1e-15 relative).
 """
@@ -189,13 +191,8 @@ def _resolving_weights(normal: np.ndarray, direction: np.ndarray) -> np.ndarray:
     )
 
 
-def plane_family(step_degrees: float = 1.0) -> PlaneFamily:
-    """The planes φ = 0, Δφ, … < 180° (module docstring) for Δφ = ``step_degrees``."""
-    if not 0.0 < step_degrees <= 90.0 or not float(180.0 / step_degrees).is_integer():
-        raise ValueError(
-            f"plane_step must divide 180 degrees and lie in (0, 90], got {step_degrees!r}"
-        )
-    angle = np.arange(0.0, 180.0, step_degrees)
+def _plane_weights(angle: np.ndarray) -> PlaneFamily:
+    """The planes of trace angles ``angle`` (deg, any shape); weights (6, *angle.shape)."""
     phi = np.radians(angle)
     zero, one = np.zeros_like(phi), np.ones_like(phi)
     normal = np.stack([-np.sin(phi), zero, np.cos(phi)])
@@ -207,6 +204,81 @@ def plane_family(step_degrees: float = 1.0) -> PlaneFamily:
         shear_trace=_resolving_weights(normal, trace),
         shear_y=_resolving_weights(normal, y_axis),
     )
+
+
+def check_plane_step(step_degrees: float) -> float:
+    if not 0.0 < step_degrees <= 90.0 or not float(180.0 / step_degrees).is_integer():
+        raise ValueError(
+            f"plane_step must divide 180 degrees and lie in (0, 90], got {step_degrees!r}"
+        )
+    return float(step_degrees)
+
+
+def plane_family(step_degrees: float = 1.0) -> PlaneFamily:
+    """The planes φ = 0, Δφ, … < 180° (module docstring) for Δφ = ``step_degrees``."""
+    return _plane_weights(np.arange(0.0, 180.0, check_plane_step(step_degrees)))
+
+
+class ResolvedStress:
+    """A stress history (n_instants, n_points, 6) resolved on planes, each resolution computed
+    on first use: ``normal()``, ``shear_trace()``, ``shear_y()`` of shape
+    (n_instants, n_points, n_planes). The planes are common to all points (weights
+    (6, n_planes)) or per point (weights (6, n_points, n_planes))."""
+
+    def __init__(self, tensor: np.ndarray, planes: PlaneFamily):
+        self.tensor, self.planes, self._cache = tensor, planes, {}
+
+    def _resolve(self, name: str) -> np.ndarray:
+        if name not in self._cache:
+            weights = getattr(self.planes, name)
+            if weights.ndim == 2:
+                self._cache[name] = self.tensor @ weights
+            else:
+                self._cache[name] = np.einsum("tpc,cpk->tpk", self.tensor, weights)
+        return self._cache[name]
+
+    def normal(self) -> np.ndarray:
+        return self._resolve("normal")
+
+    def shear_trace(self) -> np.ndarray:
+        return self._resolve("shear_trace")
+
+    def shear_y(self) -> np.ndarray:
+        return self._resolve("shear_y")
+
+
+COARSE_STEP = 5.0  # degrees: the first pass of the plane search
+
+
+def search_planes(
+    history: StressHistory, score, step: float, *, two_pass: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """The maximum over planes of ``score(ResolvedStress) -> (n_points, n_planes)`` at every
+    point, and its trace angle (deg): a first pass every ``COARSE_STEP`` (when ``step``
+    divides it), then every ``step`` within ± (COARSE_STEP − step) of each point's best
+    coarse plane. A maximum in another coarse interval is missed only if its coarse sample
+    scored lower than the best one; it then exceeds that sample by at most the score's
+    variation over COARSE_STEP/2. ``two_pass=False``: every ``step`` at once (for scores
+    that jump between planes). Chunks of points bound the memory (``point_chunks``)."""
+    step = check_plane_step(step)
+    divides = (COARSE_STEP / step).is_integer()
+    coarse = COARSE_STEP if two_pass and step < COARSE_STEP and divides else step
+    family = plane_family(coarse)
+    reach = round(coarse / step) - 1
+    offsets = step * np.arange(-reach, reach + 1)
+    value, angle = np.empty(history.n_points), np.empty(history.n_points)
+    for chunk in point_chunks(history, 3 * max(family.angle.size, offsets.size)):
+        tensor = history.tensor[:, chunk]
+        best = family.angle[np.argmax(score(ResolvedStress(tensor, family)), axis=1)]
+        if reach == 0:
+            candidates = np.broadcast_to(family.angle, (best.size, family.angle.size))
+        else:
+            candidates = np.mod(best[:, None] + offsets[None, :], 180.0)
+        scores = score(ResolvedStress(tensor, _plane_weights(candidates)))
+        index = np.argmax(scores, axis=1)[:, None]
+        value[chunk] = np.take_along_axis(scores, index, axis=1)[:, 0]
+        angle[chunk] = np.take_along_axis(candidates, index, axis=1)[:, 0]
+    return value, angle
 
 
 def invert_life(value, coefficients, exponents) -> np.ndarray:

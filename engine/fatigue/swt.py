@@ -22,7 +22,7 @@ import numpy as np
 
 from .base import CriterionField, FatigueCriterion
 from .history import StressHistory
-from .quantities import cycle_range, invert_life, plane_family, point_chunks, resolve
+from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
 
 
 class SmithWatsonTopper(FatigueCriterion):
@@ -39,19 +39,16 @@ class SmithWatsonTopper(FatigueCriterion):
         self._require_negative("b", "c")
 
     def evaluate(self, history: StressHistory) -> CriterionField:
-        planes = plane_family(self.options.plane_step)
+        value, angle = search_planes(history, self._score, self.options.plane_step)
+        return CriterionField(value, angle, self.life(value))
+
+    def _score(self, resolved: ResolvedStress) -> np.ndarray:
+        """σ_n,max ε_n,a (MPa) on each plane, 0 where σ_n,max ≤ 0; shape (points, planes)."""
         young, poisson = self.elasticity.young_modulus, self.elasticity.poisson_ratio
-        value = np.empty(history.n_points)
-        index = np.empty(history.n_points, dtype=int)
-        for chunk in point_chunks(history, planes.angle.size):
-            tensor = history.tensor[:, chunk]
-            normal = resolve(tensor, planes.normal)
-            trace = tensor[..., :3].sum(axis=-1)[..., None]
-            strain_amplitude = cycle_range((1.0 + poisson) * normal - poisson * trace) / young
-            parameter = np.clip(normal.max(axis=0), 0.0, None) * strain_amplitude
-            index[chunk] = np.argmax(parameter, axis=1)
-            value[chunk] = np.take_along_axis(parameter, index[chunk, None], axis=1)[:, 0]
-        return CriterionField(value, planes.angle[index], self.life(value))
+        normal = resolved.normal()
+        trace = resolved.tensor[..., :3].sum(axis=-1)[..., None]
+        strain_amplitude = cycle_range((1.0 + poisson) * normal - poisson * trace) / young
+        return np.clip(normal.max(axis=0), 0.0, None) * strain_amplitude
 
     def life(self, value: np.ndarray) -> np.ndarray:
         """N (cycles) of the SWT values (MPa), module docstring."""

@@ -92,75 +92,123 @@ def wrap_kernel(
     return wrapped
 
 
-def plan(source, target, axes, *, direction="FFTW_FORWARD", threads=1, effort=DEFAULT_EFFORT):
+def plan(
+    source,
+    target,
+    axes,
+    *,
+    direction="FFTW_FORWARD",
+    threads=1,
+    effort=DEFAULT_EFFORT,
+    flags=(),
+):
     """A pyfftw plan from ``source`` to ``target`` over ``axes`` (unnormalised when executed
-    with ``execute()``); estimate plans are made with the wisdom forgotten (module doc)."""
+    with ``execute()``); estimate plans are made with the wisdom forgotten (module doc),
+    timed ones with this machine's wisdom loaded first and saved after
+    (``engine.kernels.wisdom``)."""
     if effort not in EFFORTS:
         raise ValueError(f"planner effort must be one of {EFFORTS}, got {effort!r}")
     if effort == "FFTW_ESTIMATE":
         pyfftw.forget_wisdom()
-    return pyfftw.FFTW(
-        source, target, axes=axes, direction=direction, threads=threads, flags=(effort,)
+    else:
+        from . import wisdom
+
+        wisdom.load()
+    made = pyfftw.FFTW(
+        source, target, axes=axes, direction=direction, threads=threads, flags=(effort, *flags)
     )
+    if effort != "FFTW_ESTIMATE":
+        wisdom.save()
+    return made
 
 
-class PaddedRealFFT:
-    """Real FFTs of ``batch`` fields of shape ``(n_x, n_y)`` zero-padded to ``(2n_x, 2n_y)``
-    (``direction="forward"``), or the inverse restricted to the first ``(n_x, n_y)`` block
-    (``"inverse"``) (DC-FFT, Liu et al. 2000).
+def aligned_zeros(shape: tuple[int, ...], dtype: str) -> np.ndarray:
+    """A zero array on an aligned buffer (FFTW's SIMD codelets; module doc)."""
+    array = pyfftw.empty_aligned(shape, dtype=dtype)
+    array[...] = 0
+    return array
+
+
+class PaddedTransforms:
+    """Real FFTs of up to ``capacity`` fields of shape ``(n_x, n_y)`` zero-padded to
+    ``(2n_x, 2n_y)``, and the inverse restricted to the first ``(n_x, n_y)`` block (DC-FFT,
+    Liu et al. 2000), on two buffers shared by every batch size:
+
+    - ``real`` (capacity, n_x, 2n_y) float64: the fields (their first n_y columns) and the
+      inverse's output;
+    - ``spectra`` (capacity, 2n_x, n_y + 1) complex128: the forward transform, in place.
 
     Pruned: the forward transform runs the row FFTs (last axis) on the ``n_x`` rows that hold
-    data only (the others are zero) and then the column FFTs; the inverse runs all column
-    FFTs (in place) and the row FFTs of the ``n_x`` rows that are kept. This saves a quarter
-    of the work of each full 2-D transform. Unnormalised: fold 1/(4 n_x n_y) into the
-    kernel. Forward: write into ``fields`` (batch, n_x, n_y), ``forward()`` returns the
-    ``spectrum`` buffer (batch, 2n_x, n_y + 1). Inverse: write into ``spectrum``,
-    ``inverse()`` returns a view (batch, n_x, n_y) of the result (valid until the next call;
-    the spectrum is overwritten). Buffers: 21·batch·n_x·n_y·8 bytes (forward), 12·… (inverse),
-    as much as the unpruned transforms of the same batch.
+    data only and then the column FFTs in place; the inverse runs all column FFTs in place
+    and the row FFTs of the ``n_x`` rows that are kept. Unnormalised: fold 1/(4 n_x n_y)
+    into the kernel. The padding is zeroed before each forward transform (an inverse
+    transform or the in-place column FFT leave data there): 12·capacity·n_x·n_y·8 bytes in
+    all, instead of 33·… for separate forward and inverse buffers.
+
+    Plans are ``plan``'s (estimate plans: the same for the same shapes, strides and
+    alignment, so the same results whatever the batch sizes asked before).
     """
 
-    def __init__(
-        self,
-        batch: int,
-        shape: tuple[int, int],
-        direction: str = "forward",
-        *,
-        threads=1,
-        effort=DEFAULT_EFFORT,
-    ):
-        if direction not in ("forward", "inverse"):
-            raise ValueError(f"direction must be 'forward' or 'inverse', got {direction!r}")
+    def __init__(self, capacity: int, shape: tuple[int, int], *, threads=1, effort=DEFAULT_EFFORT):
         nx, ny = (int(n) for n in shape)
-        self.shape = (nx, ny)
-        options = dict(threads=threads, effort=effort)
-        self.spectrum = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
-        if direction == "forward":
-            self._rows = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
-            self._half = pyfftw.empty_aligned((batch, 2 * nx, ny + 1), dtype="complex128")
-            self._row_plan = plan(self._rows, self._half[:, :nx, :], (2,), **options)
-            self._column_plan = plan(self._half, self.spectrum, (1,), **options)
-            self._rows[...] = 0.0  # the padding of _rows and _half stays zero from now on
-            self._half[...] = 0.0
-            self.fields = self._rows[:, :, :ny]
-        else:
-            self._output = pyfftw.empty_aligned((batch, nx, 2 * ny), dtype="float64")
-            backward = dict(direction="FFTW_BACKWARD", **options)
-            self._column_plan = plan(self.spectrum, self.spectrum, (1,), **backward)
-            self._row_plan = plan(self.spectrum[:, :nx, :], self._output, (2,), **backward)
-        self.spectrum[...] = 0.0
+        self.capacity, self.shape = int(capacity), (nx, ny)
+        self._options = dict(threads=threads, effort=effort)
+        self.real = aligned_zeros((capacity, nx, 2 * ny), "float64")
+        self.spectra = aligned_zeros((capacity, 2 * nx, ny + 1), "complex128")
+        self._plans: dict[tuple, tuple] = {}
+        self._padding_dirty = False
 
-    def forward(self) -> np.ndarray:
-        """``spectrum`` ← unnormalised FFT of the zero-padded ``fields``."""
-        self._row_plan.execute()
-        self._column_plan.execute()
-        return self.spectrum
+    def fields(self, batch: int) -> np.ndarray:
+        """Where to write ``batch`` fields before ``forward(batch)``: (batch, n_x, n_y)."""
+        return self.real[:batch, :, : self.shape[1]]
 
-    def inverse(self) -> np.ndarray:
-        """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectrum``."""
-        self._column_plan.execute()
-        self._row_plan.execute()
-        return self._output[:, :, : self.shape[1]]
+    def forward(self, batch: int) -> np.ndarray:
+        """``spectra[:batch]`` ← unnormalised FFT of the zero-padded ``fields(batch)``."""
+        nx, ny = self.shape
+        rows, columns = self._plan("forward", batch, self.spectra)
+        if self._padding_dirty:
+            self.real[:, :, ny:] = 0.0
+            self._padding_dirty = False
+        self.spectra[:batch, nx:, :] = 0.0
+        rows.execute()
+        columns.execute()
+        return self.spectra[:batch]
+
+    def inverse(self, spectra: np.ndarray) -> np.ndarray:
+        """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectra`` (batch,
+        2n_x, n_y + 1): ``self.spectra`` or an aligned buffer of the same layout, overwritten.
+        Returns a view of ``real`` (valid until the next transform)."""
+        batch = spectra.shape[0]
+        columns, rows = self._plan("inverse", batch, spectra)
+        columns.execute()
+        rows.execute()
+        self._padding_dirty = True
+        return self.real[:batch, :, : self.shape[1]]
+
+    def _plan(self, direction: str, batch: int, spectra: np.ndarray) -> tuple:
+        key = (direction, batch, spectra.ctypes.data)
+        if key not in self._plans:
+            if batch > self.capacity or batch > spectra.shape[0]:
+                raise ValueError(f"{batch} fields asked, buffers for {self.capacity}")
+            nx = self.shape[0]
+            real, spectrum = self.real[:batch], spectra[:batch]
+            # Timed planners run transforms on the buffers they plan on: keep their data.
+            kept = (
+                None
+                if self._options["effort"] == "FFTW_ESTIMATE"
+                else (real.copy(), spectrum.copy())
+            )
+            if direction == "forward":
+                first = plan(real, spectrum[:, :nx, :], (2,), **self._options)
+                second = plan(spectrum, spectrum, (1,), **self._options)
+            else:
+                backward = dict(direction="FFTW_BACKWARD", **self._options)
+                first = plan(spectrum, spectrum, (1,), **backward)
+                second = plan(spectrum[:, :nx, :], real, (2,), **backward)
+            self._plans[key] = (first, second)
+            if kept is not None:
+                real[...], spectrum[...] = kept
+        return self._plans[key]
 
 
 class RealFFTPair:
@@ -180,23 +228,9 @@ class RealFFTPair:
         self.real = pyfftw.empty_aligned(shape, dtype="float64")
         self.spectrum = pyfftw.empty_aligned((*shape[:-1], shape[-1] // 2 + 1), dtype="complex128")
         axes = (len(shape) - 2, len(shape) - 1)
-        flags = (effort, "FFTW_DESTROY_INPUT")
-        if effort == "FFTW_ESTIMATE":
-            # Wisdom left by timed planners would be reused by the estimate: forget it.
-            pyfftw.forget_wisdom()
-        self._forward = pyfftw.FFTW(
-            self.real, self.spectrum, axes=axes, threads=threads, flags=flags
-        )
-        if effort == "FFTW_ESTIMATE":
-            pyfftw.forget_wisdom()
-        self._inverse = pyfftw.FFTW(
-            self.spectrum,
-            self.real,
-            axes=axes,
-            direction="FFTW_BACKWARD",
-            threads=threads,
-            flags=flags,
-        )
+        options = dict(threads=threads, effort=effort, flags=("FFTW_DESTROY_INPUT",))
+        self._forward = plan(self.real, self.spectrum, axes, **options)
+        self._inverse = plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
         self.scale = 1.0 / float(self._inverse.N)  # what pyfftw's normalised call applies
         self.real[...] = 0.0
         self.spectrum[...] = 0.0

@@ -17,12 +17,13 @@ import numpy as np
 
 from ..grid import Grid
 from ..material import MaterialPair
-from .fft import DEFAULT_EFFORT, PaddedRealFFT, RealFFTPair, wrap_kernel
-from .influence import SurfaceInfluence
+from .fft import DEFAULT_EFFORT, PaddedTransforms, RealFFTPair, aligned_zeros, wrap_kernel
+from .influence import KERNEL_PARITY, SurfaceInfluence, kernel_quadrant, kernel_values
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
-# Component order of the block operator: 0 = x, 1 = y, 2 = n (normal).
+# Component order of the block operator: 0 = x, 1 = y, 2 = n (normal); each block is the
+# spectrum of a kernel of SurfaceInfluence with a sign (A_xz = −A_zx, A_yz = −A_zy).
 _BLOCKS = {
     (0, 0): ("xx", 1.0),
     (0, 1): ("xy", 1.0),
@@ -35,14 +36,32 @@ _BLOCKS = {
     (2, 2): ("zz", 1.0),
 }
 
+#: Kernel spectra built together (one transform): the normal one and the coupling ones
+#: (every case on a coupled material needs them: the slip of a frictionless case is the
+#: tangential displacement of its pressure), then the tangential block.
+_SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
+
+#: Rows of frequencies whose 3 × 3 symbols ``symbol_bound`` diagonalises at once.
+_SYMBOL_ROWS = 64
+
 
 class HalfSpaceOperator:
     """Relative surface displacements of two half-spaces from surface tractions.
 
     ``apply(p_x, p_y, p_n) -> (u_x, u_y, u_n)`` for the full 3×3 block of Eq. (4);
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
-    ``influence``: the kernels to apply (default: the 3-D half-space kernels of ``grid`` and
-    ``material``; ``engine.kernels.line`` passes the plane-strain kernels of a line grid).
+
+    Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is kept;
+    the kernel itself is written from its quadrant (``kernel_quadrant``) straight into the
+    transform's buffer and not kept. A_zz is built with the operator, and on a coupled
+    material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
+    case is the tangential displacement its pressure produces); the tangential block the
+    first time a product needs it (frictional cases). ``influence``: kernels given whole
+    instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
+    needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
+    buffers of one direction are shared by the plans of
+    every batch size (``PaddedBuffers``), grown to the largest batch asked.
     """
 
     def __init__(
@@ -58,27 +77,93 @@ class HalfSpaceOperator:
         self.material = material
         self.threads = threads
         self.padded_shape = (2 * grid.n_x, 2 * grid.n_y)
-        self.influence = influence or SurfaceInfluence.build(grid, material)
         self._effort = planner_effort
         self.planner_effort = planner_effort
-        spectra = {}
-        transform = RealFFTPair((1, *self.padded_shape), threads=threads, effort=planner_effort)
-        for key, kernel in self.influence.kernels.items():
-            transform.real[0] = wrap_kernel(kernel, self.padded_shape)
-            spectra[key] = transform.forward()[0].copy()
-        self._spectra = spectra
         # The block of Eq. (4) in Fourier space, with the 1/(4 n_x n_y) of the inverse FFT
         # folded in (the pruned transforms of PaddedRealFFT are unnormalised).
         self._scale = 1.0 / (self.padded_shape[0] * self.padded_shape[1])
-        self._full = np.empty((3, 3, *spectra["zz"].shape), dtype=complex)
-        for (a, b), (key, sign) in _BLOCKS.items():
-            np.multiply(spectra[key], sign * self._scale, out=self._full[a, b])
-        self._ffts: dict[int, PaddedRealFFT] = {}
-        self._inverse_ffts: dict[int, PaddedRealFFT] = {}
-        self._product = np.empty_like(spectra["zz"])
+        self._spectra: dict[str, tuple[np.ndarray, str]] = {}  # key -> (values, kind)
+        self._influence = influence
+        self._given = influence is not None  # kernels given whole (line grids)
+        self._self_coefficients: dict[str, float] = {}
+        self._transforms: PaddedTransforms | None = None
+        self._targets: np.ndarray | None = None  # products of multi-field blocks
+        self._product: np.ndarray | None = None
         self.applications = 0
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
+        # Built now, with the operator: A_zz, and on a coupled material A_zx and A_zy.
+        self._build_spectra(("zz", "zx", "zy") if material.coupling != 0.0 else ("zz",))
+
+    @property
+    def influence(self) -> SurfaceInfluence:
+        """All six kernels on the offset grid (built on first use, for tests and small
+        grids: the operator itself never needs them at once)."""
+        if self._influence is None:
+            self._influence = SurfaceInfluence.build(self.grid, self.material)
+        return self._influence
+
+    @property
+    def spectra_bytes(self) -> int:
+        """Memory held by the kernel spectra built so far (bytes)."""
+        return sum(values.nbytes for values, _ in self._spectra.values())
+
+    def kernel(self, key: str, index_x: np.ndarray, index_y: np.ndarray) -> np.ndarray:
+        """Kernel ``key`` (mm/MPa) at the offsets (i Δx, j Δy), i in ``index_x``, j in
+        ``index_y`` (``engine.kernels.influence.kernel_values``, or the given kernels)."""
+        if self._given:
+            nx, ny = self.grid.shape
+            rows, columns = np.asarray(index_x) + nx - 1, np.asarray(index_y) + ny - 1
+            return self._influence.kernels[key][np.ix_(rows, columns)]
+        return kernel_values(self.grid, self.material, key, index_x, index_y)
+
+    def self_coefficient(self, key: str) -> float:
+        """An element's own coefficient of kernel ``key`` (offset 0; mm/MPa)."""
+        if key not in self._self_coefficients:
+            value = self.kernel(key, np.array([0]), np.array([0]))[0, 0]
+            self._self_coefficients[key] = float(value)
+        return self._self_coefficients[key]
+
+    def spectrum(self, key: str) -> np.ndarray:
+        """The spectrum of kernel ``key`` on the padded grid, 1/(4 n_x n_y) folded in
+        (complex, (2n_x, n_y + 1)), built on first use with the others of its group
+        (``_SPECTRUM_GROUPS``). Kept as its real part (kernels even in both directions) or its
+        imaginary part (odd in one): the other part is zero up to rounding."""
+        values, kind = self._stored(key)
+        if kind == "real":
+            return values.astype(complex)
+        return 1j * values if kind == "imaginary" else values.copy()
+
+    def _stored(self, key: str) -> tuple[np.ndarray, str]:
+        if key not in self._spectra:
+            group = next(keys for keys in _SPECTRUM_GROUPS if key in keys)
+            self._build_spectra(group)
+        return self._spectra[key]
+
+    def _build_spectra(self, keys: tuple[str, ...]) -> None:
+        """Spectra of ``keys`` through one transform: each kernel's quadrant
+        (``kernel_quadrant``) is written into the transform's buffer in circulant order
+        (``wrap_kernel``'s layout: offset k at index k mod 2n), mirrored with its parity."""
+        nx, ny = self.grid.shape
+        transform = RealFFTPair((1, *self.padded_shape), threads=self.threads, effort=self._effort)
+        real = transform.real[0]
+        for key in keys:
+            if self._given:
+                real[...] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
+                self._spectra[key] = (transform.forward()[0] * self._scale, "complex")
+                continue
+            quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
+            parity_x, parity_y = KERNEL_PARITY[key]
+            real[...] = 0.0
+            real[:nx, :ny] = quadrant
+            real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
+            real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
+            real[-1:-nx:-1, -1:-ny:-1] = (parity_x * parity_y) * quadrant[1:, 1:]
+            spectrum = transform.forward()[0]
+            if parity_x * parity_y > 0:  # even circulant: a real spectrum
+                self._spectra[key] = (spectrum.real * self._scale, "real")
+            else:  # odd along one axis: an imaginary spectrum
+                self._spectra[key] = (spectrum.imag * self._scale, "imaginary")
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -87,69 +172,141 @@ class HalfSpaceOperator:
             self._preconditioner = SpectralPreconditioner(self)
         return self._preconditioner
 
-    def _fft(self, batch: int, store: dict) -> PaddedRealFFT:
-        """Plans and buffers per batch size, forward (``_ffts``) or inverse."""
-        if batch not in store:
-            direction = "forward" if store is self._ffts else "inverse"
-            store[batch] = PaddedRealFFT(
-                batch, self.grid.shape, direction, threads=self.threads, effort=self._effort
+    def _transform(self, batch: int) -> PaddedTransforms:
+        """The padded transforms, with room for ``batch`` fields: replaced by larger ones
+        (the old ones released first) when asked for more."""
+        if self._transforms is None or self._transforms.capacity < batch:
+            self._transforms = None
+            self._transforms = PaddedTransforms(
+                batch, self.grid.shape, threads=self.threads, effort=self._effort
             )
-        return store[batch]
+        return self._transforms
 
-    def _convolve(self, block: np.ndarray, fields: list[np.ndarray]) -> np.ndarray:
-        """Apply a (rows × columns) block of kernel spectra to ``fields`` (columns)."""
-        columns = len(fields)
-        fft = self._fft(columns, self._ffts)
-        for index, field in enumerate(fields):
-            fft.fields[index] = field
-        spectrum = fft.forward()
-        rows = block.shape[0]
-        out_fft = self._fft(rows, self._inverse_ffts)
-        product = self._product
-        for a in range(rows):
-            target = out_fft.spectrum[a]
-            np.multiply(block[a, 0], spectrum[0], out=target)
-            for b in range(1, columns):
-                np.multiply(block[a, b], spectrum[b], out=product)
-                target += product
+    def _target_buffer(self, rows: int) -> np.ndarray:
+        """Aligned (rows, 2n_x, n_y + 1) buffer for the products of a multi-field block."""
+        if self._targets is None or self._targets.shape[0] < rows:
+            self._targets = None
+            shape = (rows, self.padded_shape[0], self.grid.n_y + 1)
+            self._targets = aligned_zeros(shape, "complex128")
+        return self._targets[:rows]
+
+    def _product_buffer(self) -> np.ndarray:
+        if self._product is None:
+            self._product = np.empty((self.padded_shape[0], self.grid.n_y + 1), complex)
+        return self._product
+
+    def _multiply(self, spectrum: np.ndarray, key: str, out: np.ndarray) -> np.ndarray:
+        """``out`` ← (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
+        ``spectrum``. A real or imaginary kernel spectrum multiplies the real and imaginary
+        parts (as float pairs) by a real array: half the flops of a complex product."""
+        values, kind = self._stored(key)
+        if kind == "complex":
+            return np.multiply(spectrum, values, out=out)
+        pairs, result = _pairs(spectrum), _pairs(out)
+        if kind == "real":
+            np.multiply(pairs, values[..., None], out=result)
+            return out
+        real_part = pairs[..., 0] * values  # (a + ib)(ik) = −bk + i ak
+        np.multiply(pairs[..., 1], values, out=result[..., 0])
+        np.negative(result[..., 0], out=result[..., 0])
+        result[..., 1] = real_part
+        return out
+
+    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
+        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
+        (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
+        its own transform pair, the product taken in place (no further buffer)."""
+        nx, ny = self.grid.shape
+        result = np.empty((len(rows), nx, ny))
+        if len(fields) == 1:
+            transform = self._transform(1)
+            for a, ((key, sign),) in enumerate(rows):
+                transform.fields(1)[0] = fields[0]
+                spectrum = transform.forward(1)
+                self._multiply(spectrum[0], key, out=spectrum[0])
+                if sign < 0:
+                    np.negative(spectrum, out=spectrum)
+                result[a] = transform.inverse(spectrum)[0]
+        else:
+            transform = self._transform(max(len(fields), len(rows)))
+            destination = transform.fields(len(fields))
+            for index, field in enumerate(fields):
+                destination[index] = field
+            spectra = transform.forward(len(fields))
+            targets = self._target_buffer(len(rows))
+            for a, row in enumerate(rows):
+                self._accumulate(targets[a], row, spectra)
+            result[...] = transform.inverse(targets)
         self.applications += 1
-        return out_fft.inverse().copy()
+        return result
+
+    def _accumulate(self, target: np.ndarray, row: tuple, spectra: np.ndarray) -> None:
+        """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]``."""
+        for b, (key, sign) in enumerate(row):
+            if b == 0:
+                self._multiply(spectra[0], key, out=target)
+                if sign < 0:
+                    np.negative(target, out=target)
+                continue
+            product = self._multiply(spectra[b], key, out=self._product_buffer())
+            if sign > 0:
+                target += product
+            else:
+                target -= product
+
+    @staticmethod
+    def _rows(outputs: range, inputs: range) -> tuple:
+        return tuple(tuple(_BLOCKS[(a, b)] for b in inputs) for a in outputs)
 
     def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
         """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
-        u = self._convolve(self._full, [p_x, p_y, p_n])
+        u = self._convolve(self._rows(range(3), range(3)), [p_x, p_y, p_n])
         return u[0], u[1], u[2]
 
     def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
         """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
-        return self._convolve(self._full[2:, 2:], [p_n])[0]
+        return self._convolve(self._rows(range(2, 3), range(2, 3)), [p_n])[0]
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
-        u = self._convolve(self._full[:2, :2], [p_x, p_y])
+        u = self._convolve(self._rows(range(2), range(2)), [p_x, p_y])
         return u[0], u[1]
 
     def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
         """A_zx p_x + A_zy p_y (mm): normal displacement due to tangential tractions."""
-        return self._convolve(self._full[2:, :2], [p_x, p_y])[0]
+        return self._convolve(self._rows(range(2, 3), range(2)), [p_x, p_y])[0]
 
     def coupling_to_tangential(self, p_n: np.ndarray):
-        """(A_xz p_n, A_yz p_n) (mm): tangential displacement due to pressure."""
-        u = self._convolve(self._full[:2, 2:], [p_n])
+        """(A_xz p_n, A_yz p_n) (mm): tangential displacement due to pressure (zero on an
+        uncoupled material, K = 0, without building the coupling spectra)."""
+        if self.material.coupling == 0.0:
+            return np.zeros(self.grid.shape), np.zeros(self.grid.shape)
+        u = self._convolve(self._rows(range(2), range(2, 3)), [p_n])
         return u[0], u[1]
 
     def symbol_bound(self) -> float:
         """An upper bound of the largest eigenvalue of A (mm/MPa): max over frequencies of
         the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric);
-        computed once."""
+        computed once, ``_SYMBOL_ROWS`` rows of frequencies at a time."""
         if self._symbol_bound is None:
-            symbol = np.moveaxis(self._full, (0, 1), (-2, -1))
-            hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
-            self._symbol_bound = float(np.linalg.eigvalsh(hermitian).max())
+            rows = self.padded_shape[0]
+            largest = -np.inf
+            for start in range(0, rows, _SYMBOL_ROWS):
+                part = slice(start, min(start + _SYMBOL_ROWS, rows))
+                symbol = np.empty((part.stop - start, self.grid.n_y + 1, 3, 3), dtype=complex)
+                for (a, b), (key, sign) in _BLOCKS.items():
+                    values, kind = self._stored(key)
+                    factor = {"real": 1.0, "imaginary": 1j, "complex": 1.0}[kind] * sign
+                    np.multiply(values[part], factor, out=symbol[..., a, b])
+                hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
+                largest = max(largest, float(np.linalg.eigvalsh(hermitian).max()))
+            self._symbol_bound = largest
         return self._symbol_bound
 
-    def normal_symbol_bound(self) -> float:
-        return float(np.abs(self._spectra["zz"]).max())
+
+def _pairs(spectrum: np.ndarray) -> np.ndarray:
+    """A contiguous complex array as float pairs (..., 2): real and imaginary parts."""
+    return spectrum.view(np.float64).reshape(*spectrum.shape, 2)
 
 
 def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -169,27 +326,46 @@ class SpectralPreconditioner:
     Applied to a residual (gap or slip, mm) it returns a traction-like correction (MPa):
     the discrete analogue of the |ξ| (Dirichlet-to-Neumann) operator that cancels the 1/|ξ|
     smoothing of A, so that CG iterations no longer grow with the number of elements.
+    The normal part (A_zz) is built with the preconditioner, the tangential part (A_xx,
+    A_xy, A_yy) on its first use; each folded kernel is evaluated on the cell's offsets only.
     """
 
     def __init__(self, operator: HalfSpaceOperator):
-        grid = operator.grid
-        self.shape = grid.shape
-        kernels = operator.influence.kernels
-        spectrum = {
-            key: np.fft.rfft2(fold_periodic(kernels[key], self.shape)).real
-            for key in ("zz", "xx", "yy", "xy")
-        }
-        self._normal = 1.0 / spectrum["zz"]
-        determinant = spectrum["xx"] * spectrum["yy"] - spectrum["xy"] ** 2
-        self._tangential = (
-            spectrum["yy"] / determinant,
-            -spectrum["xy"] / determinant,
-            spectrum["xx"] / determinant,
-        )
+        self._operator = operator
+        self.shape = operator.grid.shape
+        self._normal = 1.0 / self._periodic_spectrum("zz")
+        self._tangential: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         # pyfftw plans of the operator's kind (estimate by default: reproducible bits).
-        effort, threads = operator.planner_effort, operator.threads
-        self._one = RealFFTPair((1, *self.shape), threads=threads, effort=effort)
-        self._two = RealFFTPair((2, *self.shape), threads=threads, effort=effort)
+        self._one = self._transform(1)
+        self._two: RealFFTPair | None = None
+
+    def _transform(self, batch: int) -> RealFFTPair:
+        operator = self._operator
+        return RealFFTPair(
+            (batch, *self.shape), threads=operator.threads, effort=operator.planner_effort
+        )
+
+    def _periodic_spectrum(self, key: str) -> np.ndarray:
+        """Real part of the spectrum of kernel ``key`` folded into the periodic cell
+        (``fold_periodic``: offsets −n/2 … n/2 − 1 on each axis, evaluated only there)."""
+        nx, ny = self.shape
+        ia = np.arange(-(nx // 2), nx - nx // 2)
+        ib = np.arange(-(ny // 2), ny - ny // 2)
+        folded = np.zeros(self.shape)
+        folded[np.ix_(ia % nx, ib % ny)] = self._operator.kernel(key, ia, ib)
+        return np.fft.rfft2(folded).real
+
+    def _tangential_symbols(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if self._tangential is None:
+            spectrum = {key: self._periodic_spectrum(key) for key in ("xx", "yy", "xy")}
+            determinant = spectrum["xx"] * spectrum["yy"] - spectrum["xy"] ** 2
+            self._tangential = (
+                spectrum["yy"] / determinant,
+                -spectrum["xy"] / determinant,
+                spectrum["xx"] / determinant,
+            )
+            self._two = self._transform(2)
+        return self._tangential
 
     def normal(self, residual: np.ndarray) -> np.ndarray:
         fft = self._one
@@ -199,12 +375,12 @@ class SpectralPreconditioner:
         return fft.inverse()[0].copy()
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
+        ixx, ixy, iyy = self._tangential_symbols()
         fft = self._two
         fft.real[0] = rx
         fft.real[1] = ry
         spectrum = fft.forward()
         fx, fy = spectrum[0].copy(), spectrum[1]
-        ixx, ixy, iyy = self._tangential
         spectrum[0] = ixx * fx + ixy * fy
         spectrum[1] = ixy * fx + iyy * fy
         real = fft.inverse()

@@ -43,12 +43,13 @@ class OutputFull(OSError):
 
     def __init__(self, path: Path, needed: int, free: int | None = None) -> None:
         self.path, self.needed, self.free = Path(path), int(needed), free
-        have = f"{format_bytes(free)} free, " if free is not None else ""
+        have = f"{format_bytes(free)} free; " if free is not None else ""
         super().__init__(
             errno.ENOSPC,
-            f"{self.path}: no space left on its file system ({have}about "
-            f"{format_bytes(self.needed)} needed for the cases still to run); completed cases "
-            "are kept: free space or choose another output, then rerun to resume",
+            f"{self.path}: no space left on its file system ({have}the cases still to run need "
+            f"about {format_bytes(self.needed)}, and {format_bytes(MARGIN)} is kept free); "
+            "completed cases are kept: free space or choose another output, then rerun to "
+            "resume",
         )
 
     def __str__(self) -> str:
@@ -99,7 +100,7 @@ def ensure_space(path: Path, needed: int, *, remaining_cases: int = 1) -> None:
     file system of ``path``; the message names what the ``remaining_cases`` need."""
     free = free_bytes(path)
     if free < 2 * needed + MARGIN:
-        raise OutputFull(path, needed * max(remaining_cases, 1) + MARGIN, free)
+        raise OutputFull(path, needed * max(remaining_cases, 1), free)
 
 
 def check_space(path: Path, needed: int) -> None:
@@ -107,7 +108,7 @@ def check_space(path: Path, needed: int) -> None:
     are free for ``path``."""
     free = free_bytes(path)
     if free < needed + MARGIN:
-        raise OutputFull(path, needed + MARGIN, free)
+        raise OutputFull(path, needed, free)
 
 
 def format_bytes(count: int | None) -> str:

@@ -64,9 +64,8 @@ __all__ = [
     "line_contact_stress",
     "sliding_tractions",
     "partial_slip_tractions",
-    "fretting_cycle_tractions",
+    "FrettingCycle",
     "fretting_cycle_forces",
-    "fretting_cycle_stress",
 ]
 
 
@@ -249,37 +248,57 @@ def partial_slip_tractions(
     return LineTractions((EllipticTerm(peak_pressure, half_width),), shear, float(bulk_stress))
 
 
-def fretting_cycle_tractions(
-    half_width: float,
-    peak_pressure: float,
-    friction_coefficient: float,
-    force_amplitude_ratio: float,
-    force_ratio: float,
-    unloading: bool,
-    bulk_mean: float = 0.0,
-    bulk_amplitude: float = 0.0,
-) -> LineTractions:
-    """Tractions at Q = ``force_ratio`` μP (−T ≤ Q/(μP) ≤ T) of the steady fretting cycle
-    between ±Q* = ±T μP (T = ``force_amplitude_ratio``), on the ``unloading`` branch (from Q*
-    down) or the reloading one (from −Q* up), with the in-phase bulk stress
-    σ_B = σ_m + σ_a Q/Q* (Mindlin–Deresiewicz by superposition; module docstring)."""
-    peak_ratio = _force_ratio("force_amplitude_ratio", force_amplitude_ratio)
-    if abs(force_ratio) > peak_ratio * (1.0 + 1e-12):
-        raise ValueError(f"force_ratio must lie in [−{peak_ratio:g}, {peak_ratio:g}]")
-    sign = 1.0 if unloading else -1.0
-    amplitude = friction_coefficient * peak_pressure
-    reversal = partial_slip_tractions(
-        half_width, peak_pressure, friction_coefficient, peak_ratio, bulk_amplitude
-    )
-    change = min(max((peak_ratio - sign * force_ratio) / 2.0, 0.0), peak_ratio)
-    stick = half_width * math.sqrt(1.0 - change)
-    bulk_change = bulk_amplitude * (change / peak_ratio if peak_ratio > 0.0 else 0.0)
-    offset = bulk_change * half_width / (4.0 * amplitude)
-    shear = tuple(EllipticTerm(sign * t.amplitude, t.half_width, t.centre) for t in reversal.shear)
-    shear += (EllipticTerm(-sign * 2.0 * amplitude, half_width),)
-    shear += _stick_term(-sign * 2.0 * amplitude, half_width, stick, offset)
-    bulk = bulk_mean + bulk_amplitude * (force_ratio / peak_ratio if peak_ratio > 0.0 else 0.0)
-    return LineTractions((EllipticTerm(peak_pressure, half_width),), shear, float(bulk))
+@dataclass(frozen=True)
+class FrettingCycle:
+    """The steady fretting cycle of a cylinder on a flat between ±Q* = ±T μP with an in-phase
+    bulk stress σ_B = σ_m + σ_a Q/Q* (module docstring): Hertz ``half_width`` a (mm) and
+    ``peak_pressure`` p0 (MPa), ``friction_coefficient`` μ, ``force_amplitude_ratio``
+    T = Q*/(μP) in [0, 1], ``bulk_mean`` σ_m and ``bulk_amplitude`` σ_a (MPa)."""
+
+    half_width: float
+    peak_pressure: float
+    friction_coefficient: float
+    force_amplitude_ratio: float
+    bulk_mean: float = 0.0
+    bulk_amplitude: float = 0.0
+
+    def tractions(self, force_ratio: float, unloading: bool) -> LineTractions:
+        """Tractions at Q = ``force_ratio`` μP (−T ≤ Q/(μP) ≤ T) on the ``unloading`` branch
+        (from Q* down) or the reloading one (from −Q* up): the reversal state plus −2 (or +2)
+        times the partial-slip traction of the change (Mindlin–Deresiewicz)."""
+        peak_ratio = _force_ratio("force_amplitude_ratio", self.force_amplitude_ratio)
+        if abs(force_ratio) > peak_ratio * (1.0 + 1e-12):
+            raise ValueError(f"force_ratio must lie in [−{peak_ratio:g}, {peak_ratio:g}]")
+        a, sign = self.half_width, 1.0 if unloading else -1.0
+        amplitude = self.friction_coefficient * self.peak_pressure
+        reversal = partial_slip_tractions(
+            a, self.peak_pressure, self.friction_coefficient, peak_ratio, self.bulk_amplitude
+        )
+        change = min(max((peak_ratio - sign * force_ratio) / 2.0, 0.0), peak_ratio)
+        fraction = change / peak_ratio if peak_ratio > 0.0 else 0.0
+        offset = self.bulk_amplitude * fraction * a / (4.0 * amplitude)
+        shear = tuple(
+            EllipticTerm(sign * t.amplitude, t.half_width, t.centre) for t in reversal.shear
+        )
+        shear += (EllipticTerm(-sign * 2.0 * amplitude, a),)
+        shear += _stick_term(-sign * 2.0 * amplitude, a, a * math.sqrt(1.0 - change), offset)
+        signal = force_ratio / peak_ratio if peak_ratio > 0.0 else 0.0
+        bulk = self.bulk_mean + self.bulk_amplitude * signal
+        return LineTractions((EllipticTerm(self.peak_pressure, a),), shear, float(bulk))
+
+    def stress(self, x, z, poisson_ratio: float, instants: int = 40) -> PlaneStrainStress:
+        """The stress history of the cycle sampled by ``fretting_cycle_forces`` at the points
+        ``x, z`` (mm): arrays of shape (instants, *points)."""
+        forces, unloading = fretting_cycle_forces(instants)
+        ratio = self.force_amplitude_ratio
+        fields = [
+            line_contact_stress(x, z, self.tractions(ratio * force, bool(unload)), poisson_ratio)
+            for force, unload in zip(forces, unloading, strict=True)
+        ]
+        keys = ("xx", "yy", "zz", "xz")
+        return PlaneStrainStress(
+            **{key: np.stack([getattr(f, key) for f in fields]) for key in keys}
+        )
 
 
 def fretting_cycle_forces(instants: int) -> tuple[np.ndarray, np.ndarray]:
@@ -289,42 +308,3 @@ def fretting_cycle_forces(instants: int) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"instants must be >= 2, got {instants!r}")
     phase = 2.0 * np.pi * np.arange(instants) / instants
     return np.cos(phase), phase <= np.pi
-
-
-def fretting_cycle_stress(
-    x,
-    z,
-    *,
-    half_width: float,
-    peak_pressure: float,
-    friction_coefficient: float,
-    force_amplitude_ratio: float,
-    poisson_ratio: float,
-    instants: int = 40,
-    bulk_mean: float = 0.0,
-    bulk_amplitude: float = 0.0,
-) -> PlaneStrainStress:
-    """The stress history of the steady fretting cycle (``fretting_cycle_forces``) at the
-    points ``x, z`` (mm): arrays of shape (instants, *points)."""
-    forces, unloading = fretting_cycle_forces(instants)
-    fields = [
-        line_contact_stress(
-            x,
-            z,
-            fretting_cycle_tractions(
-                half_width,
-                peak_pressure,
-                friction_coefficient,
-                force_amplitude_ratio,
-                force_amplitude_ratio * force,
-                bool(unload),
-                bulk_mean,
-                bulk_amplitude,
-            ),
-            poisson_ratio,
-        )
-        for force, unload in zip(forces, unloading, strict=True)
-    ]
-    return PlaneStrainStress(
-        **{key: np.stack([getattr(f, key) for f in fields]) for key in ("xx", "yy", "zz", "xz")}
-    )

@@ -43,8 +43,9 @@ class ContactState:
 
     @classmethod
     def unloaded(cls, grid: Grid) -> ContactState:
-        zeros = np.zeros(grid.shape)
-        return cls(zeros, zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy(), 0.0)
+        # Five np.zeros, not copies of one: untouched zero pages take no memory until written.
+        fields = [np.zeros(grid.shape) for _ in range(5)]
+        return cls(*fields, 0.0)
 
     def copy(self) -> ContactState:
         return ContactState(

@@ -56,6 +56,13 @@ def _scaled_start(operator, candidate, target, initial, image):
     return pressure, known
 
 
+def _violation_rms(gap, contact, mask, count) -> float:
+    """RMS over the candidate elements of the gap in contact and of the negative gap (an
+    overlap) elsewhere (mm)."""
+    violation = np.where(contact, gap, np.minimum(gap, 0.0))
+    return math.sqrt(np.sum(violation[mask] ** 2) / count)
+
+
 def solve_normal(
     operator: HalfSpaceOperator,
     candidate: np.ndarray,
@@ -86,23 +93,33 @@ def solve_normal(
         contact = mask & (pressure > 0.0)
         approach = float(gap[contact].mean())
         gap -= approach
-        violation = np.where(contact, gap, np.minimum(gap, 0.0))
-        residual = math.sqrt(np.sum(violation[mask] ** 2) / count) / abs(approach)
+        residual = _violation_rms(gap, contact, mask, count) / abs(approach)
         if residual <= tol:
             converged_image = raw
             break
-        residual_c = np.where(contact, gap, 0.0)
-        z = np.where(contact, preconditioner.normal(residual_c), 0.0)
+        # Work arrays are updated in place where the old values are not needed again (the
+        # same operations, element by element, as the textbook expressions in the comments).
+        residual_c = gap.copy()  # np.where(contact, gap, 0)
+        residual_c[~contact] = 0.0
+        z = preconditioner.normal(residual_c)  # np.where(contact, M r, 0)
+        z[~contact] = 0.0
         z[contact] -= z[contact].mean()
         product = float(np.sum(residual_c * z))
         beta = product / previous if conjugate else 0.0
-        direction = np.where(contact, z + beta * direction, 0.0)
+        direction *= beta  # np.where(contact, z + beta d, 0)
+        direction += z
+        direction[~contact] = 0.0
+        del z
         previous = product
         step_image = operator.apply_normal(direction)
         step_image -= step_image[contact].mean()
         step = float(np.sum(residual_c * direction)) / float(np.sum(step_image * direction))
-        pressure = np.where(contact, pressure - step * direction, 0.0)
-        pressure = np.maximum(pressure, 0.0)
+        del step_image, residual_c
+        change = step * direction  # max(np.where(contact, p − step d, 0), 0)
+        np.subtract(pressure, change, out=pressure)
+        del change
+        pressure[~contact] = 0.0
+        np.maximum(pressure, 0.0, out=pressure)
         overlap = mask & (pressure <= 0.0) & (gap < 0.0)
         conjugate = not np.any(overlap)
         # Re-entry along the gap; never below zero (a step of round-off size and the wrong

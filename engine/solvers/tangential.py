@@ -196,9 +196,7 @@ def _line_search(operator, friction, bound, free, q, g, d, step, lipschitz) -> _
 
 def _self_stiffness(operator: HalfSpaceOperator) -> tuple[float, float]:
     """A_ii of the x and y tangential blocks (mm/MPa): an element's own compliance."""
-    grid = operator.grid
-    centre = (grid.n_x - 1, grid.n_y - 1)
-    return operator.influence.kernels["xx"][centre], operator.influence.kernels["yy"][centre]
+    return operator.self_coefficient("xx"), operator.self_coefficient("yy")
 
 
 def solve_tangential(

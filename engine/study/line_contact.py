@@ -1,5 +1,7 @@
-"""The line (plane-strain) contact in the study layer: what a study of a cylinder or a rounded
-pad on a flat builds from its study file (docs/explanation/line-contact.md).
+"""The line (plane-strain) contact in the study layer: the nominal contact, the peak tracker,
+the two-body wear law and the scar columns of a study of a cylinder or a rounded pad on a flat
+(docs/explanation/line-contact.md). The profile is ``PunchConfig.profile``'s, the line grid, operator and
+stresses are built by the case runner and ``engine.study.operators``.
 
 ``[punch] shape = "cylinder"`` (``radius`` R) or ``"pad"`` (``radius`` the flat half-width b,
 ``edge_radius`` R of the rounds); ``[mesh] n`` elements along x over ``half_width`` and the
@@ -17,9 +19,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
-from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile, RoundedPadProfile
-from engine.material import MaterialPair
 from engine.reference.line_contact import hertz_line_half_width, pad_half_width
 from engine.solvers.line_subsurface import LinePeakTracker, LineSubsurfaceStress
 from engine.solvers.scar import scar_measures, two_body_wear_law
@@ -43,28 +42,12 @@ def is_line_shape(shape: str) -> bool:
 class LineContact:
     """A line contact's geometry and loading as the study file gives them: ``shape``
     ("cylinder" | "pad"), ``radius`` (cylinder R, or the pad's flat half-width b, mm),
-    ``edge_radius`` (pad's rounds R, mm), ``load`` (N/mm), the mesh ``n`` and
-    ``half_width`` (mm) and ``reference_distance`` (mm)."""
+    ``edge_radius`` (pad's rounds R, mm) and ``load`` (N/mm)."""
 
     shape: str
     radius: float
     edge_radius: float | None
     load: float
-    n: int
-    half_width: float
-    reference_distance: float = DEFAULT_REFERENCE_DISTANCE
-
-    def profile(self):
-        if self.shape == "cylinder":
-            return CylinderProfile(self.radius)
-        return RoundedPadProfile(self.radius, self.edge_radius)
-
-    def grid(self) -> Grid:
-        return Grid.line(self.n, self.half_width)
-
-    def operator(self, grid: Grid, material: MaterialPair, *, threads=1, planner_effort=None):
-        options = {} if planner_effort is None else {"planner_effort": planner_effort}
-        return line_operator(grid, material, self.reference_distance, threads=threads, **options)
 
     def nominal_half_width(self, contact_modulus: float) -> float:
         """a0 (mm): Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width at the load."""
@@ -75,10 +58,6 @@ class LineContact:
     def nominal_pressure(self, contact_modulus: float) -> float:
         """p0 = P/(2 a0) (MPa), the mean pressure over the nominal contact."""
         return self.load / (2.0 * self.nominal_half_width(contact_modulus))
-
-    @staticmethod
-    def stress(grid: Grid, poisson_ratio: float, depths) -> LineSubsurfaceStress:
-        return LineSubsurfaceStress(grid, poisson_ratio, np.asarray(depths, dtype=float))
 
     @staticmethod
     def peak_tracker(stress: LineSubsurfaceStress, nominal_half_width: float, angle=0.0):

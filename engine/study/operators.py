@@ -67,7 +67,6 @@ class OperatorCache:
                     grid, material, threads=threads, planner_effort=planner_effort
                 )
             operator.preconditioner  # noqa: B018 (built now, counted as set-up)
-            operator.symbol_bound()
             self._operators[key] = operator
             self.setup_s += time.perf_counter() - start
         return self._operators[key]

@@ -1,21 +1,23 @@
 """Memory a case needs, checked against the machine before anything is created.
 
 Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -m engine``
-(one process, the engine's imports included) for n = 64, 128, 256, 4 to 32 subsurface layers
-and 5 to 20 increments per half cycle (2026-11-23, after the summary CSV stopped importing
-pandas, which took ~40 MB)::
+(one process, the engine's imports included) for static cases (μ = 0.3) at n = 128, 256,
+512 with 4 to 32 subsurface layers (2026-11-25, after the influence operator stopped keeping
+kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
 
-    memory ≈ 80 MB + n² · (1850 + 150 · layers + cycled) bytes
+    memory ≈ 80 MB + n² · (600 + 145 · layers + cycled) bytes
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The 1850 B per element are the contact solver (FFT operator, spectra and work arrays on the
-2n × 2n padded grid); the layer term the x–z plane's subsurface kernel spectra (six
-components and three loads per layer on the folded line lattice, ~144 B per element and
-layer); the cycled term the histories, records and the warm start, which keeps the pressure
-and both tractions of every increment of two simulated cycles (2 · 3 · 8 B per element and
-increment; a simulated cycle has 2·steps increments when cyclic, 4·steps when fretting). The
-fit errs high by 3–5 % on all 15 measured points, e.g. n = 256: static with 32 layers 516 MB
-estimated, 499 MB measured; cyclic with 16 layers and 10 steps 461 MB, 446 MB measured.
+The 600 B per element are the contact solver: the kernel spectra it needs (real or imaginary
+halves, 8 B per padded frequency, ~16 B per element each, three frictionless and six
+frictional), one pair of padded FFT buffers (~48 B per element and field, up to three fields)
+and the solver's work arrays; the layer term the x–z plane's subsurface kernel spectra (six
+components and three loads per layer on the folded line lattice); the cycled term the
+histories, records and the warm start, which keeps the pressure and both tractions of every
+increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
+has 2·steps increments when cyclic, 4·steps when fretting). The fit errs high by 1–7 % on the
+measured points, e.g. n = 256 static with 32 layers 423 MB estimated, 404 MB measured; n = 512
+static with 16 layers 845 MB, 818 MB measured.
 
 Every rank of a node runs a case at the same time, so ``ranks on the node × estimate`` of the
 largest case of the plan (mesh, layers and steps may be swept) must fit in the node's memory:
@@ -34,8 +36,8 @@ from .plan import Plan
 __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_memory"]
 
 BASE_BYTES = 80e6
-BYTES_PER_ELEMENT = 1850.0
-BYTES_PER_ELEMENT_AND_LAYER = 150.0
+BYTES_PER_ELEMENT = 600.0
+BYTES_PER_ELEMENT_AND_LAYER = 145.0
 BYTES_PER_ELEMENT_CYCLED = 600.0
 BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 B
 

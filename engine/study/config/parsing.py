@@ -419,7 +419,7 @@ def line_half_width(punch: PunchConfig, material: MaterialConfig, load: float) -
     """The nominal contact half-width of a line contact (mm, load in N/mm)."""
     from engine.study.line_contact import LineContact
 
-    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load, 8, 1.0)
+    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load)
     return line.nominal_half_width(contact_modulus(material))
 
 

@@ -1,0 +1,115 @@
+"""A full disk stops a run cleanly: completed cases kept, one line naming the path and the
+space needed, exit code 5, and a rerun elsewhere completes.
+
+The writer is tested with the free space and the operating system's ENOSPC simulated
+(deterministic); the command line on a real 1.2 MB tmpfs when this process may mount one
+(root), skipped otherwise.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import pytest
+
+from engine.output import space
+from engine.output.hdf5 import SingleWriter
+from engine.output.space import OutputFull, is_no_space
+from engine.study.examples import study_toml
+from tests.test_kill_safety import metadata, study
+from tests.test_output import fake_outcome
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def test_a_case_that_does_not_fit_is_not_begun(tmp_path, monkeypatch):
+    """Free space for two cases: they complete, the writer is then full and writes nothing
+    more; the file holds the two cases whole."""
+    config, plan = study()
+    path = tmp_path / "r.h5"
+    free = {"bytes": 10**9}
+    monkeypatch.setattr(space, "free_bytes", lambda _: free["bytes"])
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        for number, case in enumerate(plan):
+            if number == 2:
+                free["bytes"] = space.MARGIN  # the disk fills up
+            writer.write(fake_outcome(case))
+        assert isinstance(writer.full, OutputFull)
+        assert str(path) in str(writer.full) and "rerun to resume" in str(writer.full)
+    with h5py.File(path, "r") as file:
+        statuses = [file["cases"][case_id].attrs["status"] for case_id in plan.case_ids]
+    assert statuses == ["completed", "completed", "pending", "pending"]
+
+
+def test_no_space_from_the_operating_system_becomes_output_full(tmp_path, monkeypatch):
+    config, plan = study()
+    first, second = list(plan)[:2]
+    path = tmp_path / "r.h5"
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        writer.write(fake_outcome(first))
+
+        def no_space(*args, **kwargs):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        monkeypatch.setattr(SingleWriter, "_store_case", staticmethod(no_space))
+        writer.write(fake_outcome(second))
+        assert isinstance(writer.full, OutputFull)
+    with h5py.File(path, "r") as file:
+        assert file["cases"][first.case_id].attrs["status"] == "completed"
+    assert is_no_space(RuntimeError("... errno = 28, error message = 'No space left on device'"))
+    assert not is_no_space(RuntimeError("bad symbol table node signature"))
+
+
+@pytest.fixture
+def small_file_system(tmp_path):
+    mount = tmp_path / "small"
+    mount.mkdir()
+    if os.geteuid() != 0 or shutil.which("mount") is None:
+        pytest.skip("needs root to mount a tmpfs")
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1200k", "tmpfs", str(mount)])
+    if done.returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    yield mount
+    subprocess.run(["umount", str(mount)], check=False)
+
+
+def engine(directory: Path, *args: str) -> subprocess.CompletedProcess:
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    return subprocess.run(
+        [sys.executable, "-m", "engine", *args, "--no-progress-bar", "--progress-interval", "0"],
+        cwd=directory, env=env, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+
+
+def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_path):
+    """1.2 MB: room for two of four cases beside the 1 MB kept free. The run exits 5 with one
+    line; the rerun on the still-full disk says so again; moved to space it completes."""
+    text = study_toml(
+        "full",
+        "full.h5",
+        mesh={"n": 8},
+        loading={"kind": "static", "steps": 2},
+        sweep={"mu1": [0.1, 0.2], "beta": [0.0, 30.0]},
+    )
+    (small_file_system / "full.toml").write_text(text)
+    first = engine(small_file_system, "full.toml")
+    assert first.returncode == 5, first.stderr
+    lines = first.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: full.h5: no space left")
+    assert "Traceback" not in first.stderr
+    again = engine(small_file_system, "full.toml")
+    assert again.returncode == 5 and "Traceback" not in again.stderr
+    moved = tmp_path / "moved"
+    shutil.copytree(small_file_system, moved)
+    last = engine(moved, "full.toml")
+    assert last.returncode == 0, last.stderr
+    assert "2 already complete, 2 to run" in last.stdout

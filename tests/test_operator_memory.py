@@ -1,0 +1,103 @@
+"""What the influence operator builds and keeps, and the FFTW wisdom kept between runs.
+
+Tolerances: none where results must be bit-identical (estimate plans with or without a
+wisdom file; products through buffers shared by several batch sizes). The quadrant-built
+kernels are compared with the element integrals corner by corner (``element_integrals``,
+four corner functions per element): they differ by the rounding of the corner coordinates
+((i ± ½)Δx as one product instead of iΔx ± ½Δx) amplified by the cancellation of the four
+corners, ~1e-13 of the largest coefficient at 64² (measured 1.2e-13), hence 1e-12.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from engine.grid import Grid
+from engine.kernels import wisdom
+from engine.kernels.fft import RealFFTPair
+from engine.kernels.influence import KERNEL_INTEGRALS, KERNEL_PARITY, _combine, element_integrals
+from engine.kernels.operator import HalfSpaceOperator
+from engine.material import MaterialPair, paper_material
+
+
+def test_quadrant_kernels_match_element_integrals_and_are_exactly_even_or_odd():
+    grid, material = Grid(9, 6, 1.0, 0.7), paper_material()
+    operator = HalfSpaceOperator(grid, material)
+    index_x, index_y = np.arange(-8, 9), np.arange(-5, 6)
+    ox, oy = np.meshgrid(grid.dx * index_x, grid.dy * index_y, indexing="ij")
+    for key, integrals in KERNEL_INTEGRALS.items():
+        direct = _combine(key, element_integrals(ox, oy, grid.dx, grid.dy, integrals), material)
+        values = operator.kernel(key, index_x, index_y)
+        scale = np.abs(direct).max()
+        np.testing.assert_allclose(values, direct, rtol=0, atol=1e-12 * scale, err_msg=key)
+        parity_x, parity_y = KERNEL_PARITY[key]
+        assert np.array_equal(values[::-1], parity_x * values), key
+        assert np.array_equal(values[:, ::-1], parity_y * values), key
+
+
+def test_frictionless_case_builds_only_the_spectra_it_needs():
+    grid = Grid.square(16, 1.0)
+    uncoupled = MaterialPair(200e3, 0.3, 200e3, 0.3)
+    assert uncoupled.coupling == 0.0
+    operator = HalfSpaceOperator(grid, uncoupled)
+    operator.apply_normal(np.ones(grid.shape))
+    ux, uy = operator.coupling_to_tangential(np.ones(grid.shape))
+    assert set(operator._spectra) == {"zz"}  # no coupling and no tangential spectra
+    assert not ux.any() and not uy.any()
+    coupled = HalfSpaceOperator(grid, paper_material())
+    coupled.apply_normal(np.ones(grid.shape))
+    assert set(coupled._spectra) == {"zz", "zx", "zy"}  # the slip needs A_zx, A_zy
+    # Real (even kernels) or imaginary (odd) parts only: 2n_x (n_y + 1) float64 each.
+    assert coupled.spectra_bytes == 3 * 32 * 17 * 8
+
+
+def test_products_do_not_depend_on_the_batch_sizes_asked_before():
+    """The FFT buffers grow with the largest block asked; the results stay the same bits."""
+    grid = Grid(12, 10, 1.0, 0.8)
+    fields = np.random.default_rng(3).standard_normal((3, *grid.shape))
+    fresh = HalfSpaceOperator(grid, paper_material())
+    normal_first = fresh.apply_normal(fields[2])
+    full_first = np.array(fresh.apply(*fields))
+    grown = HalfSpaceOperator(grid, paper_material())
+    full = np.array(grown.apply(*fields))
+    assert np.array_equal(full, full_first)
+    assert np.array_equal(grown.apply_normal(fields[2]), normal_first)
+
+
+def test_estimate_plans_give_the_same_bits_with_or_without_wisdom(tmp_path, monkeypatch):
+    monkeypatch.setenv("ENGINE_FFTW_WISDOM", str(tmp_path / "wisdom.pickle"))
+    data = np.random.default_rng(4).standard_normal((2, 60, 60))
+    wisdom.clear()
+    without = _spectrum((2, 60, 60), data, "FFTW_ESTIMATE")
+    _spectrum((2, 60, 60), data, "FFTW_MEASURE")  # a timed plan: wisdom written
+    assert wisdom.wisdom_path().exists()
+    wisdom.load()
+    assert np.array_equal(_spectrum((2, 60, 60), data, "FFTW_ESTIMATE"), without)
+    assert wisdom.clear() == tmp_path / "wisdom.pickle"
+    assert not (tmp_path / "wisdom.pickle").exists()
+
+
+def test_wisdom_location_and_switch(tmp_path, monkeypatch):
+    monkeypatch.delenv("ENGINE_FFTW_WISDOM", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    path = wisdom.wisdom_path()
+    assert path.parent == tmp_path / "fretting-engine" and path.name.startswith("fftw-wisdom-")
+    monkeypatch.setenv("ENGINE_FFTW_WISDOM", "off")
+    assert wisdom.wisdom_path() is None
+    wisdom.save()  # nothing kept, no error
+    (tmp_path / "damaged").write_bytes(b"not wisdom")
+    monkeypatch.setenv("ENGINE_FFTW_WISDOM", str(tmp_path / "damaged"))
+    wisdom.load()  # a damaged file is ignored
+
+
+def _spectrum(shape, data, effort) -> np.ndarray:
+    pair = RealFFTPair(shape, effort=effort)
+    pair.real[...] = data
+    return pair.forward().copy()
+
+
+@pytest.fixture(autouse=True)
+def _no_user_wisdom(tmp_path, monkeypatch):
+    """Tests never write the user's cache."""
+    monkeypatch.setenv("ENGINE_FFTW_WISDOM", str(tmp_path / "test-wisdom.pickle"))
