@@ -1,7 +1,7 @@
 """The line (plane-strain) contact in the study layer: the nominal contact, the peak tracker,
 the two-body wear law and the scar columns of a study of a cylinder or a rounded pad on a flat
-(docs/explanation/line-contact.md). The profile is ``PunchConfig.profile``'s, the line grid, operator and
-stresses are built by the case runner and ``engine.study.operators``.
+(docs/explanation/line-contact.md). The profile is ``PunchConfig.profile``'s, the line grid,
+operator and stresses are built by the case runner and ``engine.study.operators``.
 
 ``[punch] shape = "cylinder"`` (``radius`` R) or ``"pad"`` (``radius`` the flat half-width b,
 ``edge_radius`` R of the rounds); ``[mesh] n`` elements along x over ``half_width`` and the
