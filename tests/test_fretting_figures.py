@@ -185,7 +185,8 @@ def test_plot_reads_a_real_fretting_results_file(tmp_path):
     assert run.returncode == 0, run.stdout + run.stderr
     results = tmp_path / "tiny_fretting.h5"
     assert figures.main([str(results), "--out", str(tmp_path / "figures")]) == 0
-    assert sorted(p.name for p in (tmp_path / "figures").glob("*.png")) == sorted(FIGURES)
+    sweeps = ["sweep_loading.amplitude.png", "sweep_loading.load.png"]  # the swept keys'
+    assert sorted(p.name for p in (tmp_path / "figures").glob("*.png")) == sorted(FIGURES + sweeps)
     study = read_results(results)
     for case in study.cases:
         assert sorted(read_loops(results, case.case_id)) == [1, 4]

@@ -80,6 +80,15 @@ def _present(rows: pd.DataFrame) -> list[SweepQuantity]:
     return present
 
 
+def _plotted(column: pd.Series, quantity: SweepQuantity) -> np.ndarray:
+    """The values drawn for ``quantity``: categories as their index on the axis (an unknown
+    category as a gap), numbers in the quantity's display unit."""
+    if quantity.categories:
+        index = {category: number for number, category in enumerate(quantity.categories)}
+        return np.array([index.get(value, np.nan) for value in column], dtype=float)
+    return pd.to_numeric(column, errors="coerce").to_numpy(float) * quantity.scale
+
+
 def _key_label(key: str) -> str:
     unit = column_unit(key)
     return f"{key} ({unit})" if unit else key
@@ -100,7 +109,7 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str):
     groups = list(_groups(rows, key, swept))
     for axis, quantity in zip(axes.flat, quantities, strict=False):
         for number, (label, group) in enumerate(groups):
-            data = pd.to_numeric(group[quantity.column], errors="coerce") * quantity.scale
+            data = _plotted(group[quantity.column], quantity)
             axis.plot(
                 group[key].astype(float), data, marker=_MARKERS[number % len(_MARKERS)],
                 ms=5, lw=1.4, color=f"C{number % 10}", label=label or "all cases",
@@ -108,7 +117,7 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str):
         if quantity.categories:
             axis.set_yticks(range(len(quantity.categories)), quantity.categories)
             axis.set_ylim(-0.5, len(quantity.categories) - 0.5)
-        if logarithmic:
+        if logarithmic and axis.has_data():
             axis.set_xscale("log")
         axis.set_xlabel(_key_label(key))
         axis.set_ylabel(quantity.label())

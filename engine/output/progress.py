@@ -84,6 +84,12 @@ def format_duration(seconds: float) -> str:
     return f"{hours} h {minutes:02d} min"
 
 
+def _remaining(seconds: float) -> str:
+    """An ETA while cases are still running or waiting: never "0 s" (work is left), but
+    "under 1 s" below a second."""
+    return "under 1 s" if seconds < 1.0 else format_duration(seconds)
+
+
 def _balanced_finish(free_at: list[float], work: float) -> float:
     """When ranks free at ``free_at`` (s from now, at least one) share ``work`` seconds of
     divisible work: the level T with sum over ranks of max(T - free_at_i, 0) = work
@@ -294,9 +300,9 @@ class ProgressReporter:
             return "ETA after the first completed case"
         overdue = len(self.overdue())
         if not overdue:
-            return f"ETA {format_duration(eta)}"
+            return f"ETA {_remaining(eta)}"
         past = f"{plural(overdue, 'case')} running past the estimate"
-        if eta > 0.0:
+        if eta >= 1.0:
             return f"ETA more than {format_duration(eta)} ({past})"
         return f"ETA unknown ({past})"
 

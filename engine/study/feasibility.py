@@ -26,11 +26,22 @@ def impossible_cases(config, plan) -> list[tuple[str, str]]:
 
     found = []
     for case in plan:
-        try:
-            check_force_bound(case, settings(config.for_case(case.settings)))
-        except ValueError as error:
-            found.append((case.case_id, str(error)))
+        for extra in _bracket_ends(config):
+            try:
+                check_force_bound(case, settings(config.for_case(case.settings + extra)))
+            except ValueError as error:
+                found.append((case.case_id, str(error)))
+                break
     return found
+
+
+def _bracket_ends(config) -> tuple[tuple[tuple[str, float], ...], ...]:
+    """The settings to add to a plan case: none, or for a threshold search each end of its
+    bracket (a search's steps lie between them, so both ends must be computable)."""
+    search = config.search
+    if search is None:
+        return ((),)
+    return (((search.parameter, search.low),), ((search.parameter, search.high),))
 
 
 def check_feasible(config, plan) -> None:

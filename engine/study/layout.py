@@ -57,12 +57,17 @@ def recorded_cycles(config: StudyConfig) -> list[int]:
 
 def plan_layout(config: StudyConfig, plan) -> dict[str, dict[str, DatasetShape]]:
     """case_id -> :func:`case_layout` of the case's configuration (shared between cases
-    with equal swept values)."""
+    with equal swept values). A search's combinations are laid out at the bracket's low end,
+    as the plan validates them (a step's layout depends on the swept keys, not on the searched
+    value)."""
     layouts: dict[tuple, dict[str, DatasetShape]] = {}
     result = {}
     for case in plan:
         if case.settings not in layouts:
-            layouts[case.settings] = case_layout(config.for_case(case.settings))
+            settings = case.settings
+            if config.search is not None and config.search.parameter not in dict(settings):
+                settings += ((config.search.parameter, config.search.low),)
+            layouts[case.settings] = case_layout(config.for_case(settings))
         result[case.case_id] = layouts[case.settings]
     return result
 
