@@ -149,6 +149,21 @@ class StudyResults:
     skipped: list[tuple[str, str]] = field(default_factory=list)
 
     @property
+    def kind(self):
+        """The study's loading kind (:data:`engine.study.kinds.KINDS`)."""
+        from engine.study.kinds import KINDS
+
+        return KINDS[self.config["loading"]["kind"]]
+
+    def kind_hook(self, name: str):
+        """The analysis function the loading kind names for ``name`` ("report",
+        "figures"): its ``"module:function"`` attribute, imported now."""
+        import importlib
+
+        module, _, function = getattr(self.kind, name).partition(":")
+        return getattr(importlib.import_module(module), function)
+
+    @property
     def is_cyclic(self) -> bool:
         """The radial cyclic kind (``kind = "cyclic"``); fretting studies: :attr:`is_fretting`."""
         return self.config["loading"]["kind"] == "cyclic"

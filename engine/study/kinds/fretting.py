@@ -59,6 +59,9 @@ class FrettingKind(CycledKind):
     increments_per_step = 4  # four quarter cycles
     history = (schema.FRETTING_HISTORY, schema.HISTORY)
     records = schema.FRETTING_RECORDS
+    report = "engine.analysis.fretting_report:fretting_report"
+    figures = "engine.analysis.fretting_figures:fretting_figures"
+    figures_per_case = True
 
     # ------------------------------------------------------------ configuration
     def parse(self, s, load, steps):
