@@ -84,9 +84,9 @@ def three_dimensional() -> dict:
 
 def two_dimensional(cycles: int) -> dict:
     from engine.fatigue.fields import CycleRecorder, LinePointStress
+    from engine.geometry import CylinderProfile
     from engine.grid import Grid
     from engine.kernels.line import line_operator
-    from engine.line_profiles import CylinderProfile
     from engine.material import MaterialPair
     from engine.solvers.contact import ContactSolver
     from engine.solvers.fretting import FrettingAnalysis, FrettingSettings

@@ -16,9 +16,9 @@ from __future__ import annotations
 import argparse
 import time
 
+from engine.geometry import CylinderProfile
 from engine.grid import Grid
 from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile
 from engine.material import MaterialPair
 from engine.solvers.contact import ContactSolver
 from engine.solvers.fretting import FrettingAnalysis, FrettingSettings

@@ -140,9 +140,9 @@ def test_line_solver_fields_agree_with_mcewen():
     1.4e-4) — and the point-method value (ℓ = 0.1a, exact points by direct sums) within 0.5 %
     of McEwen's at the same point."""
     from engine.fatigue.fields import CycleRecorder, LinePointStress, plane_history
+    from engine.geometry import CylinderProfile
     from engine.grid import Grid
     from engine.kernels.line import line_operator
-    from engine.line_profiles import CylinderProfile
     from engine.material import MaterialPair
     from engine.solvers.contact import ContactSolver
     from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, _tractions

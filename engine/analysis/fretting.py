@@ -84,7 +84,10 @@ def regime(case: CaseResults) -> str:
 
 
 def sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    if setting(study, case, "punch.shape") != "sphere":
+    """The sphere's radius R (mm) for the Hertz–Mindlin references, None for other shapes."""
+    from engine.geometry import PROFILES, SphericalPunch
+
+    if PROFILES.get(setting(study, case, "punch.shape")) is not SphericalPunch:
         return None
     return float(setting(study, case, "punch.radius"))
 

@@ -17,7 +17,6 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference.flat_punch import mean_pressure
 from engine.schema import CaseStatus, cycle_of_group
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
@@ -179,16 +178,24 @@ class StudyResults:
         return [key for key in self.config.get("sweep", {}) if "." in key]
 
     @property
-    def radius(self) -> float:
-        """a0 (mm): the punch radius (rounded: of the flat face); for a sphere, Hertz's
-        contact radius at the load (the summary's p0 uses the same a0)."""
-        punch = self.config["punch"]
-        if punch.get("shape") == "sphere":
-            from engine.reference.hertz import hertz_contact_radius
+    def profile(self):
+        """The punch profile (:data:`engine.geometry.PROFILES`) of the study."""
+        from engine.geometry import profile_for
 
-            modulus = self.material.contact_modulus
-            return hertz_contact_radius(self.load, float(punch["radius"]), modulus)
-        return float(punch["radius"])
+        punch = self.config["punch"]
+        edge_radius = punch.get("edge_radius")
+        return profile_for(
+            punch.get("shape", "flat"),
+            float(punch["radius"]),
+            None if edge_radius is None else float(edge_radius),
+        )
+
+    @property
+    def radius(self) -> float:
+        """a0 (mm), the profile's contact length at the load: the punch radius (rounded: of
+        the flat face); for a sphere, Hertz's contact radius; for a line contact the nominal
+        half-width (the summary's p0 uses the same a0)."""
+        return float(self.profile.contact_length(self.load, self.material.contact_modulus))
 
     @property
     def load(self) -> float:
@@ -197,8 +204,9 @@ class StudyResults:
 
     @property
     def p0(self) -> float:
-        """Mean pressure p0 = P/(π a0²) (MPa), Eq. (19)."""
-        return float(mean_pressure(self.load, self.radius))
+        """The summary's mean pressure p0 (MPa): P/(π a0²), Eq. (19); a line contact's
+        P/(2 a0)."""
+        return float(self.profile.mean_pressure(self.load, self.radius))
 
     @property
     def material(self) -> MaterialPair:

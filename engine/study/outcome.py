@@ -130,11 +130,7 @@ def nominal_mean_pressure(cfg: StudyConfig) -> float:
     the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
     contact radius (engine.reference.hertz); for a line contact P/(2 a0) with a0 the nominal
     half-width (engine.study.line_contact)."""
-    from engine.reference.flat_punch import mean_pressure
-
-    if cfg.punch.is_line:  # per unit length: P/(2 a0), a0 the nominal half-width
-        return cfg.loading.load / (2.0 * cfg.contact_length)
-    return mean_pressure(cfg.loading.load, cfg.contact_length)
+    return cfg.punch.profile().mean_pressure(cfg.loading.load, cfg.contact_length)
 
 
 def peak_tracker(stress, contact_length: float, angle: float = 0.0):
@@ -227,7 +223,6 @@ class CaseContext:
         contact touching the grid's border fails the case
         (engine.geometry.ContactReachesBorder) instead of being truncated."""
         from engine.geometry import may_reach_border
-        from engine.grid import Grid
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
@@ -235,11 +230,8 @@ class CaseContext:
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
-        if cfg.punch.is_line:  # plane strain: n elements along x, unit length along y
-            grid = Grid.line(cfg.mesh.n, cfg.mesh.half_width)
-        else:
-            grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
         punch = cfg.punch.profile()
+        grid = punch.grid(cfg.mesh.n, cfg.mesh.half_width)  # square, or a line contact's
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         operator = self.operators.operator(
