@@ -114,6 +114,7 @@ def test_a_fretting_loop_has_its_columns_as_a_coordinate(fretting):
     results = engine.open_results(fretting)
     case = results.completed[0]
     assert case.parameters["alpha"] == 5e-6 and case.parameters["wear1"] == 0.0
+    assert case.parameter_units["alpha"] == "mm^3/J"
     loop = case.fields[2]["loop"]
     assert loop.dims == ("loop_row", "loop_column") and loop.units == "mm, mm, N, N"
     dataset = case.fields.to_xarray()

@@ -34,7 +34,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CaseStatus, cycle_of_group
+from engine.schema import CaseStatus, cycle_of_group, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
@@ -279,12 +279,16 @@ class ResultCase:
             summary = attrs.get("summary")
             self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
             units = attrs.get("parameter_units")
-            self.parameter_units: dict[str, str] = json.loads(units) if units is not None else {}
+            stored = json.loads(units) if units is not None else {}
             names = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
             self.parameters: dict[str, Any] = {
                 key: attrs[key].item() if hasattr(attrs[key], "item") else attrs[key]
                 for key in attrs
                 if key in names or "." in key
+            }
+            # the units table of the schema for a parameter the file left without its unit
+            self.parameter_units: dict[str, str] = {
+                key: stored.get(key) or unit_of(key) for key in self.parameters
             }
 
     def _group(self):

@@ -327,9 +327,9 @@ def history_datasets(
     return datasets
 
 
-def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak load of"):
+def recorded_datasets(records, stress, angle: float = 0.0, at: str = "peak load"):
     """The surface fields (``fields/cycle_N/``) and the stress plane through the axis at
-    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``moment`` names
+    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``at`` names
     the instant of the fields in their descriptions."""
     from engine.schema import cycle_group
 
@@ -337,11 +337,8 @@ def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak l
     for cycle in sorted(records):
         fields, group = records[cycle], cycle_group(cycle)
         for name, values in fields.items():
-            spec = field_dataset(name, group)
-            description = spec.description.replace("peak load of", moment)
-            datasets[case_group_path("fields", group, name)] = DatasetRecord(
-                np.asarray(values), spec.units, description
-            )
+            path = case_group_path("fields", group, name)
+            datasets[path] = field_dataset(name, group, at).record(np.asarray(values))
         plane = stress.plane(
             fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
         )

@@ -12,36 +12,15 @@ from pathlib import Path
 from typing import Any
 
 from engine.geometry import PROFILES, Profile, profile_for
+from engine.schema import SWEPT_KEY_UNITS
 
 PROPORTIONAL = "proportional"
 
 PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFILES)
 
-# Scalars that [sweep] accepts under their dotted key, with their units (summary columns).
-SWEEPABLE = {
-    "material.E_A": "MPa",
-    "material.nu_A": "1",
-    "material.E_B": "MPa",
-    "material.nu_B": "1",
-    "punch.radius": "mm",
-    "punch.edge_radius": "mm",
-    "mesh.n": "1",
-    "mesh.half_width": "mm",
-    "mesh.reference_distance": "mm",
-    "loading.load": "N",
-    "loading.steps": "1",
-    "loading.cycles": "1",
-    "loading.max_wear_fraction": "1",
-    "loading.amplitude": "mm",
-    "loading.force_amplitude": "N",
-    "loading.direction": "degree",
-    "loading.bulk_stress_max": "MPa",
-    "loading.bulk_stress_min": "MPa",
-    "subsurface.depth": "punch radii",
-    "subsurface.layers": "1",
-    "solver.tol": "1",
-    "solver.maxiter": "1",
-}
+# Scalars that [sweep] accepts under their dotted key, with their units (summary columns):
+# the results schema's table.
+SWEEPABLE = SWEPT_KEY_UNITS
 
 
 class StudyConfigError(ValueError):

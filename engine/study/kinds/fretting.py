@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from typing import Any
 
 from engine import schema
@@ -46,7 +45,6 @@ from .base import CycledKind, parse_cycles
 #: [loading] keys of the tangential signal, and a line contact's bulk stresses (MPa).
 FRETTING_KEYS = frozenset({"amplitude", "force_amplitude", "direction"})
 BULK_STRESS_KEYS = frozenset({"bulk_stress_max", "bulk_stress_min"})
-_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
 
 
 class FrettingKind(CycledKind):
@@ -174,7 +172,7 @@ class FrettingKind(CycledKind):
         records = {cycle: dict(fields) for cycle, fields in result.records.items()}
         for cycle, fields in records.items():  # the loop and vm_cycle leave ``fields``
             datasets.update(self._record_datasets(fields, cycle))
-        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q| of"))
+        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q|"))
         datasets.update(outcome.final_fields(final))
         row = outcome.final_row(case, config, final, stress, depths, datasets, angle)
         row.update(outcome.peak_row(tracker, final, result.history))
@@ -205,15 +203,10 @@ def plane_angle(config) -> float:
 def label_plane(datasets: dict, angle: float) -> None:
     """In place, for φ = ``angle`` ≠ 0 (degrees): the plane's datasets (``subsurface/*``, the
     σ_VM peaks of ``history/`` and ``vm_cycle``) say which plane they are on, in their
-    description and in the attribute ``plane_angle`` (degrees from x). Nothing changes at
-    φ = 0, so x–z results stay as they were."""
-    if angle == 0.0:
-        return
-    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    description (:func:`engine.schema.on_plane`) and in the attribute ``plane_angle``
+    (degrees from x). Nothing changes at φ = 0, so x–z results stay as they were."""
     for path, record in datasets.items():
-        description = _XZ_PLANE.sub(plane, record.description)
-        if path.startswith("subsurface/"):
-            description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+        description = schema.on_plane(record.description, angle, path.startswith("subsurface/"))
         if description != record.description:
             record.description = description
             record.attrs["plane_angle"] = angle
