@@ -63,13 +63,13 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
+from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
 
 __all__ = ["plot_study", "main", "VM_LEVEL_MAX", "von_mises_levels", "study_figures"]
 
-VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
 DPI = 95
 MIN_FONT_SIZE = 9.0  # points
 MAX_WIDTH_PX = 1600
@@ -272,19 +272,6 @@ def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns
     for axis in axes.flat[count:]:
         axis.set_visible(False)
     return figure, list(axes.flat[:count])
-
-
-def von_mises_levels(top: float, linear_top: float = VM_LEVEL_MAX, steps: int = 20) -> np.ndarray:
-    """Contour levels of σ_VM/p0: ``steps`` equal steps up to ``linear_top`` (0.1 apart by
-    default), then geometric (four per doubling) up to ``top`` (the largest peak to show), the
-    last level just above it, so that every marked peak lies inside the colour scale."""
-    levels = np.linspace(0.0, linear_top, steps + 1)
-    if not np.isfinite(top) or top <= linear_top:
-        return levels
-    count = max(int(np.ceil(4.0 * np.log2(top / linear_top))), 1)
-    above = linear_top * (top / linear_top) ** (np.arange(1, count + 1) / count)
-    above[-1] = np.nextafter(top, np.inf)
-    return np.concatenate([levels, above])
 
 
 def _von_mises_peaks(study: StudyResults, plane) -> list[tuple[str, str, tuple]]:
