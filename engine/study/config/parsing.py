@@ -375,12 +375,16 @@ def _parse_punch(s: Section) -> PunchConfig:
     shape = s.string("shape", "flat")
     if shape not in PUNCH_SHAPES:
         raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PUNCH_SHAPES))
-    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
     edge_radius = None
-    if shape == "rounded":
-        edge_radius = s.number("edge_radius", minimum=0.0, unit="mm")
-    elif shape == "pad":
-        edge_radius = s.number("edge_radius", minimum=0.0, strict=True, unit="mm")
+    if shape in ("rounded", "pad"):
+        edge_radius = s.number(
+            "edge_radius",
+            minimum=0.0,
+            strict=shape == "pad",
+            unit="mm",
+            **bound("punch.edge_radius"),
+        )
     elif "edge_radius" in s.table:
         raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded" or "pad"')
     return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
@@ -395,7 +399,7 @@ def _parse_mesh(
     if punch.is_line:
         return _parse_line_mesh(s, punch, material, loading)
     s.check_known({"n", "half_width"})
-    n = s.integer("n", minimum=8)
+    n = s.integer("n", minimum=8, **bound("mesh.n"))
     if punch.shape == "sphere":
         from engine.reference.hertz import hertz_contact_radius
 
@@ -409,9 +413,16 @@ def _parse_mesh(
         raise s.error(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
-    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    half_width = s.number(
+        "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
+    )
     if n * contact / half_width < 4:
-        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
+        raise s.error(
+            "n",
+            n,
+            f"fewer than 4 elements across the {what} ({contact:.6g} mm) on a grid of "
+            f"half-width {half_width:.6g} mm; increase n",
+        )
     return MeshConfig(n=n, half_width=half_width)
 
 
@@ -432,16 +443,29 @@ def _parse_line_mesh(
     from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
     s.check_known({"n", "half_width", "reference_distance"})
-    n = s.integer("n", minimum=8)
+    n = s.integer("n", minimum=8, **bound("mesh.n"))
     contact = line_half_width(punch, material, loading.load)
-    half_width = s.number("half_width", HERTZ_MARGIN * contact, minimum=0.0, strict=True)
+    half_width = s.number(
+        "half_width",
+        HERTZ_MARGIN * contact,
+        minimum=0.0,
+        strict=True,
+        unit="mm",
+        **bound("mesh.half_width"),
+    )
     if half_width < contact:
         raise s.error(
             "half_width", half_width, f"must be >= {contact:.6g} mm (the contact half-width)"
         )
     if n * contact / half_width < 4:
         raise s.error("n", n, "fewer than 4 elements across the contact half-width; increase n")
-    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    distance = s.number(
+        "reference_distance",
+        DEFAULT_REFERENCE_DISTANCE,
+        minimum=0.0,
+        unit="mm",
+        **bound("mesh.reference_distance"),
+    )
     if distance < 2.0 * half_width:
         raise s.error(
             "reference_distance",
@@ -526,13 +550,19 @@ def _parse_fretting(s: Section, loading: LoadingConfig) -> LoadingConfig:
             "and force_amplitude (N, force control)",
         )
     unit = "mm" if given[0] == "amplitude" else "N"
-    value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
+    limit = bound("loading.amplitude") if given[0] == "amplitude" else {}
+    value = s.number(given[0], minimum=0.0, strict=True, unit=unit, **limit)
     if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
         raise s.error(given[0], value, "must be below the friction bound μP (N)")
     direction = s.number("direction", 0.0, unit="degrees")
     if not -360.0 <= direction <= 360.0:
         raise s.error("direction", direction, "must lie in [-360, 360] degrees")
-    bulk = {key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table}
+    bulk_limit = bound("loading.bulk_stress")
+    bulk = {
+        key: s.number(key, unit="MPa", minimum=-bulk_limit["maximum"], **bulk_limit)
+        for key in sorted(BULK_STRESS_KEYS)
+        if key in s.table
+    }
     if bulk:
         bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
     return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
@@ -547,7 +577,9 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
         raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
-        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+        limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
+        unit = "mm³/J" if law == "energy" else "1/MPa"
+        pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
 
 
