@@ -369,11 +369,17 @@ def _parse_punch(s: Section) -> PunchConfig:
     shape = s.string("shape", "flat")
     if shape not in PROFILES:
         raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PROFILES))
-    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
     rule = PROFILES[shape].edge_radius_rule  # None, ">= 0" or "> 0"
     edge_radius = None
     if rule is not None:
-        edge_radius = s.number("edge_radius", minimum=0.0, strict=rule == "> 0", unit="mm")
+        edge_radius = s.number(
+            "edge_radius",
+            minimum=0.0,
+            strict=rule == "> 0",
+            unit="mm",
+            **bound("punch.edge_radius"),
+        )
     elif "edge_radius" in s.table:
         shapes = [f'"{name}"' for name, profile in PROFILES.items() if profile.edge_radius_rule]
         value = s.table["edge_radius"]
@@ -393,7 +399,7 @@ def _parse_mesh(
     (engine.geometry)."""
     profile = punch.profile()
     s.check_known({"n", "half_width"} | ({"reference_distance"} if profile.is_line else set()))
-    n = s.integer("n", minimum=8)
+    n = s.integer("n", minimum=8, **bound("mesh.n"))
     modulus = contact_modulus(material)
     contact = profile.contact_length(loading.load, modulus)
     what = profile.covered
@@ -402,14 +408,27 @@ def _parse_mesh(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
     default = profile.default_half_width(loading.load, modulus)
-    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    half_width = s.number(
+        "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
+    )
     if n * contact / half_width < 4:
-        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
+        raise s.error(
+            "n",
+            n,
+            f"fewer than 4 elements across the {what} ({contact:.6g} mm) on a grid of "
+            f"half-width {half_width:.6g} mm; increase n",
+        )
     if not profile.is_line:
         return MeshConfig(n=n, half_width=half_width)
     from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
-    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    distance = s.number(
+        "reference_distance",
+        DEFAULT_REFERENCE_DISTANCE,
+        minimum=0.0,
+        unit="mm",
+        **bound("mesh.reference_distance"),
+    )
     if distance < 2.0 * half_width:
         raise s.error(
             "reference_distance",
@@ -475,7 +494,9 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
         raise s.error("law", law, f"a wear law needs kind = {with_wear}")
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
-        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+        limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
+        unit = "mm³/J" if law == "energy" else "1/MPa"
+        pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
 
 

@@ -36,7 +36,7 @@ from typing import Any
 from engine import schema
 from engine.schema import cycle_group
 from engine.study import outcome
-from engine.study.config.checks import MAX_FRICTION
+from engine.study.config.checks import MAX_FRICTION, bound
 from engine.study.config.sections import MISSING
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
 
@@ -78,14 +78,18 @@ class FrettingKind(CycledKind):
                 "and force_amplitude (N, force control)",
             )
         unit = "mm" if given[0] == "amplitude" else "N"
-        value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
+        limit = bound("loading.amplitude") if given[0] == "amplitude" else {}
+        value = s.number(given[0], minimum=0.0, strict=True, unit=unit, **limit)
         if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
             raise s.error(given[0], value, "must be below the friction bound μP (N)")
         direction = s.number("direction", 0.0, unit="degrees")
         if not -360.0 <= direction <= 360.0:
             raise s.error("direction", direction, "must lie in [-360, 360] degrees")
+        bulk_limit = bound("loading.bulk_stress")
         bulk = {
-            key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table
+            key: s.number(key, unit="MPa", minimum=-bulk_limit["maximum"], **bulk_limit)
+            for key in sorted(BULK_STRESS_KEYS)
+            if key in s.table
         }
         if bulk:
             bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
