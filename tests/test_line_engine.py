@@ -35,8 +35,9 @@ def _environment() -> dict[str, str]:
 
 
 def _engine(folder: Path, *args: str) -> subprocess.CompletedProcess:
+    quiet = () if args[0] == "plot" else ("--progress-interval", "0")
     return subprocess.run(
-        [sys.executable, "-m", "engine", *args, "--progress-interval", "0"],
+        [sys.executable, "-m", "engine", *args, *quiet],
         cwd=folder, env=_environment(), capture_output=True, text=True, timeout=300,
     )  # fmt: skip
 
@@ -104,7 +105,8 @@ def test_fretting_line_studies_both_controls_and_wear_laws(tmp_path):
     """Displacement control under the energy law (V = α ΣE_d: 1 %, the loops drift as the
     surfaces wear between jumps; 7e-5 measured), and force control under Archard's law with
     an in-phase bulk stress and the pad wearing too (pad depth = k_pad/k_flat × flat depth,
-    exact): the loops, the scar columns, the slip regime against the cylinder's δ_slip.
+    exact): the loops, the scar columns, the slip regime against the cylinder's δ_slip, and
+    the figures ``python -m engine plot`` draws.
     (With a bulk stress the loop area ∮Q dδ is not the whole frictional dissipation: the
     bulk strain makes the surfaces slip too; docs/explanation/line-contact.md.)"""
     common = {"kind": "fretting", "load": LOAD, "steps": 3, "cycles": 300, "record": [1, 300]}
@@ -137,6 +139,11 @@ def test_fretting_line_studies_both_controls_and_wear_laws(tmp_path):
             assert float(row["wear_volume"]) == pytest.approx(2e-5 * 1e-3 * dissipated, rel=1e-2)
             assert case["fields/cycle_0000300/loop"].shape[1] == 4
             _plane_strain(case, "final")
+    # The fretting figures of a line contact: map (with the cylinder's δ_slip), loops, wear
+    plot = _engine(tmp_path, "plot", "energy.h5", "--out", "figures")
+    assert plot.returncode == 0, plot.stdout + plot.stderr
+    for name in ("fretting_map.png", "fretting_loops.png", "wear_energy.png"):
+        assert (tmp_path / "figures" / name).stat().st_size > 10_000, name
     ((case_id, row),) = _rows(tmp_path, "force").items()
     assert float(row["q_amplitude"]) == pytest.approx(50.0, rel=2 * FORCE_TOL)
     with h5py.File(tmp_path / "force.h5") as results:
