@@ -156,26 +156,42 @@ def _map_panel(axis, cases: Sequence[FrettingCase], load_unit: str, legend: bool
 def _map_per_friction(cases, boundaries, title, frictions, load_unit, boundary_label):
     """One map panel per friction coefficient (a study sweeping μ too), each with its own
     boundary: the cases of different μ would otherwise hide one another."""
-    columns = min(3, len(frictions))
-    rows = -(-len(frictions) // columns)
-    figure, axes = plt.subplots(
-        rows, columns, figsize=(5.2 * columns, 4.2 * rows), squeeze=False, layout="constrained"
-    )
-    for axis in axes.flat[len(frictions) :]:
-        axis.set_visible(False)
-    for axis, mu in zip(axes.flat, frictions, strict=False):
+    figure, axes = _panels(len(frictions), 5.2, 4.2)
+    for axis, mu in zip(axes, frictions, strict=True):
         if mu in boundaries:
             slip, loads = boundaries[mu]
             axis.plot(np.asarray(slip) * MICRONS_PER_MM, loads, "k-", lw=1.4, label=boundary_label)
         _map_panel(axis, [case for case in cases if case.friction == mu], load_unit, False)
         axis.set_title(f"μ = {mu:g}")
-    entries: dict[str, object] = {}  # one legend for all panels, below them
-    for axis in axes.flat[: len(frictions)]:
-        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
-            entries.setdefault(label, handle)
-    figure.legend(list(entries.values()), list(entries), loc="outside lower center", ncol=4)
+    _legend_below(figure, axes)
     figure.suptitle(title)
     return figure
+
+
+def _panels(count: int, width: float, height: float):
+    """A figure of ``count`` panels, up to three per row (the rest hidden); the panels."""
+    columns = min(3, max(count, 1))
+    rows = -(-count // columns)
+    figure, axes = plt.subplots(
+        rows, columns, figsize=(width * columns, height * rows), squeeze=False,
+        layout="constrained",
+    )  # fmt: skip
+    for axis in axes.flat[count:]:
+        axis.set_visible(False)
+    return figure, list(axes.flat[:count])
+
+
+def _legend_below(figure, axes) -> None:
+    """One legend for all panels, below them (each label once)."""
+    entries: dict[str, object] = {}
+    for axis in axes:
+        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    if entries:
+        figure.legend(
+            list(entries.values()), list(entries), loc="outside lower center",
+            ncol=min(len(entries), 5),
+        )  # fmt: skip
 
 
 def _grey(mu: float, boundaries: dict) -> str:
@@ -232,14 +248,8 @@ def _round_ticks(values) -> list[float]:
 def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str = "N"):
     """Q–δ loops (δ in µm, Q in ``force_unit``), one panel per case, one colour per
     recorded cycle."""
-    columns = min(3, max(len(panels), 1))
-    rows = -(-len(panels) // columns)
-    figure, axes = plt.subplots(
-        rows, columns, figsize=(4.6 * columns, 3.7 * rows), squeeze=False, layout="constrained"
-    )
-    for axis in axes.flat[len(panels) :]:
-        axis.set_visible(False)
-    for axis, panel in zip(axes.flat, panels, strict=False):
+    figure, axes = _panels(len(panels), 4.6, 3.7)
+    for axis, panel in zip(axes, panels, strict=True):
         for number, (cycle, (delta, force)) in enumerate(sorted(panel.loops.items())):
             axis.plot(
                 np.asarray(delta) * MICRONS_PER_MM, force, "-", lw=1.5, color=f"C{number % 10}",
@@ -257,15 +267,7 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str
         axis.set_ylabel(f"tangential force Q ({force_unit})")
         axis.set_title(panel.title)
         axis.grid(alpha=0.3)
-    entries: dict[str, object] = {}  # one legend for all panels, below them (loops fill
-    for axis in axes.flat[: len(panels)]:  # the corners of a gross-slip panel)
-        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
-            entries.setdefault(label, handle)
-    if entries:
-        figure.legend(
-            list(entries.values()), list(entries), loc="outside lower center",
-            ncol=min(len(entries), 5),
-        )  # fmt: skip
+    _legend_below(figure, axes)  # loops fill the corners of a gross-slip panel
     figure.suptitle(title)
     return figure
 
