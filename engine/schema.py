@@ -457,7 +457,7 @@ COLUMN_UNITS = {
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": ALPHA_UNITS, "vm_deep_max_y": "mm",
-    # line contacts with wear only (engine.solvers.scar)
+    # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
@@ -533,10 +533,12 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
     "alpha": "energy wear law: the dissipated-energy wear coefficient",
-    "scar_depth": "line contacts: largest wear depth of the flat",
+    "scar_depth": "largest wear depth of the flat (line contacts with wear; 3-D punches with "
+    "`[wear] pad_coefficient`)",
     "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
     "scar_area": "line contacts: worn area of the flat per unit length, Σ h Δx",
-    "pad_wear_depth": "line contacts: largest wear depth of the pad",
+    "pad_wear_depth": "largest wear depth of the pad or punch (line contacts with wear; 3-D "
+    "punches with `[wear] pad_coefficient`)",
 }
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

@@ -216,6 +216,8 @@ class StudyResults:
     @property
     def mesh_label(self) -> str:
         n = self.config["mesh"]["n"]
+        if self.config.get("punch", {}).get("shape") in ("cylinder", "pad"):
+            return f"{n} elements along x"  # a line contact (plane strain)
         return f"{n}×{n} mesh"
 
     @property

@@ -439,13 +439,12 @@ def _parse_mesh(
 
 
 def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
-    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    """The keys of line contacts only (the bulk stress) name themselves elsewhere."""
     if punch.is_line:
         return
     for key, value in (
         ("loading.bulk_stress_max", loading.bulk_stress_max),
         ("loading.bulk_stress_min", loading.bulk_stress_min),
-        ("wear.pad_coefficient", wear.pad_coefficient),
     ):
         if value is not None:
             raise StudyConfigError(
