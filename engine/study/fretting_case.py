@@ -18,6 +18,11 @@ x–z plane at 0°; at φ ≠ 0 its datasets carry the attribute ``plane_angle``
 so in their description, and the history and summary gain the y of the tracked peaks
 (``vm_max_y``, ``vm_sub_max_y``, ``vm_deep_max_y``; summary ``vm_deep_max_y``).
 
+With a ``[fatigue]`` section, the criteria are evaluated on the increments of every recorded
+cycle (of every simulated cycle with ``every_cycle``) on the same plane
+(``engine.study.fatigue``): datasets ``fatigue/cycle_NNNNNNN/*``, ``history/<column>`` with
+``every_cycle``, and the criteria's summary columns (``crossland_risk`` …).
+
 The recorded surface fields of a fretting cycle are those of its increment of largest |Q|.
 Summary columns: ``q_amplitude`` (N), ``displacement_amplitude`` (mm), ``energy_per_cycle``
 (mJ), ``slip_regime`` ("partial" | "gross") of the last simulated cycle, and ``vm_cycle_max``
@@ -46,6 +51,7 @@ class FrettingRun:
     result: Any
     tracker: Any
     message: str
+    fatigue: Any = None  # engine.study.fatigue.FatigueAnalysis with [fatigue], else None
 
 
 def plane_angle(cfg) -> float:
@@ -112,15 +118,19 @@ def check_force_bound(case, fretting: FrettingSettings) -> None:
 def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> FrettingRun:
     """Run (or resume from ``checkpoint``) a fretting case; save the state when stopped."""
     from .case import case_wear_law, peak_tracker
-    from .checkpoint import load_fretting_state, save_fretting_state
+    from .checkpoint import load_extra, load_fretting_state, save_fretting_state
 
     fretting = settings(cfg)
     check_force_bound(case, fretting)
     angle = math.radians(plane_angle(cfg))  # the plane contains the sliding direction
     tracker = peak_tracker(stress, cfg.contact_length, angle)
+    fatigue = _fatigue(cfg, stress, solver.grid, angle)
 
     def increment_probe(pressure, traction_x, traction_y):
-        peak = stress.plane(pressure, traction_x, traction_y, angle=angle).peak()
+        plane = stress.plane(pressure, traction_x, traction_y, angle=angle)
+        if fatigue is not None:  # the criteria read the same planes
+            fatigue.increment_probe(pressure, traction_x, traction_y, plane)
+        peak = plane.peak()
         return (peak.value, peak.x, peak.y, peak.z)
 
     analysis = FrettingAnalysis(
@@ -131,17 +141,67 @@ def run(case, cfg, solver, stress, checkpoint: Path, should_stop, on_cycle) -> F
         increment_probe=increment_probe,
     )
     if fretting.has_bulk_stress:  # the probes see the σ_B of the increment they evaluate
-        analysis.bulk_stress_listener = lambda value: setattr(stress, "bulk_stress", value)
+
+        def listener(value):
+            stress.bulk_stress = value
+            if fatigue is not None:
+                fatigue.set_bulk_stress(value)
+
+        analysis.bulk_stress_listener = listener
     state = load_fretting_state(checkpoint) if checkpoint.exists() else None
+    if fatigue is not None:
+        analysis.probe_every_cycle = cfg.fatigue.every_cycle
+        if state is not None:
+            fatigue.restore(load_extra(checkpoint))
+        on_cycle = _both(fatigue.on_cycle, on_cycle)
     result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
     if fretting.has_bulk_stress:  # the stored planes: σ_B of the last cycle's peak
         stress.bulk_stress = analysis.peak_bulk_stress
     message = result.message
     if not result.completed:
         checkpoint.parent.mkdir(parents=True, exist_ok=True)
-        save_fretting_state(result.state, checkpoint)  # atomic (temporary file + rename)
+        extra = None if fatigue is None else fatigue.arrays()
+        save_fretting_state(result.state, checkpoint, extra)  # atomic (temporary + rename)
         message = f"stopped at cycle {result.state.cycle}; state saved to {checkpoint}"
-    return FrettingRun(result, tracker, message)
+    return FrettingRun(result, tracker, message, fatigue)
+
+
+def _fatigue(cfg, stress, grid, angle: float):
+    """The case's fatigue analysis (``[fatigue]``; None without): the flat's E and ν, the
+    case's plane, its recorded cycles."""
+    if cfg.fatigue is None:
+        return None
+    from .fatigue import FatigueAnalysis
+
+    recorded = set(cfg.loading.record) | {cfg.loading.cycles}
+    return FatigueAnalysis(
+        cfg.fatigue, stress, grid, cfg.material.E_A, cfg.material.nu_A, angle, recorded
+    )
+
+
+def _both(first, second):
+    """``on_cycle`` calling ``first`` then ``second`` (None: only ``first``)."""
+    if second is None:
+        return first
+
+    def on_cycle(cycle, cycles):
+        first(cycle, cycles)
+        second(cycle, cycles)
+
+    return on_cycle
+
+
+def fatigue_outputs(run: FrettingRun, history) -> tuple[dict, dict]:
+    """(datasets, summary columns) of a case's fatigue analysis: ``fatigue/cycle_N/*`` of
+    every recorded cycle and, with ``every_cycle``, ``history/<column>``; nothing without
+    ``[fatigue]``."""
+    fatigue = run.fatigue
+    if fatigue is None:
+        return {}, {}
+    datasets = fatigue.datasets()
+    if fatigue.config.every_cycle:
+        datasets.update(fatigue.history_datasets(history["cycle"]))
+    return datasets, fatigue.summary_row()
 
 
 def record_datasets(fields: dict, group: str, cycle: int) -> dict:

@@ -40,6 +40,21 @@ SWEEPABLE = {
     "subsurface.layers": "1",
     "solver.tol": "1",
     "solver.maxiter": "1",
+    # [fatigue]: every constant of the bundled criteria and the critical distance
+    # (engine.study.fatigue.fatigue_sweepable; tests/test_fatigue_study.py checks the two)
+    "fatigue.sigma_d": "MPa",
+    "fatigue.tau_d": "MPa",
+    "fatigue.sigma_f": "MPa",
+    "fatigue.b": "1",
+    "fatigue.eps_f": "1",
+    "fatigue.c": "1",
+    "fatigue.tau_f": "MPa",
+    "fatigue.gamma_f": "1",
+    "fatigue.b0": "1",
+    "fatigue.c0": "1",
+    "fatigue.k": "1",
+    "fatigue.sigma_y": "MPa",
+    "fatigue.length": "mm",
 }
 
 
