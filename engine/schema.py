@@ -307,7 +307,7 @@ FATIGUE_CRITERIA = {
     "swt": ("MPa", "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane", True, True),
     "fs": ("1", "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane", True, True),
 }
-FATIGUE_HOT_SPOT_COLUMNS = ("value", "x", "z", "angle", "life", "critical")
+FATIGUE_HOT_SPOT_COLUMNS = ("value", "x", "z", "angle", "life", "critical", "critical_x")
 
 
 def fatigue_specs(column: str, unit: str, what: str, angle: bool, life: bool):
@@ -343,9 +343,10 @@ def fatigue_maps(column: str, unit: str, what: str, angle: bool, life: bool, cyc
     if life:
         specs[f"{column}_life"] = DatasetSpec("1", f"cycles to crack nucleation, {column}, {where}")
     specs[f"{column}_hot_spot"] = DatasetSpec(
-        f"{unit}, mm, mm, degree, 1, {unit}",
+        f"{unit}, mm, mm, degree, 1, {unit}, mm",
         f"{column} hot spot of cycle {cycle}: value, x, z, critical-plane angle (NaN: none), "
-        "life (NaN: none), and the value at the critical distance",
+        "life (NaN: none); the value at the critical distance and the x of the surface hot "
+        "spot it is read below",
         ", ".join(FATIGUE_HOT_SPOT_COLUMNS),
     )
     return specs

@@ -248,6 +248,12 @@ class FatigueAnalysis:
     def columns(self) -> list[str]:
         return fatigue_columns(self.config)
 
+    @property
+    def _row_keys(self) -> list[str]:
+        """The summary columns and, per criterion, the x of the surface hot spot below which
+        the critical distance is read (``<column>_critical_x``, in the hot-spot datasets)."""
+        return self.columns + [f"{c.column}_critical_x" for c in self.criteria]
+
     def set_bulk_stress(self, value: float) -> None:
         self.recorder.set_bulk_stress(value)
 
@@ -282,6 +288,7 @@ class FatigueAnalysis:
         maps: dict[str, np.ndarray] = {}
         for assessment in assessments:
             row.update(assessment.summary())
+            row[f"{assessment.column}_critical_x"] = assessment.surface.x
             if cycle in self.recorded:
                 column, field_ = assessment.column, assessment.field
                 maps[column] = assessment.map
@@ -304,7 +311,7 @@ class FatigueAnalysis:
         recorded = [c for c in self.cycles if c.cycle in self.recorded]
         if not recorded:
             return {column: math.nan for column in self.columns}
-        return dict(recorded[-1].row)
+        return {column: recorded[-1].row[column] for column in self.columns}
 
     def history(self) -> dict[str, np.ndarray]:
         """Per evaluated cycle: ``cycle`` and every summary column (arrays)."""
@@ -361,8 +368,8 @@ class FatigueAnalysis:
         arrays = {
             "fatigue_cycles": np.array([c.cycle for c in self.cycles], dtype=np.int64),
             "fatigue_rows": np.array(
-                [[c.row[k] for k in self.columns] for c in self.cycles], dtype=float
-            ).reshape(len(self.cycles), len(self.columns)),
+                [[c.row[k] for k in self._row_keys] for c in self.cycles], dtype=float
+            ).reshape(len(self.cycles), len(self._row_keys)),
         }
         for result in self.cycles:
             for name, values in result.maps.items():
@@ -382,7 +389,7 @@ class FatigueAnalysis:
                 for name in arrays
                 if name.startswith(prefix)
             }
-            row = {k: float(v) for k, v in zip(self.columns, rows[index], strict=True)}
+            row = {k: float(v) for k, v in zip(self._row_keys, rows[index], strict=True)}
             self.cycles.append(FatigueCycle(int(cycle), row, maps))
 
 
