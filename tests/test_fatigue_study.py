@@ -244,3 +244,38 @@ def test_a_sphere_fretting_case_evaluates_its_sliding_plane(tmp_path):
     assert 0.0 < row["crossland_risk_critical"] < row["crossland_risk"]
     assert math.isfinite(row["fs"]) and 0.0 <= row["fs_angle"] < 180.0
     assert "history/crossland_risk" not in outcome.datasets  # every_cycle is off
+
+
+def test_report_and_figures_say_whether_and_where_a_crack_is_predicted(tmp_path):
+    """Through the results file: the report's fatigue table has a row per case and criterion
+    whose verdict follows the stored critical values (Crossland: risk ≥ 1; SWT: the life of
+    its critical value within the simulated cycles, recomputed from the constants), and the
+    facts name the cracking criteria and the place; ``plot`` draws the maps and the hot-spot
+    history besides the fretting figures, and the crack boundary on the fretting map."""
+    import engine
+    from engine.analysis.fatigue import case_verdicts
+    from engine.analysis.figures import plot_study
+    from engine.analysis.reader import read_results
+    from engine.analysis.report import study_report
+    from engine.fatigue import Elasticity, SmithWatsonTopper
+
+    config = _line_config(tmp_path, SWEPT_SIGMA_D)
+    run = engine.run_study(config, progress=False)
+    assert run.status == "completed", run
+    study = read_results(tmp_path / "fatigue.h5")
+    report = study_report(study)
+    swt = SmithWatsonTopper(
+        {k: TABLE[k] for k in ("sigma_f", "b", "eps_f", "c")}, Elasticity(2e5, 0.3)
+    )
+    for case in study.cases:
+        verdicts = {v.name: v for v in case_verdicts(study, case)}
+        crossland, smith = verdicts["crossland"], verdicts["swt"]
+        assert crossland.critical == case.summary["crossland_risk_critical"]
+        assert crossland.crack == (case.summary["crossland_risk_critical"] >= 1.0)
+        life = float(swt.life(np.array([case.summary["swt_critical"]]))[0])
+        assert smith.critical_life == life and smith.crack == (life <= 12)
+        assert f"| {case.label} | 12 | crossland |" in report
+        if crossland.crack:
+            assert f"{case.label}: crack predicted by crossland" in report
+    names = [path.name for path in plot_study(study, tmp_path / "figures")]
+    assert {"fretting_map.png", "fatigue_maps.png", "fatigue_history.png"} <= set(names)
