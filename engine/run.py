@@ -742,24 +742,8 @@ def _loading_description(config, plan) -> str:
         key = f"loading.{name}"
         return _range_text(_values(plan, key) if key in swept else [first], unit, form)
 
-    loading, swept = config.loading, set(config.sweep.swept_keys)
-    cycles = f"{value('cycles', loading.cycles, '', ',')} cycles"
-    what = (
-        f"cyclic, P = {value('load', loading.load, 'N')}, {cycles}"
-        if config.is_cyclic
-        else f"static, P = {value('load', loading.load, 'N')}"
-    )
-    if config.is_fretting:
-        control = (
-            f"displacement control, amplitude {value('amplitude', loading.amplitude, 'mm')}"
-            if loading.amplitude is not None
-            else "force control, force_amplitude "
-            + value("force_amplitude", loading.force_amplitude, "N")
-        )
-        what = (
-            f"fretting, P = {value('load', loading.load, 'N')} held, {control} along "
-            f"{value('direction', loading.direction or 0.0, '')}° from x, {cycles}"
-        )
+    swept = set(config.sweep.swept_keys)
+    what = config.kind.describe(config, value)
     ranges = [
         f"{key} = {_range_text(values, column_unit(key))}"
         for key in (*_PARAMETERS, *config.sweep.swept_keys)

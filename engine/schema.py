@@ -79,6 +79,8 @@ __all__ = [
     "TEXT_COLUMNS",
     "CYCLE_GROUP",
     "cycle_group",
+    "CASE_SECTIONS",
+    "case_group_path",
     "cycle_of_group",
     "field_dataset",
     "history_dataset",
@@ -237,6 +239,19 @@ ROOT_GRID = {axis: DatasetSpec("mm", f"element-centre {axis} coordinates") for a
 
 # ------------------------------------------------------------------ cycle groups
 CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
+
+
+#: The groups of a case group (``/cases/<case_id>/<section>/...``).
+CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes")
+
+
+def case_group_path(section: str, *names: str) -> str:
+    """Path of a dataset relative to its case group, e.g. ``case_group_path("fields",
+    cycle_group(10), "wear")`` → ``"fields/cycle_0000010/wear"``; ``section`` must be one of
+    :data:`CASE_SECTIONS`."""
+    if section not in CASE_SECTIONS:
+        raise KeyError(f"{section!r} is not a section of a case group {CASE_SECTIONS}")
+    return "/".join((section, *names))
 
 
 def cycle_group(cycle: int) -> str:

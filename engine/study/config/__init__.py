@@ -26,9 +26,7 @@ from .checks import (
 from .compat import FORMER_DEFAULTS, STATIC_PLACEHOLDERS, fill_former_defaults, same_fingerprint
 from .parsing import StudyConfig, load_study, parse_study
 from .sections import (
-    FRETTING_KEYS,
     HERTZ_MARGIN,
-    LOADING_KINDS,
     MISSING,
     PROPORTIONAL,
     PUNCH_SHAPES,
@@ -72,9 +70,7 @@ __all__ = [
     "same_fingerprint",
     "FORMER_DEFAULTS",
     "STATIC_PLACEHOLDERS",
-    "FRETTING_KEYS",
     "HERTZ_MARGIN",
-    "LOADING_KINDS",
     "MAX_FRICTION",
     "MAX_PRESSURE_OVER_MODULUS",
     "MAX_TOLERANCE",

@@ -65,14 +65,11 @@ from typing import Any
 
 from engine.solvers import defaults
 
-from .checks import MAX_FRICTION, MAX_TOLERANCE, bound, check_physical_ranges
+from .checks import MAX_TOLERANCE, bound, check_physical_ranges
 from .compat import STATIC_PLACEHOLDERS
 from .reader import Section, toml_error
 from .sections import (
-    BULK_STRESS_KEYS,
-    FRETTING_KEYS,
     HERTZ_MARGIN,
-    LOADING_KINDS,
     MISSING,
     PROPORTIONAL,
     PUNCH_SHAPES,
@@ -117,9 +114,14 @@ class StudyConfig:
     derived_defaults: tuple[str, ...] = ()
 
     @property
+    def kind(self):
+        """The loading kind (:class:`engine.study.kinds.LoadingKind`) of ``[loading] kind``."""
+        return _kind(self.loading)
+
+    @property
     def is_cyclic(self) -> bool:
         """True for the kinds with load cycles, wear and cycle jumping (cyclic, fretting)."""
-        return self.loading.kind in ("cyclic", "fretting")
+        return self.kind.has_cycles
 
     @property
     def is_fretting(self) -> bool:
@@ -480,75 +482,29 @@ def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: W
 
 
 def _parse_loading(s: Section) -> LoadingConfig:
+    """``[loading]``: ``kind`` names a loading kind of :data:`engine.study.kinds.KINDS`,
+    which reads the rest of the section after ``load`` (N) and ``steps``."""
+    from engine.study.kinds import KINDS
+
     kind = s.string("kind")
-    if kind not in LOADING_KINDS:
-        raise s.error("kind", kind, 'must be "static", "cyclic" or "fretting"')
-    if kind == "static":
-        # the placeholders that results files of earlier versions stored: they parse back
-        former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
-        s.check_known({"kind", "load", "steps"} | former)
-    elif kind == "cyclic":
-        s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
-    else:
-        s.check_known(
-            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"}
-            | FRETTING_KEYS
-            | BULK_STRESS_KEYS
-        )
+    if kind not in KINDS:
+        names = [f'"{name}"' for name in KINDS]
+        raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
     load = s.number("load", minimum=0.0, strict=True, unit="N")
     steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
-    if kind == "static":
-        return LoadingConfig(kind, load, steps, 0, (), None)
-    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
-    record_raw = s.raw("record", [cycles])
-    record_list = record_raw if isinstance(record_raw, list) else [record_raw]
-    record = []
-    for item in record_list:
-        if isinstance(item, bool) or not isinstance(item, int):
-            raise s.error("record", record_raw, "must be a list of integer cycle numbers")
-        if not 0 <= item <= cycles:
-            raise s.error(
-                "record", record_raw, f"cycle {item} is outside 0..cycles (cycles = {cycles})"
-            )
-        record.append(item)
-    if len(set(record)) != len(record):
-        raise s.error("record", record_raw, "cycles must not repeat")
-    max_wear_fraction = s.number(
-        "max_wear_fraction",
-        defaults.MAX_WEAR_FRACTION,
-        minimum=0.0,
-        strict=True,
-        **bound("loading.max_wear_fraction"),
-    )
-    loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
-    if kind == "fretting":
-        loading = _parse_fretting(s, loading)
-    return loading
+    return KINDS[kind].parse(s, load, steps)
 
 
-def _parse_fretting(s: Section, loading: LoadingConfig) -> LoadingConfig:
-    """The tangential signal of the fretting kind: ``amplitude`` (mm, rigid displacement)
-    XOR ``force_amplitude`` (N, tangential force), ``direction`` [0] (degrees from x)."""
-    given = [key for key in ("amplitude", "force_amplitude") if key in s.table]
-    if len(given) != 1:
-        shown = {key: s.table[key] for key in given} if given else MISSING
-        raise s.error(
-            "amplitude" if not given else given[-1],
-            shown,
-            'kind = "fretting" needs exactly one of amplitude (mm, displacement control) '
-            "and force_amplitude (N, force control)",
-        )
-    unit = "mm" if given[0] == "amplitude" else "N"
-    value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
-    if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
-        raise s.error(given[0], value, "must be below the friction bound μP (N)")
-    direction = s.number("direction", 0.0, unit="degrees")
-    if not -360.0 <= direction <= 360.0:
-        raise s.error("direction", direction, "must lie in [-360, 360] degrees")
-    bulk = {key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table}
-    if bulk:
-        bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
-    return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
+def _kinds():
+    """The table of loading kinds (imported when first needed: the kinds' modules read
+    their sections with this package's reader)."""
+    from engine.study.kinds import KINDS
+
+    return KINDS
+
+
+def _kind(loading: LoadingConfig):
+    return _kinds()[loading.kind]
 
 
 def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
@@ -556,8 +512,9 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
     law = s.string("law", "archard")
     if law not in WEAR_LAWS:
         raise s.error("law", law, 'must be "archard" or "energy"')
-    if law == "energy" and loading.kind == "static":
-        raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
+    if law == "energy" and not _kind(loading).has_cycles:
+        with_wear = " or ".join(f'"{k.name}"' for k in _kinds().values() if k.has_cycles)
+        raise s.error("law", law, f"a wear law needs kind = {with_wear}")
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
         pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
@@ -603,7 +560,7 @@ def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepC
         return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
     if "alpha" in s.table:
         raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
-    wear_default = [0.0] if loading.kind == "static" else MISSING
+    wear_default = MISSING if _kind(loading).has_cycles else [0.0]
     wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
     wear2: tuple[float, ...] | str | None = None
     if "wear2" in s.table:
@@ -626,11 +583,7 @@ def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
     # Static solves are cheap and feed the stiffness comparisons: 1e-8. A cyclic case solves
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
-    default_tol = (
-        defaults.CYCLIC_TOLERANCE
-        if loading.kind in ("cyclic", "fretting")
-        else defaults.STATIC_TOLERANCE
-    )
+    default_tol = _kind(loading).default_tolerance
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
     maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
     threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))

@@ -228,9 +228,6 @@ class TestingConfig:
     fail_cases: tuple[str, ...]
 
 
-LOADING_KINDS = ("static", "cyclic", "fretting")
-FRETTING_KEYS = {"amplitude", "force_amplitude", "direction"}
-BULK_STRESS_KEYS = {"bulk_stress_max", "bulk_stress_min"}  # line fretting only
 WEAR_LAWS = ("archard", "energy")
 
 
