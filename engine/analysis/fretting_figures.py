@@ -39,6 +39,8 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter
 from engine.reference import line_contact, mindlin
 
 from . import fretting as _shared
+from .fatigue import has_fatigue
+from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
 from .fretting import cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
@@ -357,11 +359,22 @@ def _map_figure(study: StudyResults):
     title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
     if _load_unit(study) == "N/mm":
         datum = study.config.get("mesh", {}).get("reference_distance")
-        return draw_fretting_map(
+        figure = draw_fretting_map(
             cases, lines, title, load_unit="N/mm",
             boundary_label=f"cylinder δ_slip(P), datum {datum:g} mm",
         )  # fmt: skip
-    return draw_fretting_map(cases, lines, title)
+    else:
+        figure = draw_fretting_map(cases, lines, title)
+    if has_fatigue(study):  # where a crack is predicted, over the slip regimes
+        axis = figure.axes[0]
+        points = crack_points(
+            study,
+            lambda case: _amplitude(study, case) * MICRONS_PER_MM,
+            lambda case: float(_setting(study, case, "loading.load")),
+        )
+        draw_crack_boundary(axis, points)
+        axis.legend(loc="best")
+    return figure
 
 
 def _computed_energy_ratio(case: CaseResults) -> float:
@@ -472,9 +485,11 @@ def _wear_energy_figure(study: StudyResults):
 
 
 def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:
-    """(file name, figure) of every fretting figure of ``study``."""
+    """(file name, figure) of every fretting figure of ``study`` (with ``[fatigue]``, the
+    fatigue figures too: ``engine.analysis.fatigue_figures``)."""
     return [
         ("fretting_map.png", _map_figure(study)),
         ("fretting_loops.png", _loops_figure(study)),
         ("wear_energy.png", _wear_energy_figure(study)),
+        *fatigue_figures(study),
     ]

@@ -49,6 +49,9 @@ Sections and keys (``*`` = required; defaults in brackets):
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+``[fatigue]``     criteria*, their constants*, method ["hotspot"], length (mm), amplitude_method
+                  ["chord"], plane_step [1], every_cycle [false]: multiaxial fatigue
+                  criteria on the fretting cycles (fretting only; engine.study.fatigue)
 """
 
 from __future__ import annotations
@@ -103,6 +106,7 @@ class StudyConfig:
     testing: TestingConfig
     wear: WearConfig = WearConfig()
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
+    fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -162,6 +166,13 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "fatigue":
+                if self.fatigue is not None:
+                    resolved = self.fatigue.resolved()
+                    out["fatigue"] = {
+                        k: v for k, v in resolved.items() if f"fatigue.{k}" not in swept
+                    }
                 continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
@@ -316,6 +327,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     sweep = _parse_sweep(section("sweep"), loading, wear)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
+    fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -338,6 +350,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         solver,
         testing,
         wear=wear,
+        fatigue=fatigue,
         derived_defaults=derived,
     )
 
@@ -497,6 +510,22 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
         unit = "mm³/J" if law == "energy" else "1/MPa"
         pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
+
+
+def _parse_fatigue(s: Section, loading: LoadingConfig):
+    """The ``[fatigue]`` section (``engine.study.fatigue``): the criteria read the increments
+    of a fretting cycle, so it needs ``[loading] kind = "fretting"``."""
+    from ..fatigue import parse_fatigue
+
+    config = parse_fatigue(s)
+    if loading.kind != "fretting":
+        raise StudyConfigError(
+            s.source,
+            "loading.kind",
+            loading.kind,
+            '[fatigue] evaluates the increments of fretting cycles: needs kind = "fretting"',
+        )
+    return config
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:
