@@ -425,7 +425,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a stop during start-up
             return _stopped_at_start_up(comm, run)
         if rank == 0 and prepared.existing is not None:
-            prepared.existing.report(sys.stdout)
+            prepared.existing.report(sys.stdout, drop_stale=options.drop_stale)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
         return comm.bcast(dataclasses.replace(run, **outcome) if rank == 0 else None, root=0)
     finally:

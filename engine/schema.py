@@ -21,6 +21,9 @@ Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dime
     subsurface/cycle_NNNNNNN/<name>   (n_s, n_z): x, y, z (mm), von_mises, sigma_<ij> (MPa)
     peak_changes/cycle_NNNNNNN/<name> the plane and PEAK_CHANGE_FIELDS at the first cycle and
                                       each change of the peak region (cyclic)
+    fatigue/cycle_NNNNNNN/<name>      fretting with [fatigue]: each criterion's map on the
+                                      stress plane, its angles, lives and hot spot
+                                      (FATIGUE_CRITERIA, fatigue_maps)
 
 and at the root ``/grid/x``, ``/grid/y`` (ROOT_GRID) when every case shares the grid. Every
 dataset carries ``units`` and ``description`` attributes; :func:`case_dataset` gives both for
@@ -68,6 +71,11 @@ __all__ = [
     "SUMMARY_COLUMNS",
     "FRETTING_HISTORY",
     "FRETTING_RECORDS",
+    "FATIGUE_CRITERIA",
+    "FATIGUE_HISTORY",
+    "FATIGUE_HOT_SPOT_COLUMNS",
+    "fatigue_specs",
+    "fatigue_maps",
     "LOOP_COLUMNS",
     "fretting_record",
     "COLUMN_UNITS",
@@ -309,6 +317,71 @@ FRETTING_RECORDS = {
 }
 
 
+# ------------------------------------------------------------------ fatigue criteria
+#: The bundled fatigue criteria (engine.fatigue.CRITERIA) by value column: (unit, what the
+#: value is, whether it has a critical-plane angle, whether it gives a life). A plug-in
+#: criterion's columns and datasets follow the same rule from its own column and unit
+#: (:func:`fatigue_specs`).
+FATIGUE_CRITERIA = {
+    "crossland_risk": ("1", "Crossland risk (√J2,a + α σ_H,max)/τ_d", False, False),
+    "dang_van_risk": ("1", "Dang Van risk max_t (τ(t) + α σ_H(t))/τ_d", False, False),
+    "swt": ("MPa", "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane", True, True),
+    "fs": ("1", "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane", True, True),
+}
+FATIGUE_HOT_SPOT_COLUMNS = ("value", "x", "z", "angle", "life", "critical", "critical_x")
+
+
+def fatigue_specs(column: str, unit: str, what: str, angle: bool, life: bool):
+    """The columns of one criterion (summary and, per simulated cycle, history): name →
+    :class:`DatasetSpec`, in the summary's order: ``<column>``, ``_x``, ``_z``, ``_angle``
+    (critical-plane criteria), ``_critical``, ``_life`` (criteria with a life curve)."""
+    specs = {
+        column: DatasetSpec(unit, f"{what}, its largest value over the stress plane (hot spot)"),
+        f"{column}_x": DatasetSpec("mm", f"x of the {column} hot spot (along the plane)"),
+        f"{column}_z": DatasetSpec("mm", f"depth z of the {column} hot spot"),
+    }
+    if angle:
+        specs[f"{column}_angle"] = DatasetSpec(
+            "degree", f"critical plane at the {column} hot spot, from +x towards +z"
+        )
+    specs[f"{column}_critical"] = DatasetSpec(
+        unit, f"{column} read at the critical distance ([fatigue] method and length)"
+    )
+    if life:
+        specs[f"{column}_life"] = DatasetSpec(
+            "1", f"cycles to crack nucleation at the {column} hot spot (inf: below the curve)"
+        )
+    return specs
+
+
+def fatigue_maps(column: str, unit: str, what: str, angle: bool, life: bool, cycle: int):
+    """``fatigue/cycle_<N>/<name>`` of one criterion: its map on the stress plane, its plane
+    angles and lives where it has them, and its hot spot (name → :class:`DatasetSpec`)."""
+    where = f"on the stress plane (the points of subsurface/cycle_NNNNNNN/x, z), cycle {cycle}"
+    specs = {column: DatasetSpec(unit, f"{what} {where}")}
+    if angle:
+        specs[f"{column}_angle"] = DatasetSpec("degree", f"critical plane of {column} {where}")
+    if life:
+        specs[f"{column}_life"] = DatasetSpec("1", f"cycles to crack nucleation, {column}, {where}")
+    specs[f"{column}_hot_spot"] = DatasetSpec(
+        f"{unit}, mm, mm, degree, 1, {unit}, mm",
+        f"{column} hot spot of cycle {cycle}: value, x, z, critical-plane angle (NaN: none), "
+        "life (NaN: none); the value at the critical distance and the x of the surface hot "
+        "spot it is read below",
+        ", ".join(FATIGUE_HOT_SPOT_COLUMNS),
+    )
+    return specs
+
+
+#: history/<key> of a fretting case with ``[fatigue] every_cycle = true``: the bundled
+#: criteria's hot spots per simulated cycle.
+FATIGUE_HISTORY = {
+    key: DatasetSpec(spec.units, spec.description + _PER_CYCLE)
+    for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items()
+    for key, spec in fatigue_specs(column, unit, what, angle, life).items()
+}
+
+
 def fretting_record(name: str, cycle: int) -> DatasetSpec:
     """``fields/cycle_<N>/<name>`` of a fretting case: the loop or the cycle's σ_VM maximum."""
     spec = _known(FRETTING_RECORDS, name, "FRETTING_RECORDS")
@@ -358,6 +431,8 @@ def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> Da
     increment) case."""
     if fretting and key in FRETTING_HISTORY:
         return FRETTING_HISTORY[key]
+    if fretting and key in FATIGUE_HISTORY:
+        return FATIGUE_HISTORY[key]
     if cyclic:
         return _known(HISTORY, key, "HISTORY")
     return _known(STATIC_HISTORY, key, "STATIC_HISTORY")
@@ -381,6 +456,8 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
     if len(parts) == 2 and parts[0] == "grid":
         return grid_dataset(parts[1])
     if len(parts) == 2 and parts[0] == "history":
+        if cyclic and parts[1] in FATIGUE_HISTORY:
+            return FATIGUE_HISTORY[parts[1]]
         return history_dataset(parts[1], cyclic)
     if len(parts) == 3 and parts[0] == "fields":
         allowed = FINAL_FIELDS if parts[1] == "final" else RECORDED_FIELDS
@@ -393,6 +470,11 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
         if parts[2] in PEAK_CHANGE_FIELDS:
             return field_dataset(parts[2], parts[1])
         return plane_dataset(parts[2])
+    if len(parts) == 3 and parts[0] == "fatigue" and cycle_of_group(parts[1]) is not None:
+        for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items():
+            specs = fatigue_maps(column, unit, what, angle, life, cycle_of_group(parts[1]))
+            if parts[2] in specs:
+                return specs[parts[2]]
     raise KeyError(f"no dataset {path!r} in the results schema")
 
 
@@ -423,6 +505,21 @@ SWEPT_KEY_UNITS = {
     "subsurface.layers": "1",
     "solver.tol": "1",
     "solver.maxiter": "1",
+    # [fatigue]: every constant of the bundled criteria and the critical distance
+    # (engine.study.fatigue.fatigue_sweepable; tests/test_fatigue_study.py checks the two)
+    "fatigue.sigma_d": "MPa",
+    "fatigue.tau_d": "MPa",
+    "fatigue.sigma_f": "MPa",
+    "fatigue.b": "1",
+    "fatigue.eps_f": "1",
+    "fatigue.c": "1",
+    "fatigue.tau_f": "MPa",
+    "fatigue.gamma_f": "1",
+    "fatigue.b0": "1",
+    "fatigue.c0": "1",
+    "fatigue.k": "1",
+    "fatigue.sigma_y": "MPa",
+    "fatigue.length": "mm",
 }
 #: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
 #: study uses it) with their units.
@@ -457,7 +554,7 @@ COLUMN_UNITS = {
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
     "vm_cycle_max_z": "mm", "alpha": ALPHA_UNITS, "vm_deep_max_y": "mm",
-    # line contacts with wear only (engine.solvers.scar)
+    # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
@@ -533,11 +630,18 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
     "alpha": "energy wear law: the dissipated-energy wear coefficient",
-    "scar_depth": "line contacts: largest wear depth of the flat",
+    "scar_depth": "largest wear depth of the flat (line contacts with wear; 3-D punches with "
+    "`[wear] pad_coefficient`)",
     "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
     "scar_area": "line contacts: worn area of the flat per unit length, Σ h Δx",
-    "pad_wear_depth": "line contacts: largest wear depth of the pad",
+    "pad_wear_depth": "largest wear depth of the pad or punch (line contacts with wear; 3-D "
+    "punches with `[wear] pad_coefficient`)",
 }
+
+for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
+    for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
+        COLUMN_UNITS[_key] = _spec.units
+        COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

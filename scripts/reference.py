@@ -92,6 +92,9 @@ def datasets() -> str:
     rows += _dataset_rows(f"fields/{cycle}", schema.FRETTING_RECORDS)
     rows += _dataset_rows("subsurface/final", schema.PLANE)
     rows += _dataset_rows(f"peak_changes/{cycle}", schema.FIELDS, schema.PEAK_CHANGE_FIELDS)
+    rows += _dataset_rows("history", schema.FATIGUE_HISTORY)  # [fatigue] every_cycle = true
+    for column, described in schema.FATIGUE_CRITERIA.items():
+        rows += _dataset_rows(f"fatigue/{cycle}", schema.fatigue_maps(column, *described, "N"))
     return markdown_table(("path in the case group", "units", "description"), rows)
 
 

@@ -87,7 +87,9 @@ class StressPlane:
 
 @dataclass
 class CaseResults:
-    """One completed case: parameters, summary row, histories, surface fields, stress planes.
+    """One completed case: parameters, summary row, histories, surface fields, stress planes
+    and, with ``[fatigue]``, the criteria's maps and hot spots per recorded cycle
+    (``fatigue[N][name]``, names of ``engine.schema.fatigue_maps``).
 
     ``fields[key][name]`` and ``planes[key]`` use the key ``"final"`` or the recorded cycle
     number N (int). Field arrays have shape ``(n_x, n_y)`` (ij indexing, as ``grid_x, grid_y``).
@@ -105,6 +107,7 @@ class CaseResults:
     fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
     planes: dict[Any, StressPlane] = field(default_factory=dict)
     change_planes: dict[int, StressPlane] = field(default_factory=dict)  # peak_changes/, by N
+    fatigue: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)  # fatigue/, by N
     settings: dict[str, Any] = field(default_factory=dict)  # swept dotted keys -> values
 
     @property
@@ -216,6 +219,8 @@ class StudyResults:
     @property
     def mesh_label(self) -> str:
         n = self.config["mesh"]["n"]
+        if self.config.get("punch", {}).get("shape") in ("cylinder", "pad"):
+            return f"{n} elements along x"  # a line contact (plane strain)
         return f"{n}×{n} mesh"
 
     @property
@@ -318,6 +323,8 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
         case.planes[_group_key(name)] = _plane(sub)
     for name, sub in group.get("peak_changes", {}).items():
         case.change_planes[_group_key(name)] = _plane(sub)
+    for name, sub in group.get("fatigue", {}).items():
+        case.fatigue[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
     return case
 
 

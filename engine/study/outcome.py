@@ -110,16 +110,17 @@ def case_wear_law(case: Case, cfg: StudyConfig):
         law = EnergyWearLaw(case.alpha)
     else:
         law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
-    if cfg.punch.is_line:  # the gap carries the flat's and the pad's wear
-        from engine.study.line_contact import wear_law
+    ratio = pad_ratio(case, cfg)
+    if cfg.punch.is_line or ratio > 0.0:  # the gap carries the flat's and the pad's wear
+        from engine.solvers.scar import two_body_wear_law
 
-        return wear_law(law, pad_ratio(case, cfg))
+        return two_body_wear_law(law, ratio)
     return law
 
 
 def pad_ratio(case: Case, cfg: StudyConfig) -> float:
-    """k_pad / k_flat of a line contact (``[wear] pad_coefficient``; 0 without)."""
-    from engine.study.line_contact import pad_ratio as ratio
+    """k_pad / k_flat (``[wear] pad_coefficient``; 0 without, the punch does not wear)."""
+    from engine.solvers.scar import pad_ratio as ratio
 
     flat = case.alpha if cfg.wear.law == "energy" else case.wear1
     return ratio(cfg.wear.pad_coefficient, flat)
@@ -433,9 +434,15 @@ def totals_row(result, cfg: StudyConfig) -> dict[str, Any]:
 
 def scar_row(case, cfg, grid, result) -> dict[str, Any]:
     """Line contacts: scar_depth, scar_width, scar_area of the flat and pad_wear_depth
-    (engine.solvers.scar) from the final wear; nothing for the 3-D punches."""
+    (engine.solvers.scar) from the final wear; a 3-D punch that wears too
+    (``[wear] pad_coefficient``): scar_depth and pad_wear_depth; else nothing."""
     if not grid.is_line:
-        return {}
+        ratio = pad_ratio(case, cfg)
+        if ratio == 0.0:
+            return {}
+        from engine.solvers.scar import two_body_depths
+
+        return two_body_depths(result.state.wear, ratio)
     from engine.study.line_contact import scar_row as line_scar_row
 
     return line_scar_row(grid, result.state.wear, pad_ratio(case, cfg))

@@ -49,6 +49,9 @@ Sections and keys (``*`` = required; defaults in brackets):
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+``[fatigue]``     criteria*, their constants*, method ["hotspot"], length (mm), amplitude_method
+                  ["chord"], plane_step [1], every_cycle [false]: multiaxial fatigue
+                  criteria on the fretting cycles (fretting only; engine.study.fatigue)
 """
 
 from __future__ import annotations
@@ -103,6 +106,7 @@ class StudyConfig:
     testing: TestingConfig
     wear: WearConfig = WearConfig()
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
+    fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -162,6 +166,13 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "fatigue":
+                if self.fatigue is not None:
+                    resolved = self.fatigue.resolved()
+                    out["fatigue"] = {
+                        k: v for k, v in resolved.items() if f"fatigue.{k}" not in swept
+                    }
                 continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
@@ -316,6 +327,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     sweep = _parse_sweep(section("sweep"), loading, wear)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
+    fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -338,6 +350,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         solver,
         testing,
         wear=wear,
+        fatigue=fatigue,
         derived_defaults=derived,
     )
 
@@ -369,11 +382,17 @@ def _parse_punch(s: Section) -> PunchConfig:
     shape = s.string("shape", "flat")
     if shape not in PROFILES:
         raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PROFILES))
-    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
     rule = PROFILES[shape].edge_radius_rule  # None, ">= 0" or "> 0"
     edge_radius = None
     if rule is not None:
-        edge_radius = s.number("edge_radius", minimum=0.0, strict=rule == "> 0", unit="mm")
+        edge_radius = s.number(
+            "edge_radius",
+            minimum=0.0,
+            strict=rule == "> 0",
+            unit="mm",
+            **bound("punch.edge_radius"),
+        )
     elif "edge_radius" in s.table:
         shapes = [f'"{name}"' for name, profile in PROFILES.items() if profile.edge_radius_rule]
         value = s.table["edge_radius"]
@@ -393,7 +412,7 @@ def _parse_mesh(
     (engine.geometry)."""
     profile = punch.profile()
     s.check_known({"n", "half_width"} | ({"reference_distance"} if profile.is_line else set()))
-    n = s.integer("n", minimum=8)
+    n = s.integer("n", minimum=8, **bound("mesh.n"))
     modulus = contact_modulus(material)
     contact = profile.contact_length(loading.load, modulus)
     what = profile.covered
@@ -402,14 +421,27 @@ def _parse_mesh(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
     default = profile.default_half_width(loading.load, modulus)
-    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    half_width = s.number(
+        "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
+    )
     if n * contact / half_width < 4:
-        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
+        raise s.error(
+            "n",
+            n,
+            f"fewer than 4 elements across the {what} ({contact:.6g} mm) on a grid of "
+            f"half-width {half_width:.6g} mm; increase n",
+        )
     if not profile.is_line:
         return MeshConfig(n=n, half_width=half_width)
     from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
-    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    distance = s.number(
+        "reference_distance",
+        DEFAULT_REFERENCE_DISTANCE,
+        minimum=0.0,
+        unit="mm",
+        **bound("mesh.reference_distance"),
+    )
     if distance < 2.0 * half_width:
         raise s.error(
             "reference_distance",
@@ -420,13 +452,12 @@ def _parse_mesh(
 
 
 def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
-    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    """The keys of line contacts only (the bulk stress) name themselves elsewhere."""
     if punch.is_line:
         return
     for key, value in (
         ("loading.bulk_stress_max", loading.bulk_stress_max),
         ("loading.bulk_stress_min", loading.bulk_stress_min),
-        ("wear.pad_coefficient", wear.pad_coefficient),
     ):
         if value is not None:
             raise StudyConfigError(
@@ -475,8 +506,26 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
         raise s.error("law", law, f"a wear law needs kind = {with_wear}")
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
-        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+        limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
+        unit = "mm³/J" if law == "energy" else "1/MPa"
+        pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
+
+
+def _parse_fatigue(s: Section, loading: LoadingConfig):
+    """The ``[fatigue]`` section (``engine.study.fatigue``): the criteria read the increments
+    of a fretting cycle, so it needs ``[loading] kind = "fretting"``."""
+    from ..fatigue import parse_fatigue
+
+    config = parse_fatigue(s)
+    if loading.kind != "fretting":
+        raise StudyConfigError(
+            s.source,
+            "loading.kind",
+            loading.kind,
+            '[fatigue] evaluates the increments of fretting cycles: needs kind = "fretting"',
+        )
+    return config
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:

@@ -191,11 +191,15 @@ class CycledKind(LoadingKind):
         path = context.checkpoint_path(case)
         return path, (self.load_state(path) if path.exists() else None)
 
-    def interrupted(self, case: Case, state: Any, path: Path) -> CaseOutcome:
-        """Save ``state`` to ``path`` (atomic: temporary file + rename); the outcome says
-        where."""
+    def interrupted(self, case: Case, state: Any, path: Path, extra=None) -> CaseOutcome:
+        """Save ``state`` to ``path`` (atomic: temporary file + rename), with the ``extra``
+        arrays of the case's analyses where the kind keeps any (fretting: the evaluated
+        fatigue cycles); the outcome says where."""
         path.parent.mkdir(parents=True, exist_ok=True)
-        self.save_state(state, path)
+        if extra is None:
+            self.save_state(state, path)
+        else:
+            self.save_state(state, path, extra)
         message = f"stopped at cycle {state.cycle}; state saved to {path}"
         return CaseOutcome(case, INTERRUPTED, message=message)
 
