@@ -219,7 +219,7 @@ class StudyResults:
     @property
     def mesh_label(self) -> str:
         n = self.config["mesh"]["n"]
-        if self.config.get("punch", {}).get("shape") in ("cylinder", "pad"):
+        if self.profile.is_line:
             return f"{n} elements along x"  # a line contact (plane strain)
         return f"{n}×{n} mesh"
 

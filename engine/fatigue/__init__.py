@@ -11,11 +11,19 @@ critical-distance methods in ``distance``.
 from .assessment import CriterionAssessment, HotSpot, assess, build_criteria
 from .base import CriterionField, FatigueCriterion, FatigueOptions
 from .criteria import CRITERIA
+from .crossland import Crossland
+from .dang_van import DangVan
 from .distance import METHODS, critical_points
+from .fatemi_socie import FatemiSocie
 from .history import Elasticity, StressHistory
+from .swt import SmithWatsonTopper
 
 __all__ = [
     "CRITERIA",
+    "Crossland",
+    "DangVan",
+    "FatemiSocie",
+    "SmithWatsonTopper",
     "METHODS",
     "CriterionAssessment",
     "CriterionField",

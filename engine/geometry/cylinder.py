@@ -19,12 +19,30 @@ class CylinderProfile(LineProfile):
     """Cylinder of radius ``radius`` (R, mm), axis along y at x = 0: g = x²/(2R)."""
 
     name = "cylinder"
+    loop_reference = "cylinder (Cattaneo, Masing)"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
         from engine.reference.line_contact import hertz_line_half_width
 
         return hertz_line_half_width(load, self.radius, contact_modulus)
+
+    def slip_displacement(self, load, materials, friction, reference_distance=None):
+        """(μ p0 a/E*)(ln(2d/a) + 1/2) with the displacement datum d
+        (engine.reference.line_contact.line_slip_displacement)."""
+        from engine.reference.line_contact import line_slip_displacement
+
+        modulus = materials.contact_modulus
+        return line_slip_displacement(load, self.radius, modulus, friction, reference_distance)
+
+    def fretting_loop(self, load, materials, friction, reference_distance=None, **amplitudes):
+        """The cylinder's loop (engine.reference.line_contact.line_fretting_loop)."""
+        from engine.reference.line_contact import line_fretting_loop
+
+        modulus = materials.contact_modulus
+        return line_fretting_loop(
+            load, self.radius, modulus, friction, reference_distance, **amplitudes
+        )
 
     def gap(self, grid: Grid) -> np.ndarray:
         x, _ = grid.coordinates()

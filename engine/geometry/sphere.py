@@ -19,6 +19,7 @@ class SphericalPunch(Profile):
 
     name = "sphere"
     covered = "Hertz contact radius"
+    loop_reference = "Mindlin–Deresiewicz"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
@@ -26,6 +27,18 @@ class SphericalPunch(Profile):
         from engine.reference.hertz import hertz_contact_radius
 
         return hertz_contact_radius(load, self.radius, contact_modulus)
+
+    def slip_displacement(self, load, materials, friction, reference_distance=None):
+        """Mindlin's δ_slip = 3μP S/(16a) (engine.reference.mindlin)."""
+        from engine.reference import mindlin
+
+        return mindlin.slip_displacement(load, self.radius, materials, friction)
+
+    def fretting_loop(self, load, materials, friction, reference_distance=None, **amplitudes):
+        """Mindlin–Deresiewicz's loop (engine.reference.mindlin.fretting_loop)."""
+        from engine.reference import mindlin
+
+        return mindlin.fretting_loop(load, self.radius, materials, friction, **amplitudes)
 
     def check_grid(self, grid: Grid) -> None:
         """Any grid is accepted here: whether it covers the contact depends on the load, and
