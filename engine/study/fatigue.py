@@ -52,6 +52,7 @@ from engine.schema import (
     FATIGUE_HOT_SPOT_COLUMNS,
     DatasetRecord,
     DatasetSpec,
+    case_group_path,
     cycle_group,
     fatigue_maps,
     fatigue_specs,
@@ -331,7 +332,7 @@ class FatigueAnalysis:
             )
         specs = self._column_specs()
         return {
-            f"history/{column}": DatasetRecord(
+            case_group_path("history", column): DatasetRecord(
                 table[column], specs[column].units, specs[column].description + _PER_CYCLE
             )
             for column in self.columns
@@ -350,7 +351,7 @@ class FatigueAnalysis:
         for result in self.cycles:
             if result.cycle not in self.recorded:
                 continue
-            group = f"fatigue/{cycle_group(result.cycle)}"
+            group = cycle_group(result.cycle)
             for criterion in self.criteria:
                 column, *described = criterion_schema(criterion)
                 specs = fatigue_maps(column, *described, result.cycle)
@@ -359,7 +360,7 @@ class FatigueAnalysis:
                         data = _hot_spot(result.row, column)
                     else:
                         data = result.maps[name]
-                    datasets[f"{group}/{name}"] = spec.record(data)
+                    datasets[case_group_path("fatigue", group, name)] = spec.record(data)
         return datasets
 
     # ------------------------------------------------------------------ checkpoints
