@@ -27,23 +27,25 @@ class CylinderProfile(LineProfile):
 
         return hertz_line_half_width(load, self.radius, contact_modulus)
 
-    def slip_displacement(self, load, materials, friction, reference_distance=None):
-        """(μ p0 a/E*)(ln(2d/a) + 1/2) with the displacement datum d
-        (engine.reference.line_contact.line_slip_displacement)."""
-        from engine.reference.line_contact import line_slip_displacement
-
-        modulus = materials.contact_modulus
-        return line_slip_displacement(load, self.radius, modulus, friction, reference_distance)
-
-    def fretting_loop(self, load, materials, friction, reference_distance=None, **amplitudes):
-        """The cylinder's loop (engine.reference.line_contact.line_fretting_loop)."""
-        from engine.reference.line_contact import line_fretting_loop
-
-        modulus = materials.contact_modulus
-        return line_fretting_loop(
-            load, self.radius, modulus, friction, reference_distance, **amplitudes
-        )
-
     def gap(self, grid: Grid) -> np.ndarray:
         x, _ = grid.coordinates()
         return x**2 / (2.0 * self.radius)
+
+    def slip_displacement(self, load, material, mu: float, reference_distance):
+        """The cylinder's δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2) with the displacement datum
+        d = ``reference_distance``
+        (:func:`engine.reference.line_contact.line_slip_displacement`)."""
+        from engine.reference import line_contact
+
+        return line_contact.line_slip_displacement(
+            load, self.radius, material.contact_modulus, mu, float(reference_distance)
+        )
+
+    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
+        """The cylinder's loop (:func:`engine.reference.line_contact.line_fretting_loop`)
+        with the displacement datum ``reference_distance`` (mm)."""
+        from engine.reference import line_contact
+
+        return line_contact.line_fretting_loop(
+            load, self.radius, material.contact_modulus, mu, reference_distance, **amplitude
+        )

@@ -28,18 +28,6 @@ class SphericalPunch(Profile):
 
         return hertz_contact_radius(load, self.radius, contact_modulus)
 
-    def slip_displacement(self, load, materials, friction, reference_distance=None):
-        """Mindlin's δ_slip = 3μP S/(16a) (engine.reference.mindlin)."""
-        from engine.reference import mindlin
-
-        return mindlin.slip_displacement(load, self.radius, materials, friction)
-
-    def fretting_loop(self, load, materials, friction, reference_distance=None, **amplitudes):
-        """Mindlin–Deresiewicz's loop (engine.reference.mindlin.fretting_loop)."""
-        from engine.reference import mindlin
-
-        return mindlin.fretting_loop(load, self.radius, materials, friction, **amplitudes)
-
     def check_grid(self, grid: Grid) -> None:
         """Any grid is accepted here: whether it covers the contact depends on the load, and
         is checked after every increment (:func:`~engine.geometry.border_contact`)."""
@@ -47,3 +35,15 @@ class SphericalPunch(Profile):
 
     def gap(self, grid: Grid) -> np.ndarray:
         return grid.radius() ** 2 / (2.0 * self.radius)
+
+    def slip_displacement(self, load, material, mu: float, reference_distance):
+        """Mindlin's δ_slip = 3μP S/(16a) (:func:`engine.reference.mindlin.slip_displacement`)."""
+        from engine.reference import mindlin
+
+        return mindlin.slip_displacement(load, self.radius, material, mu)
+
+    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
+        """Mindlin's loop (:func:`engine.reference.mindlin.fretting_loop`)."""
+        from engine.reference import mindlin
+
+        return mindlin.fretting_loop(load, self.radius, material, mu, **amplitude)
