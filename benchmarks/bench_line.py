@@ -40,9 +40,9 @@ from pathlib import Path
 from bench_parallel import case_cpu_per_rank
 from bench_parallel import run as run_engine
 
+from engine.geometry import CylinderProfile
 from engine.grid import Grid
 from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile
 from engine.material import MaterialPair
 from engine.solvers.contact import ContactSolver
 from engine.solvers.defaults import CYCLIC_TOLERANCE

@@ -8,10 +8,10 @@ solvers on a line grid against Hertz and Cattaneo in ``tests/test_line_validatio
 import numpy as np
 import pytest
 
+from engine.geometry import CylinderProfile, RoundedPadProfile
 from engine.grid import Grid
 from engine.kernels.influence import SurfaceInfluence
 from engine.kernels.line import LineInfluence, line_operator, log_strip_integral
-from engine.line_profiles import CylinderProfile, RoundedPadProfile
 from engine.material import MaterialPair, paper_material
 from engine.solvers.contact import ContactSolver
 from engine.solvers.friction import FrictionLaw

@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
+from engine.geometry import CylinderProfile, RoundedPadProfile
 from engine.grid import Grid
 from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile, RoundedPadProfile
 from engine.material import MaterialPair
 from engine.reference import line_contact as ref
 from engine.solvers.contact import ContactSolver

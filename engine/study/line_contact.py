@@ -17,24 +17,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from engine.geometry import profile_for
 from engine.grid import Grid
-from engine.reference.line_contact import hertz_line_half_width, pad_half_width
 from engine.solvers.line_subsurface import LinePeakTracker, LineSubsurfaceStress
 from engine.solvers.scar import scar_measures
 
 __all__ = [
-    "LINE_SHAPES",
     "DEFAULT_REFERENCE_DISTANCE",
     "LineContact",
-    "is_line_shape",
 ]
 
-LINE_SHAPES = ("cylinder", "pad")
 DEFAULT_REFERENCE_DISTANCE = 10.0  # mm: the datum of 2-D displacements (a specimen's size)
-
-
-def is_line_shape(shape: str) -> bool:
-    return shape in LINE_SHAPES
 
 
 @dataclass(frozen=True)
@@ -49,14 +42,15 @@ class LineContact:
     load: float
 
     def nominal_half_width(self, contact_modulus: float) -> float:
-        """a0 (mm): Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width at the load."""
-        if self.shape == "cylinder":
-            return hertz_line_half_width(self.load, self.radius, contact_modulus)
-        return pad_half_width(self.load, self.radius, self.edge_radius, contact_modulus)
+        """a0 (mm): the profile's (Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width)
+        at the load."""
+        profile = profile_for(self.shape, self.radius, self.edge_radius)
+        return profile.contact_length(self.load, contact_modulus)
 
     def nominal_pressure(self, contact_modulus: float) -> float:
         """p0 = P/(2 a0) (MPa), the mean pressure over the nominal contact."""
-        return self.load / (2.0 * self.nominal_half_width(contact_modulus))
+        profile = profile_for(self.shape, self.radius, self.edge_radius)
+        return profile.mean_pressure(self.load, self.nominal_half_width(contact_modulus))
 
     @staticmethod
     def peak_tracker(stress: LineSubsurfaceStress, nominal_half_width: float, angle=0.0):

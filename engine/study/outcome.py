@@ -131,11 +131,7 @@ def nominal_mean_pressure(cfg: StudyConfig) -> float:
     the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
     contact radius (engine.reference.hertz); for a line contact P/(2 a0) with a0 the nominal
     half-width (engine.study.line_contact)."""
-    from engine.reference.flat_punch import mean_pressure
-
-    if cfg.punch.is_line:  # per unit length: P/(2 a0), a0 the nominal half-width
-        return cfg.loading.load / (2.0 * cfg.contact_length)
-    return mean_pressure(cfg.loading.load, cfg.contact_length)
+    return cfg.punch.profile().mean_pressure(cfg.loading.load, cfg.contact_length)
 
 
 def peak_tracker(stress, contact_length: float, angle: float = 0.0):
@@ -228,7 +224,6 @@ class CaseContext:
         contact touching the grid's border fails the case
         (engine.geometry.ContactReachesBorder) instead of being truncated."""
         from engine.geometry import may_reach_border
-        from engine.grid import Grid
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
@@ -236,11 +231,8 @@ class CaseContext:
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
-        if cfg.punch.is_line:  # plane strain: n elements along x, unit length along y
-            grid = Grid.line(cfg.mesh.n, cfg.mesh.half_width)
-        else:
-            grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
         punch = cfg.punch.profile()
+        grid = punch.grid(cfg.mesh.n, cfg.mesh.half_width)  # square, or a line contact's
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         operator = self.operators.operator(
@@ -336,9 +328,9 @@ def history_datasets(
     return datasets
 
 
-def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak load of"):
+def recorded_datasets(records, stress, angle: float = 0.0, at: str = "peak load"):
     """The surface fields (``fields/cycle_N/``) and the stress plane through the axis at
-    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``moment`` names
+    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``at`` names
     the instant of the fields in their descriptions."""
     from engine.schema import cycle_group
 
@@ -346,11 +338,8 @@ def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak l
     for cycle in sorted(records):
         fields, group = records[cycle], cycle_group(cycle)
         for name, values in fields.items():
-            spec = field_dataset(name, group)
-            description = spec.description.replace("peak load of", moment)
-            datasets[case_group_path("fields", group, name)] = DatasetRecord(
-                np.asarray(values), spec.units, description
-            )
+            path = case_group_path("fields", group, name)
+            datasets[path] = field_dataset(name, group, at).record(np.asarray(values))
         plane = stress.plane(
             fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
         )
