@@ -242,7 +242,7 @@ CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
 
 
 #: The groups of a case group (``/cases/<case_id>/<section>/...``).
-CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes")
+CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes", "fatigue")
 
 
 def case_group_path(section: str, *names: str) -> str:
