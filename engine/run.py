@@ -335,14 +335,13 @@ def _check_may_resume(output: Path, options: _RunOptions) -> None:
 def study_metadata(config, command_line: str, plan):
     """Root metadata of the results file; the root grid only when every case of the plan
     shares it (otherwise each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
-    from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
     grid = None
-    if mesh is not None:  # a line contact's grid: n elements along x, one along y
-        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
+    if mesh is not None:  # the profile's grid (a line contact's: one element along y)
+        grid = config.punch.profile().grid(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -426,7 +425,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a stop during start-up
             return _stopped_at_start_up(comm, run)
         if rank == 0 and prepared.existing is not None:
-            prepared.existing.report(sys.stdout)
+            prepared.existing.report(sys.stdout, drop_stale=options.drop_stale)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
         return comm.bcast(dataclasses.replace(run, **outcome) if rank == 0 else None, root=0)
     finally:

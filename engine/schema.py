@@ -2,8 +2,8 @@
 
 One table for everything the other layers must agree on (issue 14.1): the case status values,
 the dataset paths of a case group with their units and descriptions, the peak-region codes
-stored in the histories, the summary columns and the row of a case without results. The case
-runner (:mod:`engine.study.case`), the layout (:mod:`engine.study.layout`), the solvers'
+stored in the histories, the summary columns and the row of a case without results. The
+loading kinds (:mod:`engine.study.kinds`), the layout (:mod:`engine.study.layout`), the solvers'
 histories (:mod:`engine.solvers.cyclic`, :mod:`engine.solvers.peak`), the writers
 (:mod:`engine.output.hdf5`, :mod:`engine.output.collective`), the summary, the scheduler, the
 CLI and the reader (:mod:`engine.analysis.reader`) all take them from here. This module sits
@@ -63,6 +63,11 @@ __all__ = [
     "SURFACE_DEPTH_FRACTION",
     "DEEP_DEPTH_FRACTION",
     "PARAMETER_UNITS",
+    "PARAMETERS",
+    "SWEPT_KEY_UNITS",
+    "UNITS",
+    "unit_of",
+    "parameter_units",
     "SUMMARY_COLUMNS",
     "FRETTING_HISTORY",
     "FRETTING_RECORDS",
@@ -83,6 +88,7 @@ __all__ = [
     "case_group_path",
     "cycle_of_group",
     "field_dataset",
+    "on_plane",
     "history_dataset",
     "plane_dataset",
     "grid_dataset",
@@ -396,10 +402,28 @@ def _known(table: dict[str, DatasetSpec], key: str, name: str) -> DatasetSpec:
     return table[key]
 
 
-def field_dataset(name: str, group: str = "final") -> DatasetSpec:
-    """Surface field ``name`` at peak load of ``group`` ("final" or ``cycle_group(N)``)."""
+def field_dataset(name: str, group: str = "final", at: str = "peak load") -> DatasetSpec:
+    """Surface field ``name`` at the instant ``at`` ("peak load"; a fretting cycle's
+    "largest |Q|") of ``group`` ("final" or ``cycle_group(N)``)."""
     spec = _known(FIELDS, name, "FIELDS")
-    return DatasetSpec(spec.units, f"{spec.description}, peak load of {_moment(group)}")
+    return DatasetSpec(spec.units, f"{spec.description}, {at} of {_moment(group)}")
+
+
+_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
+
+
+def on_plane(description: str, angle: float, plane_group: bool = False) -> str:
+    """``description`` of a dataset on the stress plane turned to ``angle`` (degrees from x,
+    ≠ 0): "the x–z plane" becomes the vertical plane through the axis at that angle; a
+    dataset of a plane group (``subsurface/*``, ``plane_group``) also says how its x, y
+    follow from the distance s along the plane. At 0 the description is unchanged."""
+    if angle == 0.0:
+        return description
+    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    description = _XZ_PLANE.sub(plane, description)
+    if plane_group:
+        description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+    return description
 
 
 def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> DatasetSpec:
@@ -456,6 +480,51 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
 
 # ------------------------------------------------------------------ summary table
 #: Units of the case parameters stored as attributes of each case group.
+#: Units of the study-file keys that ``[sweep]`` may vary (dotted), as parameters and summary
+#: columns of each case (the study layer's ``SWEEPABLE``).
+SWEPT_KEY_UNITS = {
+    "material.E_A": "MPa",
+    "material.nu_A": "1",
+    "material.E_B": "MPa",
+    "material.nu_B": "1",
+    "punch.radius": "mm",
+    "punch.edge_radius": "mm",
+    "mesh.n": "1",
+    "mesh.half_width": "mm",
+    "mesh.reference_distance": "mm",
+    "loading.load": "N",
+    "loading.steps": "1",
+    "loading.cycles": "1",
+    "loading.max_wear_fraction": "1",
+    "loading.amplitude": "mm",
+    "loading.force_amplitude": "N",
+    "loading.direction": "degree",
+    "loading.bulk_stress_max": "MPa",
+    "loading.bulk_stress_min": "MPa",
+    "subsurface.depth": "punch radii",
+    "subsurface.layers": "1",
+    "solver.tol": "1",
+    "solver.maxiter": "1",
+    # [fatigue]: every constant of the bundled criteria and the critical distance
+    # (engine.study.fatigue.fatigue_sweepable; tests/test_fatigue_study.py checks the two)
+    "fatigue.sigma_d": "MPa",
+    "fatigue.tau_d": "MPa",
+    "fatigue.sigma_f": "MPa",
+    "fatigue.b": "1",
+    "fatigue.eps_f": "1",
+    "fatigue.c": "1",
+    "fatigue.tau_f": "MPa",
+    "fatigue.gamma_f": "1",
+    "fatigue.b0": "1",
+    "fatigue.c0": "1",
+    "fatigue.k": "1",
+    "fatigue.sigma_y": "MPa",
+    "fatigue.length": "mm",
+}
+#: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
+#: study uses it) with their units.
+PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+ALPHA_UNITS = "mm^3/J"
 PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
 
 SUMMARY_COLUMNS = [
@@ -478,13 +547,34 @@ COLUMN_UNITS = {
     "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
     "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
     "centre_pressure": "MPa", "elastic_approach": "mm",
+    # dimensionless ("1"): friction coefficients, counts and ratios
+    "mu1": "1", "mu2": "1", "cycles": "1", "stick_fraction": "1", "load_steps": "1",
+    "matvecs": "1", "wear_severity": "1", "peak_region_change_cycle": "1",
     # fretting cases only (extra columns, engine.solvers.fretting)
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
-    "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
-    # line contacts with wear only (engine.solvers.scar)
+    "vm_cycle_max_z": "mm", "alpha": ALPHA_UNITS, "vm_deep_max_y": "mm",
+    # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
+
+#: The one units table of the results: case parameters, summary columns and swept keys.
+UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
+
+
+def unit_of(name: str) -> str:
+    """Units of a parameter, summary column or swept dotted key (:data:`UNITS`); "" for the
+    text columns and names the table does not know."""
+    return UNITS.get(name, "")
+
+
+def parameter_units(parameters) -> dict[str, str]:
+    """Units of a case's parameter attributes: :data:`PARAMETER_UNITS` and those of the
+    swept dotted keys among ``parameters`` (names)."""
+    units = dict(PARAMETER_UNITS)
+    units.update({name: SWEPT_KEY_UNITS[name] for name in parameters if "." in name})
+    return units
+
 
 #: What each summary column holds (the manual's outputs reference is generated from these,
 #: COLUMN_UNITS and PARAMETER_UNITS by scripts/reference.py; not stored in the files).
@@ -540,10 +630,12 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
     "alpha": "energy wear law: the dissipated-energy wear coefficient",
-    "scar_depth": "line contacts: largest wear depth of the flat",
+    "scar_depth": "largest wear depth of the flat (line contacts with wear; 3-D punches with "
+    "`[wear] pad_coefficient`)",
     "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
     "scar_area": "line contacts: worn area of the flat per unit length, Σ h Δx",
-    "pad_wear_depth": "line contacts: largest wear depth of the pad",
+    "pad_wear_depth": "largest wear depth of the pad or punch (line contacts with wear; 3-D "
+    "punches with `[wear] pad_coefficient`)",
 }
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():

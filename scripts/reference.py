@@ -59,7 +59,7 @@ def sweepable_keys() -> str:
 def _column_unit(column: str) -> str:
     if column in schema.TEXT_COLUMNS:
         return "–"
-    return schema.COLUMN_UNITS.get(column, schema.PARAMETER_UNITS.get(column, "1"))
+    return schema.unit_of(column) or "1"
 
 
 def summary_columns() -> str:

@@ -67,9 +67,9 @@ def test_analysis_of_a_line_fretting_case_records_each_recorded_cycle():
     cycles 1 and 3: the analysis evaluates exactly those cycles (their increments through
     the case's increment probe), on the case's plane, with finite hot spots at the contact
     edge region, a point-method value below the surface hot spot and lives for SWT."""
+    from engine.geometry import CylinderProfile
     from engine.grid import Grid
     from engine.kernels.line import line_operator
-    from engine.line_profiles import CylinderProfile
     from engine.material import MaterialPair
     from engine.solvers.contact import ContactSolver
     from engine.solvers.fretting import FrettingAnalysis, FrettingSettings

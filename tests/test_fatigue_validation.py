@@ -138,9 +138,9 @@ def _solver_against_mcewen(elements: int, bulk: float):
     direct sums), and the same on McEwen's field at the same points and forces:
     (engine's assessments, McEwen's, a)."""
     from engine.fatigue.fields import CycleRecorder, LinePointStress, plane_history
+    from engine.geometry import CylinderProfile
     from engine.grid import Grid
     from engine.kernels.line import line_operator
-    from engine.line_profiles import CylinderProfile
     from engine.material import MaterialPair
     from engine.solvers.contact import ContactSolver
     from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, _tractions

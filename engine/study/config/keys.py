@@ -120,7 +120,7 @@ STUDY_KEYS = (
        '`"archard"`: Archard\'s orthotropic law (Eqs. 12–14), `[sweep] wear1, wear2` in 1/MPa; '
        '`"energy"`: depth increment = α × local frictional work, `[sweep] alpha` in mm³/J'),
     _K("wear", "pad_coefficient", "number", "none (the pad does not wear)", "1/MPa or mm^3/J",
-       "line contacts: the pad's wear coefficient, in the unit of the flat's law"),
+       "the punch's (pad's) wear coefficient, in the unit of the flat's law: both bodies wear"),
     _K("subsurface", "depth", "number", "1.5", "punch radii",
        "depth of the stress plane, in punch radii (sphere: Hertz contact radii)"),
     _K("subsurface", "layers", "integer", "16", "1",

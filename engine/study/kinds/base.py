@@ -22,7 +22,11 @@ results datasets            :attr:`~LoadingKind.history` (its ``history/<key>`` 
 checkpoint state            :meth:`~LoadingKind.save_state`, :meth:`~LoadingKind.load_state`
 memory estimate             :meth:`~LoadingKind.increments` (increments per simulated cycle)
 scheduling                  :meth:`~LoadingKind.cycle_cost` (relative cost of the cycles)
-report                      :meth:`~LoadingKind.describe` (the run's one-line summary)
+report and figures          :meth:`~LoadingKind.describe` (the run's one-line summary),
+                            :attr:`~LoadingKind.report`, :attr:`~LoadingKind.figures`
+                            (``"module:function"`` of the analysis layer, imported when a
+                            report or the figures are made; kinds import no analysis),
+                            :attr:`~LoadingKind.figures_per_case`
 ==========================  ==============================================================
 
 The kind receives a :class:`~engine.study.outcome.CaseContext` from the case runner (the
@@ -77,6 +81,14 @@ class LoadingKind:
     history: ClassVar[tuple[Mapping[str, DatasetSpec], ...]] = (schema.STATIC_HISTORY,)
     #: Datasets it adds to every recorded cycle (``fields/cycle_<N>/<name>``).
     records: ClassVar[Mapping[str, DatasetSpec]] = {}
+
+    #: ``"module:function"`` of its report, ``report(study, cycles) -> str`` (Markdown),
+    #: and figures, ``figures(study) -> iterator of (file name, figure)``, in the analysis
+    #: layer (``study``: engine.analysis.reader.StudyResults).
+    report: ClassVar[str] = "engine.analysis.report:standard_report"
+    figures: ClassVar[str] = "engine.analysis.figures:static_figures"
+    #: Its figures are drawn per case, each with its own a0 and p0 (no shared normalisation).
+    figures_per_case: ClassVar[bool] = False
 
     # ------------------------------------------------------------ configuration
     def parse(self, s: Section, load: float, steps: int) -> LoadingConfig:

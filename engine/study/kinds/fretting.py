@@ -37,13 +37,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from typing import Any
 
 from engine import schema
 from engine.schema import cycle_group
 from engine.study import outcome
-from engine.study.config.checks import MAX_FRICTION
+from engine.study.config.checks import MAX_FRICTION, bound
 from engine.study.config.sections import MISSING
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
 
@@ -52,7 +51,6 @@ from .base import CycledKind, parse_cycles
 #: [loading] keys of the tangential signal, and a line contact's bulk stresses (MPa).
 FRETTING_KEYS = frozenset({"amplitude", "force_amplitude", "direction"})
 BULK_STRESS_KEYS = frozenset({"bulk_stress_max", "bulk_stress_min"})
-_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
 
 
 class FrettingKind(CycledKind):
@@ -65,6 +63,9 @@ class FrettingKind(CycledKind):
     increments_per_step = 4  # four quarter cycles
     history = (schema.FRETTING_HISTORY, schema.HISTORY)
     records = schema.FRETTING_RECORDS
+    report = "engine.analysis.fretting_report:fretting_report"
+    figures = "engine.analysis.fretting_figures:fretting_figures"
+    figures_per_case = True
 
     # ------------------------------------------------------------ configuration
     def parse(self, s, load, steps):
@@ -83,14 +84,18 @@ class FrettingKind(CycledKind):
                 "and force_amplitude (N, force control)",
             )
         unit = "mm" if given[0] == "amplitude" else "N"
-        value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
+        limit = bound("loading.amplitude") if given[0] == "amplitude" else {}
+        value = s.number(given[0], minimum=0.0, strict=True, unit=unit, **limit)
         if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
             raise s.error(given[0], value, "must be below the friction bound μP (N)")
         direction = s.number("direction", 0.0, unit="degrees")
         if not -360.0 <= direction <= 360.0:
             raise s.error("direction", direction, "must lie in [-360, 360] degrees")
+        bulk_limit = bound("loading.bulk_stress")
         bulk = {
-            key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table
+            key: s.number(key, unit="MPa", minimum=-bulk_limit["maximum"], **bulk_limit)
+            for key in sorted(BULK_STRESS_KEYS)
+            if key in s.table
         }
         if bulk:
             bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
@@ -196,7 +201,7 @@ class FrettingKind(CycledKind):
         records = {cycle: dict(fields) for cycle, fields in result.records.items()}
         for cycle, fields in records.items():  # the loop and vm_cycle leave ``fields``
             datasets.update(self._record_datasets(fields, cycle))
-        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q| of"))
+        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q|"))
         datasets.update(outcome.final_fields(final))
         row = outcome.final_row(case, config, final, stress, depths, datasets, angle)
         row.update(outcome.peak_row(tracker, final, result.history))
@@ -258,15 +263,10 @@ def plane_angle(config) -> float:
 def label_plane(datasets: dict, angle: float) -> None:
     """In place, for φ = ``angle`` ≠ 0 (degrees): the plane's datasets (``subsurface/*``, the
     σ_VM peaks of ``history/`` and ``vm_cycle``) say which plane they are on, in their
-    description and in the attribute ``plane_angle`` (degrees from x). Nothing changes at
-    φ = 0, so x–z results stay as they were."""
-    if angle == 0.0:
-        return
-    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    description (:func:`engine.schema.on_plane`) and in the attribute ``plane_angle``
+    (degrees from x). Nothing changes at φ = 0, so x–z results stay as they were."""
     for path, record in datasets.items():
-        description = _XZ_PLANE.sub(plane, record.description)
-        if path.startswith("subsurface/"):
-            description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+        description = schema.on_plane(record.description, angle, path.startswith("subsurface/"))
         if description != record.description:
             record.description = description
             record.attrs["plane_angle"] = angle
