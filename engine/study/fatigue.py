@@ -68,6 +68,7 @@ __all__ = [
     "fatigue_columns",
     "FatigueAnalysis",
     "FatigueCycle",
+    "fatigue_layout",
 ]
 
 _OPTIONS = {"criteria", "method", "length", "amplitude_method", "plane_step", "every_cycle"}
@@ -236,6 +237,19 @@ class FatigueCycle:
     cycle: int
     row: dict[str, float]
     maps: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+def fatigue_layout(config: FatigueConfig, plane_shape) -> dict[str, tuple[int, ...]]:
+    """Shapes of ``fatigue/cycle_NNNNNNN/<name>`` of one recorded cycle (float64): the maps
+    have the stress plane's shape ``plane_shape``, the hot spots
+    ``len(FATIGUE_HOT_SPOT_COLUMNS)`` values (``engine.study.layout``)."""
+    shapes = {}
+    for name in config.criteria:
+        column, *described = criterion_schema(CRITERIA[name])
+        for dataset in fatigue_maps(column, *described, 0):
+            hot_spot = dataset == f"{column}_hot_spot"
+            shapes[dataset] = (len(FATIGUE_HOT_SPOT_COLUMNS),) if hot_spot else tuple(plane_shape)
+    return shapes
 
 
 def criterion_schema(criterion) -> tuple[str, str, str, bool, bool]:
