@@ -42,6 +42,10 @@ from . import fretting as _shared
 from .fretting import cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
+# in: a figure of one or two panels is at least this wide, so that its title (study name,
+# case, mesh and load) and the legend row below fit on it (the figures of one case)
+MIN_FIGURE_WIDTH = 8.5
+
 __all__ = [
     "FrettingCase",
     "LoopPanel",
@@ -188,7 +192,11 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
     columns = min(3, max(len(panels), 1))
     rows = -(-len(panels) // columns)
     figure, axes = plt.subplots(
-        rows, columns, figsize=(4.6 * columns, 3.7 * rows), squeeze=False, layout="constrained"
+        rows,
+        columns,
+        figsize=(max(4.6 * columns, MIN_FIGURE_WIDTH), 3.7 * rows),
+        squeeze=False,
+        layout="constrained",
     )
     for axis in axes.flat[len(panels) :]:
         axis.set_visible(False)
