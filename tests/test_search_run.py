@@ -7,7 +7,8 @@ steel on steel, K = 0, μ = 0.5) against Mindlin's closed form δ_slip = 3μP S/
 fretting cycle, 4 increments per quarter, mesh over ±1.5 a): −1.24 % at n = 16, −0.55 % at
 n = 32, −0.41 % at n = 48 — the discrete model's own transition (the last sticking element at
 the centre vanishes later than the continuum's stick zone), converging with the mesh; the
-search's own error is ≤ rtol. Hence 1 % at n = 32.
+search's own error is ≤ rtol. Hence 1 % at n = 32. The cylinder (line contact) against
+Cattaneo–Mindlin's δ_slip, which depends on the displacement datum d: see its test.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ import pytest
 import engine
 from engine.material import MaterialPair
 from engine.reference import mindlin
+from engine.reference.line_contact import cattaneo_line_slip_displacement
 from engine.study.config import StudyConfigError, parse_study
-from engine.study.examples import study_toml
+from engine.study.examples import CYLINDER_ON_STEEL, study_toml
 
 REPO = Path(__file__).resolve().parents[1]
 STEEL = {"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3}  # MPa, 1 (K = 0)
@@ -85,6 +87,41 @@ def test_sphere_transition_amplitude_against_mindlin(tmp_path):
     print(f"threshold {row.threshold * 1e3:.5f} µm vs δ_slip {slip * 1e3:.5f} µm: ")
     print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
     assert row.steps == 12 and grid_cases > 50 * row.steps
+
+
+def test_cylinder_transition_amplitude_against_cattaneo_mindlin(tmp_path):
+    """A steel cylinder on a steel flat (R = 6 mm, P = 185 N/mm, a = 0.113 mm, μ = 0.5, line
+    contact): the searched partial/gross boundary against the closed form
+    δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2)
+    (engine.reference.line_contact.cattaneo_line_slip_displacement), for two displacement
+    datums d = 1 and 10 mm (one search each, swept): 1.81 and 3.04 µm. Measured (rtol 1e-3,
+    one cycle, 4 increments per quarter, ±0.25 mm): −0.13 % at n = 32, −0.09 % and +0.02 % at
+    n = 64, +0.02 % at n = 128; hence 0.5 % at n = 64. Each search takes 12 or 13 cases where
+    a uniform grid of amplitudes reaching the same accuracy needs more than 700."""
+    datums = [1.0, 10.0]  # mm
+    changes = {
+        **CYLINDER_ON_STEEL,
+        "loading": {**ONE_CYCLE, "load": 185.0},
+        "sweep": {"mu1": [0.5], "wear1": [0.0], "mesh.reference_distance": datums},
+        "search": {**SEARCH, "low": 1.5e-3, "high": 6e-3},
+    }
+    study = tmp_path / "cylinder.toml"
+    study.write_text(study_toml("cylinder", str(tmp_path / "cylinder.h5"), changes))
+    result = run(study)
+    assert result.returncode == 0, result.stderr
+    table = engine.load_thresholds(tmp_path / "cylinder.h5")
+    modulus = 1.0 / (2.0 * (1.0 - 0.3**2) / 200e3)  # MPa, E* of steel on steel
+    for datum, row in zip(datums, table.itertuples(), strict=True):
+        slip = cattaneo_line_slip_displacement(185.0, 6.0, modulus, 0.5, datum)
+        assert row.status == "converged"
+        assert abs(row.threshold / slip - 1.0) < 5e-3, (datum, row.threshold, slip)
+        assert (row.lower_value, row.upper_value) == ("partial", "gross")
+        tolerance = SEARCH["rtol"] * row.threshold
+        grid_cases = math.ceil((6e-3 - 1.5e-3) / (2 * tolerance)) + 1
+        print(f"d = {datum} mm: {row.threshold * 1e3:.5f} µm vs {slip * 1e3:.5f} µm, ")
+        print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
+        assert row.steps <= 13 and grid_cases > 50 * row.steps
+    assert table["mesh.reference_distance"].tolist() == datums
 
 
 def test_a_search_study_stores_every_step_and_the_thresholds_table(tmp_path):

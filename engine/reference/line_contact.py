@@ -54,6 +54,7 @@ __all__ = [
     "cattaneo_line_traction",
     "nowell_hills_traction",
     "line_loop_energy",
+    "cattaneo_line_slip_displacement",
     "bulk_surface_strain",
     "nowell_hills_stick_offset",
     "pad_load",
@@ -139,6 +140,23 @@ def line_loop_energy(
     log_term = 0.0 if t == 1.0 else 2.0 * (1.0 - t) * math.log1p(-t)
     scale = 2.0 * (friction_coefficient * load) ** 2 / (math.pi * contact_modulus)
     return scale * (log_term + 2.0 * t - t * t)
+
+
+def cattaneo_line_slip_displacement(
+    load: float,
+    radius: float,
+    contact_modulus: float,
+    friction_coefficient: float,
+    reference_distance: float,
+) -> float:
+    """Rigid tangential displacement (mm) at which a cylinder starts to slide (gross slip):
+    δ(t = 1) of the module docstring, δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2) with Hertz's a
+    and p0 (load in N/mm, radius and the datum distance d in mm, E* in MPa); the stick zone
+    of Cattaneo–Mindlin vanishes there. Unlike the sphere's, it grows with the datum d."""
+    half_width = hertz_line_half_width(load, radius, contact_modulus)
+    peak = hertz_line_peak_pressure(load, radius, contact_modulus)
+    scale = friction_coefficient * peak * half_width / contact_modulus
+    return scale * (math.log(2.0 * reference_distance / half_width) + 0.5)
 
 
 def bulk_surface_strain(bulk_stress: float, young_modulus: float, poisson_ratio: float):
