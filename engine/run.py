@@ -335,14 +335,13 @@ def _check_may_resume(output: Path, options: _RunOptions) -> None:
 def study_metadata(config, command_line: str, plan):
     """Root metadata of the results file; the root grid only when every case of the plan
     shares it (otherwise each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
-    from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
     grid = None
-    if mesh is not None:  # a line contact's grid: n elements along x, one along y
-        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
+    if mesh is not None:  # the profile's grid (a line contact's: one element along y)
+        grid = config.punch.profile().grid(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,

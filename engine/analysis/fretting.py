@@ -29,7 +29,7 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference import mindlin
+from engine.reference import line_contact, mindlin
 
 from .reader import CaseResults, StudyResults
 
@@ -44,6 +44,7 @@ __all__ = [
     "regime",
     "sampled_loop_energy",
     "setting",
+    "slip_boundary",
 ]
 
 K_EXACT = 1e-12  # |K| below which Mindlin's references are exact (uncoupled materials)
@@ -84,9 +85,33 @@ def regime(case: CaseResults) -> str:
 
 
 def sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    if setting(study, case, "punch.shape") != "sphere":
+    """The sphere's radius R (mm) for the Hertz–Mindlin references, None for other shapes."""
+    from engine.geometry import PROFILES, SphericalPunch
+
+    if PROFILES.get(setting(study, case, "punch.shape")) is not SphericalPunch:
         return None
     return float(setting(study, case, "punch.radius"))
+
+
+def slip_boundary(study: StudyResults, case: CaseResults):
+    """δ_slip(P) (mm) of the case's geometry as a function of the load P, or None where no
+    closed form applies (it needs isotropic friction μ1 = μ2 = μ > 0): Mindlin's
+    3μP S/(16a) for a sphere (P in N), the cylinder's (μ p0 a/E*)(ln(2d/a) + 1/2) with the
+    study's displacement datum d for a line contact (P in N/mm,
+    ``engine.reference.line_contact.line_slip_displacement``)."""
+    if case.mu1 != case.mu2 or not case.mu1 > 0:
+        return None
+    shape, radius = setting(study, case, "punch.shape"), setting(study, case, "punch.radius")
+    pair = material(study, case)
+    if shape == "sphere":
+        return lambda load: mindlin.slip_displacement(load, float(radius), pair, case.mu1)
+    if shape == "cylinder":
+        datum = float(setting(study, case, "mesh.reference_distance"))
+        modulus = pair.contact_modulus
+        return lambda load: line_contact.line_slip_displacement(
+            load, float(radius), modulus, case.mu1, datum
+        )
+    return None
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

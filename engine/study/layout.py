@@ -96,11 +96,7 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
 
 
 def _grid(config: StudyConfig):
-    from engine.grid import Grid
-
-    if config.punch.is_line:  # a line contact: n elements along x, one along y
-        return Grid.line(config.mesh.n, config.mesh.half_width)
-    return Grid.square(config.mesh.n, config.mesh.half_width)
+    return config.punch.profile().grid(config.mesh.n, config.mesh.half_width)
 
 
 def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:

@@ -110,16 +110,17 @@ def case_wear_law(case: Case, cfg: StudyConfig):
         law = EnergyWearLaw(case.alpha)
     else:
         law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
-    if cfg.punch.is_line:  # the gap carries the flat's and the pad's wear
-        from engine.study.line_contact import wear_law
+    ratio = pad_ratio(case, cfg)
+    if cfg.punch.is_line or ratio > 0.0:  # the gap carries the flat's and the pad's wear
+        from engine.solvers.scar import two_body_wear_law
 
-        return wear_law(law, pad_ratio(case, cfg))
+        return two_body_wear_law(law, ratio)
     return law
 
 
 def pad_ratio(case: Case, cfg: StudyConfig) -> float:
-    """k_pad / k_flat of a line contact (``[wear] pad_coefficient``; 0 without)."""
-    from engine.study.line_contact import pad_ratio as ratio
+    """k_pad / k_flat (``[wear] pad_coefficient``; 0 without, the punch does not wear)."""
+    from engine.solvers.scar import pad_ratio as ratio
 
     flat = case.alpha if cfg.wear.law == "energy" else case.wear1
     return ratio(cfg.wear.pad_coefficient, flat)
@@ -130,11 +131,7 @@ def nominal_mean_pressure(cfg: StudyConfig) -> float:
     the flat face's radius) or, for a sphere, Hertz's mean pressure P/(π a²), a = Hertz's
     contact radius (engine.reference.hertz); for a line contact P/(2 a0) with a0 the nominal
     half-width (engine.study.line_contact)."""
-    from engine.reference.flat_punch import mean_pressure
-
-    if cfg.punch.is_line:  # per unit length: P/(2 a0), a0 the nominal half-width
-        return cfg.loading.load / (2.0 * cfg.contact_length)
-    return mean_pressure(cfg.loading.load, cfg.contact_length)
+    return cfg.punch.profile().mean_pressure(cfg.loading.load, cfg.contact_length)
 
 
 def peak_tracker(stress, contact_length: float, angle: float = 0.0):
@@ -227,7 +224,6 @@ class CaseContext:
         contact touching the grid's border fails the case
         (engine.geometry.ContactReachesBorder) instead of being truncated."""
         from engine.geometry import may_reach_border
-        from engine.grid import Grid
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
@@ -235,11 +231,8 @@ class CaseContext:
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
-        if cfg.punch.is_line:  # plane strain: n elements along x, unit length along y
-            grid = Grid.line(cfg.mesh.n, cfg.mesh.half_width)
-        else:
-            grid = Grid.square(cfg.mesh.n, cfg.mesh.half_width)
         punch = cfg.punch.profile()
+        grid = punch.grid(cfg.mesh.n, cfg.mesh.half_width)  # square, or a line contact's
         punch.check_grid(grid)
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         operator = self.operators.operator(
@@ -335,9 +328,9 @@ def history_datasets(
     return datasets
 
 
-def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak load of"):
+def recorded_datasets(records, stress, angle: float = 0.0, at: str = "peak load"):
     """The surface fields (``fields/cycle_N/``) and the stress plane through the axis at
-    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``moment`` names
+    ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``at`` names
     the instant of the fields in their descriptions."""
     from engine.schema import cycle_group
 
@@ -345,11 +338,8 @@ def recorded_datasets(records, stress, angle: float = 0.0, moment: str = "peak l
     for cycle in sorted(records):
         fields, group = records[cycle], cycle_group(cycle)
         for name, values in fields.items():
-            spec = field_dataset(name, group)
-            description = spec.description.replace("peak load of", moment)
-            datasets[case_group_path("fields", group, name)] = DatasetRecord(
-                np.asarray(values), spec.units, description
-            )
+            path = case_group_path("fields", group, name)
+            datasets[path] = field_dataset(name, group, at).record(np.asarray(values))
         plane = stress.plane(
             fields["pressure"], fields["traction_x"], fields["traction_y"], angle=angle
         )
@@ -444,9 +434,15 @@ def totals_row(result, cfg: StudyConfig) -> dict[str, Any]:
 
 def scar_row(case, cfg, grid, result) -> dict[str, Any]:
     """Line contacts: scar_depth, scar_width, scar_area of the flat and pad_wear_depth
-    (engine.solvers.scar) from the final wear; nothing for the 3-D punches."""
+    (engine.solvers.scar) from the final wear; a 3-D punch that wears too
+    (``[wear] pad_coefficient``): scar_depth and pad_wear_depth; else nothing."""
     if not grid.is_line:
-        return {}
+        ratio = pad_ratio(case, cfg)
+        if ratio == 0.0:
+            return {}
+        from engine.solvers.scar import two_body_depths
+
+        return two_body_depths(result.state.wear, ratio)
     from engine.study.line_contact import scar_row as line_scar_row
 
     return line_scar_row(grid, result.state.wear, pad_ratio(case, cfg))

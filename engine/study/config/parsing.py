@@ -49,6 +49,9 @@ Sections and keys (``*`` = required; defaults in brackets):
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+``[fatigue]``     criteria*, their constants*, method ["hotspot"], length (mm), amplitude_method
+                  ["chord"], plane_step [1], every_cycle [false]: multiaxial fatigue
+                  criteria on the fretting cycles (fretting only; engine.study.fatigue)
 """
 
 from __future__ import annotations
@@ -60,16 +63,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from engine.geometry import PROFILES
 from engine.solvers import defaults
 
 from .checks import MAX_TOLERANCE, bound, check_physical_ranges
 from .compat import STATIC_PLACEHOLDERS
 from .reader import Section, toml_error
 from .sections import (
-    HERTZ_MARGIN,
     MISSING,
     PROPORTIONAL,
-    PUNCH_SHAPES,
     WEAR_LAWS,
     LoadingConfig,
     MaterialConfig,
@@ -104,6 +106,7 @@ class StudyConfig:
     testing: TestingConfig
     wear: WearConfig = WearConfig()
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
+    fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -129,15 +132,8 @@ class StudyConfig:
         punch radius (rounded: of the flat face) or, for a sphere, Hertz's contact radius
         at the peak load; for a line contact the nominal contact half-width (Hertz's for a
         cylinder, Ciavarella's for a pad)."""
-        if self.punch.shape == "sphere":
-            from engine.reference.hertz import hertz_contact_radius
-
-            return hertz_contact_radius(
-                self.loading.load, self.punch.radius, contact_modulus(self.material)
-            )
-        if self.punch.is_line:
-            return line_half_width(self.punch, self.material, self.loading.load)
-        return self.punch.radius
+        modulus = contact_modulus(self.material)
+        return self.punch.profile().contact_length(self.loading.load, modulus)
 
     def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
         """The configuration of one case: the swept ``settings`` ({dotted key: value})
@@ -170,6 +166,13 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "fatigue":
+                if self.fatigue is not None:
+                    resolved = self.fatigue.resolved()
+                    out["fatigue"] = {
+                        k: v for k, v in resolved.items() if f"fatigue.{k}" not in swept
+                    }
                 continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
@@ -324,6 +327,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     sweep = _parse_sweep(section("sweep"), loading, wear)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
+    fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -346,6 +350,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         solver,
         testing,
         wear=wear,
+        fatigue=fatigue,
         derived_defaults=derived,
     )
 
@@ -375,46 +380,47 @@ def _parse_material(s: Section) -> MaterialConfig:
 def _parse_punch(s: Section) -> PunchConfig:
     s.check_known({"shape", "radius", "edge_radius"})
     shape = s.string("shape", "flat")
-    if shape not in PUNCH_SHAPES:
-        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PUNCH_SHAPES))
+    if shape not in PROFILES:
+        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PROFILES))
     radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
+    rule = PROFILES[shape].edge_radius_rule  # None, ">= 0" or "> 0"
     edge_radius = None
-    if shape in ("rounded", "pad"):
+    if rule is not None:
         edge_radius = s.number(
             "edge_radius",
             minimum=0.0,
-            strict=shape == "pad",
+            strict=rule == "> 0",
             unit="mm",
             **bound("punch.edge_radius"),
         )
     elif "edge_radius" in s.table:
-        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded" or "pad"')
+        shapes = [f'"{name}"' for name, profile in PROFILES.items() if profile.edge_radius_rule]
+        value = s.table["edge_radius"]
+        raise s.error("edge_radius", value, f"only for shape = {' or '.join(shapes)}")
     return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
 
 
 def _parse_mesh(
     s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
 ) -> MeshConfig:
-    """The mesh must cover the contact: the punch face (flat, rounded) or, for a sphere,
-    Hertz's contact radius at the peak load (a default half-width of HERTZ_MARGIN times it).
-    A contact reaching the mesh border at run time fails the case (engine.geometry)."""
-    if punch.is_line:
-        return _parse_line_mesh(s, punch, material, loading)
-    s.check_known({"n", "half_width"})
+    """The mesh must cover the profile's contact length a0 (the punch face of a flat or
+    rounded punch, Hertz's contact radius of a sphere at the peak load, a line contact's
+    nominal half-width) with 4 elements across it; the default half-width is the profile's
+    (:meth:`engine.geometry.Profile.default_half_width`). A line contact also takes the
+    datum of its displacements ``reference_distance`` (mm, at least the mesh's length
+    2·half_width). A contact reaching the mesh border at run time fails the case
+    (engine.geometry)."""
+    profile = punch.profile()
+    s.check_known({"n", "half_width"} | ({"reference_distance"} if profile.is_line else set()))
     n = s.integer("n", minimum=8, **bound("mesh.n"))
-    if punch.shape == "sphere":
-        from engine.reference.hertz import hertz_contact_radius
-
-        contact = hertz_contact_radius(loading.load, punch.radius, contact_modulus(material))
-        default, what = HERTZ_MARGIN * contact, "Hertz contact radius"
-    else:
-        contact = punch.radius
-        default = 1.05 * (punch.radius + (punch.edge_radius or 0.0))
-        what = "punch face radius"
+    modulus = contact_modulus(material)
+    contact = profile.contact_length(loading.load, modulus)
+    what = profile.covered
     if "half_width" in s.table and s.number("half_width", unit="mm") < contact:
         raise s.error(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
+    default = profile.default_half_width(loading.load, modulus)
     half_width = s.number(
         "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
     )
@@ -425,42 +431,10 @@ def _parse_mesh(
             f"fewer than 4 elements across the {what} ({contact:.6g} mm) on a grid of "
             f"half-width {half_width:.6g} mm; increase n",
         )
-    return MeshConfig(n=n, half_width=half_width)
-
-
-def line_half_width(punch: PunchConfig, material: MaterialConfig, load: float) -> float:
-    """The nominal contact half-width of a line contact (mm, load in N/mm)."""
-    from engine.study.line_contact import LineContact
-
-    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load)
-    return line.nominal_half_width(contact_modulus(material))
-
-
-def _parse_line_mesh(
-    s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
-) -> MeshConfig:
-    """A line contact's mesh: ``n`` elements along x over ``half_width`` (default
-    HERTZ_MARGIN times the nominal half-width, at least the pad's flat), and the datum of
-    its displacements ``reference_distance`` (mm, at least the mesh's length 2·half_width)."""
+    if not profile.is_line:
+        return MeshConfig(n=n, half_width=half_width)
     from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
-    s.check_known({"n", "half_width", "reference_distance"})
-    n = s.integer("n", minimum=8, **bound("mesh.n"))
-    contact = line_half_width(punch, material, loading.load)
-    half_width = s.number(
-        "half_width",
-        HERTZ_MARGIN * contact,
-        minimum=0.0,
-        strict=True,
-        unit="mm",
-        **bound("mesh.half_width"),
-    )
-    if half_width < contact:
-        raise s.error(
-            "half_width", half_width, f"must be >= {contact:.6g} mm (the contact half-width)"
-        )
-    if n * contact / half_width < 4:
-        raise s.error("n", n, "fewer than 4 elements across the contact half-width; increase n")
     distance = s.number(
         "reference_distance",
         DEFAULT_REFERENCE_DISTANCE,
@@ -478,18 +452,22 @@ def _parse_line_mesh(
 
 
 def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
-    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    """The keys of line contacts only (the bulk stress) name themselves elsewhere."""
     if punch.is_line:
         return
     for key, value in (
         ("loading.bulk_stress_max", loading.bulk_stress_max),
         ("loading.bulk_stress_min", loading.bulk_stress_min),
-        ("wear.pad_coefficient", wear.pad_coefficient),
     ):
         if value is not None:
             raise StudyConfigError(
-                source, key, value, 'only for line contacts ([punch] shape = "cylinder" or "pad")'
+                source, key, value, f"only for line contacts ([punch] shape = {_line_shapes()})"
             )
+
+
+def _line_shapes() -> str:
+    """``"cylinder" or "pad"``: the line-contact shapes of engine.geometry.PROFILES."""
+    return " or ".join(f'"{name}"' for name, profile in PROFILES.items() if profile.is_line)
 
 
 def _parse_loading(s: Section) -> LoadingConfig:
@@ -532,6 +510,22 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
         unit = "mm³/J" if law == "energy" else "1/MPa"
         pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
+
+
+def _parse_fatigue(s: Section, loading: LoadingConfig):
+    """The ``[fatigue]`` section (``engine.study.fatigue``): the criteria read the increments
+    of a fretting cycle, so it needs ``[loading] kind = "fretting"``."""
+    from ..fatigue import parse_fatigue
+
+    config = parse_fatigue(s)
+    if loading.kind != "fretting":
+        raise StudyConfigError(
+            s.source,
+            "loading.kind",
+            loading.kind,
+            '[fatigue] evaluates the increments of fretting cycles: needs kind = "fretting"',
+        )
+    return config
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:

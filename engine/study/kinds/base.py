@@ -22,7 +22,11 @@ results datasets            :attr:`~LoadingKind.history` (its ``history/<key>`` 
 checkpoint state            :meth:`~LoadingKind.save_state`, :meth:`~LoadingKind.load_state`
 memory estimate             :meth:`~LoadingKind.increments` (increments per simulated cycle)
 scheduling                  :meth:`~LoadingKind.cycle_cost` (relative cost of the cycles)
-report                      :meth:`~LoadingKind.describe` (the run's one-line summary)
+report and figures          :meth:`~LoadingKind.describe` (the run's one-line summary),
+                            :attr:`~LoadingKind.report`, :attr:`~LoadingKind.figures`
+                            (``"module:function"`` of the analysis layer, imported when a
+                            report or the figures are made; kinds import no analysis),
+                            :attr:`~LoadingKind.figures_per_case`
 ==========================  ==============================================================
 
 The kind receives a :class:`~engine.study.outcome.CaseContext` from the case runner (the
@@ -77,6 +81,14 @@ class LoadingKind:
     history: ClassVar[tuple[Mapping[str, DatasetSpec], ...]] = (schema.STATIC_HISTORY,)
     #: Datasets it adds to every recorded cycle (``fields/cycle_<N>/<name>``).
     records: ClassVar[Mapping[str, DatasetSpec]] = {}
+
+    #: ``"module:function"`` of its report, ``report(study, cycles) -> str`` (Markdown),
+    #: and figures, ``figures(study) -> iterator of (file name, figure)``, in the analysis
+    #: layer (``study``: engine.analysis.reader.StudyResults).
+    report: ClassVar[str] = "engine.analysis.report:standard_report"
+    figures: ClassVar[str] = "engine.analysis.figures:static_figures"
+    #: Its figures are drawn per case, each with its own a0 and p0 (no shared normalisation).
+    figures_per_case: ClassVar[bool] = False
 
     # ------------------------------------------------------------ configuration
     def parse(self, s: Section, load: float, steps: int) -> LoadingConfig:
@@ -179,11 +191,15 @@ class CycledKind(LoadingKind):
         path = context.checkpoint_path(case)
         return path, (self.load_state(path) if path.exists() else None)
 
-    def interrupted(self, case: Case, state: Any, path: Path) -> CaseOutcome:
-        """Save ``state`` to ``path`` (atomic: temporary file + rename); the outcome says
-        where."""
+    def interrupted(self, case: Case, state: Any, path: Path, extra=None) -> CaseOutcome:
+        """Save ``state`` to ``path`` (atomic: temporary file + rename), with the ``extra``
+        arrays of the case's analyses where the kind keeps any (fretting: the evaluated
+        fatigue cycles); the outcome says where."""
         path.parent.mkdir(parents=True, exist_ok=True)
-        self.save_state(state, path)
+        if extra is None:
+            self.save_state(state, path)
+        else:
+            self.save_state(state, path, extra)
         message = f"stopped at cycle {state.cycle}; state saved to {path}"
         return CaseOutcome(case, INTERRUPTED, message=message)
 

@@ -25,6 +25,7 @@ class CyclicKind(CycledKind):
     summary = "normal load cycles with wear and cycle jumping"
     increments_per_step = 2  # loading and unloading half cycles
     history = (schema.HISTORY,)
+    figures = "engine.analysis.figures:cyclic_figures"
 
     def describe(self, config, value):
         cycles = f"{value('cycles', config.loading.cycles, '', ',')} cycles"

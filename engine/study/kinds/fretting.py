@@ -20,6 +20,12 @@ x–z plane at 0°; at φ ≠ 0 its datasets carry the attribute ``plane_angle``
 so in their description, and the history and summary gain the y of the tracked peaks
 (``vm_max_y``, ``vm_sub_max_y``, ``vm_deep_max_y``; summary ``vm_deep_max_y``).
 
+With a ``[fatigue]`` section, the criteria are evaluated on the increments of every recorded
+cycle (of every simulated cycle with ``every_cycle``) on the same plane, from the planes the
+σ_VM probe evaluates (``engine.study.fatigue``): datasets ``fatigue/cycle_NNNNNNN/*``,
+``history/<column>`` with ``every_cycle``, the criteria's summary columns
+(``crossland_risk`` …); an interrupted case's checkpoint keeps the evaluated cycles.
+
 The recorded surface fields of a fretting cycle are those of its increment of largest |Q|.
 Summary columns: ``q_amplitude`` (N), ``displacement_amplitude`` (mm), ``energy_per_cycle``
 (mJ), ``slip_regime`` ("partial" | "gross") of the last simulated cycle, and ``vm_cycle_max``
@@ -31,7 +37,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from typing import Any
 
 from engine import schema
@@ -46,7 +51,6 @@ from .base import CycledKind, parse_cycles
 #: [loading] keys of the tangential signal, and a line contact's bulk stresses (MPa).
 FRETTING_KEYS = frozenset({"amplitude", "force_amplitude", "direction"})
 BULK_STRESS_KEYS = frozenset({"bulk_stress_max", "bulk_stress_min"})
-_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
 
 
 class FrettingKind(CycledKind):
@@ -59,6 +63,9 @@ class FrettingKind(CycledKind):
     increments_per_step = 4  # four quarter cycles
     history = (schema.FRETTING_HISTORY, schema.HISTORY)
     records = schema.FRETTING_RECORDS
+    report = "engine.analysis.fretting_report:fretting_report"
+    figures = "engine.analysis.fretting_figures:fretting_figures"
+    figures_per_case = True
 
     # ------------------------------------------------------------ configuration
     def parse(self, s, load, steps):
@@ -122,10 +129,10 @@ class FrettingKind(CycledKind):
         return {"loop": ((rows, 4), "float64"), "vm_cycle": ((4,), "float64")}
 
     # ------------------------------------------------------------ checkpoint
-    def save_state(self, state, path):
+    def save_state(self, state, path, extra=None):
         from engine.study.checkpoint import save_fretting_state
 
-        save_fretting_state(state, path)
+        save_fretting_state(state, path, extra)
 
     def load_state(self, path):
         from engine.study.checkpoint import load_fretting_state
@@ -145,9 +152,13 @@ class FrettingKind(CycledKind):
         fretting = settings(config)
         check_force_bound(case, fretting)
         tracker = outcome.peak_tracker(stress, config.contact_length, angle)
+        fatigue = fatigue_analysis(config, stress, grid, angle)
 
         def increment_probe(pressure, traction_x, traction_y):
-            peak = stress.plane(pressure, traction_x, traction_y, angle=angle).peak()
+            plane = stress.plane(pressure, traction_x, traction_y, angle=angle)
+            if fatigue is not None:  # the criteria read the same planes
+                fatigue.increment_probe(pressure, traction_x, traction_y, plane)
+            peak = plane.peak()
             return (peak.value, peak.x, peak.y, peak.z)
 
         analysis = FrettingAnalysis(
@@ -158,13 +169,28 @@ class FrettingKind(CycledKind):
             increment_probe=increment_probe,
         )
         if fretting.has_bulk_stress:  # the probes see the σ_B of the increment they evaluate
-            analysis.bulk_stress_listener = lambda value: setattr(stress, "bulk_stress", value)
+
+            def listener(value):
+                stress.bulk_stress = value
+                if fatigue is not None:
+                    fatigue.set_bulk_stress(value)
+
+            analysis.bulk_stress_listener = listener
         checkpoint, state = self.checkpoint(context, case)
-        result = analysis.run(state=state, should_stop=should_stop, on_cycle=context.on_cycle(case))
+        on_cycle = context.on_cycle(case)
+        if fatigue is not None:
+            analysis.probe_every_cycle = config.fatigue.every_cycle
+            if state is not None:
+                from engine.study.checkpoint import load_extra
+
+                fatigue.restore(load_extra(checkpoint))
+            on_cycle = _both(fatigue.on_cycle, on_cycle)
+        result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
         if fretting.has_bulk_stress:  # the stored planes: σ_B of the last cycle's peak
             stress.bulk_stress = analysis.peak_bulk_stress
         if not result.completed:
-            return self.interrupted(case, result.state, checkpoint)
+            extra = None if fatigue is None else fatigue.arrays()
+            return self.interrupted(case, result.state, checkpoint, extra)
         if not result.converged:
             return CaseOutcome(
                 case, FAILED, message=f"fretting analysis did not converge: {result.message}"
@@ -175,11 +201,16 @@ class FrettingKind(CycledKind):
         records = {cycle: dict(fields) for cycle, fields in result.records.items()}
         for cycle, fields in records.items():  # the loop and vm_cycle leave ``fields``
             datasets.update(self._record_datasets(fields, cycle))
-        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q| of"))
+        datasets.update(outcome.recorded_datasets(records, stress, angle, "largest |Q|"))
         datasets.update(outcome.final_fields(final))
         row = outcome.final_row(case, config, final, stress, depths, datasets, angle)
         row.update(outcome.peak_row(tracker, final, result.history))
         row.update(summary_values(result))
+        if fatigue is not None:
+            datasets.update(fatigue.datasets())
+            if fatigue.config.every_cycle:
+                datasets.update(fatigue.history_datasets(result.history["cycle"]))
+            row.update(fatigue.summary_row())
         label_plane(datasets, angle_deg)
         row.update(outcome.totals_row(result, config))
         row.update(outcome.scar_row(case, config, grid, result))
@@ -198,6 +229,32 @@ class FrettingKind(CycledKind):
         }
 
 
+def fatigue_analysis(config, stress, grid, angle: float):
+    """The case's fatigue analysis (``[fatigue]``, ``engine.study.fatigue``; None without):
+    the flat's E and ν, the case's plane at ``angle`` (rad), its recorded cycles."""
+    if config.fatigue is None:
+        return None
+    from engine.study.fatigue import FatigueAnalysis
+
+    loading = config.loading
+    recorded = set(loading.record) | {loading.cycles}
+    return FatigueAnalysis(
+        config.fatigue, stress, grid, config.material.E_A, config.material.nu_A, angle, recorded
+    )
+
+
+def _both(first, second):
+    """An ``on_cycle`` calling ``first`` then ``second`` (None: only ``first``)."""
+    if second is None:
+        return first
+
+    def on_cycle(cycle, cycles):
+        first(cycle, cycles)
+        second(cycle, cycles)
+
+    return on_cycle
+
+
 def plane_angle(config) -> float:
     """The subsurface plane's angle φ (degrees from x): the sliding direction."""
     return float(config.loading.direction or 0.0)
@@ -206,15 +263,10 @@ def plane_angle(config) -> float:
 def label_plane(datasets: dict, angle: float) -> None:
     """In place, for φ = ``angle`` ≠ 0 (degrees): the plane's datasets (``subsurface/*``, the
     σ_VM peaks of ``history/`` and ``vm_cycle``) say which plane they are on, in their
-    description and in the attribute ``plane_angle`` (degrees from x). Nothing changes at
-    φ = 0, so x–z results stay as they were."""
-    if angle == 0.0:
-        return
-    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    description (:func:`engine.schema.on_plane`) and in the attribute ``plane_angle``
+    (degrees from x). Nothing changes at φ = 0, so x–z results stay as they were."""
     for path, record in datasets.items():
-        description = _XZ_PLANE.sub(plane, record.description)
-        if path.startswith("subsurface/"):
-            description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+        description = schema.on_plane(record.description, angle, path.startswith("subsurface/"))
         if description != record.description:
             record.description = description
             record.attrs["plane_angle"] = angle

@@ -1,0 +1,31 @@
+"""``shape = "cylinder"``: a cylinder of radius R on a flat, axis along y at x = 0, in the
+parabolic (Hertz) approximation g = x²/(2R) (the one the closed forms of
+``engine.reference.line_contact`` assume). A line (plane-strain) contact: a0 is Hertz's
+half-width a = √(4PR/(πE*)) at the load per unit length P (N/mm)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from engine.grid import Grid
+
+from .base import LineProfile
+
+
+@dataclass(frozen=True)
+class CylinderProfile(LineProfile):
+    """Cylinder of radius ``radius`` (R, mm), axis along y at x = 0: g = x²/(2R)."""
+
+    name = "cylinder"
+    radius: float
+
+    def contact_length(self, load: float, contact_modulus: float) -> float:
+        from engine.reference.line_contact import hertz_line_half_width
+
+        return hertz_line_half_width(load, self.radius, contact_modulus)
+
+    def gap(self, grid: Grid) -> np.ndarray:
+        x, _ = grid.coordinates()
+        return x**2 / (2.0 * self.radius)
