@@ -226,3 +226,46 @@ def test_the_searched_parameter_is_neither_swept_nor_set():
                 search=SEARCH,
             )
         )
+
+
+def test_plot_draws_one_boundary_curve_per_friction_with_every_step(tmp_path, small_text):
+    """μ ∈ {0.3, 0.5} × P ∈ {50, 100} N: four searches. The boundary figure has one curve per
+    μ (the friction list tells the curves apart, not only the dotted keys), each against the
+    load in increasing order through its thresholds, with the bracket as error bars, and a
+    point for every step the searches computed; the curves grow with μ and with the load
+    (δ_slip ∝ μ P^(2/3)); `python -m engine plot` writes it, no text too small or cut."""
+    from engine.analysis import figures
+    from engine.analysis.threshold_figures import draw_thresholds
+
+    study = sphere_study(
+        tmp_path,
+        "curves",
+        loading={"load": None},
+        sweep={"mu1": [0.3, 0.5], "loading.load": [50.0, 100.0]},
+        search={"rtol": 5e-2, "low": 5e-4},  # mm: δ_slip(μ = 0.3, 50 N) = 0.8 µm
+    )
+    result = run(study)
+    assert result.returncode == 0, result.stderr
+    path = tmp_path / "curves.h5"
+    table = engine.load_thresholds(path)
+    figure = draw_thresholds(path)
+    axis = figure.axes[0]
+    legend = [text.get_text() for text in axis.get_legend().get_texts()]
+    assert legend == ["mu1 = 0.3", "mu1 = 0.5"]
+    assert (table["status"] == "converged").all()
+    curves = [line for line in axis.get_lines() if line.get_linestyle() == "-"]
+    assert len(curves) == 2
+    for mu, curve in zip((0.3, 0.5), curves, strict=True):
+        rows = table[table.mu1 == mu].sort_values("loading.load")
+        assert list(curve.get_xdata()) == [50.0, 100.0]
+        assert list(curve.get_ydata()) == rows["threshold"].tolist()
+    assert curves[0].get_ydata()[1] > curves[0].get_ydata()[0]  # with the load
+    assert all(curves[1].get_ydata() > curves[0].get_ydata())  # with μ
+    points = [line for line in axis.get_lines() if line.get_marker() in ("o", "x")]
+    assert sum(len(line.get_xdata()) for line in points) == table["steps"].sum()
+    assert figure.axes[0].get_xlabel() == "loading.load (N)"
+    assert figure.axes[0].get_ylabel() == "loading.amplitude (mm)"
+    figures.plt.close(figure)
+    assert figures.main([str(path), "--out", str(tmp_path / "figures")]) == 0
+    assert (tmp_path / "figures" / "thresholds.png").exists()
+    assert not small_text, small_text
