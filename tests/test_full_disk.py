@@ -68,6 +68,19 @@ def test_no_space_from_the_operating_system_becomes_output_full(tmp_path, monkey
     assert not is_no_space(RuntimeError("bad symbol table node signature"))
 
 
+def test_the_check_before_a_run_refuses_when_no_case_could_be_kept(tmp_path, monkeypatch):
+    """The data still to run fits, but the smallest case would fail the writer's own test
+    (twice its data, the margin and the unplanned allowance): refused before anything runs,
+    where a run would compute the case, fail to keep it and rewrite the file for nothing."""
+    case = 40_000  # bytes the plan knows of the smallest case still to run
+    writer_needs = 2 * case + space.MARGIN + space.UNPLANNED
+    monkeypatch.setattr(space, "free_bytes", lambda _: writer_needs - 1)
+    with pytest.raises(OutputFull):
+        space.check_space(tmp_path / "r.h5", 2 * case, smallest_case=case)
+    monkeypatch.setattr(space, "free_bytes", lambda _: writer_needs)
+    space.check_space(tmp_path / "r.h5", 2 * case, smallest_case=case)
+
+
 @pytest.fixture
 def small_file_system(tmp_path):
     mount = tmp_path / "small"
