@@ -640,7 +640,7 @@ COLUMN_DESCRIPTIONS = {
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
     for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
-        COLUMN_UNITS[_key] = _spec.units
+        COLUMN_UNITS[_key] = UNITS[_key] = _spec.units
         COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

@@ -23,13 +23,13 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference import line_contact, mindlin
+from engine.reference import mindlin
 
 from .reader import CaseResults, StudyResults
 
@@ -101,17 +101,12 @@ def slip_boundary(study: StudyResults, case: CaseResults):
     ``engine.reference.line_contact.line_slip_displacement``)."""
     if case.mu1 != case.mu2 or not case.mu1 > 0:
         return None
-    shape, radius = setting(study, case, "punch.shape"), setting(study, case, "punch.radius")
-    pair = material(study, case)
-    if shape == "sphere":
-        return lambda load: mindlin.slip_displacement(load, float(radius), pair, case.mu1)
-    if shape == "cylinder":
-        datum = float(setting(study, case, "mesh.reference_distance"))
-        modulus = pair.contact_modulus
-        return lambda load: line_contact.line_slip_displacement(
-            load, float(radius), modulus, case.mu1, datum
-        )
-    return None
+    radius = float(setting(study, case, "punch.radius"))
+    profile = replace(study.profile, radius=radius)
+    pair, datum = material(study, case), setting(study, case, "mesh.reference_distance")
+    if profile.slip_displacement(1.0, pair, case.mu1, datum) is None:
+        return None
+    return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

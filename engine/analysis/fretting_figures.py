@@ -30,13 +30,13 @@ a results file; :func:`fretting_figures` is the thin adapter from the results fi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from engine.reference import line_contact, mindlin
+from engine.reference import mindlin
 
 from . import fretting as _shared
 from .fatigue import has_fatigue
@@ -400,10 +400,10 @@ def _loop_cases(study: StudyResults) -> list[CaseResults]:
 
 
 def _reference_loop(study: StudyResults, case: CaseResults):
-    """The analytic stabilised loop of a case, or None where it does not apply: Mindlin's
-    for a sphere, the cylinder's (``engine.reference.line_contact.line_fretting_loop``)."""
-    shape = _setting(study, case, "punch.shape")
-    if shape not in ("sphere", "cylinder") or not _isotropic_friction(case) or case.mu1 <= 0:
+    """The analytic stabilised loop of a case, or None where it does not apply (the
+    profile's :meth:`~engine.geometry.Profile.fretting_loop`: Mindlin's for a sphere, the
+    cylinder's closed form)."""
+    if not _isotropic_friction(case) or case.mu1 <= 0:
         return None
     load, material = float(_setting(study, case, "loading.load")), _material(study, case)
     radius = float(_setting(study, case, "punch.radius"))
@@ -415,17 +415,14 @@ def _reference_loop(study: StudyResults, case: CaseResults):
         if force is not None
         else {"displacement_amplitude": _amplitude(study, case)}
     )
-    if shape == "cylinder":
-        datum = float(_setting(study, case, "mesh.reference_distance"))
-        return line_contact.line_fretting_loop(
-            load, radius, material.contact_modulus, case.mu1, datum, **amplitudes
-        )
-    return mindlin.fretting_loop(load, radius, material, case.mu1, **amplitudes)
+    datum = _setting(study, case, "mesh.reference_distance")
+    profile = replace(study.profile, radius=radius)
+    return profile.fretting_loop(load, material, case.mu1, datum, **amplitudes)
 
 
 def _load_unit(study: StudyResults) -> str:
     """N, or N/mm for a line contact (loads per unit length)."""
-    return "N/mm" if study.config.get("punch", {}).get("shape") in ("cylinder", "pad") else "N"
+    return "N/mm" if study.profile.is_line else "N"
 
 
 def _loops_figure(study: StudyResults):

@@ -112,6 +112,19 @@ class Profile:
 
         return mean_pressure(load, contact_length)
 
+    def slip_displacement(self, load, material, mu: float, reference_distance):
+        """The closed-form partial/gross-slip transition amplitude δ_slip (mm) at ``load``
+        (N, or N/mm for a line contact; an array too) with isotropic friction ``mu``, or None
+        where no closed form applies (the default)."""
+        return None
+
+    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
+        """The analytic stabilised Q–δ loop of this profile under fretting at ``load`` with
+        isotropic friction ``mu`` and one of ``displacement_amplitude`` (mm) or
+        ``force_amplitude`` (N), or None where no closed form applies (the default).
+        ``reference_distance`` is a line contact's displacement datum (mm)."""
+        return None
+
     def summary(self, load: float, contact_modulus: float) -> dict[str, float]:
         """The nominal contact: ``a0`` (mm) and ``p0`` (MPa) at the load."""
         a0 = self.contact_length(load, contact_modulus)

@@ -29,3 +29,22 @@ class CylinderProfile(LineProfile):
     def gap(self, grid: Grid) -> np.ndarray:
         x, _ = grid.coordinates()
         return x**2 / (2.0 * self.radius)
+
+    def slip_displacement(self, load, material, mu: float, reference_distance):
+        """The cylinder's δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2) with the displacement datum
+        d = ``reference_distance``
+        (:func:`engine.reference.line_contact.line_slip_displacement`)."""
+        from engine.reference import line_contact
+
+        return line_contact.line_slip_displacement(
+            load, self.radius, material.contact_modulus, mu, float(reference_distance)
+        )
+
+    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
+        """The cylinder's loop (:func:`engine.reference.line_contact.line_fretting_loop`)
+        with the displacement datum ``reference_distance`` (mm)."""
+        from engine.reference import line_contact
+
+        return line_contact.line_fretting_loop(
+            load, self.radius, material.contact_modulus, mu, reference_distance, **amplitude
+        )

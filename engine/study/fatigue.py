@@ -120,6 +120,33 @@ def fatigue_keys(registry=CRITERIA) -> set[str]:
     return _OPTIONS | {name for cls in registry.values() for name in cls.constants}
 
 
+# The magnitudes a material constant can take (a value outside is a typo or a unit slip:
+# MPa given in Pa, a percentage for a fraction), with the reason printed when it is passed.
+_STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
+CONSTANT_RANGES = {
+    "sigma_d": _STRENGTH, "tau_d": _STRENGTH, "sigma_f": _STRENGTH, "tau_f": _STRENGTH,
+    "sigma_y": _STRENGTH,
+    "b": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "b0": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "c": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "c0": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
+    "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
+    "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
+}  # fmt: skip
+MAX_LENGTH = 100.0  # mm, the critical distance
+
+
+def _check_range(section, name: str, value: float) -> None:
+    """Refuse a constant outside :data:`CONSTANT_RANGES` (a fifth criterion's constants
+    without an entry are taken as given), naming the key."""
+    if name not in CONSTANT_RANGES:
+        return
+    low, high, why = CONSTANT_RANGES[name]
+    if not low <= value <= high:
+        raise section.error(name, value, f"must lie in [{low:g}, {high:g}] ({why})")
+
+
 def _criteria(section) -> tuple[str, ...]:
     value = section.raw("criteria")
     names = value if isinstance(value, list) else [value]
@@ -155,7 +182,10 @@ def parse_fatigue(section) -> FatigueConfig:
         raise section.error("method", method, f"must be one of {', '.join(METHODS)}")
     length = None
     if method != "hotspot":
-        length = section.number("length", minimum=0.0, strict=True, unit="mm")
+        length = section.number(
+            "length", minimum=0.0, strict=True, unit="mm", maximum=MAX_LENGTH,
+            why="critical distances of metals lie in 0.01 … 1 mm",
+        )  # fmt: skip
     elif "length" in section.table:
         raise section.error(
             "length", section.table["length"], 'applies to a method other than "hotspot"'
@@ -178,6 +208,8 @@ def parse_fatigue(section) -> FatigueConfig:
     except ValueError as error:
         key = next((k for k in constants if f"'{k}'" in str(error)), "criteria")
         raise section.error(key, constants.get(key, list(criteria)), str(error)) from None
+    for name, value in constants.items():  # signs checked above, magnitudes here
+        _check_range(section, name, value)
     return config
 
 
