@@ -318,7 +318,11 @@ def _check_space(output: Path, plan, layout, existing) -> None:
     from engine.output.space import check_space, planned_bytes
 
     completed = set(existing.completed) if existing is not None else set()
-    check_space(output, planned_bytes(layout, [c for c in plan.case_ids if c not in completed]))
+    remaining = [case_id for case_id in plan.case_ids if case_id not in completed]
+    if not remaining:
+        return
+    smallest = min(planned_bytes(layout, [case_id]) for case_id in remaining)
+    check_space(output, planned_bytes(layout, remaining), smallest_case=smallest)
 
 
 class ExistingOutput(ValueError):

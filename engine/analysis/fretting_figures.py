@@ -41,6 +41,7 @@ from engine.reference import mindlin
 from . import fretting as _shared
 from .fatigue import has_fatigue
 from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
+from .figures import MIN_FIGURE_WIDTH
 from .fretting import case_profile, cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
@@ -175,8 +176,8 @@ def _panels(count: int, width: float, height: float):
     columns = min(3, max(count, 1))
     rows = -(-count // columns)
     figure, axes = plt.subplots(
-        rows, columns, figsize=(width * columns, height * rows), squeeze=False,
-        layout="constrained",
+        rows, columns, figsize=(max(width * columns, MIN_FIGURE_WIDTH), height * rows),
+        squeeze=False, layout="constrained",
     )  # fmt: skip
     for axis in axes.flat[count:]:
         axis.set_visible(False)
