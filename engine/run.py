@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from engine import __version__
+from engine.parallel.waiting import patient_bcast
 
 __all__ = ["StudyRun", "RUN_STATUSES", "run_study"]
 
@@ -402,7 +403,7 @@ def _verdict(comm, study, options: _RunOptions, locks: list, stop_event):
             verdict = ("stopped", "")
     else:
         comm.Split_type(MPI.COMM_TYPE_SHARED)  # collective: every rank takes part
-    return comm.bcast(verdict, root=0)
+    return patient_bcast(comm, verdict)
 
 
 def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> StudyRun:
@@ -428,7 +429,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
         if rank == 0 and prepared.existing is not None:
             prepared.existing.report(sys.stdout)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
-        return comm.bcast(dataclasses.replace(run, **outcome) if rank == 0 else None, root=0)
+        return patient_bcast(comm, dataclasses.replace(run, **outcome) if rank == 0 else None)
     finally:
         for lock in locks:
             lock.release()
@@ -500,7 +501,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
     searches, settled = None, True
     if rank == 0:
         settled = _settle_existing(prepared, options, command_line, stop_event)
-    if not comm.bcast(settled, root=0):  # every rank, before the writer's first collective
+    if not patient_bcast(comm, settled):  # every rank, before the writer's first collective
         if rank == 0:
             print("stopped while salvaging the damaged file; nothing changed", file=sys.stderr)
         return {"status": "interrupted", "message": "stopped while salvaging"}
