@@ -201,7 +201,8 @@ def write_doc_table(results: list[dict], args) -> None:
     document = REPO / "docs" / "explanation" / "performance.md"
     note = f"`python benchmarks/bench_scheduler.py --cases {args.cases} --ranks "
     note += " ".join(str(r) for r in args.ranks) + " --update-docs`: static cases at n = 8"
-    text = measured_on(note) + "\n" + markdown_table(HEADER, table_rows(results))
+    rows = [row for row in table_rows(results) if row[0] == "new"]  # this tree's runs
+    text = measured_on(note) + "\n" + markdown_table(HEADER, rows)
     replace_block(document, "bench-scheduler", text)
     print(f"{document}: wrote the block bench-scheduler")
 

@@ -4,7 +4,8 @@ MPICH busy-polls inside a blocking collective: a rank that reaches ``bcast`` whi
 still busy (reading back the results it wrote, say) burns a core until rank 0 arrives. With
 more ranks than cores (an oversubscribed workstation) the waiting ranks then take the cores
 from the one rank that has work. :func:`patient_bcast` first meets the other ranks in a
-non-blocking barrier polled with short sleeps, then broadcasts (at once: every rank is there).
+non-blocking barrier polled with short sleeps, then broadcasts (at once: every rank is there);
+:func:`patient_gather` likewise.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 import time
 from typing import Any
 
-__all__ = ["patient_bcast", "wait_for_all"]
+__all__ = ["patient_bcast", "patient_gather", "wait_for_all"]
 
 LONGEST_SLEEP = 0.01  # s between two looks at the barrier, once the wait has lasted
 
@@ -32,3 +33,9 @@ def patient_bcast(comm, value: Any, root: int = 0) -> Any:
     """``comm.bcast(value, root)``, the ranks that arrive early sleeping instead of spinning."""
     wait_for_all(comm)
     return comm.bcast(value, root=root)
+
+
+def patient_gather(comm, value: Any, root: int = 0) -> list[Any] | None:
+    """``comm.gather(value, root)``, the ranks that arrive early sleeping instead of spinning."""
+    wait_for_all(comm)
+    return comm.gather(value, root=root)
