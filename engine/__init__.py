@@ -7,6 +7,8 @@ The public API:
 
 - :func:`run_study` runs (or resumes) a study file, TOML text or configuration, on this process
   or on the ranks of a communicator, and returns a :class:`StudyRun`;
+- :func:`open_results` opens a results file as objects: the study, the summary, each
+  case's histories, fields and stress planes with units (``.to_xarray()`` with xarray);
 - :func:`load_summary` reads a study's summary table as a pandas DataFrame;
 - :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section.
 
@@ -27,9 +29,37 @@ __all__ = [
     "RUN_STATUSES",
     "StudyRun",
     "run_study",
+    "open_results",
     "load_summary",
     "load_thresholds",
 ]
+
+
+def open_results(path):
+    """Open a study's results file as objects (:mod:`engine.analysis.results`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) a study run wrote.
+
+    Returns
+    -------
+    engine.analysis.results.Results
+        A mapping case id → case, in plan order, with ``study`` (the resolved study),
+        ``summary`` (a pandas DataFrame); each case with its ``parameters``, ``status``,
+        ``summary`` row, ``history``, ``fields`` and ``planes`` (values with units and
+        coordinates; ``.to_xarray()`` when xarray is installed).
+
+    Examples
+    --------
+    >>> results = engine.open_results("results/demo.h5")               # doctest: +SKIP
+    >>> case = results["mu0.1_w1.33e-07_b0"]                            # doctest: +SKIP
+    >>> case.planes["final"].to_xarray()["von_mises"].max()             # doctest: +SKIP
+    """
+    from engine.analysis.results import open_results as open_file
+
+    return open_file(path)
 
 
 def load_summary(path):

@@ -336,14 +336,13 @@ def _check_may_resume(output: Path, options: _RunOptions) -> None:
 def study_metadata(config, command_line: str, plan):
     """Root metadata of the results file; the root grid only when every case of the plan
     shares it (otherwise each case's own grid is in its group, ``/cases/<case_id>/grid``)."""
-    from engine.grid import Grid
     from engine.output.hdf5 import StudyMetadata
     from engine.output.identity import study_identity
 
     mesh = plan.shared_mesh()
     grid = None
-    if mesh is not None:  # a line contact's grid: n elements along x, one along y
-        grid = Grid.line(*mesh) if config.punch.is_line else Grid.square(*mesh)
+    if mesh is not None:  # the profile's grid (a line contact's: one element along y)
+        grid = config.punch.profile().grid(*mesh)
     metadata = StudyMetadata(
         name=config.study.name,
         source=config.source,
@@ -427,7 +426,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
         if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a stop during start-up
             return _stopped_at_start_up(comm, run)
         if rank == 0 and prepared.existing is not None:
-            prepared.existing.report(sys.stdout)
+            prepared.existing.report(sys.stdout, drop_stale=options.drop_stale)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
         return patient_bcast(comm, dataclasses.replace(run, **outcome) if rank == 0 else None)
     finally:
@@ -765,24 +764,8 @@ def _loading_description(config, plan) -> str:
         key = f"loading.{name}"
         return _range_text(_values(plan, key) if key in swept else [first], unit, form)
 
-    loading, swept = config.loading, set(config.sweep.swept_keys)
-    cycles = f"{value('cycles', loading.cycles, '', ',')} cycles"
-    what = (
-        f"cyclic, P = {value('load', loading.load, 'N')}, {cycles}"
-        if config.is_cyclic
-        else f"static, P = {value('load', loading.load, 'N')}"
-    )
-    if config.is_fretting:
-        control = (
-            f"displacement control, amplitude {value('amplitude', loading.amplitude, 'mm')}"
-            if loading.amplitude is not None
-            else "force control, force_amplitude "
-            + value("force_amplitude", loading.force_amplitude, "N")
-        )
-        what = (
-            f"fretting, P = {value('load', loading.load, 'N')} held, {control} along "
-            f"{value('direction', loading.direction or 0.0, '')}° from x, {cycles}"
-        )
+    swept = set(config.sweep.swept_keys)
+    what = config.kind.describe(config, value)
     ranges = [
         f"{key} = {_range_text(values, column_unit(key))}"
         for key in (*_PARAMETERS, *config.sweep.swept_keys)

@@ -2,8 +2,8 @@
 
 One table for everything the other layers must agree on (issue 14.1): the case status values,
 the dataset paths of a case group with their units and descriptions, the peak-region codes
-stored in the histories, the summary columns and the row of a case without results. The case
-runner (:mod:`engine.study.case`), the layout (:mod:`engine.study.layout`), the solvers'
+stored in the histories, the summary columns and the row of a case without results. The
+loading kinds (:mod:`engine.study.kinds`), the layout (:mod:`engine.study.layout`), the solvers'
 histories (:mod:`engine.solvers.cyclic`, :mod:`engine.solvers.peak`), the writers
 (:mod:`engine.output.hdf5`, :mod:`engine.output.collective`), the summary, the scheduler, the
 CLI and the reader (:mod:`engine.analysis.reader`) all take them from here. This module sits
@@ -21,6 +21,9 @@ Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dime
     subsurface/cycle_NNNNNNN/<name>   (n_s, n_z): x, y, z (mm), von_mises, sigma_<ij> (MPa)
     peak_changes/cycle_NNNNNNN/<name> the plane and PEAK_CHANGE_FIELDS at the first cycle and
                                       each change of the peak region (cyclic)
+    fatigue/cycle_NNNNNNN/<name>      fretting with [fatigue]: each criterion's map on the
+                                      stress plane, its angles, lives and hot spot
+                                      (FATIGUE_CRITERIA, fatigue_maps)
 
 and at the root ``/grid/x``, ``/grid/y`` (ROOT_GRID) when every case shares the grid. Every
 dataset carries ``units`` and ``description`` attributes; :func:`case_dataset` gives both for
@@ -60,9 +63,19 @@ __all__ = [
     "SURFACE_DEPTH_FRACTION",
     "DEEP_DEPTH_FRACTION",
     "PARAMETER_UNITS",
+    "PARAMETERS",
+    "SWEPT_KEY_UNITS",
+    "UNITS",
+    "unit_of",
+    "parameter_units",
     "SUMMARY_COLUMNS",
     "FRETTING_HISTORY",
     "FRETTING_RECORDS",
+    "FATIGUE_CRITERIA",
+    "FATIGUE_HISTORY",
+    "FATIGUE_HOT_SPOT_COLUMNS",
+    "fatigue_specs",
+    "fatigue_maps",
     "LOOP_COLUMNS",
     "fretting_record",
     "COLUMN_UNITS",
@@ -71,8 +84,11 @@ __all__ = [
     "TEXT_COLUMNS",
     "CYCLE_GROUP",
     "cycle_group",
+    "CASE_SECTIONS",
+    "case_group_path",
     "cycle_of_group",
     "field_dataset",
+    "on_plane",
     "history_dataset",
     "plane_dataset",
     "grid_dataset",
@@ -231,6 +247,19 @@ ROOT_GRID = {axis: DatasetSpec("mm", f"element-centre {axis} coordinates") for a
 CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
 
 
+#: The groups of a case group (``/cases/<case_id>/<section>/...``).
+CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes")
+
+
+def case_group_path(section: str, *names: str) -> str:
+    """Path of a dataset relative to its case group, e.g. ``case_group_path("fields",
+    cycle_group(10), "wear")`` → ``"fields/cycle_0000010/wear"``; ``section`` must be one of
+    :data:`CASE_SECTIONS`."""
+    if section not in CASE_SECTIONS:
+        raise KeyError(f"{section!r} is not a section of a case group {CASE_SECTIONS}")
+    return "/".join((section, *names))
+
+
 def cycle_group(cycle: int) -> str:
     """Name of the group of a recorded cycle: ``cycle_0001000`` (seven digits)."""
     return f"cycle_{int(cycle):07d}"
@@ -288,6 +317,71 @@ FRETTING_RECORDS = {
 }
 
 
+# ------------------------------------------------------------------ fatigue criteria
+#: The bundled fatigue criteria (engine.fatigue.CRITERIA) by value column: (unit, what the
+#: value is, whether it has a critical-plane angle, whether it gives a life). A plug-in
+#: criterion's columns and datasets follow the same rule from its own column and unit
+#: (:func:`fatigue_specs`).
+FATIGUE_CRITERIA = {
+    "crossland_risk": ("1", "Crossland risk (√J2,a + α σ_H,max)/τ_d", False, False),
+    "dang_van_risk": ("1", "Dang Van risk max_t (τ(t) + α σ_H(t))/τ_d", False, False),
+    "swt": ("MPa", "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane", True, True),
+    "fs": ("1", "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane", True, True),
+}
+FATIGUE_HOT_SPOT_COLUMNS = ("value", "x", "z", "angle", "life", "critical", "critical_x")
+
+
+def fatigue_specs(column: str, unit: str, what: str, angle: bool, life: bool):
+    """The columns of one criterion (summary and, per simulated cycle, history): name →
+    :class:`DatasetSpec`, in the summary's order: ``<column>``, ``_x``, ``_z``, ``_angle``
+    (critical-plane criteria), ``_critical``, ``_life`` (criteria with a life curve)."""
+    specs = {
+        column: DatasetSpec(unit, f"{what}, its largest value over the stress plane (hot spot)"),
+        f"{column}_x": DatasetSpec("mm", f"x of the {column} hot spot (along the plane)"),
+        f"{column}_z": DatasetSpec("mm", f"depth z of the {column} hot spot"),
+    }
+    if angle:
+        specs[f"{column}_angle"] = DatasetSpec(
+            "degree", f"critical plane at the {column} hot spot, from +x towards +z"
+        )
+    specs[f"{column}_critical"] = DatasetSpec(
+        unit, f"{column} read at the critical distance ([fatigue] method and length)"
+    )
+    if life:
+        specs[f"{column}_life"] = DatasetSpec(
+            "1", f"cycles to crack nucleation at the {column} hot spot (inf: below the curve)"
+        )
+    return specs
+
+
+def fatigue_maps(column: str, unit: str, what: str, angle: bool, life: bool, cycle: int):
+    """``fatigue/cycle_<N>/<name>`` of one criterion: its map on the stress plane, its plane
+    angles and lives where it has them, and its hot spot (name → :class:`DatasetSpec`)."""
+    where = f"on the stress plane (the points of subsurface/cycle_NNNNNNN/x, z), cycle {cycle}"
+    specs = {column: DatasetSpec(unit, f"{what} {where}")}
+    if angle:
+        specs[f"{column}_angle"] = DatasetSpec("degree", f"critical plane of {column} {where}")
+    if life:
+        specs[f"{column}_life"] = DatasetSpec("1", f"cycles to crack nucleation, {column}, {where}")
+    specs[f"{column}_hot_spot"] = DatasetSpec(
+        f"{unit}, mm, mm, degree, 1, {unit}, mm",
+        f"{column} hot spot of cycle {cycle}: value, x, z, critical-plane angle (NaN: none), "
+        "life (NaN: none); the value at the critical distance and the x of the surface hot "
+        "spot it is read below",
+        ", ".join(FATIGUE_HOT_SPOT_COLUMNS),
+    )
+    return specs
+
+
+#: history/<key> of a fretting case with ``[fatigue] every_cycle = true``: the bundled
+#: criteria's hot spots per simulated cycle.
+FATIGUE_HISTORY = {
+    key: DatasetSpec(spec.units, spec.description + _PER_CYCLE)
+    for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items()
+    for key, spec in fatigue_specs(column, unit, what, angle, life).items()
+}
+
+
 def fretting_record(name: str, cycle: int) -> DatasetSpec:
     """``fields/cycle_<N>/<name>`` of a fretting case: the loop or the cycle's σ_VM maximum."""
     spec = _known(FRETTING_RECORDS, name, "FRETTING_RECORDS")
@@ -308,10 +402,28 @@ def _known(table: dict[str, DatasetSpec], key: str, name: str) -> DatasetSpec:
     return table[key]
 
 
-def field_dataset(name: str, group: str = "final") -> DatasetSpec:
-    """Surface field ``name`` at peak load of ``group`` ("final" or ``cycle_group(N)``)."""
+def field_dataset(name: str, group: str = "final", at: str = "peak load") -> DatasetSpec:
+    """Surface field ``name`` at the instant ``at`` ("peak load"; a fretting cycle's
+    "largest |Q|") of ``group`` ("final" or ``cycle_group(N)``)."""
     spec = _known(FIELDS, name, "FIELDS")
-    return DatasetSpec(spec.units, f"{spec.description}, peak load of {_moment(group)}")
+    return DatasetSpec(spec.units, f"{spec.description}, {at} of {_moment(group)}")
+
+
+_XZ_PLANE = re.compile(r"x[-–]z plane( through the axis)?")
+
+
+def on_plane(description: str, angle: float, plane_group: bool = False) -> str:
+    """``description`` of a dataset on the stress plane turned to ``angle`` (degrees from x,
+    ≠ 0): "the x–z plane" becomes the vertical plane through the axis at that angle; a
+    dataset of a plane group (``subsurface/*``, ``plane_group``) also says how its x, y
+    follow from the distance s along the plane. At 0 the description is unchanged."""
+    if angle == 0.0:
+        return description
+    plane = f"vertical plane through the axis at {angle:g}° from x (the sliding direction)"
+    description = _XZ_PLANE.sub(plane, description)
+    if plane_group:
+        description += f"; on the {plane}, x = s cos φ, y = s sin φ, φ = {angle:g}°"
+    return description
 
 
 def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> DatasetSpec:
@@ -319,6 +431,8 @@ def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> Da
     increment) case."""
     if fretting and key in FRETTING_HISTORY:
         return FRETTING_HISTORY[key]
+    if fretting and key in FATIGUE_HISTORY:
+        return FATIGUE_HISTORY[key]
     if cyclic:
         return _known(HISTORY, key, "HISTORY")
     return _known(STATIC_HISTORY, key, "STATIC_HISTORY")
@@ -342,6 +456,8 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
     if len(parts) == 2 and parts[0] == "grid":
         return grid_dataset(parts[1])
     if len(parts) == 2 and parts[0] == "history":
+        if cyclic and parts[1] in FATIGUE_HISTORY:
+            return FATIGUE_HISTORY[parts[1]]
         return history_dataset(parts[1], cyclic)
     if len(parts) == 3 and parts[0] == "fields":
         allowed = FINAL_FIELDS if parts[1] == "final" else RECORDED_FIELDS
@@ -354,11 +470,61 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
         if parts[2] in PEAK_CHANGE_FIELDS:
             return field_dataset(parts[2], parts[1])
         return plane_dataset(parts[2])
+    if len(parts) == 3 and parts[0] == "fatigue" and cycle_of_group(parts[1]) is not None:
+        for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items():
+            specs = fatigue_maps(column, unit, what, angle, life, cycle_of_group(parts[1]))
+            if parts[2] in specs:
+                return specs[parts[2]]
     raise KeyError(f"no dataset {path!r} in the results schema")
 
 
 # ------------------------------------------------------------------ summary table
 #: Units of the case parameters stored as attributes of each case group.
+#: Units of the study-file keys that ``[sweep]`` may vary (dotted), as parameters and summary
+#: columns of each case (the study layer's ``SWEEPABLE``).
+SWEPT_KEY_UNITS = {
+    "material.E_A": "MPa",
+    "material.nu_A": "1",
+    "material.E_B": "MPa",
+    "material.nu_B": "1",
+    "punch.radius": "mm",
+    "punch.edge_radius": "mm",
+    "mesh.n": "1",
+    "mesh.half_width": "mm",
+    "mesh.reference_distance": "mm",
+    "loading.load": "N",
+    "loading.steps": "1",
+    "loading.cycles": "1",
+    "loading.max_wear_fraction": "1",
+    "loading.amplitude": "mm",
+    "loading.force_amplitude": "N",
+    "loading.direction": "degree",
+    "loading.bulk_stress_max": "MPa",
+    "loading.bulk_stress_min": "MPa",
+    "subsurface.depth": "punch radii",
+    "subsurface.layers": "1",
+    "solver.tol": "1",
+    "solver.maxiter": "1",
+    # [fatigue]: every constant of the bundled criteria and the critical distance
+    # (engine.study.fatigue.fatigue_sweepable; tests/test_fatigue_study.py checks the two)
+    "fatigue.sigma_d": "MPa",
+    "fatigue.tau_d": "MPa",
+    "fatigue.sigma_f": "MPa",
+    "fatigue.b": "1",
+    "fatigue.eps_f": "1",
+    "fatigue.c": "1",
+    "fatigue.tau_f": "MPa",
+    "fatigue.gamma_f": "1",
+    "fatigue.b0": "1",
+    "fatigue.c0": "1",
+    "fatigue.k": "1",
+    "fatigue.sigma_y": "MPa",
+    "fatigue.length": "mm",
+}
+#: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
+#: study uses it) with their units.
+PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+ALPHA_UNITS = "mm^3/J"
 PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
 
 SUMMARY_COLUMNS = [
@@ -381,13 +547,34 @@ COLUMN_UNITS = {
     "vm_deep_max": "MPa", "vm_deep_max_x": "mm", "vm_deep_max_z": "mm",
     "vm_axis_max": "MPa", "vm_axis_max_z": "mm", "contact_radius": "mm",
     "centre_pressure": "MPa", "elastic_approach": "mm",
+    # dimensionless ("1"): friction coefficients, counts and ratios
+    "mu1": "1", "mu2": "1", "cycles": "1", "stick_fraction": "1", "load_steps": "1",
+    "matvecs": "1", "wear_severity": "1", "peak_region_change_cycle": "1",
     # fretting cases only (extra columns, engine.solvers.fretting)
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
-    "vm_cycle_max_z": "mm", "alpha": "mm^3/J", "vm_deep_max_y": "mm",
-    # line contacts with wear only (engine.solvers.scar)
+    "vm_cycle_max_z": "mm", "alpha": ALPHA_UNITS, "vm_deep_max_y": "mm",
+    # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
+
+#: The one units table of the results: case parameters, summary columns and swept keys.
+UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
+
+
+def unit_of(name: str) -> str:
+    """Units of a parameter, summary column or swept dotted key (:data:`UNITS`); "" for the
+    text columns and names the table does not know."""
+    return UNITS.get(name, "")
+
+
+def parameter_units(parameters) -> dict[str, str]:
+    """Units of a case's parameter attributes: :data:`PARAMETER_UNITS` and those of the
+    swept dotted keys among ``parameters`` (names)."""
+    units = dict(PARAMETER_UNITS)
+    units.update({name: SWEPT_KEY_UNITS[name] for name in parameters if "." in name})
+    return units
+
 
 #: What each summary column holds (the manual's outputs reference is generated from these,
 #: COLUMN_UNITS and PARAMETER_UNITS by scripts/reference.py; not stored in the files).
@@ -443,11 +630,18 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
     "alpha": "energy wear law: the dissipated-energy wear coefficient",
-    "scar_depth": "line contacts: largest wear depth of the flat",
+    "scar_depth": "largest wear depth of the flat (line contacts with wear; 3-D punches with "
+    "`[wear] pad_coefficient`)",
     "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
     "scar_area": "line contacts: worn area of the flat per unit length, Σ h Δx",
-    "pad_wear_depth": "line contacts: largest wear depth of the pad",
+    "pad_wear_depth": "largest wear depth of the pad or punch (line contacts with wear; 3-D "
+    "punches with `[wear] pad_coefficient`)",
 }
+
+for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
+    for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
+        COLUMN_UNITS[_key] = UNITS[_key] = _spec.units
+        COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

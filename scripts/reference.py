@@ -59,7 +59,7 @@ def sweepable_keys() -> str:
 def _column_unit(column: str) -> str:
     if column in schema.TEXT_COLUMNS:
         return "–"
-    return schema.COLUMN_UNITS.get(column, schema.PARAMETER_UNITS.get(column, "1"))
+    return schema.unit_of(column) or "1"
 
 
 def summary_columns() -> str:
@@ -92,6 +92,9 @@ def datasets() -> str:
     rows += _dataset_rows(f"fields/{cycle}", schema.FRETTING_RECORDS)
     rows += _dataset_rows("subsurface/final", schema.PLANE)
     rows += _dataset_rows(f"peak_changes/{cycle}", schema.FIELDS, schema.PEAK_CHANGE_FIELDS)
+    rows += _dataset_rows("history", schema.FATIGUE_HISTORY)  # [fatigue] every_cycle = true
+    for column, described in schema.FATIGUE_CRITERIA.items():
+        rows += _dataset_rows(f"fatigue/{cycle}", schema.fatigue_maps(column, *described, "N"))
     return markdown_table(("path in the case group", "units", "description"), rows)
 
 

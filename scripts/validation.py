@@ -58,7 +58,7 @@ def _existing_rows() -> list[tuple[str, ...]]:
     """The rows of the committed table (to keep those of files not rerun)."""
     rows = []
     for line in read_block(DOCUMENT, "validation").splitlines():
-        if line.startswith("| ") and not line.startswith("| check |"):
+        if line.startswith("| ") and not line.startswith(("| check |", "| --- |")):
             cells = [cell.strip().replace("\\|", "|") for cell in line.strip("|").split(" | ")]
             rows.append(tuple(cells))
     return rows

@@ -10,7 +10,8 @@ from engine.solvers import defaults
 from engine.solvers.contact import ContactSolver
 from engine.solvers.cyclic import CyclicSettings
 from engine.study.config import StudyConfigError, load_study, parse_study, same_fingerprint
-from engine.study.examples import study_toml
+from engine.study.config.keys import STUDY_KEYS
+from engine.study.examples import CYLINDER_ON_STEEL, SPHERE_ON_STEEL, study_toml
 
 # The study every test here starts from (text manipulations below rely on its lines).
 VALID = study_toml(
@@ -166,3 +167,73 @@ def test_bundled_studies_are_valid(path: Path):
     config = load_study(path)
     assert config.study.name
     assert path.read_text().startswith("#"), "studies start with a comment header"
+
+
+# ------------------------------------------------------------------ every numeric key bounded
+# The sections a key needs to be read at all (a fretting signal, a line contact, a search).
+_SPHERE_FRETTING = {**SPHERE_ON_STEEL, "loading": {"kind": "fretting", "amplitude": 0.001}}
+_LINE_FRETTING = {**CYLINDER_ON_STEEL, "loading": {"kind": "fretting", "amplitude": 0.001}}
+_SEARCH = {
+    "search": {
+        "parameter": "loading.amplitude",
+        "low": 1e-4,
+        "high": 1e-2,
+        "column": "slip_regime",
+        "target": "gross",
+        "rtol": 0.05,
+    },
+    "loading": {"amplitude": None},
+}
+_FATIGUE = {
+    "fatigue": {
+        "criteria": ["crossland", "dang_van", "swt", "fatemi_socie"],
+        "sigma_d": 300.0, "tau_d": 200.0, "sigma_f": 1000.0, "b": -0.09, "eps_f": 0.6,
+        "c": -0.6, "tau_f": 600.0, "gamma_f": 0.9, "b0": -0.09, "c0": -0.6, "k": 0.6,
+        "sigma_y": 800.0, "method": "point", "length": 0.02,
+    }
+}  # fmt: skip
+_CONTEXT = {
+    "punch.edge_radius": [{"punch": {"shape": "rounded", "edge_radius": 0.1}}],
+    "mesh.reference_distance": [_LINE_FRETTING],
+    "loading.amplitude": [_SPHERE_FRETTING],
+    "loading.force_amplitude": [
+        SPHERE_ON_STEEL,
+        {"loading": {"kind": "fretting", "force_amplitude": 10.0}},
+    ],
+    "loading.direction": [_SPHERE_FRETTING],
+    "loading.bulk_stress_max": [_LINE_FRETTING],
+    "loading.bulk_stress_min": [_LINE_FRETTING],
+    "wear.pad_coefficient": [
+        _LINE_FRETTING,
+        {"punch": {"shape": "pad", "radius": 0.5, "edge_radius": 2.0}, "mesh": {"half_width": 1}},
+    ],
+    "sweep.alpha": [{"wear": {"law": "energy"}, "sweep": {"wear1": None, "alpha": [1e-5]}}],
+}
+_NUMERIC = sorted(
+    f"{key.section}.{key.name}"
+    for key in STUDY_KEYS
+    if key.type in ("number", "integer", "list of numbers", "list of numbers or text")
+)
+
+
+@pytest.mark.parametrize("key", _NUMERIC)
+@pytest.mark.parametrize("value", [1e300, -1e300, 10**15])
+def test_every_numeric_key_is_bounded_and_the_refusal_names_it(key, value):
+    """No number of the study file is accepted at any size: 1e300, -1e300 and 10^15 are
+    refused (exit 2 from the command line) by an error that names that key, not a key
+    computed from it (a radius of 1e300 once overflowed, a half-width of 1e300 blamed n)."""
+    section, name = key.split(".")
+    layers = [{"sweep": {"wear1": [1e-7]}}, *_CONTEXT.get(key, [])]
+    if section == "search":
+        layers += [_SPHERE_FRETTING, _SEARCH]
+    if section == "fatigue":  # the criteria that read every constant, on a fretting case
+        layers += [_SPHERE_FRETTING, _FATIGUE]
+    parse_study(study_toml("b", "b.h5", *layers), source="b.toml")  # the context is valid
+    given = [value] if section == "sweep" else value
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(study_toml("b", "b.h5", *layers, {section: {name: given}}), source="b.toml")
+    if key in ("search.low", "search.high") and value * (1 if name == "low" else -1) > 0:
+        # an end beyond the other one: the inverted bracket is named with both its ends
+        assert info.value.key in ("search.low", "search.high") and repr(value) in str(info.value)
+    else:
+        assert info.value.key == key, str(info.value)

@@ -235,3 +235,24 @@ def test_two_pass_plane_search_matches_the_exhaustive_search():
         assert np.all(fast <= best * (1 + 1e-12))
         assert np.all(fast >= best * (1 - 1e-3))
         assert np.mean(np.isclose(fast, best, rtol=1e-12)) >= (0.97 if name == "swt" else 1.0)
+
+
+def test_minimum_ball_converges_on_a_slow_fretting_path():
+    """The two slowest paths of a 3-D fretting cycle (sphere R = 10 mm on steel, 128², 80
+    instants, Q* = 0.646 μP; deviatoric coordinates in MPa): near-duplicate instants on both
+    sides of each load reversal slow Frank–Wolfe to 7,857 steps. The ball converges to the
+    relative gap 1e-10; every instant lies inside it (1e-12: rounding), its radius is at
+    least half the longest chord (any enclosing ball's is) and, the paths being nearly a
+    segment between the reversals, within 0.1 % of it."""
+    from pathlib import Path
+
+    from engine.fatigue.quantities import minimum_ball
+
+    path = np.load(Path(__file__).parent / "data" / "slow_minimum_ball.npy")
+    ball = minimum_ball(path)
+    assert ball.converged and ball.iterations > 5000
+    offsets = path - ball.centre[None]
+    assert np.all(np.linalg.norm(offsets, axis=-1) <= ball.radius * (1 + 1e-12))
+    chord = 0.5 * np.linalg.norm(path[:, None] - path[None], axis=-1).max(axis=(0, 1))
+    assert np.all(ball.radius >= chord * (1 - 1e-12))  # a ball holds its longest chord
+    assert np.all(ball.radius <= chord * (1 + 1e-3))  # near a segment: radius ≈ half chord

@@ -276,7 +276,7 @@ def test_config_errors_name_the_key(loading, wear, sweep, words):
 def test_force_amplitude_above_the_friction_bound_is_refused():
     """Force control above h(d)·P (the largest force the friction ellipses carry along d)
     fails the case with a message naming the key; orthotropic: h(d) of the rotated ellipse."""
-    from engine.study.fretting_case import check_force_bound
+    from engine.study.kinds.fretting import check_force_bound
     from engine.study.plan import make_plan
 
     config = study(
@@ -296,7 +296,7 @@ def test_force_amplitude_above_the_friction_bound_is_refused():
 
 
 def fretting_settings(config):
-    from engine.study.fretting_case import settings
+    from engine.study.kinds.fretting import settings
 
     return settings(config)
 

@@ -112,4 +112,4 @@ def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_pat
     shutil.copytree(small_file_system, moved)
     last = engine(moved, "full.toml")
     assert last.returncode == 0, last.stderr
-    assert "2 already complete, 2 to run" in last.stdout
+    assert "2 already complete, 2 to run" in last.stdout, (first.stdout, last.stdout)

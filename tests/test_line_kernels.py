@@ -8,10 +8,10 @@ solvers on a line grid against Hertz and Cattaneo in ``tests/test_line_validatio
 import numpy as np
 import pytest
 
+from engine.geometry import CylinderProfile, RoundedPadProfile
 from engine.grid import Grid
 from engine.kernels.influence import SurfaceInfluence
 from engine.kernels.line import LineInfluence, line_operator, log_strip_integral
-from engine.line_profiles import CylinderProfile, RoundedPadProfile
 from engine.material import MaterialPair, paper_material
 from engine.solvers.contact import ContactSolver
 from engine.solvers.friction import FrictionLaw
@@ -48,6 +48,36 @@ def test_line_operator_equals_dense_matrix_product():
     dense = operator.influence.dense_matrix() @ tractions.reshape(-1)
     # FFT round-off only: 1e-12 relative.
     np.testing.assert_allclose(fft.reshape(-1), dense, rtol=0, atol=1e-12 * np.abs(dense).max())
+
+
+def test_line_operator_equals_the_block_operator_on_the_line_kernels():
+    """The 1-D operator and its preconditioner are the 3-D block machinery
+    (``HalfSpaceOperator``, ``SpectralPreconditioner``) reduced to one axis: the same products
+    on a dissimilar pair (K ≠ 0), to FFT round-off (1e-12 of the largest value)."""
+    from engine.kernels.operator import HalfSpaceOperator, SpectralPreconditioner
+
+    material = MaterialPair(200e3, 0.3, 70e3, 0.33)
+    grid = Grid.line(12, 1.0)
+    line = line_operator(grid, material, REFERENCE_DISTANCE)
+    block = HalfSpaceOperator(grid, material, influence=line.influence)
+    fields = np.random.default_rng(2).standard_normal((3, 12, 1))
+
+    def close(actual, expected):
+        actual, expected = np.asarray(actual), np.asarray(expected)
+        assert actual.shape == expected.shape
+        np.testing.assert_allclose(actual, expected, atol=1e-12 * np.abs(expected).max())
+
+    close(line.apply(*fields), block.apply(*fields))
+    close(line.apply_normal(fields[2]), block.apply_normal(fields[2]))
+    close(line.apply_tangential(*fields[:2]), block.apply_tangential(*fields[:2]))
+    close(line.coupling_to_normal(*fields[:2]), block.coupling_to_normal(*fields[:2]))
+    close(line.coupling_to_tangential(fields[2]), block.coupling_to_tangential(fields[2]))
+    assert line.symbol_bound() == pytest.approx(block.symbol_bound(), rel=1e-12)
+    assert line.self_coefficient("xx") == block.self_coefficient("xx")
+    spectral = SpectralPreconditioner(block)
+    close(line.preconditioner.normal(fields[2]), spectral.normal(fields[2]))
+    close(line.preconditioner.tangential(*fields[:2]), spectral.tangential(*fields[:2]))
+    assert line.applications == 5
 
 
 def test_line_operator_is_symmetric_positive_definite():

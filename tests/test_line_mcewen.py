@@ -12,9 +12,9 @@ element) the jumps of the piecewise constant tractions at element edges show: 5 
 import numpy as np
 import pytest
 
+from engine.geometry import CylinderProfile
 from engine.grid import Grid
 from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile
 from engine.material import MaterialPair
 from engine.reference import line_contact as ref
 from engine.reference import mcewen

@@ -105,8 +105,8 @@ def test_sliding_traction_gives_the_trailing_edge_tension(fine_grid):
 def test_fretting_probes_see_the_bulk_stress_of_their_increment():
     """The peak tracker's plane carries σ_B of the peak increment (σ_xx gains σ_B,
     σ_yy = ν(σ_xx + σ_zz)); the contact half-width is the line's."""
+    from engine.geometry import CylinderProfile
     from engine.kernels.line import line_operator
-    from engine.line_profiles import CylinderProfile
     from engine.material import MaterialPair
     from engine.solvers.contact import ContactSolver
     from engine.solvers.fretting import FrettingAnalysis, FrettingSettings

@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
+from engine.geometry import CylinderProfile, RoundedPadProfile
 from engine.grid import Grid
 from engine.kernels.line import line_operator
-from engine.line_profiles import CylinderProfile, RoundedPadProfile
 from engine.material import MaterialPair
 from engine.reference import line_contact as ref
 from engine.solvers.contact import ContactSolver
@@ -158,6 +158,25 @@ def test_mindlin_deresiewicz_loop_energy(ratio, validation):
         "16 increments per quarter", "0.5 % (trapezoidal rule, mesh)",
         f"{energy / expected - 1:+.2%}",
     )  # fmt: skip
+    # The displacement amplitude δ(Q*) relative to the datum d (the fretting map's
+    # partial/gross boundary at Q* = μP): mesh error only, 0.1 % (measured 1e-5).
+    amplitude = outcome.history["displacement_amplitude"][-1]
+    exact = float(ref.line_tangential_displacement(force, LOAD, RADIUS, E_STAR, MU, DATUM))
+    assert amplitude == pytest.approx(exact, rel=1e-3)
+    validation.record(
+        f"line contact, displacement amplitude δ(Q*) at Q* = {ratio:g} μP (datum 10 mm), "
+        "160 elements", "0.1 % (mesh)", f"{amplitude / exact - 1:+.4%}",
+    )  # fmt: skip
+
+
+def test_line_slip_displacement_is_the_displacement_at_full_force():
+    slip = ref.line_slip_displacement(LOAD, RADIUS, E_STAR, MU, DATUM)
+    at_limit = ref.line_tangential_displacement(MU * LOAD, LOAD, RADIUS, E_STAR, MU, DATUM)
+    assert float(at_limit) == pytest.approx(float(slip), rel=1e-14)
+    # Doubling the datum adds the compliance (2/(πE*)) ln 2 per unit load at Q = μP.
+    farther = ref.line_slip_displacement(LOAD, RADIUS, E_STAR, MU, 2 * DATUM)
+    expected = 2 * MU * LOAD * math.log(2) / (math.pi * E_STAR)
+    assert float(farther - slip) == pytest.approx(expected, rel=1e-12)
 
 
 def test_line_loop_energy_limits():

@@ -1,5 +1,7 @@
 """Two-body wear of a line contact and the scar measures (engine.solvers.scar)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -41,7 +43,8 @@ def test_line_contact_of_a_study():
     """The study layer's line contact: nominal half-width (Hertz, Ciavarella) and p0 = P/(2a0)."""
     from engine.material import MaterialPair
     from engine.reference import line_contact as ref
-    from engine.study.line_contact import LineContact, pad_ratio
+    from engine.solvers.scar import pad_ratio
+    from engine.study.line_contact import LineContact
 
     steel = MaterialPair(200e3, 0.3, 200e3, 0.3)
     e_star = steel.contact_modulus
@@ -54,3 +57,29 @@ def test_line_contact_of_a_study():
     assert pad_ratio(2.75e-8, 2.75e-8) == 1.0 and pad_ratio(None, 1e-8) == 0.0
     with pytest.raises(ValueError, match="pad_coefficient"):
         pad_ratio(1e-8, 0.0)
+
+
+def test_a_sphere_that_wears_too(tmp_path):
+    """A 3-D punch with ``[wear] pad_coefficient``: the gap carries both bodies' wear, so
+    with k_pad = k_flat the case equals a one-body case of twice the coefficient bit for bit
+    (the law is scaled by 1 + r = 2, exactly); the summary splits the depth (exact)."""
+    from engine.output.summary import load_summary
+    from engine.run import run_study
+    from engine.study.examples import SPHERE_ON_STEEL, study_toml
+
+    loading = {"kind": "fretting", "amplitude": 0.002, "cycles": 10, "record": [10]}
+    rows = {}
+    for name, wear, coefficient in (("two", {"pad_coefficient": 1e-7}, 1e-7), ("one", {}, 2e-7)):
+        output = tmp_path / f"{name}.h5"
+        text = study_toml(
+            name, str(output), SPHERE_ON_STEEL, mesh={"n": 16}, loading=loading, wear=wear,
+            sweep={"mu1": [0.5], "wear1": [coefficient]},
+        )  # fmt: skip
+        assert run_study(text, progress=False).status == "completed"
+        (rows[name],) = load_summary(output).to_dict("records")
+    two, one = rows["two"], rows["one"]
+    assert two["max_wear_depth"] == one["max_wear_depth"] > 0
+    assert two["wear_volume"] == one["wear_volume"]
+    assert two["scar_depth"] == 0.5 * two["max_wear_depth"]
+    assert two["pad_wear_depth"] == two["scar_depth"]
+    assert "scar_depth" not in one or math.isnan(one["scar_depth"])

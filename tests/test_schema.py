@@ -114,3 +114,21 @@ def test_unknown_paths_are_rejected_and_groups_round_trip():
     row = pending_row({"case_id": "a", "mu1": 0.1, "loading.load": 5.0}, CaseStatus.FAILED)
     assert type(row["status"]) is str and row["status"] == "failed"
     assert row["loading.load"] == 5.0 and list(row)[: len(SUMMARY_COLUMNS)] == SUMMARY_COLUMNS
+
+
+def test_one_units_table_for_parameters_columns_and_swept_keys():
+    """engine.schema.UNITS: every case parameter (alpha too), every numeric summary column
+    and every key a sweep may vary has its unit there, and the study layer's SWEEPABLE and
+    the summary's column units are that table."""
+    from engine import schema
+    from engine.output.summary import column_unit
+    from engine.study.config import SWEEPABLE
+
+    names = [*schema.PARAMETERS, "alpha", *schema.COLUMN_UNITS, *schema.SWEPT_KEY_UNITS]
+    for name in names:
+        assert schema.unit_of(name), name
+    numeric = [c for c in schema.SUMMARY_COLUMNS if c not in schema.TEXT_COLUMNS]
+    assert all(schema.unit_of(column) for column in numeric if column != "index")
+    assert SWEEPABLE is schema.SWEPT_KEY_UNITS
+    assert column_unit("loading.load") == "N" and column_unit("alpha") == "mm^3/J"
+    assert schema.parameter_units(["loading.amplitude"])["loading.amplitude"] == "mm"

@@ -176,7 +176,9 @@ def test_record_refuses_a_value_it_did_not_ask_for():
         ({"low": 1.0, "high": 1.0}, "high"),
         ({"low": 0.0, "high": math.inf}, "high"),
         ({"atol": 0.0}, "rtol"),
-        ({"atol": -1.0}, "rtol"),
+        ({"atol": -1.0}, "atol"),
+        ({"atol": 2.0}, "atol"),  # wider than the bracket: no step would be taken
+        ({"max_steps": 10**15}, "max_steps"),
         ({"method": "newton"}, "method"),
         ({"target": "gross", "method": "illinois"}, "method"),
         ({"max_steps": 2}, "max_steps"),

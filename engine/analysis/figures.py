@@ -63,7 +63,6 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
-from .fretting_figures import fretting_figures  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
@@ -100,7 +99,7 @@ def varies_normalisation(study: StudyResults) -> bool:
     """True when a swept key changes a0, P, the grid or the material from case to case, so
     that the per-case figures cannot share one normalisation (fretting studies excepted:
     their figures are per case)."""
-    return bool(set(study.swept_keys) & _STUDY_WIDE) and not study.is_fretting
+    return bool(set(study.swept_keys) & _STUDY_WIDE) and not study.kind.figures_per_case
 
 
 def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
@@ -108,12 +107,7 @@ def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
     yield from sweep_figures(study)
     if varies_normalisation(study):
         return  # per-case figures: --case ID (plot_study)
-    if study.is_fretting:  # tangential fretting: engine.analysis.fretting_figures
-        yield from fretting_figures(study)
-    elif study.is_cyclic:
-        yield from _cyclic_figures(study)
-    else:
-        yield from _static_figures(study)
+    yield from study.kind_hook("figures")(study)  # the loading kind's figures
 
 
 def plot_study(
@@ -388,7 +382,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
 
 
 # ----------------------------------------------------------------------------- static study
-def _static_figures(study: StudyResults):
+def static_figures(study: StudyResults):
     frictionless = [case for case in study.cases if case.mu1 == 0.0 and case.mu2 == 0.0]
     if frictionless:
         yield "pressure_frictionless.png", _pressure_frictionless(study, frictionless[0])
@@ -469,7 +463,7 @@ def _traction_profiles(study: StudyResults):
 
 
 # ----------------------------------------------------------------------------- cyclic study
-def _cyclic_figures(study: StudyResults):
+def cyclic_figures(study: StudyResults):
     yield "wear_history.png", _wear_history(study)
     yield "pressure_profiles.png", _pressure_profiles(study)
     cycles = sorted({n for case in study.cases for n in case.recorded_cycles})

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import h5py
 import numpy as np
@@ -44,6 +44,7 @@ __all__ = [
     "regime",
     "sampled_loop_energy",
     "setting",
+    "slip_boundary",
 ]
 
 K_EXACT = 1e-12  # |K| below which Mindlin's references are exact (uncoupled materials)
@@ -84,9 +85,28 @@ def regime(case: CaseResults) -> str:
 
 
 def sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    if setting(study, case, "punch.shape") != "sphere":
+    """The sphere's radius R (mm) for the Hertz–Mindlin references, None for other shapes."""
+    from engine.geometry import PROFILES, SphericalPunch
+
+    if PROFILES.get(setting(study, case, "punch.shape")) is not SphericalPunch:
         return None
     return float(setting(study, case, "punch.radius"))
+
+
+def slip_boundary(study: StudyResults, case: CaseResults):
+    """δ_slip(P) (mm) of the case's geometry as a function of the load P, or None where no
+    closed form applies (it needs isotropic friction μ1 = μ2 = μ > 0): Mindlin's
+    3μP S/(16a) for a sphere (P in N), the cylinder's (μ p0 a/E*)(ln(2d/a) + 1/2) with the
+    study's displacement datum d for a line contact (P in N/mm,
+    ``engine.reference.line_contact.line_slip_displacement``)."""
+    if case.mu1 != case.mu2 or not case.mu1 > 0:
+        return None
+    radius = float(setting(study, case, "punch.radius"))
+    profile = replace(study.profile, radius=radius)
+    pair, datum = material(study, case), setting(study, case, "mesh.reference_distance")
+    if profile.slip_displacement(1.0, pair, case.mu1, datum) is None:
+        return None
+    return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

@@ -30,7 +30,7 @@ a results file; :func:`fretting_figures` is the thin adapter from the results fi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -39,6 +39,8 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter
 from engine.reference import mindlin
 
 from . import fretting as _shared
+from .fatigue import has_fatigue
+from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
 from .fretting import cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
@@ -103,16 +105,23 @@ def draw_fretting_map(
     cases: Sequence[FrettingCase],
     boundaries: dict[float, tuple[np.ndarray, np.ndarray]],
     title: str,
+    *,
+    load_unit: str = "N",
+    boundary_label: str = "Mindlin boundary δ_slip(P)",
 ):
     """The running-condition fretting map, and Fouvry's energy ratio against δ*/δ_slip.
 
     ``cases``: the markers (amplitude in mm, load in N, regime "partial"/"gross"/"mixed").
-    ``boundaries``: per friction coefficient μ, (δ_slip in mm, P in N) of Mindlin's boundary.
-    Left: δ* (µm, log axis) × P (N) with the boundaries. Right (when some case has a finite
+    ``boundaries``: per friction coefficient μ, (δ_slip in mm, P in ``load_unit``) of the
+    partial/gross boundary (Mindlin's for a sphere; the cylinder's, N/mm, for a line
+    contact). Left: δ* (µm, log axis) × P with the boundaries. Right (when some case has a finite
     ``energy_ratio``): A = W/(4δ*Q*) against δ*/δ_slip(P), where every load falls on
     Mindlin's one master curve (:func:`engine.reference.mindlin.energy_ratio`), A = 0.2 at
     the boundary.
     """
+    frictions = sorted({case.friction for case in cases})
+    if len(frictions) > 1 and not any(np.isfinite(case.energy_ratio) for case in cases):
+        return _map_per_friction(cases, boundaries, title, frictions, load_unit, boundary_label)
     with_ratio = [case for case in cases if np.isfinite(case.energy_ratio)]
     columns = 2 if with_ratio else 1
     figure, axes = plt.subplots(
@@ -121,23 +130,78 @@ def draw_fretting_map(
     axis = axes[0, 0]
     for mu, (slip, loads) in sorted(boundaries.items()):
         axis.plot(
-            np.asarray(slip) * MICRONS_PER_MM, loads, "k-", lw=1.4,
-            label=f"Mindlin boundary δ_slip(P), μ = {mu:g}",
+            np.asarray(slip) * MICRONS_PER_MM, loads, "-", lw=1.4, color=_grey(mu, boundaries),
+            label=f"{boundary_label}, μ = {mu:g}",
         )  # fmt: skip
+    _map_panel(axis, cases, load_unit)
+    axis.set_title("slip regime of each case")
+    if with_ratio:
+        _draw_energy_ratio(axes[0, 1], with_ratio)
+    figure.suptitle(title)
+    return figure
+
+
+def _map_panel(axis, cases: Sequence[FrettingCase], load_unit: str, legend: bool = True) -> None:
+    """The regime markers on δ* (µm, log axis) × P, with ticks, labels and the legend."""
     _regime_markers(axis, cases, lambda case: case.amplitude * MICRONS_PER_MM, "load")
     axis.set_xscale("log")
     axis.xaxis.set_major_formatter(ScalarFormatter())
     axis.xaxis.set_minor_formatter(NullFormatter())
     axis.set_xticks(_round_ticks([case.amplitude * MICRONS_PER_MM for case in cases]))
     axis.set_xlabel("displacement amplitude δ* (µm)")
-    axis.set_ylabel("normal load P (N)")
+    axis.set_ylabel(f"normal load P ({load_unit})")
     axis.grid(alpha=0.3, which="both")
-    axis.legend(loc="upper left")
-    axis.set_title("slip regime of each case")
-    if with_ratio:
-        _draw_energy_ratio(axes[0, 1], with_ratio)
+    if legend:
+        axis.legend(loc="upper left")
+
+
+def _map_per_friction(cases, boundaries, title, frictions, load_unit, boundary_label):
+    """One map panel per friction coefficient (a study sweeping μ too), each with its own
+    boundary: the cases of different μ would otherwise hide one another."""
+    figure, axes = _panels(len(frictions), 5.2, 4.2)
+    for axis, mu in zip(axes, frictions, strict=True):
+        if mu in boundaries:
+            slip, loads = boundaries[mu]
+            axis.plot(np.asarray(slip) * MICRONS_PER_MM, loads, "k-", lw=1.4, label=boundary_label)
+        _map_panel(axis, [case for case in cases if case.friction == mu], load_unit, False)
+        axis.set_title(f"μ = {mu:g}")
+    _legend_below(figure, axes)
     figure.suptitle(title)
     return figure
+
+
+def _panels(count: int, width: float, height: float):
+    """A figure of ``count`` panels, up to three per row (the rest hidden); the panels."""
+    columns = min(3, max(count, 1))
+    rows = -(-count // columns)
+    figure, axes = plt.subplots(
+        rows, columns, figsize=(width * columns, height * rows), squeeze=False,
+        layout="constrained",
+    )  # fmt: skip
+    for axis in axes.flat[count:]:
+        axis.set_visible(False)
+    return figure, list(axes.flat[:count])
+
+
+def _legend_below(figure, axes) -> None:
+    """One legend for all panels, below them (each label once)."""
+    entries: dict[str, object] = {}
+    for axis in axes:
+        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    if entries:
+        figure.legend(
+            list(entries.values()), list(entries), loc="outside lower center",
+            ncol=min(len(entries), 5),
+        )  # fmt: skip
+
+
+def _grey(mu: float, boundaries: dict) -> str:
+    """Black for a single boundary; shades of grey from dark (lowest μ) when several."""
+    if len(boundaries) == 1:
+        return "k"
+    order = sorted(boundaries).index(mu)
+    return str(round(0.6 * order / (len(boundaries) - 1), 3))
 
 
 def _regime_markers(axis, cases, x_of, y_name: str) -> None:
@@ -183,16 +247,11 @@ def _round_ticks(values) -> list[float]:
     return [t for t in ticks if values.min() / 1.5 <= t <= values.max() * 1.5]
 
 
-def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
-    """Q–δ loops (δ in µm, Q in N), one panel per case, one colour per recorded cycle."""
-    columns = min(3, max(len(panels), 1))
-    rows = -(-len(panels) // columns)
-    figure, axes = plt.subplots(
-        rows, columns, figsize=(4.6 * columns, 3.7 * rows), squeeze=False, layout="constrained"
-    )
-    for axis in axes.flat[len(panels) :]:
-        axis.set_visible(False)
-    for axis, panel in zip(axes.flat, panels, strict=False):
+def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str = "N"):
+    """Q–δ loops (δ in µm, Q in ``force_unit``), one panel per case, one colour per
+    recorded cycle."""
+    figure, axes = _panels(len(panels), 4.6, 3.7)
+    for axis, panel in zip(axes, panels, strict=True):
         for number, (cycle, (delta, force)) in enumerate(sorted(panel.loops.items())):
             axis.plot(
                 np.asarray(delta) * MICRONS_PER_MM, force, "-", lw=1.5, color=f"C{number % 10}",
@@ -207,28 +266,21 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str):
         axis.axhline(0.0, color="0.6", lw=0.6)
         axis.axvline(0.0, color="0.6", lw=0.6)
         axis.set_xlabel("tangential displacement δ (µm)")
-        axis.set_ylabel("tangential force Q (N)")
+        axis.set_ylabel(f"tangential force Q ({force_unit})")
         axis.set_title(panel.title)
         axis.grid(alpha=0.3)
-    entries: dict[str, object] = {}  # one legend for all panels, below them (loops fill
-    for axis in axes.flat[: len(panels)]:  # the corners of a gross-slip panel)
-        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
-            entries.setdefault(label, handle)
-    if entries:
-        figure.legend(
-            list(entries.values()), list(entries), loc="outside lower center",
-            ncol=min(len(entries), 5),
-        )  # fmt: skip
+    _legend_below(figure, axes)  # loops fill the corners of a gross-slip panel
     figure.suptitle(title)
     return figure
 
 
-def draw_wear_energy(series: Sequence[WearSeries], title: str):
+def draw_wear_energy(series: Sequence[WearSeries], title: str, per_length: str = ""):
     """Wear volume (mm³) against cumulated dissipated energy (J), linear and log–log.
 
     Series with an energy-law coefficient α (mm³/J) get the line V = α E_d (one per distinct
     α); without (Archard's law) the least-squares line through the origin of all points is
     drawn and its slope, the energy wear coefficient Archard's law implies, is given.
+    ``per_length``: appended to the units (" per mm" for a line contact).
     """
     figure, (linear, logarithmic) = plt.subplots(1, 2, figsize=(13.0, 4.8), layout="constrained")
     energy = np.concatenate([np.asarray(item.energy, dtype=float) for item in series] or [[0.0]])
@@ -265,8 +317,8 @@ def draw_wear_energy(series: Sequence[WearSeries], title: str):
         logarithmic.set_xscale("log")
         logarithmic.set_yscale("log")
     for axis in (linear, logarithmic):
-        axis.set_xlabel("cumulated dissipated energy E_d (J)")
-        axis.set_ylabel("wear volume V (mm³)")
+        axis.set_xlabel(f"cumulated dissipated energy E_d (J{per_length})")
+        axis.set_ylabel(f"wear volume V (mm³{per_length})")
         axis.grid(alpha=0.3, which="both")
     linear.set_xlim(left=0.0)
     linear.set_ylim(bottom=0.0)
@@ -294,22 +346,35 @@ def _map_figure(study: StudyResults):
     for case in study.cases:
         load, amplitude = float(_setting(study, case, "loading.load")), _amplitude(study, case)
         item = FrettingCase(amplitude, load, _regime(case), case.mu1)
-        radius = _sphere_radius(study, case)
-        if radius is not None and _isotropic_friction(case) and case.mu1 > 0:
-            material = _material(study, case)
-            boundaries.setdefault(case.mu1, (radius, material))
-            slip = float(mindlin.slip_displacement(load, radius, material, case.mu1))
-            item.displacement_ratio = amplitude / slip
-            item.energy_ratio = _computed_energy_ratio(case)
+        boundary = _shared.slip_boundary(study, case)
+        if boundary is not None:
+            boundaries.setdefault(case.mu1, boundary)
+            if _sphere_radius(study, case) is not None:  # Mindlin's one master curve
+                item.displacement_ratio = amplitude / float(boundary(load))
+                item.energy_ratio = _computed_energy_ratio(case)
         cases.append(item)
     loads = np.array([item.load for item in cases])
     span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
-    lines = {
-        mu: (mindlin.slip_displacement(span, radius, material, mu), span)
-        for mu, (radius, material) in boundaries.items()
-    }
+    lines = {mu: (boundary(span), span) for mu, boundary in boundaries.items()}
     title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
-    return draw_fretting_map(cases, lines, title)
+    if _load_unit(study) == "N/mm":
+        datum = study.config.get("mesh", {}).get("reference_distance")
+        figure = draw_fretting_map(
+            cases, lines, title, load_unit="N/mm",
+            boundary_label=f"cylinder δ_slip(P), datum {datum:g} mm",
+        )  # fmt: skip
+    else:
+        figure = draw_fretting_map(cases, lines, title)
+    if has_fatigue(study):  # where a crack is predicted, over the slip regimes
+        axis = figure.axes[0]
+        points = crack_points(
+            study,
+            lambda case: _amplitude(study, case) * MICRONS_PER_MM,
+            lambda case: float(_setting(study, case, "loading.load")),
+        )
+        draw_crack_boundary(axis, points)
+        axis.legend(loc="best")
+    return figure
 
 
 def _computed_energy_ratio(case: CaseResults) -> float:
@@ -334,18 +399,29 @@ def _loop_cases(study: StudyResults) -> list[CaseResults]:
 
 
 def _reference_loop(study: StudyResults, case: CaseResults):
-    """The analytic stabilised loop of a case, or None where it does not apply."""
-    radius = _sphere_radius(study, case)
-    if radius is None or not _isotropic_friction(case) or case.mu1 <= 0:
+    """The analytic stabilised loop of a case, or None where it does not apply (the
+    profile's :meth:`~engine.geometry.Profile.fretting_loop`: Mindlin's for a sphere, the
+    cylinder's closed form)."""
+    if not _isotropic_friction(case) or case.mu1 <= 0:
         return None
     load, material = float(_setting(study, case, "loading.load")), _material(study, case)
+    radius = float(_setting(study, case, "punch.radius"))
     force = _setting(study, case, "loading.force_amplitude")
-    if force is not None:
-        if float(force) >= case.mu1 * load:
-            return None
-        return mindlin.fretting_loop(load, radius, material, case.mu1, force_amplitude=force)
-    amplitude = _amplitude(study, case)
-    return mindlin.fretting_loop(load, radius, material, case.mu1, displacement_amplitude=amplitude)
+    if force is not None and float(force) >= case.mu1 * load:
+        return None
+    amplitudes = (
+        {"force_amplitude": float(force)}
+        if force is not None
+        else {"displacement_amplitude": _amplitude(study, case)}
+    )
+    datum = _setting(study, case, "mesh.reference_distance")
+    profile = replace(study.profile, radius=radius)
+    return profile.fretting_loop(load, material, case.mu1, datum, **amplitudes)
+
+
+def _load_unit(study: StudyResults) -> str:
+    """N, or N/mm for a line contact (loads per unit length)."""
+    return "N/mm" if study.profile.is_line else "N"
 
 
 def _loops_figure(study: StudyResults):
@@ -367,17 +443,19 @@ def _loops_figure(study: StudyResults):
             else f"μ1, μ2 = {case.mu1:g}, {case.mu2:g}, β = {case.beta:g}°"
         )
         title = (
-            f"P = {load:g} N, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
+            f"P = {load:g} {_load_unit(study)}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
         label = "Mindlin–Deresiewicz / gross slip"
+        if _setting(study, case, "punch.shape") == "cylinder":
+            label = "cylinder (Cattaneo, Masing) / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
     title = f"{study.name}: fretting loops at recorded cycles"
     if any(panel.reference is not None for panel in panels):
         title += " (dashed: analytic, unworn surfaces)"
-    return draw_fretting_loops(panels, title)
+    return draw_fretting_loops(panels, title, _load_unit(study))
 
 
 def _wear_energy_figure(study: StudyResults):
@@ -390,18 +468,25 @@ def _wear_energy_figure(study: StudyResults):
         coefficient = _energy_coefficient(study, case)
         series.append(
             WearSeries(
-                f"P = {load:g} N", cumulated_energy(case), volume, coefficient, _regime(case)
+                f"P = {load:g} {_load_unit(study)}",
+                cumulated_energy(case),
+                volume,
+                coefficient,
+                _regime(case),
             )
         )
     law = study.config.get("wear", {}).get("law", "archard")
     title = f"{study.name}: wear volume vs dissipated energy ({law} wear law)"
-    return draw_wear_energy(series, title)
+    per_length = " per mm" if _load_unit(study) == "N/mm" else ""
+    return draw_wear_energy(series, title, per_length)
 
 
 def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:
-    """(file name, figure) of every fretting figure of ``study``."""
+    """(file name, figure) of every fretting figure of ``study`` (with ``[fatigue]``, the
+    fatigue figures too: ``engine.analysis.fatigue_figures``)."""
     return [
         ("fretting_map.png", _map_figure(study)),
         ("fretting_loops.png", _loops_figure(study)),
         ("wear_energy.png", _wear_energy_figure(study)),
+        *fatigue_figures(study),
     ]

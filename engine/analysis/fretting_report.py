@@ -12,7 +12,9 @@ cycle N (or the cycles of ``--cycles``):
   (x, y, z in mm), and the largest σ_VM over the cycle's increments (``vm_cycle``) with its
   location;
 
-then the measured checks against Mindlin where they apply (engine.analysis.fretting: a
+then, with a ``[fatigue]`` section, per case and criterion the hot spot, the critical value
+and whether and where a crack is predicted (``engine.analysis.fatigue``); then the measured
+checks against Mindlin where they apply (engine.analysis.fretting: a
 sphere, μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle against δ_slip(P),
 energy per cycle at N = 1 against Mindlin–Deresiewicz (partial slip) or the gross-slip
 energy, and against the analytic loop sampled at the solver's increments; Fouvry's energy
@@ -27,6 +29,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .fatigue import fatigue_facts, fatigue_table, has_fatigue
 from .fretting import MindlinCheck, check_case, material, wear_energy_ratios
 from .reader import CaseResults, StudyResults
 
@@ -179,6 +182,18 @@ def _signal(study: StudyResults) -> str:
     return f"{signal} along {_value(study, 'direction', '°', 0.0)} from x"
 
 
+def _fatigue_header(study: StudyResults) -> str:
+    config = study.config["fatigue"]
+    length = f", ℓ = {config['length']:g} mm" if "length" in config else ""
+    return (
+        f"Fatigue at the last recorded cycle ({', '.join(config['criteria'])}; critical "
+        f"distance: {config.get('method', 'hotspot')}{length}). A crack is predicted where "
+        "a risk at the critical distance is ≥ 1, or where the life there is at most the "
+        "simulated cycles; x/a: the hot spot over the contact half-width (−1: the trailing "
+        "edge when the bulk stress is in phase with Q):"
+    )
+
+
 def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown table and checks of a fretting study."""
     loading, config = study.config["loading"], study.config
@@ -199,6 +214,9 @@ def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     lines += fretting_table(study, cycles)
     lines += ["", "Measured:", ""]
     lines += [f"- {fact}" for fact in fretting_facts(study)]
+    if has_fatigue(study):
+        lines += ["", _fatigue_header(study), "", *fatigue_table(study), ""]
+        lines += [f"- {fact}" for fact in fatigue_facts(study)]
     if study.skipped:
         lines += ["", "Not completed: " + ", ".join(f"{c} ({s})" for c, s in study.skipped)]
     return "\n".join(lines) + "\n"

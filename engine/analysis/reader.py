@@ -17,7 +17,6 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference.flat_punch import mean_pressure
 from engine.schema import CaseStatus, cycle_of_group
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
@@ -88,7 +87,9 @@ class StressPlane:
 
 @dataclass
 class CaseResults:
-    """One completed case: parameters, summary row, histories, surface fields, stress planes.
+    """One completed case: parameters, summary row, histories, surface fields, stress planes
+    and, with ``[fatigue]``, the criteria's maps and hot spots per recorded cycle
+    (``fatigue[N][name]``, names of ``engine.schema.fatigue_maps``).
 
     ``fields[key][name]`` and ``planes[key]`` use the key ``"final"`` or the recorded cycle
     number N (int). Field arrays have shape ``(n_x, n_y)`` (ij indexing, as ``grid_x, grid_y``).
@@ -106,6 +107,7 @@ class CaseResults:
     fields: dict[Any, dict[str, np.ndarray]] = field(default_factory=dict)
     planes: dict[Any, StressPlane] = field(default_factory=dict)
     change_planes: dict[int, StressPlane] = field(default_factory=dict)  # peak_changes/, by N
+    fatigue: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)  # fatigue/, by N
     settings: dict[str, Any] = field(default_factory=dict)  # swept dotted keys -> values
 
     @property
@@ -149,6 +151,21 @@ class StudyResults:
     skipped: list[tuple[str, str]] = field(default_factory=list)
 
     @property
+    def kind(self):
+        """The study's loading kind (:data:`engine.study.kinds.KINDS`)."""
+        from engine.study.kinds import KINDS
+
+        return KINDS[self.config["loading"]["kind"]]
+
+    def kind_hook(self, name: str):
+        """The analysis function the loading kind names for ``name`` ("report",
+        "figures"): its ``"module:function"`` attribute, imported now."""
+        import importlib
+
+        module, _, function = getattr(self.kind, name).partition(":")
+        return getattr(importlib.import_module(module), function)
+
+    @property
     def is_cyclic(self) -> bool:
         """The radial cyclic kind (``kind = "cyclic"``); fretting studies: :attr:`is_fretting`."""
         return self.config["loading"]["kind"] == "cyclic"
@@ -164,16 +181,24 @@ class StudyResults:
         return [key for key in self.config.get("sweep", {}) if "." in key]
 
     @property
-    def radius(self) -> float:
-        """a0 (mm): the punch radius (rounded: of the flat face); for a sphere, Hertz's
-        contact radius at the load (the summary's p0 uses the same a0)."""
-        punch = self.config["punch"]
-        if punch.get("shape") == "sphere":
-            from engine.reference.hertz import hertz_contact_radius
+    def profile(self):
+        """The punch profile (:data:`engine.geometry.PROFILES`) of the study."""
+        from engine.geometry import profile_for
 
-            modulus = self.material.contact_modulus
-            return hertz_contact_radius(self.load, float(punch["radius"]), modulus)
-        return float(punch["radius"])
+        punch = self.config["punch"]
+        edge_radius = punch.get("edge_radius")
+        return profile_for(
+            punch.get("shape", "flat"),
+            float(punch["radius"]),
+            None if edge_radius is None else float(edge_radius),
+        )
+
+    @property
+    def radius(self) -> float:
+        """a0 (mm), the profile's contact length at the load: the punch radius (rounded: of
+        the flat face); for a sphere, Hertz's contact radius; for a line contact the nominal
+        half-width (the summary's p0 uses the same a0)."""
+        return float(self.profile.contact_length(self.load, self.material.contact_modulus))
 
     @property
     def load(self) -> float:
@@ -182,8 +207,9 @@ class StudyResults:
 
     @property
     def p0(self) -> float:
-        """Mean pressure p0 = P/(π a0²) (MPa), Eq. (19)."""
-        return float(mean_pressure(self.load, self.radius))
+        """The summary's mean pressure p0 (MPa): P/(π a0²), Eq. (19); a line contact's
+        P/(2 a0)."""
+        return float(self.profile.mean_pressure(self.load, self.radius))
 
     @property
     def material(self) -> MaterialPair:
@@ -193,6 +219,8 @@ class StudyResults:
     @property
     def mesh_label(self) -> str:
         n = self.config["mesh"]["n"]
+        if self.config.get("punch", {}).get("shape") in ("cylinder", "pad"):
+            return f"{n} elements along x"  # a line contact (plane strain)
         return f"{n}×{n} mesh"
 
     @property
@@ -295,6 +323,8 @@ def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
         case.planes[_group_key(name)] = _plane(sub)
     for name, sub in group.get("peak_changes", {}).items():
         case.change_planes[_group_key(name)] = _plane(sub)
+    for name, sub in group.get("fatigue", {}).items():
+        case.fatigue[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
     return case
 
 

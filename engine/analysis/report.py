@@ -328,10 +328,13 @@ def cyclic_facts(study: StudyResults) -> list[str]:
 def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
     study = results if isinstance(results, StudyResults) else read_results(results)
-    if study.is_fretting:
-        from .fretting_report import fretting_report
+    return study.kind_hook("report")(study, cycles)
 
-        return fretting_report(study, cycles)
+
+def standard_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
+    """The report of a static or cyclic study (the loading kinds' ``report`` hook): the
+    tables of the recorded cycles (or the static tables) and the measured facts, or the
+    sweep report when dotted keys are swept."""
     if study.swept_keys:
         return _swept_report(study, cycles)
     config = study.config

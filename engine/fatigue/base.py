@@ -12,7 +12,9 @@ A criterion is a class with four class attributes and one method:
 - ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
   angle and a life (then the columns ``_angle`` and ``_life`` exist);
 - ``evaluate(history) -> CriterionField``: its value at every point of a ``StressHistory``,
-  vectorised over points (and planes, instants).
+  vectorised over points (and planes, instants);
+- with ``reports_life``: ``life(value) -> cycles``, the life of values of the criterion (the
+  report reads the life of the critical-distance value with it).
 
 ``FatigueCriterion`` implements the constructor shared by the four bundled criteria:
 ``Criterion(constants, elasticity, options)`` checks that ``constants`` holds exactly the

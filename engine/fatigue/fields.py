@@ -8,7 +8,7 @@ surface grid, and the bulk stress σ_B of the increment, MPa, line contacts). Th
 - ``plane_history(stress, increments, angle)``: the history on the plane the stress evaluator
   computes (``SubsurfaceStress.plane`` of a 3-D case at the sliding direction's angle, or
   ``LineSubsurfaceStress.plane``, the whole x–z plane of a line contact), one DC-FFT
-  evaluation per increment;
+  evaluation per increment (``planes_history``: from planes the caller already has);
 - ``LinePointStress`` and ``PlanePointStress``: the same history at arbitrary points
   (x along the plane, z > 0, mm) by direct sums of the element-integrated influence
   coefficients (``engine.kernels.line_stress``, ``engine.kernels.stress``) over the surface
@@ -34,6 +34,7 @@ __all__ = [
     "Increment",
     "CycleRecorder",
     "plane_history",
+    "planes_history",
     "LinePointStress",
     "PlanePointStress",
 ]
@@ -86,10 +87,18 @@ def plane_history(stress, increments: list[Increment], angle: float = 0.0) -> St
     ``angle`` (rad) the plane's direction for a 3-D case."""
     if not increments:
         raise ValueError("a stress history needs at least one increment")
-    fields = [_plane(stress, increment, angle) for increment in increments]
-    components = {key: np.stack([f.components[key] for f in fields]) for key in COMPONENTS}
-    s = fields[0].s if fields[0].s is not None else fields[0].x
-    return StressHistory.from_components(_renamed(components), s, fields[0].z)
+    return planes_history([_plane(stress, increment, angle) for increment in increments])
+
+
+def planes_history(planes) -> StressHistory:
+    """The history of stress planes already evaluated, one per instant (``StressField`` of
+    ``engine.solvers.subsurface``, all of one shape (n_s, n_z)): points at (s, z), s the
+    along-plane coordinate (x on a line contact)."""
+    if not planes:
+        raise ValueError("a stress history needs at least one instant")
+    components = {key: np.stack([p.components[key] for p in planes]) for key in COMPONENTS}
+    s = planes[0].s if planes[0].s is not None else planes[0].x
+    return StressHistory.from_components(_renamed(components), s, planes[0].z)
 
 
 def _renamed(components: dict) -> dict:

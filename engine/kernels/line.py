@@ -31,6 +31,16 @@ Plane strain has no y-traction; the fields keep the ``(n, 1)`` shape of a line g
 (``Grid.line``) and carry a y-component that nothing drives (A_xy = A_zy = 0). Its kernel is
 set to A_yy = A_xx so that the block operator and its spectral preconditioner stay
 invertible; q_y stays zero.
+
+**The operator** (``LineOperator``): the DC-FFT of ``engine.kernels.operator`` reduced to one
+dimension. The Toeplitz product with the ``2n − 1`` offsets equals the first n entries of a
+circular convolution of length 2n once the field is zero-padded and the kernel wrapped; the
+two distinct kernels have exact parities on that circle (the log kernel even, the coupling
+odd), so their spectra are kept as real and imaginary parts. One application is one batch of
+real 1-D transforms of length 2n (``FFTW_ESTIMATE`` plans on aligned buffers, made through
+``engine.kernels.fft.plan``: reproducible bits), which is what makes a line case cheap: the
+2-D machinery of the 3-D operator would transform a padded (2n, 2) array in two passes for
+every product.
 """
 
 from __future__ import annotations
@@ -42,11 +52,18 @@ import numpy as np
 from ..grid import Grid
 from ..material import MaterialPair
 from ..validation import require_positive
-from .fft import DEFAULT_EFFORT
+from .fft import DEFAULT_EFFORT, aligned_zeros, plan, wrap_kernel
 from .influence import SurfaceInfluence
-from .operator import HalfSpaceOperator
+from .operator import fold_periodic
 
-__all__ = ["LineInfluence", "line_operator", "log_strip_integral", "minimum_reference_distance"]
+__all__ = [
+    "LineInfluence",
+    "LineOperator",
+    "LinePreconditioner",
+    "line_operator",
+    "log_strip_integral",
+    "minimum_reference_distance",
+]
 
 # The log kernel ln(d/|X|) is positive definite on a segment of length L only when d exceeds
 # the segment's logarithmic capacity L/4; a datum beyond the grid's whole length keeps every
@@ -106,6 +123,205 @@ class LineInfluence(SurfaceInfluence):
         return cls(grid, kernels, reference_distance)
 
 
+class _Transforms:
+    """Real 1-D FFTs of length ``length`` for batches of 1 … ``capacity`` rows, on aligned
+    buffers of their own (``real`` (capacity, length), ``spectra`` (capacity, length//2 + 1));
+    unnormalised both ways (callers fold 1/length into their spectra). The inverse overwrites
+    the whole of ``real`` for its rows."""
+
+    def __init__(self, length: int, capacity: int, *, threads: int, effort: str):
+        self.length = length
+        self.real = aligned_zeros((capacity, length), "float64")
+        self.spectra = aligned_zeros((capacity, length // 2 + 1), "complex128")
+        options = dict(threads=threads, effort=effort)
+        self._forward = [
+            plan(self.real[:batch], self.spectra[:batch], (1,), **options)
+            for batch in range(1, capacity + 1)
+        ]
+        self._inverse = [
+            plan(
+                self.spectra[:batch],
+                self.real[:batch],
+                (1,),
+                direction="FFTW_BACKWARD",
+                flags=("FFTW_DESTROY_INPUT",),
+                **options,
+            )
+            for batch in range(1, capacity + 1)
+        ]
+
+    def forward(self, fields: tuple[np.ndarray, ...], width: int) -> np.ndarray:
+        """Spectra (len(fields), length//2 + 1) of the fields (each (width, 1)) zero-padded
+        to ``length``; a view of ``spectra``."""
+        batch = len(fields)
+        real = self.real[:batch]
+        for row, field in zip(real, fields, strict=True):
+            row[:width] = field[:, 0]
+        real[:, width:] = 0.0
+        self._forward[batch - 1].execute()
+        return self.spectra[:batch]
+
+    def inverse(self, batch: int, width: int) -> np.ndarray:
+        """The first ``width`` entries of the inverse transforms of ``spectra[:batch]``, as
+        new fields (batch, width, 1)."""
+        self._inverse[batch - 1].execute()
+        return self.real[:batch, :width, None].copy()
+
+
+class LineOperator:
+    """Relative surface displacements of two half-planes from strip tractions (plane strain).
+
+    The interface of ``engine.kernels.operator.HalfSpaceOperator`` on a line grid (fields of
+    shape ``(n, 1)``: tractions in MPa, displacements in mm): ``apply(p_x, p_y, p_n)`` the
+    block of Eq. (4) with the plane-strain kernels of ``LineInfluence``,
+
+        u_x = A_xx p_x − A_zx p_n,   u_y = A_yy p_y,   u_n = A_zx p_x + A_zz p_n
+
+    (A_xx = A_yy = A_zz the log kernel, A_zx the odd coupling kernel, A_xz = −A_zx),
+    ``apply_normal``, ``apply_tangential``, the two couplings, ``symbol_bound`` and the
+    spectral ``preconditioner``. ``applications`` counts calls. Spectra: real 1-D transforms
+    of length 2n, the log kernel's real (even circulant), the coupling's imaginary (odd), with
+    the 1/(2n) of the inverse transform folded in.
+    """
+
+    def __init__(
+        self,
+        grid: Grid,
+        material: MaterialPair,
+        reference_distance: float,
+        *,
+        threads: int = 1,
+        planner_effort: str = DEFAULT_EFFORT,
+    ):
+        self.influence = LineInfluence.build(grid, material, reference_distance)
+        self.grid, self.material = grid, material
+        self.threads, self.planner_effort = threads, planner_effort
+        self.reference_distance = reference_distance
+        self.padded_length = 2 * grid.n_x
+        self.applications = 0
+        self._transforms = _Transforms(
+            self.padded_length, 3, threads=threads, effort=planner_effort
+        )
+        scale = 1.0 / self.padded_length
+        self._log = scale * self._spectrum("zz").real  # even circulant: real spectrum
+        self._coupled = material.coupling != 0.0
+        self._coupling = 1j * (scale * self._spectrum("zx").imag)  # odd: imaginary spectrum
+        self._symbol_bound: float | None = None
+        self._preconditioner: LinePreconditioner | None = None
+
+    def _spectrum(self, key: str) -> np.ndarray:
+        wrapped = wrap_kernel(self.influence.kernels[key], (self.padded_length, 1))[:, 0]
+        return np.fft.rfft(wrapped)
+
+    @property
+    def spectra_bytes(self) -> int:
+        """Memory held by the kernel spectra (bytes)."""
+        return self._log.nbytes + self._coupling.nbytes
+
+    def kernel(self, key: str, index_x: np.ndarray, index_y: np.ndarray) -> np.ndarray:
+        """Kernel ``key`` (mm/MPa) at the offsets i Δx, i in ``index_x`` (``index_y``: 0)."""
+        rows = np.asarray(index_x) + self.grid.n_x - 1
+        return self.influence.kernels[key][np.ix_(rows, np.asarray(index_y))]
+
+    def self_coefficient(self, key: str) -> float:
+        """An element's own coefficient of kernel ``key`` (offset 0; mm/MPa)."""
+        return float(self.influence.kernels[key][self.grid.n_x - 1, 0])
+
+    @property
+    def preconditioner(self) -> LinePreconditioner:
+        if self._preconditioner is None:
+            self._preconditioner = LinePreconditioner(self)
+        return self._preconditioner
+
+    def _forward(self, *fields: np.ndarray) -> np.ndarray:
+        """Spectra (len(fields), n + 1) of the zero-padded fields (each (n, 1)): a view of
+        the transforms' buffer, which the products overwrite in place."""
+        return self._transforms.forward(fields, self.grid.n_x)
+
+    def _inverse(self, batch: int) -> np.ndarray:
+        """The first n entries of the inverse transforms of the buffer's first ``batch``
+        spectra, as fields (batch, n, 1)."""
+        self.applications += 1
+        return self._transforms.inverse(batch, self.grid.n_x)
+
+    def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
+        """Full block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
+        spectra = self._forward(p_x, p_y, p_n)
+        log, coupling = self._log, self._coupling
+        tangential, normal = spectra[0].copy(), spectra[2].copy()
+        spectra[0] = log * tangential - coupling * normal
+        spectra[1] *= log
+        spectra[2] = coupling * tangential + log * normal
+        u = self._inverse(3)
+        return u[0], u[1], u[2]
+
+    def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
+        """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
+        spectra = self._forward(p_n)
+        spectra *= self._log
+        return self._inverse(1)[0]
+
+    def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
+        """The tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
+        spectra = self._forward(p_x, p_y)
+        spectra *= self._log
+        u = self._inverse(2)
+        return u[0], u[1]
+
+    def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
+        """A_zx p_x (mm): normal displacement due to tangential tractions (A_zy = 0)."""
+        if not self._coupled:
+            return np.zeros(self.grid.shape)
+        spectra = self._forward(p_x)
+        spectra *= self._coupling
+        return self._inverse(1)[0]
+
+    def coupling_to_tangential(self, p_n: np.ndarray):
+        """(A_xz p_n, 0) (mm): tangential displacement due to pressure (zero when K = 0)."""
+        if not self._coupled:
+            return np.zeros(self.grid.shape), np.zeros(self.grid.shape)
+        spectra = self._forward(p_n)
+        spectra *= -self._coupling
+        return self._inverse(1)[0], np.zeros(self.grid.shape)
+
+    def symbol_bound(self) -> float:
+        """The largest eigenvalue of A's circulant symbol (mm/MPa): per frequency the x–n
+        block [[L, −C], [C, L]] (C imaginary: Hermitian) has eigenvalues L ± |C|, the y
+        entry L."""
+        if self._symbol_bound is None:
+            largest = np.max(self._log + np.abs(self._coupling))  # 1/(2n) folded in
+            self._symbol_bound = float(self.padded_length * largest)
+        return self._symbol_bound
+
+
+class LinePreconditioner:
+    """Inverse of the periodic (n-element) circulant of the log kernel (mm → MPa): the 1-D
+    form of ``engine.kernels.operator.SpectralPreconditioner`` (A_xx = A_yy = A_zz, no
+    A_xy, so the tangential block is the normal inverse applied to each component)."""
+
+    def __init__(self, operator: LineOperator):
+        n = operator.grid.n_x
+        self._n = n
+        folded = fold_periodic(operator.influence.kernels["zz"], (n, 1))[:, 0]
+        # Even: a real spectrum; the 1/n of the inverse transform folded in.
+        self._inverse = 1.0 / (n * np.fft.rfft(folded).real)
+        self._transforms = _Transforms(
+            n, 2, threads=operator.threads, effort=operator.planner_effort
+        )
+
+    def _apply(self, *residuals: np.ndarray) -> np.ndarray:
+        spectra = self._transforms.forward(residuals, self._n)
+        spectra *= self._inverse
+        return self._transforms.inverse(len(residuals), self._n)
+
+    def normal(self, residual: np.ndarray) -> np.ndarray:
+        return self._apply(residual)[0]
+
+    def tangential(self, rx: np.ndarray, ry: np.ndarray):
+        values = self._apply(rx, ry)
+        return values[0], values[1]
+
+
 def line_operator(
     grid: Grid,
     material: MaterialPair,
@@ -113,11 +329,8 @@ def line_operator(
     *,
     threads: int = 1,
     planner_effort: str = DEFAULT_EFFORT,
-) -> HalfSpaceOperator:
-    """The influence operator of a line contact: ``HalfSpaceOperator``'s DC-FFT applied to
-    the plane-strain kernels of a line grid (a transform of length 2n along x; the y axis
-    has one element and no offsets, so its transform is trivial)."""
-    influence = LineInfluence.build(grid, material, reference_distance)
-    return HalfSpaceOperator(
-        grid, material, threads=threads, planner_effort=planner_effort, influence=influence
+) -> LineOperator:
+    """The influence operator of a line contact (``LineOperator``)."""
+    return LineOperator(
+        grid, material, reference_distance, threads=threads, planner_effort=planner_effort
     )

@@ -62,7 +62,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import PARAMETER_UNITS, CaseStatus
+from engine.schema import CaseStatus, parameter_units
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
@@ -96,7 +96,6 @@ __all__ = [
 ]
 
 FORMAT = "fretting-engine-results/1"
-_PARAMETER_UNITS = PARAMETER_UNITS
 
 
 class StoppedDuringSetUp(RuntimeError):
@@ -795,11 +794,7 @@ class SummaryTable:
 
 def _parameter_units(case: Case) -> dict[str, str]:
     """Units of the case's parameter attributes, swept dotted keys included."""
-    from engine.study.config import SWEEPABLE
-
-    units = dict(_PARAMETER_UNITS)
-    units.update({key: SWEEPABLE[key] for key, _ in case.settings})
-    return units
+    return parameter_units(key for key, _ in case.settings)
 
 
 def _json_safe(row: dict[str, Any]) -> dict[str, Any]:

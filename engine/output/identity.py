@@ -109,13 +109,13 @@ class ExistingResults:
     unverified: int = 0  # completed cases without checksums (older files): read, not compared
     kept_as: Path | None = None  # where a damaged file goes (salvage, start-over)
 
-    def report(self, stream: TextIO) -> None:
+    def report(self, stream: TextIO, *, drop_stale: bool = False) -> None:
         """Say what happens to the existing file (rank 0, before computing)."""
-        for line in self.notes():
+        for line in self.notes(drop_stale=drop_stale):
             print(line, file=stream, flush=True)
 
-    def notes(self) -> list[str]:
-        """The lines of :meth:`report`."""
+    def notes(self, *, drop_stale: bool = False) -> list[str]:
+        """The lines of :meth:`report`; ``drop_stale``: the stale cases are deleted."""
         notes = []
         if self.kind == "start-over":
             notes.append(
@@ -143,8 +143,12 @@ class ExistingResults:
             shown = ", ".join(self.stale[:10]) + (" …" if len(self.stale) > 10 else "")
             notes.append(
                 f"note: {len(self.stale)} case(s) in {self.path} are no longer in the study "
-                f"(the sweep shrank or changed): {shown}; they are kept in the file and the "
-                "summary (--drop-stale deletes them)"
+                f"(the sweep shrank or changed): {shown}; "
+                + (
+                    "they are deleted (--drop-stale)"
+                    if drop_stale
+                    else "they are kept in the file and the summary (--drop-stale deletes them)"
+                )
             )
         return notes
 

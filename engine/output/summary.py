@@ -66,6 +66,7 @@ from engine.schema import (
     SUMMARY_COLUMNS,
     TEXT_COLUMNS,
     pending_row,
+    unit_of,
 )
 
 __all__ = [
@@ -85,10 +86,9 @@ _KNOWN = frozenset(SUMMARY_COLUMNS)
 
 
 def column_unit(column: str) -> str:
-    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included."""
-    from engine.study.config import SWEEPABLE
-
-    unit = COLUMN_UNITS.get(column) or SWEEPABLE.get(column, "")
+    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included
+    (the results schema's one units table, :func:`engine.schema.unit_of`)."""
+    unit = unit_of(column)
     return "" if unit == "1" else unit
 
 

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from engine.schema import PARAMETER_UNITS, THRESHOLDS_GROUP, CaseStatus, threshold_columns
+from engine.schema import THRESHOLDS_GROUP, CaseStatus, threshold_columns
 
 from .summary import column_unit
 
@@ -72,12 +72,6 @@ def thresholds_path(summary_path: str | Path) -> Path:
     return summary_path.with_name(f"{summary_path.stem}_thresholds.csv")
 
 
-def _parameter_unit(name: str) -> str:
-    if name in PARAMETER_UNITS:
-        return "" if PARAMETER_UNITS[name] == "1" else PARAMETER_UNITS[name]
-    return column_unit(name)
-
-
 def table_units(rows: list[dict[str, Any]], spec: SearchSpec) -> dict[str, str]:
     """Unit of every column of the table ("" for text and dimensionless columns)."""
     specs = _search_specs(spec)
@@ -87,7 +81,7 @@ def table_units(rows: list[dict[str, Any]], spec: SearchSpec) -> dict[str, str]:
             unit = specs[name].units
             units[name] = "" if unit == "1" or name in _TEXT else unit
         else:
-            units[name] = "" if name in _TEXT else _parameter_unit(name)
+            units[name] = "" if name in _TEXT else column_unit(name)
     return units
 
 

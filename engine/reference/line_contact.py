@@ -54,6 +54,9 @@ __all__ = [
     "cattaneo_line_traction",
     "nowell_hills_traction",
     "line_loop_energy",
+    "line_tangential_displacement",
+    "line_slip_displacement",
+    "line_fretting_loop",
     "bulk_surface_strain",
     "nowell_hills_stick_offset",
     "pad_load",
@@ -139,6 +142,99 @@ def line_loop_energy(
     log_term = 0.0 if t == 1.0 else 2.0 * (1.0 - t) * math.log1p(-t)
     scale = 2.0 * (friction_coefficient * load) ** 2 / (math.pi * contact_modulus)
     return scale * (log_term + 2.0 * t - t * t)
+
+
+def line_tangential_displacement(
+    force,
+    load: float,
+    radius: float,
+    contact_modulus: float,
+    friction_coefficient: float,
+    reference_distance: float,
+) -> np.ndarray:
+    """The rigid tangential displacement δ (mm) of a cylinder under 0 → Q < μP (N/mm),
+    relative to the datum at ``reference_distance`` d (mm; ``engine.kernels.line``):
+    δ = (μ p0 a/E*) [t (ln(2d/a) + 1/2) + (1/2)(1 − t) ln(1 − t)], t = |Q|/(μP), with the
+    sign of Q (module docstring: the stick zone's displacement under the Cattaneo traction)."""
+    force = np.asarray(force, dtype=float)
+    t = np.abs(force) / (friction_coefficient * load)
+    if np.any(t > 1.0 + 1e-12):
+        raise ValueError(
+            f"tangential force must lie in [−μP, μP], μP = {friction_coefficient * load:g} N/mm"
+        )
+    t = np.minimum(t, 1.0)
+    a = hertz_line_half_width(load, radius, contact_modulus)
+    scale = friction_coefficient * hertz_line_peak_pressure(load, radius, contact_modulus) * a
+    complement = 1.0 - t
+    log_part = np.where(
+        complement > 0.0, complement * np.log(np.where(complement > 0.0, complement, 1.0)), 0.0
+    )
+    linear = t * (math.log(2.0 * reference_distance / a) + 0.5)
+    return np.sign(force) * (scale / contact_modulus) * (linear + 0.5 * log_part)
+
+
+def line_slip_displacement(
+    load,
+    radius: float,
+    contact_modulus: float,
+    friction_coefficient: float,
+    reference_distance: float,
+):
+    """δ_slip (mm): the displacement amplitude at which a cylinder under ``load`` P (N/mm)
+    reaches gross slip (Q = μP), (μ p0 a/E*)(ln(2d/a) + 1/2) with p0 = 2P/(πa); the
+    partial/gross boundary of a displacement-controlled fretting map. It grows with the
+    datum d: under displacement control d sets how much of the stroke is elastic."""
+    load = np.asarray(load, dtype=float)
+    a = np.sqrt(4.0 * load * radius / (math.pi * contact_modulus))
+    p0 = 2.0 * load / (math.pi * a)
+    log_term = np.log(2.0 * reference_distance / a) + 0.5
+    return friction_coefficient * p0 * a / contact_modulus * log_term
+
+
+def line_fretting_loop(
+    load: float,
+    radius: float,
+    contact_modulus: float,
+    friction_coefficient: float,
+    reference_distance: float,
+    *,
+    displacement_amplitude: float | None = None,
+    force_amplitude: float | None = None,
+    points: int = 201,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The stabilised fretting loop (δ in mm, Q in N/mm) of a cylinder, closed, from
+    (δ*, Q*): the unloading branch δ = δ* − 2 δ((Q* − Q)/2) (Masing, on the virgin curve
+    ``line_tangential_displacement``) to (−δ*, −Q*), sliding at Q = −μP in gross slip (δ*
+    beyond ``line_slip_displacement``); the reloading branch is its point reflection. Give
+    exactly one of ``displacement_amplitude`` (mm) and ``force_amplitude`` (N/mm, ≤ μP)."""
+    if (displacement_amplitude is None) == (force_amplitude is None):
+        raise ValueError("give exactly one of displacement_amplitude and force_amplitude")
+    args = (load, radius, contact_modulus, friction_coefficient, reference_distance)
+    limit = friction_coefficient * load
+
+    def virgin(force):
+        return line_tangential_displacement(force, *args)
+
+    if force_amplitude is not None:
+        peak_force = float(force_amplitude)
+        peak = float(virgin(peak_force))
+    else:
+        peak = float(displacement_amplitude)
+        slip = float(line_slip_displacement(*args))
+        peak_force = (
+            limit if peak >= slip else brentq(lambda q: float(virgin(q)) - peak, 0.0, limit)
+        )
+    forces = np.linspace(peak_force, -peak_force, points)
+    displacements = float(virgin(peak_force)) - 2.0 * virgin(0.5 * (peak_force - forces))
+    if peak > displacements[0] * (1.0 + 1e-12):  # gross slip: slide at Q = −μP to −δ*
+        displacements = displacements + (peak - displacements[0])
+        sliding = np.linspace(displacements[-1], -peak, points)[1:]
+        displacements = np.concatenate([displacements, sliding])
+        forces = np.concatenate([forces, np.full(sliding.size, -peak_force)])
+    return (
+        np.concatenate([displacements, -displacements[1:]]),
+        np.concatenate([forces, -forces[1:]]),
+    )
 
 
 def bulk_surface_strain(bulk_stress: float, young_modulus: float, poisson_ratio: float):

@@ -355,8 +355,9 @@ class FrettingAnalysis(CyclicAnalysis):
     ``peak_probe`` as for :class:`~engine.solvers.cyclic.CyclicAnalysis`, called with the
     tractions of the increment of the largest |Q| of every simulated cycle.
     ``increment_probe(pressure, tx, ty) -> (value, x, y, z)``, when given, is called on every
-    increment of the recorded cycles; its largest value is kept in the record
-    (``vm_cycle``: value MPa, x, y, z mm)."""
+    increment of the recorded cycles (of every simulated cycle with ``probe_every_cycle``);
+    its largest value over a recorded cycle is kept in the record (``vm_cycle``: value MPa,
+    x, y, z mm)."""
 
     def __init__(
         self,
@@ -372,6 +373,8 @@ class FrettingAnalysis(CyclicAnalysis):
                 "bulk_stress_max/bulk_stress_min apply to line (plane-strain) contacts only"
             )
         self.increment_probe = increment_probe
+        # True: the increment probe sees every simulated cycle, not only the recorded ones
+        self.probe_every_cycle = False
         self.peak_bulk_stress = 0.0  # σ_B (MPa) at the peak increment of the last cycle
         # Called with σ_B (MPa) before each probe, so that the stresses the probes evaluate
         # include the bulk stress of the increment they look at (line contacts).
@@ -505,7 +508,7 @@ class FrettingAnalysis(CyclicAnalysis):
             if norm > peak_norm:
                 peak, peak_norm, peak_index = result, norm, index
                 self.peak_bulk_stress = self.settings.bulk_stress(value)
-            if recorded and self.increment_probe is not None:
+            if (recorded or self.probe_every_cycle) and self.increment_probe is not None:
                 self._announce_bulk_stress(self.settings.bulk_stress(value))
                 probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
                 cycle_vm = probe if cycle_vm is None or probe[0] > cycle_vm[0] else cycle_vm

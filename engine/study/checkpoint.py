@@ -33,6 +33,7 @@ __all__ = [
     "load_cyclic_state",
     "save_fretting_state",
     "load_fretting_state",
+    "load_extra",
 ]
 
 
@@ -76,11 +77,18 @@ def _write(path: str | Path, arrays: dict[str, np.ndarray]) -> None:
     temporary.replace(path)
 
 
-def save_fretting_state(state: FrettingState, path: str | Path) -> None:
+def save_fretting_state(
+    state: FrettingState, path: str | Path, extra: dict[str, np.ndarray] | None = None
+) -> None:
     """The cyclic checkpoint of ``state`` plus the fretting arrays: ``fretting_rigid`` (the
     rigid tangential displacement δ at the next cycle's start, mm), ``fretting_rigid_warm``
-    (δ·d of the last simulated cycle's increments, mm), ``fretting_stiffness`` (N/mm)."""
-    arrays = _arrays(state)
+    (δ·d of the last simulated cycle's increments, mm), ``fretting_stiffness`` (N/mm), and
+    the ``extra`` arrays of the case's analyses (names starting with ``fatigue_``: the
+    evaluated fatigue cycles, ``engine.study.fatigue.FatigueAnalysis.arrays``)."""
+    arrays = dict(extra or {})
+    if any(not name.startswith("fatigue_") for name in arrays):
+        raise ValueError(f"extra checkpoint arrays must start with 'fatigue_': {list(arrays)}")
+    arrays.update(_arrays(state))
     arrays["fretting_rigid"] = np.asarray(state.rigid, dtype=float)
     arrays["fretting_rigid_warm"] = np.asarray(state.rigid_warm, dtype=float)
     arrays["fretting_stiffness"] = np.array(state.stiffness)
@@ -97,6 +105,13 @@ def load_fretting_state(path: str | Path) -> FrettingState:
             rigid_warm=data["fretting_rigid_warm"],
             stiffness=float(data["fretting_stiffness"]),
         )
+
+
+def load_extra(path: str | Path, prefix: str = "fatigue_") -> dict[str, np.ndarray]:
+    """The arrays of a checkpoint whose names start with ``prefix`` (``save_fretting_state``'s
+    ``extra``; empty for a checkpoint without them)."""
+    with np.load(path) as data:
+        return {name: data[name] for name in data.files if name.startswith(prefix)}
 
 
 def _history(data) -> dict[str, list]:

@@ -12,14 +12,21 @@
   ``"line"``, ``"area"``; ``engine.fatigue.distance``) and ``length`` ℓ (mm, required unless
   hotspot; sweepable);
 - ``amplitude_method`` [``"chord"``] (√J2,a: half the longest chord, or ``"ball"``) and
-  ``plane_step`` [1] (degrees between the critical planes searched; divides 180).
+  ``plane_step`` [1] (degrees between the critical planes searched; divides 180);
+- ``every_cycle`` [false]: evaluate every simulated cycle too (hot spots per simulated cycle
+  in ``history/<column>``; one full evaluation per simulated cycle), not only the recorded
+  ones.
 
-``FatigueAnalysis`` takes the increments of every recorded cycle (``increment_probe`` and the
-bulk stress through ``set_bulk_stress``), evaluates the criteria on the case's subsurface
-plane (the stress evaluator the case uses, at its depths) and at the critical-distance points
-(exact direct sums, ``engine.fatigue.fields``), and keeps per recorded cycle the map of each
-criterion, its hot spot (value, x, z, plane angle, life) and its critical value; its summary
-columns are ``CriterionAssessment.summary()`` of the last recorded cycle.
+Only ``[loading] kind = "fretting"`` has the increments of a cycle to evaluate.
+
+``FatigueAnalysis`` takes the increments of every evaluated cycle (``increment_probe`` with
+the plane the case has evaluated already, and the bulk stress through ``set_bulk_stress``),
+evaluates the criteria on the case's subsurface plane (at its depths) and at the
+critical-distance points (exact direct sums, ``engine.fatigue.fields``), and keeps per
+recorded cycle the map of each criterion, its hot spot (value, x, z, plane angle, life) and
+its critical value (``datasets``: ``fatigue/cycle_NNNNNNN/*``); its summary columns are
+``CriterionAssessment.summary()`` of the last recorded cycle. A checkpoint keeps the
+evaluated cycles (``arrays``, ``restore``), so a resumed case loses none.
 """
 
 from __future__ import annotations
@@ -31,19 +38,38 @@ from typing import Any
 import numpy as np
 
 from engine.fatigue import CRITERIA, METHODS, FatigueOptions, assess, build_criteria
-from engine.fatigue.fields import CycleRecorder, LinePointStress, PlanePointStress, plane_history
+from engine.fatigue.fields import (
+    CycleRecorder,
+    LinePointStress,
+    PlanePointStress,
+    plane_history,
+    planes_history,
+)
 from engine.fatigue.history import Elasticity
 from engine.fatigue.quantities import AMPLITUDE_METHODS
+from engine.schema import (
+    FATIGUE_CRITERIA,
+    FATIGUE_HOT_SPOT_COLUMNS,
+    DatasetRecord,
+    DatasetSpec,
+    cycle_group,
+    fatigue_maps,
+    fatigue_specs,
+)
+
+_PER_CYCLE = ", per simulated cycle (after N = cycle)"
 
 __all__ = [
     "FatigueConfig",
     "parse_fatigue",
+    "fatigue_keys",
     "fatigue_sweepable",
     "fatigue_columns",
     "FatigueAnalysis",
+    "FatigueCycle",
 ]
 
-_OPTIONS = {"criteria", "method", "length", "amplitude_method", "plane_step"}
+_OPTIONS = {"criteria", "method", "length", "amplitude_method", "plane_step", "every_cycle"}
 
 
 @dataclass(frozen=True)
@@ -56,10 +82,26 @@ class FatigueConfig:
     length: float | None = None
     amplitude_method: str = "chord"
     plane_step: float = 1.0
+    every_cycle: bool = False
 
     @property
     def options(self) -> FatigueOptions:
         return FatigueOptions(self.amplitude_method, self.plane_step)
+
+    def resolved(self) -> dict[str, Any]:
+        """The section as TOML-able data, the constants as keys of the section (every
+        default filled in; ``length`` only where the method has one)."""
+        out: dict[str, Any] = {"criteria": list(self.criteria)}
+        out.update(self.constants)
+        out.update(
+            method=self.method,
+            amplitude_method=self.amplitude_method,
+            plane_step=self.plane_step,
+            every_cycle=self.every_cycle,
+        )
+        if self.length is not None:
+            out["length"] = self.length
+        return out
 
 
 def fatigue_sweepable(registry=CRITERIA) -> dict[str, str]:
@@ -71,6 +113,38 @@ def fatigue_sweepable(registry=CRITERIA) -> dict[str, str]:
     }
     keys["fatigue.length"] = "mm"
     return keys
+
+
+def fatigue_keys(registry=CRITERIA) -> set[str]:
+    """Every key the section accepts: the options and every registered criterion's constants."""
+    return _OPTIONS | {name for cls in registry.values() for name in cls.constants}
+
+
+# The magnitudes a material constant can take (a value outside is a typo or a unit slip:
+# MPa given in Pa, a percentage for a fraction), with the reason printed when it is passed.
+_STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
+CONSTANT_RANGES = {
+    "sigma_d": _STRENGTH, "tau_d": _STRENGTH, "sigma_f": _STRENGTH, "tau_f": _STRENGTH,
+    "sigma_y": _STRENGTH,
+    "b": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "b0": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "c": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "c0": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
+    "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
+    "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
+}  # fmt: skip
+MAX_LENGTH = 100.0  # mm, the critical distance
+
+
+def _check_range(section, name: str, value: float) -> None:
+    """Refuse a constant outside :data:`CONSTANT_RANGES` (a fifth criterion's constants
+    without an entry are taken as given), naming the key."""
+    if name not in CONSTANT_RANGES:
+        return
+    low, high, why = CONSTANT_RANGES[name]
+    if not low <= value <= high:
+        raise section.error(name, value, f"must lie in [{low:g}, {high:g}] ({why})")
 
 
 def _criteria(section) -> tuple[str, ...]:
@@ -89,18 +163,29 @@ def parse_fatigue(section) -> FatigueConfig:
     """Read the ``[fatigue]`` table (``engine.study.config.reader.Section``): errors name the
     key and the value (a constant a listed criterion needs, a constant no listed criterion
     uses, a length missing for a critical-distance method …)."""
+    section.check_known(fatigue_keys())
     criteria = _criteria(section)
     needed = {
         name: CRITERIA[c].constant_units[name] for c in criteria for name in CRITERIA[c].constants
     }
-    section.check_known(_OPTIONS | set(needed))
-    constants = {name: section.number(name) for name in needed}
+    for key in section.table:
+        if key not in _OPTIONS and key not in needed:
+            raise section.error(
+                key, section.table[key], f"not a constant of the criteria {list(criteria)}"
+            )
+    constants = {
+        name: section.number(name, unit="" if unit == "1" else unit)
+        for name, unit in needed.items()
+    }
     method = section.string("method", "hotspot")
     if method not in METHODS:
         raise section.error("method", method, f"must be one of {', '.join(METHODS)}")
     length = None
     if method != "hotspot":
-        length = section.number("length", minimum=0.0, strict=True, unit="mm")
+        length = section.number(
+            "length", minimum=0.0, strict=True, unit="mm", maximum=MAX_LENGTH,
+            why="critical distances of metals lie in 0.01 … 1 mm",
+        )  # fmt: skip
     elif "length" in section.table:
         raise section.error(
             "length", section.table["length"], 'applies to a method other than "hotspot"'
@@ -113,13 +198,18 @@ def parse_fatigue(section) -> FatigueConfig:
     step = section.number("plane_step", 1.0, minimum=0.0, strict=True, unit="degree")
     if step > 90.0 or not float(180.0 / step).is_integer():
         raise section.error("plane_step", step, "must divide 180 degrees and be <= 90")
-    config = FatigueConfig(criteria, constants, method, length, amplitude, step)
+    every_cycle = section.raw("every_cycle", False)
+    if not isinstance(every_cycle, bool):
+        raise section.error("every_cycle", every_cycle, "must be true or false")
+    config = FatigueConfig(criteria, constants, method, length, amplitude, step, every_cycle)
     elasticity = Elasticity(1.0, 0.0)  # the constants' own checks (signs), any elasticity
     try:
         build_criteria(criteria, constants, elasticity, config.options)
     except ValueError as error:
         key = next((k for k in constants if f"'{k}'" in str(error)), "criteria")
         raise section.error(key, constants.get(key, list(criteria)), str(error)) from None
+    for name, value in constants.items():  # signs checked above, magnitudes here
+        _check_range(section, name, value)
     return config
 
 
@@ -138,41 +228,72 @@ def fatigue_columns(config: FatigueConfig) -> list[str]:
 
 @dataclass
 class FatigueCycle:
-    """The criteria on one recorded cycle: ``assessments`` (``CriterionAssessment`` each)."""
+    """The criteria on one evaluated cycle: its summary ``row`` (``fatigue_columns``) and,
+    for a recorded cycle, its ``maps`` (name → array of the plane's shape: ``<column>``,
+    ``<column>_angle``, ``<column>_life``)."""
 
     cycle: int
-    assessments: list = field(default_factory=list)
+    row: dict[str, float]
+    maps: dict[str, np.ndarray] = field(default_factory=dict)
 
-    def row(self) -> dict[str, float]:
-        row: dict[str, float] = {}
-        for assessment in self.assessments:
-            row.update(assessment.summary())
-        return row
+
+def criterion_schema(criterion) -> tuple[str, str, str, bool, bool]:
+    """(column, unit, what, angle, life) of a criterion for the results schema: the bundled
+    criteria's descriptions (``engine.schema.FATIGUE_CRITERIA``), a plug-in's name."""
+    column = criterion.column
+    unit, what, angle, life = FATIGUE_CRITERIA.get(
+        column, (criterion.unit, criterion.name, criterion.reports_angle, criterion.reports_life)
+    )
+    return column, unit, what, angle, life
 
 
 class FatigueAnalysis:
-    """Collects a case's recorded cycles and evaluates the criteria on them (module
+    """Collects a fretting case's cycles and evaluates the criteria on them (module
     docstring). ``stress``: the case's plane evaluator (``SubsurfaceStress`` or
-    ``LineSubsurfaceStress``); ``grid``; the flat's ``young_modulus`` (MPa) and
-    ``poisson_ratio``; ``angle`` (rad) of a 3-D case's plane."""
+    ``LineSubsurfaceStress``; used where an increment comes without its plane); ``grid``;
+    the flat's ``young_modulus`` (MPa) and ``poisson_ratio``; ``angle`` (rad) of a 3-D
+    case's plane; ``recorded``: the cycles whose maps are kept (the others, evaluated with
+    ``every_cycle``, keep their hot spots only)."""
 
     def __init__(
-        self, config: FatigueConfig, stress, grid, young_modulus, poisson_ratio, angle=0.0
+        self,
+        config: FatigueConfig,
+        stress,
+        grid,
+        young_modulus,
+        poisson_ratio,
+        angle=0.0,
+        recorded=(),
     ):
         self.config, self.stress, self.grid, self.angle = config, stress, grid, angle
         self.poisson_ratio = poisson_ratio
+        self.recorded = frozenset(int(c) for c in recorded)
         elasticity = Elasticity(young_modulus, poisson_ratio)
         self.criteria = build_criteria(
             config.criteria, config.constants, elasticity, config.options
         )
         self.recorder = CycleRecorder()
+        self.planes: list = []
         self.cycles: list[FatigueCycle] = []
+
+    @property
+    def columns(self) -> list[str]:
+        return fatigue_columns(self.config)
+
+    @property
+    def _row_keys(self) -> list[str]:
+        """The summary columns and, per criterion, the x of the surface hot spot below which
+        the critical distance is read (``<column>_critical_x``, in the hot-spot datasets)."""
+        return self.columns + [f"{c.column}_critical_x" for c in self.criteria]
 
     def set_bulk_stress(self, value: float) -> None:
         self.recorder.set_bulk_stress(value)
 
-    def increment_probe(self, pressure, traction_x, traction_y) -> None:
+    def increment_probe(self, pressure, traction_x, traction_y, plane=None) -> None:
+        """One increment of the current cycle: its tractions (MPa) and, when the caller has
+        evaluated it already, its stress plane (``StressField``, with the bulk stress)."""
         self.recorder.add(pressure, traction_x, traction_y)
+        self.planes.append(plane)
 
     def _point_stress(self, increments):
         if self.grid.is_line:
@@ -180,9 +301,13 @@ class FatigueAnalysis:
         return PlanePointStress(self.grid, self.poisson_ratio, increments, self.angle)
 
     def finish_cycle(self, cycle: int) -> FatigueCycle:
-        """Evaluate the increments collected since the last call as recorded cycle ``cycle``."""
-        increments = self.recorder.take()
-        history = plane_history(self.stress, increments, self.angle)
+        """Evaluate the increments collected since the last call as cycle ``cycle``."""
+        increments, planes = self.recorder.take(), self.planes
+        self.planes = []
+        if all(plane is not None for plane in planes):
+            history = planes_history(planes)
+        else:
+            history = plane_history(self.stress, increments, self.angle)
         config = self.config
         assessments = assess(
             history,
@@ -191,26 +316,119 @@ class FatigueAnalysis:
             length=config.length,
             stress_at=None if config.method == "hotspot" else self._point_stress(increments),
         )
-        result = FatigueCycle(cycle, assessments)
+        row: dict[str, float] = {}
+        maps: dict[str, np.ndarray] = {}
+        for assessment in assessments:
+            row.update(assessment.summary())
+            row[f"{assessment.column}_critical_x"] = assessment.surface.x
+            if cycle in self.recorded:
+                column, field_ = assessment.column, assessment.field
+                maps[column] = assessment.map
+                for suffix, values in (("angle", field_.angle), ("life", field_.life)):
+                    if values is not None:
+                        maps[f"{column}_{suffix}"] = values.reshape(assessment.shape)
+        result = FatigueCycle(int(cycle), row, maps)
         self.cycles.append(result)
         return result
 
-    def summary_row(self) -> dict[str, Any]:
-        """The last recorded cycle's columns (NaN before any)."""
-        if not self.cycles:
-            return {column: math.nan for column in fatigue_columns(self.config)}
-        return self.cycles[-1].row()
-
-    def history(self) -> dict[str, np.ndarray]:
-        """Per recorded cycle: ``cycle`` and every summary column (arrays)."""
-        rows = [cycle.row() for cycle in self.cycles]
-        columns = fatigue_columns(self.config)
-        table = {"cycle": np.array([c.cycle for c in self.cycles], dtype=float)}
-        table.update({column: np.array([row[column] for row in rows]) for column in columns})
-        return table
-
     def on_cycle(self, cycle: int, cycles: int) -> None:
-        """After each simulated cycle (``CyclicAnalysis.run``'s ``on_cycle``): a recorded
-        cycle's increments, if any were collected, are evaluated as cycle ``cycle``."""
+        """After each simulated cycle (``CyclicAnalysis.run``'s ``on_cycle``): the increments
+        collected, if any, are evaluated as cycle ``cycle``."""
         if self.recorder.increments:
             self.finish_cycle(cycle)
+
+    # ------------------------------------------------------------------ results
+    def summary_row(self) -> dict[str, Any]:
+        """The last recorded cycle's columns (NaN before any)."""
+        recorded = [c for c in self.cycles if c.cycle in self.recorded]
+        if not recorded:
+            return {column: math.nan for column in self.columns}
+        return {column: recorded[-1].row[column] for column in self.columns}
+
+    def history(self) -> dict[str, np.ndarray]:
+        """Per evaluated cycle: ``cycle`` and every summary column (arrays)."""
+        table = {"cycle": np.array([c.cycle for c in self.cycles], dtype=float)}
+        for column in self.columns:
+            table[column] = np.array([c.row[column] for c in self.cycles], dtype=float)
+        return table
+
+    def history_datasets(self, cycles) -> dict[str, DatasetRecord]:
+        """``history/<column>`` per simulated cycle (``[fatigue] every_cycle``): the hot
+        spots of every simulated cycle, aligned with the run's ``history/cycle``."""
+        table = self.history()
+        if not np.array_equal(table["cycle"], np.asarray(cycles, dtype=float)):
+            raise RuntimeError(
+                f"fatigue evaluated cycles {table['cycle'].tolist()} but the run simulated "
+                f"{np.asarray(cycles).tolist()}"
+            )
+        specs = self._column_specs()
+        return {
+            f"history/{column}": DatasetRecord(
+                table[column], specs[column].units, specs[column].description + _PER_CYCLE
+            )
+            for column in self.columns
+        }
+
+    def _column_specs(self) -> dict[str, DatasetSpec]:
+        specs = {}
+        for criterion in self.criteria:
+            specs.update(fatigue_specs(*criterion_schema(criterion)))
+        return specs
+
+    def datasets(self) -> dict[str, DatasetRecord]:
+        """``fatigue/cycle_NNNNNNN/*`` of every recorded cycle (``engine.schema.fatigue_maps``):
+        each criterion's map, angles, lives and hot spot."""
+        datasets = {}
+        for result in self.cycles:
+            if result.cycle not in self.recorded:
+                continue
+            group = f"fatigue/{cycle_group(result.cycle)}"
+            for criterion in self.criteria:
+                column, *described = criterion_schema(criterion)
+                specs = fatigue_maps(column, *described, result.cycle)
+                for name, spec in specs.items():
+                    if name == f"{column}_hot_spot":
+                        data = _hot_spot(result.row, column)
+                    else:
+                        data = result.maps[name]
+                    datasets[f"{group}/{name}"] = spec.record(data)
+        return datasets
+
+    # ------------------------------------------------------------------ checkpoints
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The evaluated cycles as arrays (a checkpoint's ``fatigue_*`` entries)."""
+        arrays = {
+            "fatigue_cycles": np.array([c.cycle for c in self.cycles], dtype=np.int64),
+            "fatigue_rows": np.array(
+                [[c.row[k] for k in self._row_keys] for c in self.cycles], dtype=float
+            ).reshape(len(self.cycles), len(self._row_keys)),
+        }
+        for result in self.cycles:
+            for name, values in result.maps.items():
+                arrays[f"fatigue_map_{result.cycle}_{name}"] = values
+        return arrays
+
+    def restore(self, arrays) -> None:
+        """Take back the cycles of :meth:`arrays` (a resumed case)."""
+        if "fatigue_cycles" not in arrays:
+            return
+        rows = np.asarray(arrays["fatigue_rows"], dtype=float)
+        self.cycles = []
+        for index, cycle in enumerate(np.asarray(arrays["fatigue_cycles"]).tolist()):
+            prefix = f"fatigue_map_{cycle}_"
+            maps = {
+                name[len(prefix) :]: np.asarray(arrays[name])
+                for name in arrays
+                if name.startswith(prefix)
+            }
+            row = {k: float(v) for k, v in zip(self._row_keys, rows[index], strict=True)}
+            self.cycles.append(FatigueCycle(int(cycle), row, maps))
+
+
+def _hot_spot(row: dict[str, float], column: str) -> np.ndarray:
+    """value, x, z, angle, life, critical of a criterion's hot spot (NaN where none)."""
+    names = {"value": column, "critical": f"{column}_critical"}
+    return np.array(
+        [row.get(names.get(key, f"{column}_{key}"), math.nan) for key in FATIGUE_HOT_SPOT_COLUMNS],
+        dtype=float,
+    )

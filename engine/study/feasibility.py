@@ -20,15 +20,16 @@ class ImpossibleCases(ValueError):
 
 def impossible_cases(config, plan) -> list[tuple[str, str]]:
     """(case id, reason) of every case of ``plan`` that cannot be computed."""
-    if not config.is_fretting:
-        return []
-    from .fretting_case import check_force_bound, settings
+    from .kinds.base import LoadingKind
 
+    kind = config.kind
+    if type(kind).check_case is LoadingKind.check_case:  # a kind without case checks
+        return []
     found = []
     for case in plan:
         for extra in _bracket_ends(config):
             try:
-                check_force_bound(case, settings(config.for_case(case.settings + extra)))
+                kind.check_case(case, config.for_case(case.settings + extra))
             except ValueError as error:
                 found.append((case.case_id, str(error)))
                 break

@@ -14,9 +14,9 @@ configuration (:meth:`StudyConfig.for_case`): sweeping ``mesh.n``, ``loading.cyc
 - ``fields/final/<name>`` (pressure, tractions, slip increments, status) and, for cyclic
   studies, ``fields/cycle_NNNNNNN/<name>`` (wear, pressure, tractions, status) for every
   recorded cycle (the solver also records the last cycle): surface fields, shape ``(n, n)``
-  (ij indexing), float64; ``status`` is int8; fretting studies add ``loop``, shape
-  (4·steps + 1, 4), and ``vm_cycle``, shape (4,), to every recorded cycle
-  (engine.study.fretting_case);
+  (ij indexing), float64; ``status`` is int8; the loading kind adds its own records to every
+  recorded cycle (:meth:`~engine.study.kinds.LoadingKind.record_shapes`, e.g. a fretting
+  cycle's ``loop`` and ``vm_cycle``);
 - ``subsurface/final/*`` and ``subsurface/cycle_NNNNNNN/*``: the x–z plane through the punch
   axis, shape ``(n_s, n_z)``, float64. Its shape is taken from
   :meth:`~engine.solvers.subsurface.SubsurfaceStress.plane` evaluated once for zero tractions,
@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from engine.schema import FIELD_DTYPES, FINAL_FIELDS, RECORDED_FIELDS, cycle_group
+from engine.schema import FIELD_DTYPES, FINAL_FIELDS, RECORDED_FIELDS, case_group_path, cycle_group
 
 from .config import StudyConfig
 
@@ -49,10 +49,9 @@ class DatasetShape:
 
 
 def recorded_cycles(config: StudyConfig) -> list[int]:
-    """Cycles whose fields a completed cyclic case stores (the record list and the last)."""
-    if not config.is_cyclic:
-        return []
-    return sorted({int(c) for c in config.loading.record} | {int(config.loading.cycles)})
+    """Cycles whose fields a completed case stores (kinds with cycles: the record list and
+    the last)."""
+    return config.kind.recorded_cycles(config)
 
 
 def plan_layout(config: StudyConfig, plan) -> dict[str, dict[str, DatasetShape]]:
@@ -80,29 +79,24 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     groups = {"final": FINAL_FIELDS}
     groups.update({cycle_group(c): RECORDED_FIELDS for c in recorded_cycles(config)})
     layout: dict[str, DatasetShape] = {
-        "grid/x": DatasetShape((n_x,), "float64"),
-        "grid/y": DatasetShape((n_y,), "float64"),
+        case_group_path("grid", "x"): DatasetShape((n_x,), "float64"),
+        case_group_path("grid", "y"): DatasetShape((n_y,), "float64"),
     }
-    if config.is_fretting:  # the loop and σ_VM maximum of every recorded fretting cycle
-        rows = 4 * config.loading.steps + 1
-        for cycle in recorded_cycles(config):
-            layout[f"fields/cycle_{cycle:07d}/loop"] = DatasetShape((rows, 4), "float64")
-            layout[f"fields/cycle_{cycle:07d}/vm_cycle"] = DatasetShape((4,), "float64")
+    records = config.kind.record_shapes(config)  # the kind's own datasets of a recorded cycle
+    for cycle in recorded_cycles(config):
+        for name, (shape, dtype) in records.items():
+            layout[case_group_path("fields", cycle_group(cycle), name)] = DatasetShape(shape, dtype)
     for group, names in groups.items():
         for name in names:
             dtype = FIELD_DTYPES.get(name, "float64")
-            layout[f"fields/{group}/{name}"] = DatasetShape((n_x, n_y), dtype)
+            layout[case_group_path("fields", group, name)] = DatasetShape((n_x, n_y), dtype)
         for name, shape in plane.items():
-            layout[f"subsurface/{group}/{name}"] = shape
+            layout[case_group_path("subsurface", group, name)] = shape
     return layout
 
 
 def _grid(config: StudyConfig):
-    from engine.grid import Grid
-
-    if config.punch.is_line:  # a line contact: n elements along x, one along y
-        return Grid.line(config.mesh.n, config.mesh.half_width)
-    return Grid.square(config.mesh.n, config.mesh.half_width)
+    return config.punch.profile().grid(config.mesh.n, config.mesh.half_width)
 
 
 def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:

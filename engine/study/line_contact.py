@@ -1,5 +1,5 @@
 """The line (plane-strain) contact in the study layer: the nominal contact, the peak tracker,
-the two-body wear law and the scar columns of a study of a cylinder or a rounded pad on a flat
+and the scar columns of a study of a cylinder or a rounded pad on a flat
 (docs/explanation/line-contact.md). The profile is ``PunchConfig.profile``'s, the line grid,
 operator and stresses are built by the case runner and ``engine.study.operators``.
 
@@ -13,29 +13,21 @@ the summary's p0 is the mean pressure P/(2 a0).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from engine.geometry import profile_for
 from engine.grid import Grid
-from engine.reference.line_contact import hertz_line_half_width, pad_half_width
 from engine.solvers.line_subsurface import LinePeakTracker, LineSubsurfaceStress
-from engine.solvers.scar import scar_measures, two_body_wear_law
+from engine.solvers.scar import scar_measures
 
 __all__ = [
-    "LINE_SHAPES",
     "DEFAULT_REFERENCE_DISTANCE",
     "LineContact",
-    "is_line_shape",
 ]
 
-LINE_SHAPES = ("cylinder", "pad")
 DEFAULT_REFERENCE_DISTANCE = 10.0  # mm: the datum of 2-D displacements (a specimen's size)
-
-
-def is_line_shape(shape: str) -> bool:
-    return shape in LINE_SHAPES
 
 
 @dataclass(frozen=True)
@@ -50,14 +42,15 @@ class LineContact:
     load: float
 
     def nominal_half_width(self, contact_modulus: float) -> float:
-        """a0 (mm): Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width at the load."""
-        if self.shape == "cylinder":
-            return hertz_line_half_width(self.load, self.radius, contact_modulus)
-        return pad_half_width(self.load, self.radius, self.edge_radius, contact_modulus)
+        """a0 (mm): the profile's (Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width)
+        at the load."""
+        profile = profile_for(self.shape, self.radius, self.edge_radius)
+        return profile.contact_length(self.load, contact_modulus)
 
     def nominal_pressure(self, contact_modulus: float) -> float:
         """p0 = P/(2 a0) (MPa), the mean pressure over the nominal contact."""
-        return self.load / (2.0 * self.nominal_half_width(contact_modulus))
+        profile = profile_for(self.shape, self.radius, self.edge_radius)
+        return profile.mean_pressure(self.load, self.nominal_half_width(contact_modulus))
 
     @staticmethod
     def peak_tracker(stress: LineSubsurfaceStress, nominal_half_width: float, angle=0.0):
@@ -66,25 +59,6 @@ class LineContact:
         return LinePeakTracker(stress, nominal_half_width)
 
 
-def wear_law(flat_law, pad_ratio: float):
-    """The law of the wear the gap carries (flat + pad, ``engine.solvers.scar``)."""
-    return two_body_wear_law(flat_law, pad_ratio)
-
-
 def scar_row(grid: Grid, total_wear: np.ndarray, pad_ratio: float) -> dict[str, float]:
     """Summary columns scar_depth, scar_width (mm), scar_area (mm²/mm), pad_wear_depth (mm)."""
     return scar_measures(grid, total_wear, pad_ratio).row()
-
-
-def pad_ratio(pad_coefficient: float | None, flat_coefficient: float) -> float:
-    """r = k_pad / k_flat (0 without pad wear); a pad coefficient needs a flat one."""
-    if pad_coefficient is None or pad_coefficient == 0.0:
-        return 0.0
-    if not flat_coefficient > 0.0:
-        raise ValueError(
-            f"[wear] pad_coefficient = {pad_coefficient:g} needs a positive wear coefficient "
-            "of the flat (the pad's law is the flat's, scaled)"
-        )
-    if not math.isfinite(pad_coefficient) or pad_coefficient < 0.0:
-        raise ValueError(f"[wear] pad_coefficient must be >= 0, got {pad_coefficient!r}")
-    return pad_coefficient / flat_coefficient

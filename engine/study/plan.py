@@ -23,7 +23,6 @@ Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
@@ -50,10 +49,18 @@ def setting_names(keys: tuple[str, ...]) -> dict[str, str]:
     }
 
 
-def case_id_for(mu1: float, mu2: float, wear1: float, wear2: float, beta: float) -> str:
-    """Readable id from the parameters: ``mu<mu1>-<mu2>_w<wear1>-<wear2>_b<beta>``."""
+def case_id_for(
+    mu1: float, mu2: float, wear1: float, wear2: float, beta: float, alpha: float | None = None
+) -> str:
+    """Readable id from the parameters: ``mu<mu1>-<mu2>_w<wear1>-<wear2>_b<beta>`` (Archard
+    law) or ``mu<mu1>-<mu2>_a<alpha>_b<beta>`` (energy law, ``alpha`` given)."""
     mu = f"mu{_format(mu1)}" if mu1 == mu2 else f"mu{_format(mu1)}-{_format(mu2)}"
-    wear = f"w{_format(wear1)}" if wear1 == wear2 else f"w{_format(wear1)}-{_format(wear2)}"
+    if alpha is not None:
+        wear = f"a{_format(alpha)}"
+    elif wear1 == wear2:
+        wear = f"w{_format(wear1)}"
+    else:
+        wear = f"w{_format(wear1)}-{_format(wear2)}"
     return f"{mu}_{wear}_b{_format(beta)}"
 
 
@@ -71,7 +78,7 @@ class Case:
     settings: tuple[tuple[str, Any], ...] = ()  # swept dotted keys and their values
     cost_scale: float = 1.0  # size of the case relative to the study's first values
     mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
-    alpha: float | None = None  # energy wear law (mm³/J); wear1 = wear2 = 0 then
+    alpha: float | None = None  # energy wear law (mm³/J), its own parameter; wear1 = wear2 = 0
 
     def parameters(self) -> dict[str, float | int | str]:
         """Case attributes and the parameter columns of its summary row."""
@@ -143,34 +150,33 @@ def cost_scale(case: StudyConfig, study: StudyConfig) -> float:
 
     def size(config: StudyConfig) -> float:
         n = config.mesh.n
-        cycles = math.log10(10.0 + config.loading.cycles) if config.is_cyclic else 1.0
+        cycles = config.kind.cycle_cost(config)
         work = n * n * math.log2(n * n) * config.loading.steps * cycles
         return work * (1.0 + 0.05 * config.subsurface.layers)
 
     return size(case) / size(study)
 
 
-def _friction_combinations(config: StudyConfig) -> list[tuple[float, float, float, float, float]]:
-    """(mu1, mu2, wear1, wear2, beta) in plan order (nested loops); with the energy wear law
-    (mu1, mu2, alpha, alpha, beta) (:func:`make_plan` keeps alpha apart)."""
+def _friction_combinations(config: StudyConfig) -> list[tuple]:
+    """(mu1, mu2, wear1, wear2, beta, alpha) in plan order (nested loops): the Archard law's
+    coefficients with alpha None, or the energy law's alpha (mm³/J) with wear1 = wear2 = 0."""
     sweep = config.sweep
-    if sweep.alpha is not None:
-        wear_sweep = dataclasses.replace(sweep, wear1=sweep.alpha, wear2=None, alpha=None)
-        return _friction_combinations(dataclasses.replace(config, sweep=wear_sweep))
-    combos = []
     if sweep.mu2 is None:
         mu_pairs = [(mu, mu) for mu in sweep.mu1]
     else:
         mu_pairs = list(itertools.product(sweep.mu1, sweep.mu2))
+    combos = []
     for mu1, mu2 in mu_pairs:
-        if sweep.wear2 is None:
-            wear_pairs = [(w, w) for w in sweep.wear1]
+        if sweep.alpha is not None:  # the energy law: one coefficient, Archard's i1 = i2 = 0
+            laws = [(0.0, 0.0, alpha) for alpha in sweep.alpha]
+        elif sweep.wear2 is None:
+            laws = [(w, w, None) for w in sweep.wear1]
         elif sweep.wear2 == PROPORTIONAL:
-            wear_pairs = [(w, w * mu2 / mu1) for w in sweep.wear1]
+            laws = [(w, w * mu2 / mu1, None) for w in sweep.wear1]
         else:
-            wear_pairs = list(itertools.product(sweep.wear1, sweep.wear2))
-        for (wear1, wear2), beta in itertools.product(wear_pairs, sweep.beta):
-            combos.append((mu1, mu2, wear1, wear2, beta))
+            laws = [(w1, w2, None) for w1, w2 in itertools.product(sweep.wear1, sweep.wear2)]
+        for (wear1, wear2, alpha), beta in itertools.product(laws, sweep.beta):
+            combos.append((mu1, mu2, wear1, wear2, beta, alpha))
     return combos
 
 
@@ -209,21 +215,16 @@ def make_plan(config: StudyConfig) -> Plan:
         scale = cost_scale(case_config, config) if settings else 1.0
         mesh = (case_config.mesh.n, case_config.mesh.half_width)
         suffix = "".join(f"_{names[key]}{_format(value)}" for key, value in settings)
-        energy = config.sweep.alpha is not None
         for combo in _friction_combinations(config):
             case_id = case_id_for(*combo) + suffix
-            alpha = None
-            if energy:  # the energy law: "_a<alpha>" for "_w<wear>"; Archard's i1 = i2 = 0
-                alpha = combo[2]
-                case_id = case_id.replace(f"_w{_format(alpha)}_", f"_a{_format(alpha)}_", 1)
-                combo = (combo[0], combo[1], 0.0, 0.0, combo[4])
             if case_id in seen:
                 first_combo, first_settings = seen[case_id]
                 if first_combo != combo:
                     raise _collision(config.source, case_id, first_combo, combo)
                 raise _setting_collision(config.source, case_id, first_settings, settings)
             seen[case_id] = (combo, settings)
-            cases.append(Case(index, case_id, *combo, settings, scale, mesh, alpha))
+            *friction, alpha = combo
+            cases.append(Case(index, case_id, *friction, settings, scale, mesh, alpha))
             index += 1
     unknown = set(config.testing.fail_cases) - set(seen)
     if unknown:
@@ -233,7 +234,7 @@ def make_plan(config: StudyConfig) -> Plan:
     return Plan(tuple(cases))
 
 
-_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
 
 
 def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:

@@ -54,15 +54,15 @@ def case_memory_bytes(n: int, layers: int, increments: int = 0) -> float:
 def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, int, int]:
     """(n, layers, increments per simulated cycle) of the plan's case that needs the most
     memory (the study's own values without a plan)."""
-    per_cycle = {"static": 0, "cyclic": 2, "fretting": 4}[config.loading.kind]
+    increments = config.kind.increments  # per simulated cycle, from [loading] steps
     sizes = set()
     for case in plan.cases if plan is not None else ():
         settings, n = dict(case.settings), case.mesh[0]  # the plan gives every case its mesh
         layers = settings.get("subsurface.layers", config.subsurface.layers)
         steps = settings.get("loading.steps", config.loading.steps)
-        sizes.add((int(n), int(layers), per_cycle * int(steps)))
+        sizes.add((int(n), int(layers), increments(int(steps))))
     if not sizes:
-        sizes.add((config.mesh.n, config.subsurface.layers, per_cycle * config.loading.steps))
+        sizes.add((config.mesh.n, config.subsurface.layers, increments(config.loading.steps)))
     return max(sizes, key=lambda size: case_memory_bytes(*size))
 
 

@@ -73,6 +73,7 @@ class SearchStatus:
 
 METHODS = ("bisection", "illinois")
 ID_RESOLUTION = 1e-8  # finest relative tolerance: case ids carry 10 significant digits
+MAX_STEPS = 1000  # cases per search: a bound on typos, far above the 27 halvings of 1e-8
 
 
 @dataclass(frozen=True)
@@ -123,7 +124,10 @@ class SearchSpec:
         found = []
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             found.append(("high", self.high, f"must be finite and greater than low = {self.low}"))
-        if not (self.rtol >= 0.0 and self.atol >= 0.0 and self.rtol + self.atol > 0.0):
+        for key in ("rtol", "atol"):
+            if not getattr(self, key) >= 0.0:
+                found.append((key, getattr(self, key), "must be ≥ 0"))
+        if not self.rtol + self.atol > 0.0:
             found.append(("rtol", self.rtol, "rtol and atol must be ≥ 0, one of them > 0"))
         span = max(abs(self.low), abs(self.high))
         if (
@@ -141,12 +145,23 @@ class SearchSpec:
             )
         if self.rtol >= 0.5:
             found.append(("rtol", self.rtol, "must be < 0.5 (a relative tolerance on x)"))
+        if not (math.isfinite(self.atol) and self.atol < self.high - self.low):
+            found.append(
+                ("atol", self.atol, "must be finite and below the bracket's width high − low")
+            )
         if self.method not in METHODS:
             found.append(("method", self.method, f"must be one of {', '.join(METHODS)}"))
         elif self.categorical and self.method != "bisection":
             found.append(("method", self.method, "a text target is searched by bisection"))
-        if not (isinstance(self.max_steps, int) and self.max_steps >= 3):
-            found.append(("max_steps", self.max_steps, "must be an integer ≥ 3"))
+        if not (isinstance(self.max_steps, int) and 3 <= self.max_steps <= MAX_STEPS):
+            found.append(
+                (
+                    "max_steps",
+                    self.max_steps,
+                    f"must be an integer in [3, {MAX_STEPS}] (bisection halves the bracket per "
+                    "case: the finest tolerance, 1e-8 of the bracket, takes 27)",
+                )
+            )
         if not self.categorical and not math.isfinite(self.target):
             found.append(("target", self.target, "must be finite"))
         return found

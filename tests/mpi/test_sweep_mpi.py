@@ -7,6 +7,7 @@ from __future__ import annotations
 import h5py
 import pytest
 
+from engine.study.examples import study_toml
 from tests.mpi.test_engine_mpi import assert_same_results, run_engine, write_study
 from tests.mpi.test_mpio import engine_h5py_is_mpi_enabled, needs_parallel_h5py
 
@@ -51,3 +52,62 @@ def test_swept_mesh_collective_equals_single(tmp_path):
     assert collective.returncode == 0, collective.stderr
     assert_same_results(tmp_path / "swept.h5", tmp_path / "s.h5")
     _check_per_case_grids(tmp_path / "swept.h5")
+
+
+def _cases(path):
+    with h5py.File(path, "r") as file:
+        return {name: group.attrs["status"] for name, group in file["cases"].items()}
+
+
+def _pressure(path, case_id):
+    with h5py.File(path, "r") as file:
+        return file["cases"][case_id]["fields/final/pressure"][()]
+
+
+def test_a_sweep_that_shrinks_or_changes_reruns_exit_0_on_two_ranks(tmp_path):
+    """Values removed, then changed, then --drop-stale, each run twice on 2 ranks: every run
+    exits 0, runs exactly the cases of the new study not yet complete, leaves a file that
+    `verify` reads clean, keeps the stale cases (dropped with --drop-stale) with their
+    results untouched, and the CSV lists exactly the file's cases."""
+    from engine.output.summary import load_summary
+    from engine.output.verify import verify_file
+
+    study = tmp_path / "sweep.toml"
+    output = tmp_path / "sweep.h5"
+
+    def run(mu1, *options):
+        study.write_text(
+            study_toml(
+                "sweep",
+                str(output),
+                mesh={"n": 8},
+                loading={"kind": "static", "steps": 2},
+                sweep={"mu1": mu1, "beta": [0.0, 45.0]},
+            )
+        )
+        done = run_engine(study, "--no-progress-bar", "--progress-interval", "0", *options)
+        assert done.returncode == 0, done.stderr
+        check = verify_file(output, output.with_suffix(".csv"))  # checksums, the CSV against them
+        assert not check.damaged, check
+        assert sorted(load_summary(output)["case_id"]) == sorted(_cases(output))
+        return done.stdout
+
+    ids = {mu: {f"mu{mu}_w0_b0", f"mu{mu}_w0_b45"} for mu in (0.1, 0.15, 0.2, 0.3, 0.4)}
+    assert "8 to run" in run([0.1, 0.2, 0.3, 0.4])
+    reference = tmp_path / "reference.h5"
+    reference.write_bytes(output.read_bytes())
+    everything = ids[0.1] | ids[0.2] | ids[0.3] | ids[0.4]
+    for _ in range(2):  # shrunk: nothing to run, the stale cases kept
+        assert "4 cases, 4 already complete, 0 to run" in run([0.1, 0.2])
+        assert set(_cases(output)) == everything
+    assert "4 cases, 2 already complete, 2 to run" in run([0.15, 0.2])  # changed
+    assert "4 cases, 4 already complete, 0 to run" in run([0.15, 0.2])
+    assert set(_cases(output)) == everything | ids[0.15]
+    assert set(_cases(output).values()) == {"completed"}
+    for case_id in sorted(ids[0.3]):  # a stale case's results are untouched
+        assert (_pressure(output, case_id) == _pressure(reference, case_id)).all()
+    stdout = run([0.15, 0.2], "--drop-stale")
+    assert "they are deleted (--drop-stale)" in stdout
+    assert set(_cases(output)) == ids[0.15] | ids[0.2]
+    assert "4 cases, 4 already complete, 0 to run" in run([0.15, 0.2])
+    assert set(_cases(output)) == ids[0.15] | ids[0.2]

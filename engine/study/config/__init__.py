@@ -14,6 +14,8 @@ The package is split by role:
 Every name below is importable from ``engine.study.config``.
 """
 
+from engine.geometry import HERTZ_MARGIN
+
 from .checks import (
     MAX_FRICTION,
     MAX_PRESSURE_OVER_MODULUS,
@@ -26,9 +28,6 @@ from .checks import (
 from .compat import FORMER_DEFAULTS, STATIC_PLACEHOLDERS, fill_former_defaults, same_fingerprint
 from .parsing import StudyConfig, load_study, parse_study
 from .sections import (
-    FRETTING_KEYS,
-    HERTZ_MARGIN,
-    LOADING_KINDS,
     MISSING,
     PROPORTIONAL,
     PUNCH_SHAPES,
@@ -72,9 +71,7 @@ __all__ = [
     "same_fingerprint",
     "FORMER_DEFAULTS",
     "STATIC_PLACEHOLDERS",
-    "FRETTING_KEYS",
     "HERTZ_MARGIN",
-    "LOADING_KINDS",
     "MAX_FRICTION",
     "MAX_PRESSURE_OVER_MODULUS",
     "MAX_TOLERANCE",

@@ -24,6 +24,13 @@ MAX_FRICTION = 10.0
 # at 1e-3 a contact at 100 MPa slipping 1 µm wears 0.1 µm per cycle, 10^4 × the severest
 # measured, and the cycle jump degenerates into single cycles.
 MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
+# The energy law's α (mm³/J) wears α·τ·s·1e-3 mm per cycle where Archard's wears k·p·s: at
+# μ = 1, α = 1 mm³/J wears as fast as the Archard bound above (fretting tests: 1e-6 … 1e-4).
+MAX_ENERGY_WEAR_COEFFICIENT = 1.0  # mm^3/J
+# Lengths (mm): 10 m is beyond any contact the half-space model describes; further out the
+# mean pressure and the influence coefficients leave float64's useful range (1e300 overflowed).
+MAX_LENGTH = 1e4  # mm
+LENGTH_REASON = "10 m: larger than any contact this half-space model describes"
 
 # Upper bounds of the count and control keys, each with the reason printed when it is passed
 # (a key beyond them is a typo or a unit slip, and would otherwise run for days or fail late).
@@ -37,6 +44,29 @@ BOUNDS = {
         1.0,
         "wear per cycle jump over the peak elastic approach: beyond 1 a jump removes the "
         "whole elastic approach and the jump control no longer holds",
+    ),
+    "mesh.n": (16384, "elements per side: a 16384² grid needs about 0.8 TB of memory per rank"),
+    "punch.radius": (MAX_LENGTH, LENGTH_REASON),
+    "punch.edge_radius": (MAX_LENGTH, LENGTH_REASON),
+    "mesh.half_width": (MAX_LENGTH, LENGTH_REASON),
+    "mesh.reference_distance": (MAX_LENGTH, LENGTH_REASON),
+    "loading.amplitude": (
+        10.0,
+        "fretting amplitudes lie below ~0.3 mm; beyond 10 mm the motion is reciprocating "
+        "sliding, which moves the contact over the flat, and this model holds it in place",
+    ),
+    "loading.bulk_stress": (
+        1e4,
+        "in magnitude: 10 GPa is above the strength of any steel, and the flat stays linear "
+        "elastic",
+    ),
+    "wear.pad_coefficient": (
+        MAX_WEAR_COEFFICIENT,
+        "the Archard bound of [sweep] wear1 (fretting tests: 1e-9 … 1e-6 1/MPa)",
+    ),
+    "wear.pad_coefficient.energy": (
+        MAX_ENERGY_WEAR_COEFFICIENT,
+        "the energy-law bound of [sweep] alpha (fretting tests: 1e-6 … 1e-4 mm³/J)",
     ),
     "subsurface.layers": (1024, "depth layers of the stress plane: 1024 resolve it to 0.1 %"),
     "subsurface.depth": (100.0, "stresses 100 radii deep are below 1e-4 of the mean pressure"),
@@ -73,7 +103,8 @@ def check_physical_ranges(source, material, punch, loading, sweep) -> None:
             source,
             "loading.load",
             loading.load,
-            f"mean pressure P/(π a²) = {mean_pressure:.3g} MPa is {ratio:.3g} × the contact "
+            f"mean pressure P/(π a²) = {mean_pressure:.3g} MPa (a = [punch] radius = "
+            f"{punch.radius:g} mm) is {ratio:.3g} × the contact "
             f"modulus E* = {modulus:.3g} MPa; the linear-elastic half-space needs "
             f"{MIN_PRESSURE_OVER_MODULUS:g} ≤ p0/E* ≤ {MAX_PRESSURE_OVER_MODULUS:g} "
             "(small strains)",
@@ -99,3 +130,13 @@ def check_physical_ranges(source, material, punch, loading, sweep) -> None:
                     f"wear coefficient must lie in [0, {MAX_WEAR_COEFFICIENT:g}] 1/MPa "
                     "(fretting tests: 1e-9 … 1e-6)",
                 )
+    for value in getattr(sweep, "alpha", None) or ():
+        if value > MAX_ENERGY_WEAR_COEFFICIENT:
+            raise StudyConfigError(
+                source,
+                "sweep.alpha",
+                value,
+                f"energy wear coefficient must lie in [0, {MAX_ENERGY_WEAR_COEFFICIENT:g}] "
+                "mm^3/J (fretting tests: 1e-6 … 1e-4; 1 mm^3/J at μ = 1 wears as fast as "
+                f"Archard's {MAX_WEAR_COEFFICIENT:g} 1/MPa)",
+            )

@@ -61,6 +61,7 @@ SECTIONS = {
     "search": "a threshold search along one parameter (optional)",
     "solver": "solver tolerances, iterations and FFTs",
     "testing": "fault injection for tests",
+    "fatigue": "multiaxial fatigue criteria on the fretting cycles (optional; fretting only)",
 }
 
 _K = StudyKey
@@ -119,7 +120,7 @@ STUDY_KEYS = (
        '`"archard"`: Archard\'s orthotropic law (Eqs. 12–14), `[sweep] wear1, wear2` in 1/MPa; '
        '`"energy"`: depth increment = α × local frictional work, `[sweep] alpha` in mm³/J'),
     _K("wear", "pad_coefficient", "number", "none (the pad does not wear)", "1/MPa or mm^3/J",
-       "line contacts: the pad's wear coefficient, in the unit of the flat's law"),
+       "the punch's (pad's) wear coefficient, in the unit of the flat's law: both bodies wear"),
     _K("subsurface", "depth", "number", "1.5", "punch radii",
        "depth of the stress plane, in punch radii (sphere: Hertz contact radii)"),
     _K("subsurface", "layers", "integer", "16", "1",
@@ -163,4 +164,42 @@ STUDY_KEYS = (
        '`"estimate"`: the same FFTW plans in every process, so runs and rank counts give '
        'bit-identical results; `"measure"`: timed plans, faster, may differ in the last digits'),
     _K("testing", "fail_cases", "list of texts", "[]", "–", "case ids that fail on purpose"),
+    _K("fatigue", "criteria", "list of texts", REQUIRED, "–",
+       '`"crossland"`, `"dang_van"`, `"swt"` (Smith–Watson–Topper), `"fatemi_socie"`; each '
+       "needs its constants below, which have no defaults"),
+    _K("fatigue", "sigma_d", "number", "required (crossland, dang_van)", "MPa",
+       "fully reversed tension–compression fatigue limit"),
+    _K("fatigue", "tau_d", "number", "required (crossland, dang_van)", "MPa",
+       "fully reversed torsion fatigue limit"),
+    _K("fatigue", "sigma_f", "number", "required (swt)", "MPa",
+       "fatigue strength coefficient σ'_f (Basquin)"),
+    _K("fatigue", "b", "number", "required (swt)", "1", "fatigue strength exponent (< 0)"),
+    _K("fatigue", "eps_f", "number", "required (swt)", "1",
+       "fatigue ductility coefficient ε'_f (Coffin–Manson)"),
+    _K("fatigue", "c", "number", "required (swt)", "1", "fatigue ductility exponent (< 0)"),
+    _K("fatigue", "tau_f", "number", "required (fatemi_socie)", "MPa",
+       "shear fatigue strength coefficient τ'_f"),
+    _K("fatigue", "gamma_f", "number", "required (fatemi_socie)", "1",
+       "shear fatigue ductility coefficient γ'_f"),
+    _K("fatigue", "b0", "number", "required (fatemi_socie)", "1",
+       "shear fatigue strength exponent (< 0)"),
+    _K("fatigue", "c0", "number", "required (fatemi_socie)", "1",
+       "shear fatigue ductility exponent (< 0)"),
+    _K("fatigue", "k", "number", "required (fatemi_socie)", "1",
+       "normal-stress sensitivity of Fatemi–Socie"),
+    _K("fatigue", "sigma_y", "number", "required (fatemi_socie)", "MPa", "yield strength"),
+    _K("fatigue", "method", "text", '"hotspot"', "–",
+       'critical distance: `"hotspot"` (the maximum over the plane), `"point"` (at depth ℓ/2 '
+       'below the surface hot spot), `"line"` (mean over depth 0 … 2ℓ there), `"area"` (mean '
+       "over the half-disc of radius 1.32 ℓ); evaluated at those exact points"),
+    _K("fatigue", "length", "number", 'required unless `method = "hotspot"`', "mm",
+       "the material's critical distance ℓ"),
+    _K("fatigue", "amplitude_method", "text", '"chord"', "–",
+       '√J2,a: `"chord"` (half the longest chord of the deviatoric path) or `"ball"` (radius of '
+       "the minimum circumscribed ball)"),
+    _K("fatigue", "plane_step", "number", "1", "degree",
+       "resolution of the critical-plane search of swt and fatemi_socie (divides 180)"),
+    _K("fatigue", "every_cycle", "boolean", "false", "–",
+       "evaluate every simulated cycle too (hot spots in `history/`), not only the recorded "
+       "cycles; one full evaluation per simulated cycle"),
 )  # fmt: skip

@@ -49,6 +49,9 @@ Sections and keys (``*`` = required; defaults in brackets):
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+``[fatigue]``     criteria*, their constants*, method ["hotspot"], length (mm), amplitude_method
+                  ["chord"], plane_step [1], every_cycle [false]: multiaxial fatigue
+                  criteria on the fretting cycles (fretting only; engine.study.fatigue)
 """
 
 from __future__ import annotations
@@ -60,19 +63,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from engine.geometry import PROFILES
 from engine.solvers import defaults
 
-from .checks import MAX_FRICTION, MAX_TOLERANCE, bound, check_physical_ranges
+from .checks import MAX_TOLERANCE, bound, check_physical_ranges
 from .compat import STATIC_PLACEHOLDERS
 from .reader import Section, toml_error
 from .sections import (
-    BULK_STRESS_KEYS,
-    FRETTING_KEYS,
-    HERTZ_MARGIN,
-    LOADING_KINDS,
     MISSING,
     PROPORTIONAL,
-    PUNCH_SHAPES,
     WEAR_LAWS,
     LoadingConfig,
     MaterialConfig,
@@ -107,15 +106,21 @@ class StudyConfig:
     testing: TestingConfig
     wear: WearConfig = WearConfig()
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
+    fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
     derived_defaults: tuple[str, ...] = ()
 
     @property
+    def kind(self):
+        """The loading kind (:class:`engine.study.kinds.LoadingKind`) of ``[loading] kind``."""
+        return _kind(self.loading)
+
+    @property
     def is_cyclic(self) -> bool:
         """True for the kinds with load cycles, wear and cycle jumping (cyclic, fretting)."""
-        return self.loading.kind in ("cyclic", "fretting")
+        return self.kind.has_cycles
 
     @property
     def is_fretting(self) -> bool:
@@ -127,15 +132,8 @@ class StudyConfig:
         punch radius (rounded: of the flat face) or, for a sphere, Hertz's contact radius
         at the peak load; for a line contact the nominal contact half-width (Hertz's for a
         cylinder, Ciavarella's for a pad)."""
-        if self.punch.shape == "sphere":
-            from engine.reference.hertz import hertz_contact_radius
-
-            return hertz_contact_radius(
-                self.loading.load, self.punch.radius, contact_modulus(self.material)
-            )
-        if self.punch.is_line:
-            return line_half_width(self.punch, self.material, self.loading.load)
-        return self.punch.radius
+        modulus = contact_modulus(self.material)
+        return self.punch.profile().contact_length(self.loading.load, modulus)
 
     def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
         """The configuration of one case: the swept ``settings`` ({dotted key: value})
@@ -168,6 +166,13 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "fatigue":
+                if self.fatigue is not None:
+                    resolved = self.fatigue.resolved()
+                    out["fatigue"] = {
+                        k: v for k, v in resolved.items() if f"fatigue.{k}" not in swept
+                    }
                 continue
             section = {}
             for key, value in dataclasses.asdict(getattr(self, field.name)).items():
@@ -322,6 +327,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     sweep = _parse_sweep(section("sweep"), loading, wear)
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
+    fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -344,6 +350,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         solver,
         testing,
         wear=wear,
+        fatigue=fatigue,
         derived_defaults=derived,
     )
 
@@ -373,75 +380,68 @@ def _parse_material(s: Section) -> MaterialConfig:
 def _parse_punch(s: Section) -> PunchConfig:
     s.check_known({"shape", "radius", "edge_radius"})
     shape = s.string("shape", "flat")
-    if shape not in PUNCH_SHAPES:
-        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PUNCH_SHAPES))
-    radius = s.number("radius", minimum=0.0, strict=True, unit="mm")
+    if shape not in PROFILES:
+        raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PROFILES))
+    radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
+    rule = PROFILES[shape].edge_radius_rule  # None, ">= 0" or "> 0"
     edge_radius = None
-    if shape == "rounded":
-        edge_radius = s.number("edge_radius", minimum=0.0, unit="mm")
-    elif shape == "pad":
-        edge_radius = s.number("edge_radius", minimum=0.0, strict=True, unit="mm")
+    if rule is not None:
+        edge_radius = s.number(
+            "edge_radius",
+            minimum=0.0,
+            strict=rule == "> 0",
+            unit="mm",
+            **bound("punch.edge_radius"),
+        )
     elif "edge_radius" in s.table:
-        raise s.error("edge_radius", s.table["edge_radius"], 'only for shape = "rounded" or "pad"')
+        shapes = [f'"{name}"' for name, profile in PROFILES.items() if profile.edge_radius_rule]
+        value = s.table["edge_radius"]
+        raise s.error("edge_radius", value, f"only for shape = {' or '.join(shapes)}")
     return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
 
 
 def _parse_mesh(
     s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
 ) -> MeshConfig:
-    """The mesh must cover the contact: the punch face (flat, rounded) or, for a sphere,
-    Hertz's contact radius at the peak load (a default half-width of HERTZ_MARGIN times it).
-    A contact reaching the mesh border at run time fails the case (engine.geometry)."""
-    if punch.is_line:
-        return _parse_line_mesh(s, punch, material, loading)
-    s.check_known({"n", "half_width"})
-    n = s.integer("n", minimum=8)
-    if punch.shape == "sphere":
-        from engine.reference.hertz import hertz_contact_radius
-
-        contact = hertz_contact_radius(loading.load, punch.radius, contact_modulus(material))
-        default, what = HERTZ_MARGIN * contact, "Hertz contact radius"
-    else:
-        contact = punch.radius
-        default = 1.05 * (punch.radius + (punch.edge_radius or 0.0))
-        what = "punch face radius"
+    """The mesh must cover the profile's contact length a0 (the punch face of a flat or
+    rounded punch, Hertz's contact radius of a sphere at the peak load, a line contact's
+    nominal half-width) with 4 elements across it; the default half-width is the profile's
+    (:meth:`engine.geometry.Profile.default_half_width`). A line contact also takes the
+    datum of its displacements ``reference_distance`` (mm, at least the mesh's length
+    2·half_width). A contact reaching the mesh border at run time fails the case
+    (engine.geometry)."""
+    profile = punch.profile()
+    s.check_known({"n", "half_width"} | ({"reference_distance"} if profile.is_line else set()))
+    n = s.integer("n", minimum=8, **bound("mesh.n"))
+    modulus = contact_modulus(material)
+    contact = profile.contact_length(loading.load, modulus)
+    what = profile.covered
     if "half_width" in s.table and s.number("half_width", unit="mm") < contact:
         raise s.error(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
-    half_width = s.number("half_width", default, minimum=0.0, strict=True, unit="mm")
+    default = profile.default_half_width(loading.load, modulus)
+    half_width = s.number(
+        "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
+    )
     if n * contact / half_width < 4:
-        raise s.error("n", n, f"fewer than 4 elements across the {what}; increase n")
-    return MeshConfig(n=n, half_width=half_width)
-
-
-def line_half_width(punch: PunchConfig, material: MaterialConfig, load: float) -> float:
-    """The nominal contact half-width of a line contact (mm, load in N/mm)."""
-    from engine.study.line_contact import LineContact
-
-    line = LineContact(punch.shape, punch.radius, punch.edge_radius, load)
-    return line.nominal_half_width(contact_modulus(material))
-
-
-def _parse_line_mesh(
-    s: Section, punch: PunchConfig, material: MaterialConfig, loading: LoadingConfig
-) -> MeshConfig:
-    """A line contact's mesh: ``n`` elements along x over ``half_width`` (default
-    HERTZ_MARGIN times the nominal half-width, at least the pad's flat), and the datum of
-    its displacements ``reference_distance`` (mm, at least the mesh's length 2·half_width)."""
+        raise s.error(
+            "n",
+            n,
+            f"fewer than 4 elements across the {what} ({contact:.6g} mm) on a grid of "
+            f"half-width {half_width:.6g} mm; increase n",
+        )
+    if not profile.is_line:
+        return MeshConfig(n=n, half_width=half_width)
     from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
-    s.check_known({"n", "half_width", "reference_distance"})
-    n = s.integer("n", minimum=8)
-    contact = line_half_width(punch, material, loading.load)
-    half_width = s.number("half_width", HERTZ_MARGIN * contact, minimum=0.0, strict=True)
-    if half_width < contact:
-        raise s.error(
-            "half_width", half_width, f"must be >= {contact:.6g} mm (the contact half-width)"
-        )
-    if n * contact / half_width < 4:
-        raise s.error("n", n, "fewer than 4 elements across the contact half-width; increase n")
-    distance = s.number("reference_distance", DEFAULT_REFERENCE_DISTANCE, minimum=0.0, unit="mm")
+    distance = s.number(
+        "reference_distance",
+        DEFAULT_REFERENCE_DISTANCE,
+        minimum=0.0,
+        unit="mm",
+        **bound("mesh.reference_distance"),
+    )
     if distance < 2.0 * half_width:
         raise s.error(
             "reference_distance",
@@ -452,90 +452,48 @@ def _parse_line_mesh(
 
 
 def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: WearConfig):
-    """The keys of line contacts only (bulk stress, pad wear) name themselves elsewhere."""
+    """The keys of line contacts only (the bulk stress) name themselves elsewhere."""
     if punch.is_line:
         return
     for key, value in (
         ("loading.bulk_stress_max", loading.bulk_stress_max),
         ("loading.bulk_stress_min", loading.bulk_stress_min),
-        ("wear.pad_coefficient", wear.pad_coefficient),
     ):
         if value is not None:
             raise StudyConfigError(
-                source, key, value, 'only for line contacts ([punch] shape = "cylinder" or "pad")'
+                source, key, value, f"only for line contacts ([punch] shape = {_line_shapes()})"
             )
+
+
+def _line_shapes() -> str:
+    """``"cylinder" or "pad"``: the line-contact shapes of engine.geometry.PROFILES."""
+    return " or ".join(f'"{name}"' for name, profile in PROFILES.items() if profile.is_line)
 
 
 def _parse_loading(s: Section) -> LoadingConfig:
+    """``[loading]``: ``kind`` names a loading kind of :data:`engine.study.kinds.KINDS`,
+    which reads the rest of the section after ``load`` (N) and ``steps``."""
+    from engine.study.kinds import KINDS
+
     kind = s.string("kind")
-    if kind not in LOADING_KINDS:
-        raise s.error("kind", kind, 'must be "static", "cyclic" or "fretting"')
-    if kind == "static":
-        # the placeholders that results files of earlier versions stored: they parse back
-        former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
-        s.check_known({"kind", "load", "steps"} | former)
-    elif kind == "cyclic":
-        s.check_known({"kind", "load", "steps", "cycles", "record", "max_wear_fraction"})
-    else:
-        s.check_known(
-            {"kind", "load", "steps", "cycles", "record", "max_wear_fraction"}
-            | FRETTING_KEYS
-            | BULK_STRESS_KEYS
-        )
+    if kind not in KINDS:
+        names = [f'"{name}"' for name in KINDS]
+        raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
     load = s.number("load", minimum=0.0, strict=True, unit="N")
     steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
-    if kind == "static":
-        return LoadingConfig(kind, load, steps, 0, (), None)
-    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
-    record_raw = s.raw("record", [cycles])
-    record_list = record_raw if isinstance(record_raw, list) else [record_raw]
-    record = []
-    for item in record_list:
-        if isinstance(item, bool) or not isinstance(item, int):
-            raise s.error("record", record_raw, "must be a list of integer cycle numbers")
-        if not 0 <= item <= cycles:
-            raise s.error(
-                "record", record_raw, f"cycle {item} is outside 0..cycles (cycles = {cycles})"
-            )
-        record.append(item)
-    if len(set(record)) != len(record):
-        raise s.error("record", record_raw, "cycles must not repeat")
-    max_wear_fraction = s.number(
-        "max_wear_fraction",
-        defaults.MAX_WEAR_FRACTION,
-        minimum=0.0,
-        strict=True,
-        **bound("loading.max_wear_fraction"),
-    )
-    loading = LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
-    if kind == "fretting":
-        loading = _parse_fretting(s, loading)
-    return loading
+    return KINDS[kind].parse(s, load, steps)
 
 
-def _parse_fretting(s: Section, loading: LoadingConfig) -> LoadingConfig:
-    """The tangential signal of the fretting kind: ``amplitude`` (mm, rigid displacement)
-    XOR ``force_amplitude`` (N, tangential force), ``direction`` [0] (degrees from x)."""
-    given = [key for key in ("amplitude", "force_amplitude") if key in s.table]
-    if len(given) != 1:
-        shown = {key: s.table[key] for key in given} if given else MISSING
-        raise s.error(
-            "amplitude" if not given else given[-1],
-            shown,
-            'kind = "fretting" needs exactly one of amplitude (mm, displacement control) '
-            "and force_amplitude (N, force control)",
-        )
-    unit = "mm" if given[0] == "amplitude" else "N"
-    value = s.number(given[0], minimum=0.0, strict=True, unit=unit)
-    if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
-        raise s.error(given[0], value, "must be below the friction bound μP (N)")
-    direction = s.number("direction", 0.0, unit="degrees")
-    if not -360.0 <= direction <= 360.0:
-        raise s.error("direction", direction, "must lie in [-360, 360] degrees")
-    bulk = {key: s.number(key, unit="MPa") for key in sorted(BULK_STRESS_KEYS) if key in s.table}
-    if bulk:
-        bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
-    return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
+def _kinds():
+    """The table of loading kinds (imported when first needed: the kinds' modules read
+    their sections with this package's reader)."""
+    from engine.study.kinds import KINDS
+
+    return KINDS
+
+
+def _kind(loading: LoadingConfig):
+    return _kinds()[loading.kind]
 
 
 def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
@@ -543,12 +501,31 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
     law = s.string("law", "archard")
     if law not in WEAR_LAWS:
         raise s.error("law", law, 'must be "archard" or "energy"')
-    if law == "energy" and loading.kind == "static":
-        raise s.error("law", law, 'a wear law needs kind = "cyclic" or "fretting"')
+    if law == "energy" and not _kind(loading).has_cycles:
+        with_wear = " or ".join(f'"{k.name}"' for k in _kinds().values() if k.has_cycles)
+        raise s.error("law", law, f"a wear law needs kind = {with_wear}")
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
-        pad = s.number("pad_coefficient", minimum=0.0, unit="1/MPa or mm³/J")
+        limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
+        unit = "mm³/J" if law == "energy" else "1/MPa"
+        pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
+
+
+def _parse_fatigue(s: Section, loading: LoadingConfig):
+    """The ``[fatigue]`` section (``engine.study.fatigue``): the criteria read the increments
+    of a fretting cycle, so it needs ``[loading] kind = "fretting"``."""
+    from ..fatigue import parse_fatigue
+
+    config = parse_fatigue(s)
+    if loading.kind != "fretting":
+        raise StudyConfigError(
+            s.source,
+            "loading.kind",
+            loading.kind,
+            '[fatigue] evaluates the increments of fretting cycles: needs kind = "fretting"',
+        )
+    return config
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:
@@ -574,7 +551,7 @@ def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepC
         return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
     if "alpha" in s.table:
         raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
-    wear_default = [0.0] if loading.kind == "static" else MISSING
+    wear_default = MISSING if _kind(loading).has_cycles else [0.0]
     wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
     wear2: tuple[float, ...] | str | None = None
     if "wear2" in s.table:
@@ -597,11 +574,7 @@ def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
     # Static solves are cheap and feed the stiffness comparisons: 1e-8. A cyclic case solves
     # thousands of increments; 1e-6 (gap/slip violation ~1e-6 of the approach) is far below
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
-    default_tol = (
-        defaults.CYCLIC_TOLERANCE
-        if loading.kind in ("cyclic", "fretting")
-        else defaults.STATIC_TOLERANCE
-    )
+    default_tol = _kind(loading).default_tolerance
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
     maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
     threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))

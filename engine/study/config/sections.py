@@ -11,36 +11,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-PROPORTIONAL = "proportional"
-PUNCH_SHAPES = ("flat", "rounded", "sphere", "cylinder", "pad")
-LINE_SHAPES = ("cylinder", "pad")  # plane-strain line contacts (engine.study.line_contact)
-HERTZ_MARGIN = 1.5  # default sphere mesh half-width / Hertz contact radius at the load
+from engine.geometry import PROFILES, Profile, profile_for
+from engine.schema import SWEPT_KEY_UNITS
 
-# Scalars that [sweep] accepts under their dotted key, with their units (summary columns).
-SWEEPABLE = {
-    "material.E_A": "MPa",
-    "material.nu_A": "1",
-    "material.E_B": "MPa",
-    "material.nu_B": "1",
-    "punch.radius": "mm",
-    "punch.edge_radius": "mm",
-    "mesh.n": "1",
-    "mesh.half_width": "mm",
-    "mesh.reference_distance": "mm",
-    "loading.load": "N",
-    "loading.steps": "1",
-    "loading.cycles": "1",
-    "loading.max_wear_fraction": "1",
-    "loading.amplitude": "mm",
-    "loading.force_amplitude": "N",
-    "loading.direction": "degree",
-    "loading.bulk_stress_max": "MPa",
-    "loading.bulk_stress_min": "MPa",
-    "subsurface.depth": "punch radii",
-    "subsurface.layers": "1",
-    "solver.tol": "1",
-    "solver.maxiter": "1",
-}
+PROPORTIONAL = "proportional"
+
+PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFILES)
+
+# Scalars that [sweep] accepts under their dotted key, with their units (summary columns):
+# the results schema's table.
+SWEEPABLE = SWEPT_KEY_UNITS
 
 
 class StudyConfigError(ValueError):
@@ -91,24 +71,12 @@ class PunchConfig:
 
     @property
     def is_line(self) -> bool:
-        """A cylinder or a rounded pad on a flat: a plane-strain line contact."""
-        return self.shape in LINE_SHAPES
+        """A plane-strain line contact (a cylinder or a rounded pad on a flat)."""
+        return PROFILES[self.shape].is_line
 
-    def profile(self):
-        """The :mod:`engine.geometry` (or, for a line contact, :mod:`engine.line_profiles`)
-        profile of this punch."""
-        from engine.geometry import FlatPunch, RoundedPunch, SphericalPunch
-        from engine.line_profiles import CylinderProfile, RoundedPadProfile
-
-        if self.shape == "cylinder":
-            return CylinderProfile(self.radius)
-        if self.shape == "pad":
-            return RoundedPadProfile(self.radius, self.edge_radius)
-        if self.shape == "rounded":
-            return RoundedPunch(self.radius, self.edge_radius or 0.0)
-        if self.shape == "sphere":
-            return SphericalPunch(self.radius)
-        return FlatPunch(self.radius)
+    def profile(self) -> Profile:
+        """The :mod:`engine.geometry` profile of this punch (:data:`PROFILES`)."""
+        return profile_for(self.shape, self.radius, self.edge_radius)
 
 
 @dataclass(frozen=True)
@@ -213,9 +181,6 @@ class TestingConfig:
     fail_cases: tuple[str, ...]
 
 
-LOADING_KINDS = ("static", "cyclic", "fretting")
-FRETTING_KEYS = {"amplitude", "force_amplitude", "direction"}
-BULK_STRESS_KEYS = {"bulk_stress_max", "bulk_stress_min"}  # line fretting only
 WEAR_LAWS = ("archard", "energy")
 
 

@@ -8,7 +8,7 @@ from typing import Any
 from .sections import MISSING, SWEEPABLE, StudyConfigError, SweepAxis
 
 SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
-SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear")
+SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue")
 
 
 def axis_error(source: str, axis: SweepAxis, position: int, error: StudyConfigError):

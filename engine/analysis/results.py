@@ -1,0 +1,571 @@
+"""A study's results file as objects: :func:`open_results` → :class:`Results`.
+
+The file's layout is :mod:`engine.schema`'s; every dataset comes back as a :class:`Variable`
+carrying its values, its units and description (the dataset's ``units`` and ``description``
+attributes) and the names and coordinates of its dimensions. Surface fields take their
+coordinates from the dimension scales the writer attached (the case's ``grid/x`` and
+``grid/y``, mm); a stress plane's from its own ``x``, ``y``, ``z`` datasets. Nothing is read
+before it is asked for, and nothing here writes.
+
+With the optional ``xarray`` package (``pip install fretting-engine[xarray]``) a case's fields
+and planes become :class:`xarray.Dataset` objects through ``.to_xarray()``.
+
+Examples
+--------
+>>> results = engine.open_results("results/demo.h5")           # doctest: +SKIP
+>>> results                                                     # doctest: +SKIP
+<Results 'demo': cyclic, 6 cases (6 completed), results/demo.h5>
+>>> case = results["mu0.1_w1.33e-07_b0"]                        # doctest: +SKIP
+>>> case.fields["final"]["pressure"].units                      # doctest: +SKIP
+'MPa'
+>>> case.fields.to_xarray()["wear"].sel(cycle=10000)            # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from engine.schema import CaseStatus, cycle_of_group, unit_of
+
+__all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
+
+
+def open_results(path: str | Path) -> Results:
+    """:func:`engine.open_results`: the results file ``path`` as a :class:`Results`; a
+    missing file raises FileNotFoundError, a file without a stored study ValueError."""
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such results file")
+    with h5py.File(path, "r") as file:
+        if "study_json" not in file.attrs or "cases" not in file:
+            raise ValueError(f"{path}: not a results file of this engine (no stored study)")
+        study = json.loads(file.attrs["study_json"])
+        name = str(file.attrs.get("study_name", path.stem))
+        version = str(file.attrs.get("engine_version", ""))
+        statuses = {
+            case_id: str(group.attrs.get("status", "")) for case_id, group in file["cases"].items()
+        }
+        order = {
+            case_id: int(group.attrs.get("index", position))
+            for position, (case_id, group) in enumerate(file["cases"].items())
+        }
+    case_ids = sorted(statuses, key=lambda case_id: order[case_id])
+    return Results(path, name, study, version, {case_id: statuses[case_id] for case_id in case_ids})
+
+
+def _text(value: Any) -> str:
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+@dataclass
+class Variable:
+    """One dataset of a results file: values with units, a description and named dimensions.
+
+    Parameters
+    ----------
+    name : str
+        The dataset's name (``pressure``, ``von_mises``, ``max_wear_depth``, …).
+    values : numpy.ndarray
+        The stored values.
+    units : str
+        UDUNITS string ("1": dimensionless; a loop's "mm, mm, N, N" names one unit per column).
+    description : str
+        What the values are (the schema's description, with the instant they belong to).
+    dims : tuple of str
+        One name per axis of ``values``.
+    coords : dict
+        Coordinates: name → (dims, values, units) of each coordinate.
+    attrs : dict
+        Any other attribute of the dataset (``columns``, ``plane_angle``).
+    """
+
+    name: str
+    values: np.ndarray
+    units: str
+    description: str
+    dims: tuple[str, ...]
+    coords: dict[str, tuple[tuple[str, ...], np.ndarray, str]] = field(default_factory=dict)
+    attrs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of ``values``."""
+        return tuple(np.shape(self.values))
+
+    def __array__(self, dtype=None, copy=None):
+        return np.asarray(self.values, dtype=dtype)
+
+    def __repr__(self) -> str:
+        sizes = ", ".join(f"{dim}: {size}" for dim, size in zip(self.dims, self.shape, strict=True))
+        return f"<Variable {self.name!r} ({sizes}) [{self.units}]: {self.description}>"
+
+    def _attrs(self) -> dict[str, Any]:
+        return {"units": self.units, "description": self.description, **self.attrs}
+
+    def to_xarray(self):
+        """The variable as an :class:`xarray.DataArray` (units and description in ``attrs``).
+
+        Returns
+        -------
+        xarray.DataArray
+            ``values`` with ``dims``, ``coords`` and the attributes.
+        """
+        xarray = _xarray()
+        coords = {
+            name: xarray.Variable(dims, values, {"units": units})
+            for name, (dims, values, units) in self.coords.items()
+        }
+        return xarray.DataArray(
+            self.values, dims=self.dims, coords=coords, name=self.name, attrs=self._attrs()
+        )
+
+
+class _Table(Mapping):
+    """A read-only mapping over the dict ``self._items``."""
+
+    _items: dict
+
+    def __getitem__(self, key):
+        return self._items[key]
+
+    def __iter__(self) -> Iterator:
+        return iter(self._items)
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+
+class VariableGroup(_Table):
+    """The datasets of one group of a case (a history, the fields or the stress plane of one
+    instant): name → :class:`Variable`.
+
+    Parameters
+    ----------
+    name : str
+        What the group holds, e.g. ``"fields/final"``.
+    variables : dict
+        Name → :class:`Variable`.
+    attrs : dict, optional
+        Attributes of the whole group (the plane's ``plane_angle``).
+    """
+
+    def __init__(
+        self, name: str, variables: dict[str, Variable], attrs: dict | None = None
+    ) -> None:
+        self.name = name
+        self._items = variables
+        self.attrs = dict(attrs or {})
+
+    def __repr__(self) -> str:
+        lines = [f"<VariableGroup {self.name!r}: {len(self)} variables>"]
+        for variable in self._items.values():
+            shape = "×".join(str(size) for size in variable.shape) or "scalar"
+            lines.append(f"  {variable.name:<24s} {shape:<12s} [{variable.units}]")
+        return "\n".join(lines)
+
+    def to_xarray(self):
+        """The group as an :class:`xarray.Dataset`, one data variable per dataset.
+
+        Returns
+        -------
+        xarray.Dataset
+            The variables with their dimensions, coordinates, units and descriptions.
+        """
+        xarray = _xarray()
+        coordinate_names = {name for variable in self.values() for name in variable.coords}
+        arrays = {
+            name: variable.to_xarray()
+            for name, variable in self.items()
+            if name not in coordinate_names
+        }
+        return xarray.Dataset(arrays, attrs={"group": self.name, **self.attrs})
+
+
+class Records(_Table):
+    """A case's groups of one kind by instant: ``"final"`` or the recorded cycle N (int) →
+    :class:`VariableGroup`.
+
+    Parameters
+    ----------
+    name : str
+        ``"fields"``, ``"planes"`` or ``"peak_changes"``.
+    groups : dict
+        Instant → :class:`VariableGroup`.
+    """
+
+    def __init__(self, name: str, groups: dict[Any, VariableGroup]) -> None:
+        self.name = name
+        self._items = groups
+
+    @property
+    def cycles(self) -> list[int]:
+        """The recorded cycles N, ascending."""
+        return sorted(key for key in self._items if isinstance(key, int))
+
+    def __repr__(self) -> str:
+        keys = ["final"] if "final" in self._items else []
+        keys += [f"cycle {cycle}" for cycle in self.cycles]
+        return f"<Records {self.name!r}: {', '.join(keys) or 'none'}>"
+
+    def to_xarray(self):
+        """The recorded cycles stacked along a dimension ``cycle`` (the datasets every
+        recorded cycle holds with the same shape; ``"final"`` stays apart:
+        ``records["final"].to_xarray()``).
+
+        Returns
+        -------
+        xarray.Dataset
+            Dimension ``cycle`` (the recorded cycle numbers) before each dataset's own.
+
+        Raises
+        ------
+        ValueError
+            When the case has no recorded cycle.
+        """
+        xarray = _xarray()
+        cycles = self.cycles
+        if not cycles:
+            raise ValueError(f"no recorded cycle in {self.name!r} (use ['final'])")
+        datasets = [self._items[cycle].to_xarray() for cycle in cycles]
+        common = set(datasets[0].data_vars)
+        for dataset in datasets[1:]:
+            common &= {
+                name
+                for name in dataset.data_vars
+                if name in datasets[0] and dataset[name].shape == datasets[0][name].shape
+            }
+        datasets = [dataset[sorted(common)] for dataset in datasets]
+        stacked = xarray.concat(
+            datasets, dim="cycle", data_vars="all", coords="minimal", compat="override"
+        )
+        stacked = stacked.assign_coords(cycle=("cycle", np.asarray(cycles), {"units": "1"}))
+        stacked.attrs = {"group": self._items[cycles[0]].name.rsplit("/", 1)[0]}
+        first = re.compile(rf"\bcycle {cycles[0]}\b")
+        for name in stacked.data_vars:  # the description of every recorded cycle
+            attrs = dict(datasets[0][name].attrs)
+            attrs["description"] = first.sub("each recorded cycle", attrs["description"])
+            stacked[name].attrs = attrs
+        return stacked
+
+
+class ResultCase:
+    """One case of a results file: its parameters, status, summary row, histories, surface
+    fields and stress planes (read when first asked for).
+
+    Parameters
+    ----------
+    results : Results
+        The file the case belongs to.
+    case_id : str
+        The case's id.
+    """
+
+    def __init__(self, results: Results, case_id: str) -> None:
+        self.results = results
+        self.case_id = case_id
+        with self._group() as group:
+            attrs = group.attrs
+            self.status: str = _text(attrs.get("status", ""))
+            self.message: str = _text(attrs.get("message", ""))
+            summary = attrs.get("summary")
+            self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
+            units = attrs.get("parameter_units")
+            stored = json.loads(units) if units is not None else {}
+            names = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+            self.parameters: dict[str, Any] = {
+                key: attrs[key].item() if hasattr(attrs[key], "item") else attrs[key]
+                for key in attrs
+                if key in names or "." in key
+            }
+            # the units table of the schema for a parameter the file left without its unit
+            self.parameter_units: dict[str, str] = {
+                key: stored.get(key) or unit_of(key) for key in self.parameters
+            }
+
+    def _group(self):
+        return _CaseGroup(self.results.path, self.case_id)
+
+    @property
+    def completed(self) -> bool:
+        """Whether the case completed (only completed cases hold datasets)."""
+        return self.status == CaseStatus.COMPLETED
+
+    def __repr__(self) -> str:
+        parameters = ", ".join(f"{key} = {value:g}" for key, value in self._numbers().items())
+        text = f"<ResultCase {self.case_id!r} {self.status}: {parameters}"
+        if self.completed:
+            text += (
+                f"; history {len(self.history)} keys, fields {_instants(self.fields)}, "
+                f"planes {_instants(self.planes)}"
+            )
+        elif self.message:
+            text += f"; {self.message}"
+        return text + ">"
+
+    def _numbers(self) -> dict[str, float]:
+        return {
+            key: value
+            for key, value in self.parameters.items()
+            if isinstance(value, (int, float)) and not isinstance(value, bool)
+        }
+
+    @cached_property
+    def grid(self) -> VariableGroup:
+        """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
+        with self._group() as group:
+            source = group["grid"] if "grid" in group else group.file.get("grid")
+            variables = {}
+            for axis in ("x", "y"):
+                if source is not None and axis in source:
+                    variables[axis] = _variable(source[axis], (axis,))
+        return VariableGroup(f"cases/{self.case_id}/grid", variables)
+
+    @cached_property
+    def history(self) -> VariableGroup:
+        """The case's histories: one entry per simulated cycle (dimension ``step``, with the
+        coordinate ``cycle``) or, for a static case, per load increment."""
+        with self._group() as group:
+            history = group.get("history", {})
+            coords = {}
+            if "cycle" in history:
+                coords["cycle"] = (("step",), np.asarray(history["cycle"]), "1")
+            variables = {
+                name: _variable(dataset, ("step",), coords) for name, dataset in history.items()
+            }
+        return VariableGroup(f"cases/{self.case_id}/history", variables)
+
+    @cached_property
+    def fields(self) -> Records:
+        """Surface fields by instant (``"final"`` or the recorded cycle N), each of shape
+        ``(n_x, n_y)`` on the dimensions ``x``, ``y`` (coordinates: the attached dimension
+        scales, mm); a fretting cycle's ``loop`` and ``vm_cycle`` on their own dimensions."""
+        return self._records("fields", _field_group)
+
+    @cached_property
+    def planes(self) -> Records:
+        """The stress plane through the axis by instant (``"final"`` or the recorded cycle
+        N): σ_VM and the components (MPa) on the dimensions ``s`` (along the plane, mm) and
+        ``depth`` (mm), with the points' ``x``, ``y``, ``z`` (mm) as coordinates."""
+        return self._records("subsurface", _plane_group)
+
+    @cached_property
+    def peak_changes(self) -> Records:
+        """The plane and the surface fields at the first cycle and each change of the peak
+        region (cyclic cases), by cycle N."""
+
+        def read(name, group):
+            plane = _plane_group(name, group)
+            for key, dataset in group.items():
+                if key not in plane:
+                    plane._items[key] = _field(dataset)
+            return plane
+
+        return self._records("peak_changes", read)
+
+    def _records(self, section: str, read) -> Records:
+        groups = {}
+        with self._group() as group:
+            for name, sub in group.get(section, {}).items():
+                cycle = cycle_of_group(name)
+                groups[name if cycle is None else cycle] = read(
+                    f"cases/{self.case_id}/{section}/{name}", sub
+                )
+        ordered = {key: groups[key] for key in sorted(groups, key=_instant_order)}
+        return Records("planes" if section == "subsurface" else section, ordered)
+
+
+class _CaseGroup:
+    """``with _CaseGroup(path, case_id) as group``: the case's group, file open meanwhile."""
+
+    def __init__(self, path: Path, case_id: str) -> None:
+        self.path, self.case_id = path, case_id
+
+    def __enter__(self) -> h5py.Group:
+        self.file = h5py.File(self.path, "r")
+        return self.file["cases"][self.case_id]
+
+    def __exit__(self, *exc) -> None:
+        self.file.close()
+
+
+def _instant_order(key) -> tuple[int, int]:
+    return (0, key) if isinstance(key, int) else (1, 0)
+
+
+def _instants(records: Records) -> str:
+    parts = ["final"] if "final" in records else []
+    if records.cycles:
+        parts.append(f"{len(records.cycles)} recorded cycles")
+    return " + ".join(parts) or "none"
+
+
+def _variable(dataset, dims: tuple[str, ...], coords: dict | None = None) -> Variable:
+    attrs = {
+        key: _text(value) if isinstance(value, (bytes, str)) else value
+        for key, value in dataset.attrs.items()
+        if key not in ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST")
+        and key not in ("CLASS", "NAME")
+    }
+    name = dataset.name.rsplit("/", 1)[-1]
+    values = np.asarray(dataset)
+    if len(dims) != values.ndim:
+        dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
+    return Variable(
+        name=name,
+        values=values,
+        units=_text(dataset.attrs.get("units", "")),
+        description=_text(dataset.attrs.get("description", "")),
+        dims=dims,
+        coords=dict(coords or {}),
+        attrs=attrs,
+    )
+
+
+def _field(dataset) -> Variable:
+    """A surface field on the dimensions named by its attached scales (x, y), with the
+    scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
+    dimensions named after it, its ``columns`` attribute as the last one's coordinate."""
+    dims, coords = [], {}
+    for dimension in dataset.dims:
+        if len(dimension):
+            scale = dimension[0]
+            label = scale.name.rsplit("/", 1)[-1]
+            dims.append(label)
+            coords[label] = ((label,), np.asarray(scale), _text(scale.attrs.get("units", "")))
+        else:
+            dims.append(None)
+    name = dataset.name.rsplit("/", 1)[-1]
+    columns = dataset.attrs.get("columns")
+    if None in dims:
+        dims = [f"{name}_row" if label is None else label for label in dims]
+        if columns is not None:
+            column = f"{name}_column"
+            dims[-1] = column
+            names = np.array([part.strip() for part in _text(columns).split(",")])
+            coords[column] = ((column,), names, "")
+    return _variable(dataset, tuple(dims), coords)
+
+
+def _field_group(name: str, group) -> VariableGroup:
+    return VariableGroup(name, {key: _field(dataset) for key, dataset in group.items()})
+
+
+def _plane_group(name: str, group) -> VariableGroup:
+    """A stored stress plane: the data on (s, depth); x, y, z (mm) as 2-D coordinates; ``s``
+    (the signed distance along the plane, x cos φ + y sin φ) and ``depth`` as 1-D ones when
+    the points form a grid of columns and layers (as the engine writes them)."""
+    x, z = np.asarray(group["x"]), np.asarray(group["z"])
+    y = np.asarray(group["y"]) if "y" in group else np.zeros_like(x)
+    angle = float(group["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in group else 0
+    dims = ("s", "depth")
+    coords: dict[str, tuple] = {"x": (dims, x, "mm"), "y": (dims, y, "mm"), "z": (dims, z, "mm")}
+    if np.all(z == z[:1, :]):
+        coords["depth"] = (("depth",), z[0].copy(), "mm")
+        phi = np.radians(angle)
+        along = x * np.cos(phi) + y * np.sin(phi) if angle else x
+        if np.all(along == along[:, :1]):
+            coords["s"] = (("s",), along[:, 0].copy(), "mm")
+    variables = {key: _variable(dataset, dims, coords) for key, dataset in group.items()}
+    return VariableGroup(name, variables, {"plane_angle": angle})
+
+
+class Results(_Table):
+    """A study's results file: the study, its summary and its cases by id.
+
+    Made by :func:`open_results`; a mapping case id → :class:`ResultCase`, in plan order.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The results file.
+    name : str
+        The study's name.
+    study : dict
+        The resolved study (every section, every default filled in) stored in the file.
+    engine_version : str
+        The version of the engine that wrote the file.
+    statuses : dict
+        Case id → status, in plan order.
+    """
+
+    def __init__(
+        self, path: Path, name: str, study: dict, engine_version: str, statuses: dict[str, str]
+    ) -> None:
+        self.path = Path(path)
+        self.name = name
+        self.study = study
+        self.engine_version = engine_version
+        self.statuses = statuses
+        self._items: dict[str, ResultCase] = {}
+
+    @property
+    def kind(self) -> str:
+        """The study's ``[loading] kind``."""
+        return str(self.study["loading"]["kind"])
+
+    @property
+    def swept_keys(self) -> list[str]:
+        """Dotted keys swept in ``[sweep]``, in file order."""
+        return [key for key in self.study.get("sweep", {}) if "." in key]
+
+    @property
+    def case_ids(self) -> list[str]:
+        """Every case id, in plan order."""
+        return list(self.statuses)
+
+    @property
+    def completed(self) -> list[ResultCase]:
+        """The completed cases, in plan order."""
+        return [self[case_id] for case_id, status in self.statuses.items() if status == "completed"]
+
+    @cached_property
+    def summary(self):
+        """The summary table (:func:`engine.load_summary`): a :class:`pandas.DataFrame`, one
+        row per case, units in ``docs/reference/outputs.md``."""
+        from engine.output.summary import load_summary
+
+        return load_summary(self.path)
+
+    def __getitem__(self, case_id: str) -> ResultCase:
+        if case_id not in self.statuses:
+            known = ", ".join(self.case_ids[:6]) + (", …" if len(self.statuses) > 6 else "")
+            raise KeyError(f"{self.path}: no case {case_id!r} (cases: {known})")
+        if case_id not in self._items:
+            self._items[case_id] = ResultCase(self, case_id)
+        return self._items[case_id]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.statuses)
+
+    def __len__(self) -> int:
+        return len(self.statuses)
+
+    def __repr__(self) -> str:
+        counts: dict[str, int] = {}
+        for status in self.statuses.values():
+            counts[status] = counts.get(status, 0) + 1
+        states = ", ".join(f"{count} {status}" for status, count in sorted(counts.items()))
+        swept = f", swept {', '.join(self.swept_keys)}" if self.swept_keys else ""
+        return (
+            f"<Results {self.name!r}: {self.kind}, {len(self)} cases ({states}){swept}, "
+            f"{self.path}>"
+        )
+
+
+def _xarray():
+    try:
+        import xarray
+    except ImportError:  # pragma: no cover - depends on the installation
+        raise ImportError(
+            "to_xarray() needs the optional package xarray: pip install 'fretting-engine[xarray]'"
+        ) from None
+    return xarray

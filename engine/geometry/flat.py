@@ -1,0 +1,40 @@
+"""``shape = "flat"`` (the paper's): a flat-ended cylindrical punch of radius a, axis at
+x = y = 0; g = 0 for r ≤ a, no surface beyond (sharp edge). a0 = a."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from engine.grid import Grid
+
+from .base import Profile, check_covers
+
+#: Default mesh half-width / outer radius of a punch with a face (flat, rounded).
+FACE_MARGIN = 1.05
+
+
+@dataclass(frozen=True)
+class FlatPunch(Profile):
+    """Flat-ended cylindrical punch of radius ``radius`` (mm), axis at x = y = 0."""
+
+    name = "flat"
+    radius: float
+
+    @property
+    def extent(self) -> float:
+        return self.radius
+
+    def default_half_width(self, load: float, contact_modulus: float) -> float:
+        """1.05 a: the face and a margin."""
+        return FACE_MARGIN * self.radius
+
+    def check_grid(self, grid: Grid) -> None:
+        """The grid must cover the whole punch face, and resolve it with a few elements."""
+        check_covers(grid, self.radius, "punch radius")
+
+    def gap(self, grid: Grid) -> np.ndarray:
+        gap = np.zeros(grid.shape)
+        gap[grid.radius() > self.radius] = np.inf
+        return gap
