@@ -26,7 +26,8 @@ Nothing is installed: a code that cannot be imported is skipped and said so. The
 imported by ``--anchors-python`` (default: this interpreter), e.g. a scratch environment::
 
     python3 -m venv /tmp/anchors-venv
-    /tmp/anchors-venv/bin/pip install tamaas==2.9.0 aspher   # ASPHER builds from source
+    /tmp/anchors-venv/bin/pip install tamaas==2.9.0 aspher   # ASPHER builds from source:
+    # it needs Eigen 3.4 (Debian: apt-get install libeigen3-dev), else its build downloads it
     python benchmarks/bench_anchors.py --anchors-python /tmp/anchors-venv/bin/python
 
 Printed per size and round (codes alternate within a round, so they share the load): set-up,

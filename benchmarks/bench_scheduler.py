@@ -10,7 +10,8 @@ becomes a bottleneck), side by side in one session. Printed per run:
 - compute: the sum of the cases' ``runtime_s`` (summary CSV);
 - overhead per case = (wall × min(R, cores) − compute) / cases: the engine's time per case
   outside the cases' computing (dispatch, HDF5 and CSV writing, progress lines), over all
-  the cores in use; and the same from CPU time, (CPU of all ranks − compute) / cases;
+  the cores in use; and the same from CPU time, (CPU of all ranks − the cases' ``cpu_s``)
+  / cases: start-up, file creation, dispatch, writing and the read-back, per case;
 - the CPU time of every rank (each rank's process, all threads, start-up and the read-back
   of the results included) and the time the run would take on an idle machine,
   max(busiest rank, all CPU / cores): other processes do not change it. Targets: 2 ranks
@@ -98,6 +99,7 @@ def run(directory: Path, cases: int, ranks: int, tree: Path = REPO, label: str =
     on_rank0 = len(re.findall(r"^\[.*\] \S+ +rank 0 ", result.stdout, flags=re.MULTILINE))
     count = len(summary)
     compute = float(summary["runtime_s"].sum())
+    compute_cpu = case_cpu_seconds(output)
     cores = min(ranks, os.cpu_count() or 1)
     # On an idle machine each rank runs about serially (rank 0's threads share one
     # interpreter lock), so the run takes at least its busiest rank's CPU and at least the
@@ -112,11 +114,19 @@ def run(directory: Path, cases: int, ranks: int, tree: Path = REPO, label: str =
         "compute_s": compute,
         "overhead_ms_per_case": 1e3 * (wall * cores - compute) / count,
         "rank_cpu": rank_cpu,
-        "cpu_overhead_ms_per_case": 1e3 * (sum(rank_cpu) - compute) / count,
+        "cpu_overhead_ms_per_case": 1e3 * (sum(rank_cpu) - compute_cpu) / count,
         "idle_estimate_s": idle_estimate,
         "rank0_share": on_rank0 / count,
         "summary": comparable(summary),
     }
+
+
+def case_cpu_seconds(output: Path) -> float:
+    """The sum of the cases' ``cpu_s`` (CPU time of the thread that computed each case)."""
+    import h5py
+
+    with h5py.File(output, "r") as file:
+        return float(sum(group.attrs.get("cpu_s", 0.0) for group in file["cases"].values()))
 
 
 def comparable(summary: pd.DataFrame) -> pd.DataFrame:
@@ -201,8 +211,8 @@ def write_doc_table(results: list[dict], args) -> None:
     document = REPO / "docs" / "explanation" / "performance.md"
     note = f"`python benchmarks/bench_scheduler.py --cases {args.cases} --ranks "
     note += " ".join(str(r) for r in args.ranks) + " --update-docs`: static cases at n = 8"
-    rows = [row for row in table_rows(results) if row[0] == "new"]  # this tree's runs
-    text = measured_on(note) + "\n" + markdown_table(HEADER, rows)
+    rows = [row[1:] for row in table_rows(results) if row[0] == "new"]  # this tree's runs
+    text = measured_on(note) + "\n" + markdown_table(HEADER[1:], rows)
     replace_block(document, "bench-scheduler", text)
     print(f"{document}: wrote the block bench-scheduler")
 
