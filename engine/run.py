@@ -254,7 +254,7 @@ def _prepare_on_root(
     ends), then the free space for the cases to run. Returns a :class:`_Prepared` or
     raises."""
     from engine.output.collective import choose_strategy
-    from engine.output.identity import inspect_existing_isolated
+    from engine.output.existing import inspect_existing_isolated
     from engine.output.lock import OutputLock, check_output_path, check_summary_path
     from engine.study.feasibility import check_feasible
     from engine.study.layout import plan_layout
@@ -319,7 +319,11 @@ def _check_space(output: Path, plan, layout, existing) -> None:
     from engine.output.space import check_space, planned_bytes
 
     completed = set(existing.completed) if existing is not None else set()
-    check_space(output, planned_bytes(layout, [c for c in plan.case_ids if c not in completed]))
+    remaining = [case_id for case_id in plan.case_ids if case_id not in completed]
+    if not remaining:
+        return
+    smallest = min(planned_bytes(layout, [case_id]) for case_id in remaining)
+    check_space(output, planned_bytes(layout, remaining), smallest_case=smallest)
 
 
 class ExistingOutput(ValueError):
@@ -471,13 +475,14 @@ def _settle_existing(
 
 
 def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop_event, peers):
-    """Every rank: open this rank's writer for the strategy (engine.output.hdf5.open_writer),
+    """Every rank: open this rank's writer for the strategy (engine.output.writers.open_writer),
     prepare the file (rank 0 alone, or every rank for mpio), run the scheduler, close.
 
     Rank 0 returns the fields of the run's :class:`StudyRun` that the computation decides;
     the other ranks return None (rank 0's answer is broadcast)."""
-    from engine.output.hdf5 import StoppedDuringSetUp, open_writer
+    from engine.output.hdf5 import StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
+    from engine.output.writers import open_writer
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 

@@ -45,7 +45,8 @@ pending group of a case and the structural write of a finished one. Its strategi
 :class:`engine.output.collective.CollectiveWriter` (mpio): every rank writes its own cases into
     the shared file through parallel HDF5; same layout (see that module).
 
-:func:`open_writer` picks the strategy's writer for a rank; the CLI's one compute path uses it.
+``engine.output.writers.open_writer`` picks the strategy's writer for a rank; the one compute
+path uses it.
 """
 
 from __future__ import annotations
@@ -87,7 +88,6 @@ __all__ = [
     "ResultsWriter",
     "SingleWriter",
     "Bystander",
-    "open_writer",
     "case_record",
     "ResultsMismatch",
     "read_root_metadata",
@@ -316,7 +316,7 @@ class ResultsWriter:
 
     Every call of ``prepare`` and ``close`` is made on the ranks the strategy names (rank 0
     alone for :class:`SingleWriter`, every rank for the collective writer), which is why the
-    CLI has one compute path for all of them (:func:`open_writer`).
+    CLI has one compute path for all of them (``engine.output.writers.open_writer``).
     """
 
     collective = False  # True: prepare/close are collective calls on every rank
@@ -679,36 +679,6 @@ class Bystander(ResultsWriter):
 
     def close(self) -> None:
         pass
-
-
-def open_writer(
-    strategy: str,
-    path: str | Path,
-    *,
-    comm=None,
-    layout=None,
-    summary_path: str | Path | None = None,
-    journal_dir: str | Path | None = None,
-    drop_stale: bool = False,
-    should_stop=None,
-) -> ResultsWriter:
-    """The writer of this rank for ``strategy`` (``single`` or ``mpio``, see
-    :func:`engine.output.collective.choose_strategy`).
-
-    ``single``: a :class:`SingleWriter` on rank 0, a :class:`Bystander` elsewhere. ``mpio``: a
-    :class:`engine.output.collective.CollectiveWriter` on every rank of ``comm``, with
-    ``layout`` (datasets pre-created per case, :func:`engine.study.layout.plan_layout`) and
-    its write journals in ``journal_dir``."""
-    options = dict(summary_path=summary_path, drop_stale=drop_stale, should_stop=should_stop)
-    if strategy == "mpio":
-        from .collective import CollectiveWriter
-
-        return CollectiveWriter(path, comm, layout, journal_dir=journal_dir, **options)
-    if strategy != "single":
-        raise ValueError(f"output strategy must be 'single' or 'mpio', not {strategy!r}")
-    if comm is not None and comm.Get_rank() != 0:
-        return Bystander(path, **options)
-    return SingleWriter(path, **options)
 
 
 def case_record(outcome: CaseOutcome) -> dict[str, Any]:
