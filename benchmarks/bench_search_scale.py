@@ -193,6 +193,10 @@ def main() -> None:
     parser.add_argument(
         "--compare", action="store_true", help="also run the same cases as a plain sweep"
     )
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/how-to/threshold-search.md (block bench-search-scale)",
+    )  # fmt: skip
     parser.add_argument("--plain", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--child", type=Path, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -214,6 +218,8 @@ def main() -> None:
         f"{'ranks':>5s} {'cases':>6s} {'conv.':>5s} {'wall s':>7s} {'1st round s':>11s} "
         f"{'busy after 1st round: min / mean':>33s} {'whole run: min':>15s}"
     )
+    load = os.getloadavg()[0]
+    rows = []
     with tempfile.TemporaryDirectory() as folder:
         for ranks, plain in [(r, p) for r in args.ranks for p in (False, True)[: 1 + args.compare]]:
             figures = measure(ranks, args.searches, Path(folder), plain)
@@ -226,7 +232,32 @@ def main() -> None:
                 f"{100 * min(whole):13.1f} %"
             )
             assert math.isfinite(figures["wall"])
+            rows.append((
+                ranks, "plain sweep" if plain else f"{args.searches} searches", figures["cases"],
+                "–" if plain else figures["converged"], f"{figures['wall']:.1f}",
+                f"{figures['first_round']:.1f}",
+                f"{100 * min(after):.1f} % / {100 * sum(after) / len(after):.1f} %",
+            ))  # fmt: skip
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
+    if args.update_docs:
+        write_docs(rows, args, load)
+
+
+def write_docs(rows, args, load: float) -> None:
+    """The table, with the date, machine and load, into the how-to's generated block."""
+    sys.path.insert(0, str(REPO))
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    header = (
+        "ranks", "run", "cases", "converged", "wall (s)", "first round ends (s)",
+        "busy after the first round, min / mean over ranks",
+    )  # fmt: skip
+    note = (
+        f"load average {load:.1f} at the start; `python benchmarks/bench_search_scale.py "
+        f"--update-docs`, synthetic cases of {0.5 * args.case_ms:g}–{1.5 * args.case_ms:g} ms"
+    )
+    text = measured_on(note) + "\n\n" + markdown_table(header, rows)
+    replace_block(REPO / "docs" / "how-to" / "threshold-search.md", "bench-search-scale", text)
 
 
 if __name__ == "__main__":
