@@ -58,6 +58,12 @@ def check_fields(record, check, *names: str) -> None:
         object.__setattr__(record, name, check(name, getattr(record, name)))
 
 
+def under_key(key: str, check: Callable[[str, Any], Any]) -> Callable[[str, Any], Any]:
+    """``check`` for a :class:`CheckedRecord` field whose errors name the user's ``key`` (the
+    study-file name) instead of the field's own name."""
+    return lambda _field, value: check(key, value)
+
+
 class CheckedRecord:
     """Base of frozen dataclasses whose fields are checked and converted on creation.
 
