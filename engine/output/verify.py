@@ -29,6 +29,7 @@ from pathlib import Path
 
 import h5py
 
+from engine.commands import missing_file, results_parser
 from engine.schema import CaseStatus
 
 from .checksum import CaseCheck, check_root, verify_case
@@ -191,13 +192,13 @@ def _short(error: BaseException) -> str:
 
 # ---------------------------------------------------------------------------- command line
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog=prog,
-        description="Check a results file: read every case and dataset, compare the checksums, "
+    parser = results_parser(
+        prog,
+        "Check a results file: read every case and dataset, compare the checksums, "
         "compare the summary CSV with the file. Exit codes: 0 whole, 4 damaged, 2 bad input, "
         "3 interrupted.",
+        "results file (HDF5)",
     )
-    parser.add_argument("results", type=Path, help="results file (HDF5)")
     parser.add_argument(
         "--summary",
         type=Path,
@@ -214,8 +215,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     path: Path = args.results
-    if not path.is_file():
-        print(f"error: {path}: no such file", file=sys.stderr)
+    if missing_file(path):
         return EXIT_BAD_INPUT
     summary = None if args.no_summary else (args.summary or path.with_suffix(".csv"))
     stop = threading.Event()
