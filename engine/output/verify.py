@@ -30,7 +30,7 @@ from pathlib import Path
 import h5py
 
 from engine.commands import missing_file, results_parser
-from engine.schema import CaseStatus
+from engine.schema import CASES_GROUP, CaseStatus
 
 from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT
@@ -85,7 +85,7 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
             if file.attrs.get("format") != FORMAT:
                 raise NotResultsFile(f"{path}: not a results file of this engine")
             check_root(dict(file.attrs))
-            cases = file["cases"]
+            cases = file[CASES_GROUP]
             for name in cases:
                 check.cases.append(_checked(cases, name))
                 row = _stored_row(cases, name)
@@ -131,7 +131,7 @@ def check_after_run(path: Path, written: set[str], *, others: bool = True) -> li
     try:
         with h5py.File(path, "r") as file:
             check_root(dict(file.attrs))
-            cases = file["cases"]
+            cases = file[CASES_GROUP]
             for name in cases:
                 if name in written:
                     check = _checked(cases, name)
