@@ -17,26 +17,34 @@ from functools import cached_property
 
 import numpy as np
 
-from .validation import require_positive
+from .validation import CheckedRecord, require_positive
 
 LINE_HALF_LENGTH = 0.5  # mm: a line grid's one element along y is 1 mm long
 
 
+def _element_count(name: str, value) -> int:
+    """An element count along one axis, as int."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 2, got {value!r}")
+    return int(value)
+
+
 @dataclass(frozen=True)
-class Grid:
+class Grid(CheckedRecord):
     n_x: int
     n_y: int
     half_width_x: float
     half_width_y: float
 
+    checks = {
+        "n_x": _element_count,
+        "n_y": _element_count,
+        "half_width_x": require_positive,
+        "half_width_y": require_positive,
+    }
+
     def __post_init__(self) -> None:
-        for name in ("n_x", "n_y"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise ValueError(f"{name} must be an integer >= 2, got {value!r}")
-            object.__setattr__(self, name, int(value))
-        for name in ("half_width_x", "half_width_y"):
-            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+        super().__post_init__()
         line = self.n_y == 1 and self.half_width_y == LINE_HALF_LENGTH
         if self.n_x < 2 or (self.n_y < 2 and not line):
             name, value = ("n_x", self.n_x) if self.n_x < 2 else ("n_y", self.n_y)

@@ -9,11 +9,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .validation import require_poisson, require_positive
+from .validation import CheckedRecord, require_poisson, require_positive
 
 
 @dataclass(frozen=True)
-class MaterialPair:
+class MaterialPair(CheckedRecord):
     """Young's moduli (MPa) and Poisson ratios of the half-space (A) and the punch (B)."""
 
     E_A: float
@@ -21,11 +21,12 @@ class MaterialPair:
     E_B: float
     nu_B: float
 
-    def __post_init__(self) -> None:
-        for name in ("E_A", "E_B"):
-            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
-        for name in ("nu_A", "nu_B"):
-            object.__setattr__(self, name, require_poisson(name, getattr(self, name)))
+    checks = {
+        "E_A": require_positive,
+        "E_B": require_positive,
+        "nu_A": require_poisson,
+        "nu_B": require_poisson,
+    }
 
     @property
     def shear_modulus_A(self) -> float:

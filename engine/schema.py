@@ -82,6 +82,8 @@ __all__ = [
     "COLUMN_DESCRIPTIONS",
     "INTEGER_COLUMNS",
     "TEXT_COLUMNS",
+    "CASES_GROUP",
+    "GRID_GROUP",
     "CYCLE_GROUP",
     "cycle_group",
     "CASE_SECTIONS",
@@ -247,8 +249,15 @@ ROOT_GRID = {axis: DatasetSpec("mm", f"element-centre {axis} coordinates") for a
 CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
 
 
+#: The groups at the root of a results file: every case's group (``/cases/<case_id>``) and
+#: the study-wide grid (``/grid/{x, y}``, :data:`ROOT_GRID`; a case with a grid of its own
+#: holds it in its group, under the same name, :data:`CASE_GRID`). The threshold tables of a
+#: search study are :data:`THRESHOLDS_GROUP`.
+CASES_GROUP = "cases"
+GRID_GROUP = "grid"
+
 #: The groups of a case group (``/cases/<case_id>/<section>/...``).
-CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes", "fatigue")
+CASE_SECTIONS = (GRID_GROUP, "history", "fields", "subsurface", "peak_changes", "fatigue")
 
 
 def case_group_path(section: str, *names: str) -> str:

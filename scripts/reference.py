@@ -6,7 +6,7 @@
 Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->``):
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
-  default, unit and meaning (:mod:`engine.study.config.keys`), and ``sweepable-keys``: the
+  default, unit and meaning (``engine/study/config/keys.toml``), and ``sweepable-keys``: the
   dotted keys ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), and
   ``bundled-studies``: every study of ``studies/`` with the title and time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and

@@ -57,6 +57,7 @@ from matplotlib.colors import BoundaryNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
+from engine.commands import missing_file, results_parser  # noqa: E402
 from engine.reference.flat_punch import (  # noqa: E402
     flat_punch_stress,
     sneddon_pressure,
@@ -173,11 +174,11 @@ def case_styles(cases: Sequence[CaseResults]) -> dict[str, dict]:
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog=prog,
-        description="Draw the figures of a study (PNG) from its results file.",
+    parser = results_parser(
+        prog,
+        "Draw the figures of a study (PNG) from its results file.",
+        "results file (.h5) written by the engine",
     )
-    parser.add_argument("results", type=Path, help="results file (.h5) written by the engine")
     parser.add_argument(
         "--out",
         type=Path,
@@ -196,8 +197,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
-    if not args.results.exists():
-        print(f"error: {args.results}: no such file", file=sys.stderr)
+    if missing_file(args.results):
         return 2
     from .threshold_figures import has_thresholds, threshold_figures
 

@@ -30,6 +30,7 @@ import numpy as np
 
 from engine.material import MaterialPair
 from engine.reference import mindlin
+from engine.schema import CASES_GROUP
 
 from .reader import CaseResults, StudyResults
 
@@ -140,7 +141,7 @@ def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
                 loops[numbers[-1]] = np.asarray(item)
 
     with h5py.File(path, "r") as file:
-        group = file["cases"][case_id]
+        group = file[CASES_GROUP][case_id]
         group.visititems(visit)
     return loops
 

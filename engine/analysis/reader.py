@@ -17,7 +17,7 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.schema import CaseStatus, cycle_of_group
+from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, cycle_of_group
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
 
@@ -254,8 +254,8 @@ class StudyResults:
             config.setdefault(section, {})[name] = value
             config.get("sweep", {}).pop(key, None)
         with h5py.File(self.path, "r") as file:
-            group = file["cases"][case_id]
-            grid = group["grid"] if "grid" in group else file["grid"] if "grid" in file else None
+            group = file[CASES_GROUP][case_id]
+            grid = group[GRID_GROUP] if GRID_GROUP in group else file.get(GRID_GROUP)
             grid_x, grid_y = (
                 (np.asarray(grid["x"]), np.asarray(grid["y"]))
                 if grid is not None
@@ -273,7 +273,7 @@ def read_results(path: str | Path) -> StudyResults:
     with h5py.File(path, "r") as file:
         config = json.loads(file.attrs["study_json"])
         cases, skipped = [], []
-        for case_id, group in file["cases"].items():
+        for case_id, group in file[CASES_GROUP].items():
             status = str(group.attrs.get("status", ""))
             if status != CaseStatus.COMPLETED:
                 skipped.append((case_id, status))
@@ -294,11 +294,11 @@ def read_results(path: str | Path) -> StudyResults:
 def _grid(file: h5py.File, name: str) -> np.ndarray:
     """The study's grid coordinates: the root grid, or (grid swept from case to case) the
     first case's own grid; ``/cases/<case_id>/grid`` has every case's."""
-    if "grid" in file:
-        return np.asarray(file["grid"][name])
-    for group in file["cases"].values():
-        if "grid" in group:
-            return np.asarray(group["grid"][name])
+    if GRID_GROUP in file:
+        return np.asarray(file[GRID_GROUP][name])
+    for group in file[CASES_GROUP].values():
+        if GRID_GROUP in group:
+            return np.asarray(group[GRID_GROUP][name])
     return np.zeros(0)
 
 

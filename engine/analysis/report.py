@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.commands import missing_file, results_parser
 from engine.reference.flat_punch import mossakovskii_ratio
 
 from .reader import CaseResults, StressPlane, StudyResults, read_results
@@ -401,10 +402,12 @@ def update_markdown(document: str | Path, name: str, report: str) -> None:
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog=prog, description="Print the results tables of a study (Markdown)."
+    parser = results_parser(
+        prog,
+        "Print the results tables of a study (Markdown).",
+        "results file(s) (.h5)",
+        several=True,
     )
-    parser.add_argument("results", type=Path, nargs="+", help="results file(s) (.h5)")
     parser.add_argument(
         "--cycles", type=int, nargs="+", default=None,
         help="cycles N to tabulate (cyclic studies; default: the recorded cycles)",
@@ -419,10 +422,8 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
-    for path in args.results:
-        if not path.exists():
-            print(f"error: {path}: no such file", file=sys.stderr)
-            return 2
+    if missing_file(args.results):
+        return 2
     for path in args.results:
         study = read_results(path)
         report = study_report(study, args.cycles)

@@ -34,7 +34,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CaseStatus, cycle_of_group, unit_of
+from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, cycle_of_group, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
@@ -46,17 +46,18 @@ def open_results(path: str | Path) -> Results:
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such results file")
     with h5py.File(path, "r") as file:
-        if "study_json" not in file.attrs or "cases" not in file:
+        if "study_json" not in file.attrs or CASES_GROUP not in file:
             raise ValueError(f"{path}: not a results file of this engine (no stored study)")
         study = json.loads(file.attrs["study_json"])
         name = str(file.attrs.get("study_name", path.stem))
         version = str(file.attrs.get("engine_version", ""))
         statuses = {
-            case_id: str(group.attrs.get("status", "")) for case_id, group in file["cases"].items()
+            case_id: str(group.attrs.get("status", ""))
+            for case_id, group in file[CASES_GROUP].items()
         }
         order = {
             case_id: int(group.attrs.get("index", position))
-            for position, (case_id, group) in enumerate(file["cases"].items())
+            for position, (case_id, group) in enumerate(file[CASES_GROUP].items())
         }
     case_ids = sorted(statuses, key=lambda case_id: order[case_id])
     return Results(path, name, study, version, {case_id: statuses[case_id] for case_id in case_ids})
@@ -322,7 +323,7 @@ class ResultCase:
     def grid(self) -> VariableGroup:
         """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
         with self._group() as group:
-            source = group["grid"] if "grid" in group else group.file.get("grid")
+            source = group[GRID_GROUP] if GRID_GROUP in group else group.file.get(GRID_GROUP)
             variables = {}
             for axis in ("x", "y"):
                 if source is not None and axis in source:
@@ -391,7 +392,7 @@ class _CaseGroup:
 
     def __enter__(self) -> h5py.Group:
         self.file = h5py.File(self.path, "r")
-        return self.file["cases"][self.case_id]
+        return self.file[CASES_GROUP][self.case_id]
 
     def __exit__(self, *exc) -> None:
         self.file.close()

@@ -38,7 +38,7 @@ from typing import ClassVar
 import numpy as np
 
 from engine.grid import Grid
-from engine.validation import require_non_negative, require_positive
+from engine.validation import check_fields, require_non_negative, require_positive
 
 __all__ = [
     "Profile",
@@ -77,10 +77,8 @@ class Profile:
     non_negative: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
-        for name in self.positive:
-            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
-        for name in self.non_negative:
-            object.__setattr__(self, name, require_non_negative(name, getattr(self, name)))
+        check_fields(self, require_positive, *self.positive)
+        check_fields(self, require_non_negative, *self.non_negative)
 
     @classmethod
     def from_settings(cls, radius: float, edge_radius: float | None = None) -> Profile:

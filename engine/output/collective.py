@@ -43,7 +43,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CaseStatus, DatasetRecord
+from engine.schema import CASES_GROUP, CaseStatus, DatasetRecord
 from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
@@ -209,7 +209,7 @@ class CollectiveWriter(ResultsWriter):
             return
         start = _now()
         journals = self.comm.bcast(self._journals if self.rank == 0 else None, root=0)
-        cases = self._file["cases"]
+        cases = self._file[CASES_GROUP]
         self._commit_all(cases, journals)
         for case in self._plan or []:
             if cases[case.case_id].attrs.get("status", "") in (CaseStatus.PENDING, ""):
@@ -240,7 +240,7 @@ class CollectiveWriter(ResultsWriter):
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
         start = _now()
-        group = self._file["cases"][outcome.case_id]
+        group = self._file[CASES_GROUP][outcome.case_id]
         light = dict(outcome.datasets)
         if outcome.status == COMPLETED:
             for path, record in outcome.datasets.items():

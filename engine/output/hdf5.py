@@ -63,7 +63,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CaseStatus, parameter_units
+from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, parameter_units
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
@@ -209,7 +209,7 @@ def write_root(file: h5py.File, metadata: StudyMetadata) -> None:
     file.attrs[ROOT_CHECKSUM] = root_checksum(metadata.attrs)
     if metadata.grid_x is None:
         return  # the grid differs between cases: each case group holds its own
-    grid = file.require_group("grid")
+    grid = file.require_group(GRID_GROUP)
     for name, values in (("x", metadata.grid_x), ("y", metadata.grid_y)):
         if name not in grid:
             dataset = grid.create_dataset(name, data=values)
@@ -353,7 +353,7 @@ class ResultsWriter:
         if not exists:
             self._create(plan, metadata)
         self._file = self._open(self.path, "a")
-        cases = self._file.require_group("cases")
+        cases = self._file.require_group(CASES_GROUP)
         completed: set[str] = set()
         stale: list[str] = []
         if exists:
@@ -388,7 +388,7 @@ class ResultsWriter:
         stopped = False
         with self._open(temporary, "w") as file:
             write_root(file, metadata)
-            cases = file.create_group("cases")
+            cases = file.create_group(CASES_GROUP)
             for number, case in enumerate(plan):
                 if number % 64 == 0 and self._stop_agreed():
                     stopped = True
@@ -534,7 +534,7 @@ class SingleWriter(ResultsWriter):
 
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
         completed = super().prepare(plan, metadata, fresh=fresh)
-        self._cases = self._file["cases"]
+        self._cases = self._file[CASES_GROUP]
         # every case of the plan not completed has a pristine pending group now
         self._pristine = set(plan.case_ids) - completed
         return completed

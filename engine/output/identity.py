@@ -37,7 +37,7 @@ from typing import Any, TextIO
 
 import h5py
 
-from engine.schema import CaseStatus
+from engine.schema import CASES_GROUP, CaseStatus
 from engine.study.config import fill_former_defaults
 from engine.study.plan import Plan
 
@@ -161,7 +161,7 @@ def damaged_path(path: Path) -> Path:
 
 def check_cases(file: h5py.File) -> list[CaseCheck]:
     """:func:`engine.output.checksum.verify_case` of every case group, in file order."""
-    cases = file.get("cases")
+    cases = file.get(CASES_GROUP)
     if cases is None:
         raise KeyError("no /cases group")
     return [verify_case(cases[name]) for name in cases]

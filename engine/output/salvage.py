@@ -28,6 +28,7 @@ from pathlib import Path
 
 import h5py
 
+from engine.schema import CASES_GROUP
 from engine.study.plan import Plan
 
 from .checksum import CaseCheck, check_root, verify_case
@@ -48,7 +49,7 @@ def scan_damaged(path: Path, metadata: StudyMetadata, plan: Plan, problem: str) 
             attrs = dict(file.attrs)
             check_root(attrs)  # a damaged root: whose study it holds is unknown, start over
             check_identity(path, attrs, metadata)
-            names = list(file["cases"])
+            names = list(file[CASES_GROUP])
             checks = [_checked(file, name) for name in names]
     except ResultsMismatch:
         raise
@@ -59,7 +60,7 @@ def scan_damaged(path: Path, metadata: StudyMetadata, plan: Plan, problem: str) 
 
 def _checked(file: h5py.File, name: str) -> CaseCheck:
     try:
-        return verify_case(file["cases"][name])
+        return verify_case(file[CASES_GROUP][name])
     except Exception as error:  # noqa: BLE001 - the group itself cannot be opened
         return CaseCheck(name, "", problem=f"unreadable ({str(error)[:200]})")
 
@@ -162,11 +163,11 @@ def copy_sound_cases(
     copied = []
     with readable_copy(path) as source, h5py.File(temporary, "w") as target:
         write_root(target, metadata)
-        cases = target.create_group("cases")
+        cases = target.create_group(CASES_GROUP)
         for case_id in case_ids:
             try:
-                source.copy(source["cases"][case_id], cases, name=case_id)
-                reattach_grid_scales(cases[case_id], source["cases"][case_id])
+                source.copy(source[CASES_GROUP][case_id], cases, name=case_id)
+                reattach_grid_scales(cases[case_id], source[CASES_GROUP][case_id])
                 copied.append(case_id)
             except Exception:  # noqa: BLE001 - could be read but not copied: recompute
                 if case_id in cases:

@@ -61,6 +61,7 @@ if TYPE_CHECKING:  # pandas is imported where a DataFrame is built (never while 
     import pandas as pd
 
 from engine.schema import (
+    CASES_GROUP,
     COLUMN_UNITS,
     INTEGER_COLUMNS,
     SUMMARY_COLUMNS,
@@ -162,7 +163,7 @@ def write_summary_csv(rows: list[dict[str, Any]], path: str | Path) -> None:
 
 def _rows_from_h5(path: Path) -> list[dict[str, Any]]:
     with h5py.File(path, "r") as file:
-        cases = file.get("cases")
+        cases = file.get(CASES_GROUP)
         if cases is None:
             return []
         rows = []

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
-from engine.schema import THRESHOLDS_GROUP, CaseStatus, threshold_columns
+from engine.schema import CASES_GROUP, THRESHOLDS_GROUP, CaseStatus, threshold_columns
 
 from .summary import column_unit
 
@@ -172,7 +172,7 @@ def completed_rows(path: str | Path) -> dict[str, dict[str, Any]]:
         return {}
     rows = {}
     with h5py.File(path, "r") as file:
-        cases = file.get("cases")
+        cases = file.get(CASES_GROUP)
         for name in cases if cases is not None else ():
             attrs = cases[name].attrs
             if attrs.get("status") == CaseStatus.COMPLETED:

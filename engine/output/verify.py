@@ -29,7 +29,8 @@ from pathlib import Path
 
 import h5py
 
-from engine.schema import CaseStatus
+from engine.commands import missing_file, results_parser
+from engine.schema import CASES_GROUP, CaseStatus
 
 from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT
@@ -84,7 +85,7 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
             if file.attrs.get("format") != FORMAT:
                 raise NotResultsFile(f"{path}: not a results file of this engine")
             check_root(dict(file.attrs))
-            cases = file["cases"]
+            cases = file[CASES_GROUP]
             for name in cases:
                 check.cases.append(_checked(cases, name))
                 row = _stored_row(cases, name)
@@ -130,7 +131,7 @@ def check_after_run(path: Path, written: set[str], *, others: bool = True) -> li
     try:
         with h5py.File(path, "r") as file:
             check_root(dict(file.attrs))
-            cases = file["cases"]
+            cases = file[CASES_GROUP]
             for name in cases:
                 if name in written:
                     check = _checked(cases, name)
@@ -191,13 +192,13 @@ def _short(error: BaseException) -> str:
 
 # ---------------------------------------------------------------------------- command line
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog=prog,
-        description="Check a results file: read every case and dataset, compare the checksums, "
+    parser = results_parser(
+        prog,
+        "Check a results file: read every case and dataset, compare the checksums, "
         "compare the summary CSV with the file. Exit codes: 0 whole, 4 damaged, 2 bad input, "
         "3 interrupted.",
+        "results file (HDF5)",
     )
-    parser.add_argument("results", type=Path, help="results file (HDF5)")
     parser.add_argument(
         "--summary",
         type=Path,
@@ -214,8 +215,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     path: Path = args.results
-    if not path.is_file():
-        print(f"error: {path}: no such file", file=sys.stderr)
+    if missing_file(path):
         return EXIT_BAD_INPUT
     summary = None if args.no_summary else (args.summary or path.with_suffix(".csv"))
     stop = threading.Event()

@@ -14,24 +14,27 @@ from __future__ import annotations
 
 import numpy as np
 
+from .docstrings import documented
 
+# The parameters several functions share, written once (numpydoc entries).
+_R = "r : array_like\n    Distance from the punch axis (mm)."
+_LOAD = "load : float\n    Normal load P (N)."
+_RADIUS = "radius : float\n    Punch radius a0 (mm)."
+_CONTACT_MODULUS = (
+    "contact_modulus : float\n    Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa)."
+)
+_POISSON = "poisson_ratio : float\n    Poisson's ratio of the half-space."
+
+
+@documented(
+    "numpy.ndarray\n"
+    "    p(r) = P / (2π a0 √(a0² − r²)) for r < a0, 0 outside (MPa), shaped like ``r``.",
+    _R,
+    _LOAD,
+    _RADIUS,
+)
 def sneddon_pressure(r: np.ndarray, load: float, radius: float) -> np.ndarray:
-    """Frictionless contact pressure under a rigid flat punch (Sneddon; paper Eq. 17).
-
-    Parameters
-    ----------
-    r : array_like
-        Distance from the punch axis (mm).
-    load : float
-        Normal load P (N).
-    radius : float
-        Punch radius a0 (mm).
-
-    Returns
-    -------
-    numpy.ndarray
-        p(r) = P / (2π a0 √(a0² − r²)) for r < a0, 0 outside (MPa), shaped like ``r``.
-    """
+    """Frictionless contact pressure under a rigid flat punch (Sneddon; paper Eq. 17)."""
     r = np.asarray(r, dtype=float)
     inside = r < radius
     pressure = np.zeros_like(r)
@@ -39,61 +42,26 @@ def sneddon_pressure(r: np.ndarray, load: float, radius: float) -> np.ndarray:
     return pressure
 
 
+@documented(
+    "float\n    Load P (N).",
+    "approach : float\n    Rigid approach g (mm).",
+    _RADIUS,
+    _CONTACT_MODULUS,
+)
 def sneddon_load(approach: float, radius: float, contact_modulus: float) -> float:
-    """Load of a frictionless rigid flat punch at a given approach: P = 2 E* a0 g (Eq. 18).
-
-    Parameters
-    ----------
-    approach : float
-        Rigid approach g (mm).
-    radius : float
-        Punch radius a0 (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
-
-    Returns
-    -------
-    float
-        Load P (N).
-    """
+    """Load of a frictionless rigid flat punch at a given approach: P = 2 E* a0 g (Eq. 18)."""
     return 2.0 * contact_modulus * radius * approach
 
 
+@documented("float\n    Rigid approach g (mm).", _LOAD, _RADIUS, _CONTACT_MODULUS)
 def sneddon_approach(load: float, radius: float, contact_modulus: float) -> float:
-    """Approach of a frictionless rigid flat punch under a load: g = P / (2 E* a0).
-
-    Parameters
-    ----------
-    load : float
-        Normal load P (N).
-    radius : float
-        Punch radius a0 (mm).
-    contact_modulus : float
-        Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa).
-
-    Returns
-    -------
-    float
-        Rigid approach g (mm).
-    """
+    """Approach of a frictionless rigid flat punch under a load: g = P / (2 E* a0)."""
     return load / (2.0 * contact_modulus * radius)
 
 
+@documented("float\n    p0 (MPa).", _LOAD, _RADIUS)
 def mean_pressure(load: float, radius: float) -> float:
-    """Mean pressure p0 = P / (π a0²) (Eq. 19), the paper's stress scale.
-
-    Parameters
-    ----------
-    load : float
-        Normal load P (N).
-    radius : float
-        Punch radius a0 (mm).
-
-    Returns
-    -------
-    float
-        p0 (MPa).
-    """
+    """Mean pressure p0 = P / (π a0²) (Eq. 19), the paper's stress scale."""
     return load / (np.pi * radius**2)
 
 
@@ -137,6 +105,16 @@ def mossakovskii_ratio_rigid(poisson_ratio: float) -> float:
 # --- Subsurface stresses of the frictionless punch (paper Appendix A) ---------------------------
 
 
+@documented(
+    "dict of str to numpy.ndarray\n"
+    "    ``'rr', 'phiphi', 'zz', 'rz'``: the cylindrical stress components (MPa), compression\n"
+    "    negative.",
+    _R,
+    "z : array_like\n    Depth into the half-space (mm, ≥ 0), broadcast with ``r``.",
+    _LOAD,
+    _RADIUS,
+    _POISSON,
+)
 def flat_punch_stress(r, z, load: float, radius: float, poisson_ratio: float) -> dict:
     """Stresses under a frictionless rigid flat punch: paper Appendix A, Eqs. (A1)–(A7).
 
@@ -150,25 +128,6 @@ def flat_punch_stress(r, z, load: float, radius: float, poisson_ratio: float) ->
     l2 = (A + B)/2, l2² − l1² = AB, and a0² − l1², l2² − a0² formed without cancellation; the
     (a0 − √(a0² − l1²))/r² term of (A5) is rewritten as (l1/r)²/(a0 + √(a0² − l1²)), finite on
     the axis r = 0. At z = 0 the z-terms take their limit 0.
-
-    Parameters
-    ----------
-    r : array_like
-        Distance from the punch axis (mm).
-    z : array_like
-        Depth into the half-space (mm, ≥ 0), broadcast with ``r``.
-    load : float
-        Normal load P (N).
-    radius : float
-        Punch radius a0 (mm).
-    poisson_ratio : float
-        Poisson's ratio of the half-space.
-
-    Returns
-    -------
-    dict of str to numpy.ndarray
-        ``'rr', 'phiphi', 'zz', 'rz'``: the cylindrical stress components (MPa), compression
-        negative.
     """
     a = float(radius)
     nu = float(poisson_ratio)

@@ -25,6 +25,8 @@ import math
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from .docstrings import documented
+
 __all__ = [
     "hertz_contact_radius",
     "hertz_approach",
@@ -36,29 +38,21 @@ __all__ = [
 ]
 
 
-# The parameters several functions share, written once and filled into their
-# docstrings by _shared_parameters (the rendered docstrings list them in full).
-_HERTZ = """load : float
-    Normal load P (N).
-radius : float
-    Sphere radius R (mm).
-contact_modulus : float
-    Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa)."""
+# The parameters several functions share, written once (numpydoc entries).
+_LOAD = "load : float\n    Normal load P (N)."
+_RADIUS = "radius : float\n    Sphere radius R (mm)."
+_CONTACT_MODULUS = (
+    "contact_modulus : float\n    Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa)."
+)
+_DEPTH = "z : array_like\n    Depth below the surface in units of the contact radius a (z > 0)."
+_POISSON = "nu : float\n    Poisson's ratio of the half-space."
 
 
-def _hertz(returns: str, first: str = ""):
+def _hertz(returns: str, *first: str):
     """Decorator: complete a one-line docstring with the Parameters section (``first``, the
     entries before the shared ones, then load, radius, contact modulus) and the Returns
     section ``returns`` ("type\n    description")."""
-
-    def complete(function):
-        summary = function.__doc__.strip()
-        parameters = (first + "\n" if first else "") + _HERTZ
-        text = f"{summary}\n\nParameters\n----------\n{parameters}\n\nReturns\n-------\n{returns}"
-        function.__doc__ = text.replace("\n", "\n    ")
-        return function
-
-    return complete
+    return documented(returns, *first, _LOAD, _RADIUS, _CONTACT_MODULUS)
 
 
 @_hertz("float\n    Contact radius a (mm).")
@@ -82,7 +76,7 @@ def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> f
 
 @_hertz(
     "numpy.ndarray\n    Contact pressure (MPa), positive in compression, shaped like ``r``.",
-    first="r : array_like\n    Radial distance from the contact's centre (mm).",
+    "r : array_like\n    Radial distance from the contact's centre (mm).",
 )
 def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: float):
     """Hertz's pressure p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside."""
@@ -92,25 +86,17 @@ def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: f
     return p_max * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
 
 
+@documented(
+    "sigma_r : numpy.ndarray\n    Radial (and hoop) stress σ_r / p_max.\n"
+    "sigma_z : numpy.ndarray\n    Normal stress σ_z / p_max.",
+    _DEPTH,
+    _POISSON,
+)
 def axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
     """Stresses on the axis r = 0 below a Hertzian contact (Johnson Eq. 3.45).
 
     σ_z = −1/(1 + z²), σ_r = σ_θ = −(1 + ν)(1 − z arctan(1/z)) + 1/(2(1 + z²)), in units of
     p_max with z in units of a; compression negative.
-
-    Parameters
-    ----------
-    z : array_like
-        Depth below the surface in units of the contact radius a (z > 0).
-    nu : float
-        Poisson's ratio of the half-space.
-
-    Returns
-    -------
-    sigma_r : numpy.ndarray
-        Radial (and hoop) stress σ_r / p_max.
-    sigma_z : numpy.ndarray
-        Normal stress σ_z / p_max.
     """
     z = np.asarray(z, dtype=float)
     sigma_z = -1.0 / (1.0 + z**2)
@@ -118,41 +104,18 @@ def axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
     return sigma_r, sigma_z
 
 
+@documented("numpy.ndarray\n    σ_VM / p_max, shaped like ``z``.", _DEPTH, _POISSON)
 def axis_von_mises(z: np.ndarray, nu: float) -> np.ndarray:
-    """Von Mises stress on the axis below a Hertzian contact, σ_VM = abs(σ_r − σ_z).
-
-    Parameters
-    ----------
-    z : array_like
-        Depth below the surface in units of the contact radius a (z > 0).
-    nu : float
-        Poisson's ratio of the half-space.
-
-    Returns
-    -------
-    numpy.ndarray
-        σ_VM / p_max, shaped like ``z``.
-    """
+    """Von Mises stress on the axis below a Hertzian contact, σ_VM = abs(σ_r − σ_z)."""
     sigma_r, sigma_z = axis_stresses(z, nu)
     return np.abs(sigma_r - sigma_z)
 
 
+@documented("peak : float\n    max σ_VM / p_max.\ndepth : float\n    Its depth z / a.", _POISSON)
 def axis_von_mises_peak(nu: float) -> tuple[float, float]:
     """The largest von Mises stress on the axis and its depth, found to 1e-10 by bounded search.
 
     For ν = 0.3: 0.6200 p_max at z = 0.4809 a.
-
-    Parameters
-    ----------
-    nu : float
-        Poisson's ratio of the half-space.
-
-    Returns
-    -------
-    peak : float
-        max σ_VM / p_max.
-    depth : float
-        Its depth z / a.
     """
     result = minimize_scalar(
         lambda z: -float(axis_von_mises(z, nu)),

@@ -45,6 +45,8 @@ import math
 
 import numpy as np
 
+from .masing import masing_loop
+
 __all__ = [
     "hertz_line_half_width",
     "hertz_line_peak_pressure",
@@ -226,17 +228,7 @@ def line_fretting_loop(
             from scipy.optimize import brentq  # here: a run of a cylinder imports no SciPy
 
             peak_force = brentq(lambda q: float(virgin(q)) - peak, 0.0, limit)
-    forces = np.linspace(peak_force, -peak_force, points)
-    displacements = float(virgin(peak_force)) - 2.0 * virgin(0.5 * (peak_force - forces))
-    if peak > displacements[0] * (1.0 + 1e-12):  # gross slip: slide at Q = −μP to −δ*
-        displacements = displacements + (peak - displacements[0])
-        sliding = np.linspace(displacements[-1], -peak, points)[1:]
-        displacements = np.concatenate([displacements, sliding])
-        forces = np.concatenate([forces, np.full(sliding.size, -peak_force)])
-    return (
-        np.concatenate([displacements, -displacements[1:]]),
-        np.concatenate([forces, -forces[1:]]),
-    )
+    return masing_loop(virgin, peak_force, peak, points)
 
 
 def bulk_surface_strain(bulk_stress: float, young_modulus: float, poisson_ratio: float):

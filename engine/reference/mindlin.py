@@ -43,7 +43,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..material import MaterialPair
+from .docstrings import documented
 from .hertz import hertz_contact_radius
+from .masing import masing_loop
 
 __all__ = [
     "compliance_sum",
@@ -62,23 +64,23 @@ __all__ = [
 ]
 
 
-# The parameters several functions share, written once and filled into their
-# docstrings by _shared_parameters (the rendered docstrings list them in full).
-_CONTACT = """load : float or array_like
-    Normal load P (N), held constant.
-radius : float
-    Sphere radius R (mm).
-materials : engine.material.MaterialPair
-    The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-friction : float
-    Coulomb friction coefficient μ."""
+# The parameters several functions share, written once (numpydoc entries): the displacement
+# amplitude and the contact (load, radius, materials, friction) that close every signature.
+_DISPLACEMENT_AMPLITUDE = "displacement_amplitude : float or array_like\n    δ* (mm)."
+_CONTACT = (
+    "load : float or array_like\n    Normal load P (N), held constant.",
+    "radius : float\n    Sphere radius R (mm).",
+    "materials : engine.material.MaterialPair\n"
+    "    The two elastic bodies (Young's moduli in MPa, Poisson's ratios).",
+    "friction : float\n    Coulomb friction coefficient μ.",
+)
 
 
-def _shared_parameters(function):
-    """Write the shared load, radius, materials and friction entries into the docstring."""
-    indented = _CONTACT.replace("\n", "\n    ")
-    function.__doc__ = function.__doc__.replace("{contact}", indented)
-    return function
+def _contact(returns: str, *first: str):
+    """Decorator: complete a docstring with the Parameters section (``first``, the entries
+    before the shared ones, then load, radius, materials, friction) and the Returns section
+    ``returns`` ("type\n    description")."""
+    return documented(returns, *first, *_CONTACT)
 
 
 def compliance_sum(materials: MaterialPair) -> float:
@@ -136,110 +138,68 @@ def stick_radius_ratio(force, load: float, friction: float) -> np.ndarray:
     return (1.0 - _ratio(force, friction * load)) ** (1.0 / 3.0)
 
 
-@_shared_parameters
+@_contact("numpy.ndarray\n    δ_slip (mm), shaped like ``load``.")
 def slip_displacement(load, radius, materials: MaterialPair, friction: float) -> np.ndarray:
     """δ_slip = 3 μP S / (16 a): the displacement amplitude at the onset of gross slip.
 
     With ``load`` an array, δ_slip(P) ∝ P^{2/3} is the partial/gross boundary line of the
     running-condition fretting map.
-
-    Parameters
-    ----------
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        δ_slip (mm), shaped like ``load``.
     """
     load = np.asarray(load, dtype=float)
     a = hertz_contact_radius(load, radius, materials.contact_modulus)
     return 3.0 * friction * load * compliance_sum(materials) / (16.0 * a)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Rigid tangential displacement δ (mm).",
+    "force : float or array_like\n    Tangential force Q (N) of a monotone loading 0 → Q ≤ μP.",
+)
 def tangential_displacement(force, load, radius, materials, friction) -> np.ndarray:
     """The Cattaneo–Mindlin compliance curve δ(Q) = δ_slip [1 − (1 − Q/μP)^{2/3}].
 
     Johnson Eq. 7.42.
-
-    Parameters
-    ----------
-    force : float or array_like
-        Tangential force Q (N) of a monotone loading 0 → Q ≤ μP.
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Rigid tangential displacement δ (mm).
     """
     slip, limit = _scale(load, radius, materials, friction)
     return slip * (1.0 - (1.0 - _ratio(force, limit)) ** (2.0 / 3.0))
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Tangential force Q (N); μP where the sphere slides.",
+    "displacement : float or array_like\n"
+    "    Rigid tangential displacement δ (mm); for δ ≥ δ_slip the sphere slides.",
+)
 def tangential_force(displacement, load, radius, materials, friction) -> np.ndarray:
-    """The inverse of the compliance curve: Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}].
-
-    Parameters
-    ----------
-    displacement : float or array_like
-        Rigid tangential displacement δ (mm); for δ ≥ δ_slip the sphere slides.
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Tangential force Q (N); μP where the sphere slides.
-    """
+    """The inverse of the compliance curve: Q(δ) = μP [1 − (1 − δ/δ_slip)^{3/2}]."""
     slip, limit = _scale(load, radius, materials, friction)
     d = np.clip(np.asarray(displacement, dtype=float) / slip, 0.0, 1.0)
     return limit * (1.0 - (1.0 - d) ** 1.5)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Rigid tangential displacement δ (mm).",
+    "force : float or array_like\n    Tangential force Q (N), −Q* ≤ Q ≤ Q*.",
+    "amplitude : float\n    Force amplitude Q* ≤ μP (N).",
+)
 def unloading_displacement(force, amplitude, load, radius, materials, friction):
     """δ on the unloading branch from (δ*, Q*) down to Q (Masing construction).
 
     δ = δ* − 2 δ_mono((Q* − Q)/2); the reloading branch is its point reflection,
     δ_reload(Q) = −δ_unload(−Q).
-
-    Parameters
-    ----------
-    force : float or array_like
-        Tangential force Q (N), −Q* ≤ Q ≤ Q*.
-    amplitude : float
-        Force amplitude Q* ≤ μP (N).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Rigid tangential displacement δ (mm).
     """
     peak = tangential_displacement(amplitude, load, radius, materials, friction)
     half = (amplitude - np.asarray(force, dtype=float)) / 2.0
     return peak - 2.0 * tangential_displacement(half, load, radius, materials, friction)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Energy per cycle W (mJ = N·mm).",
+    "amplitude : float or array_like\n    Force amplitude Q* ≤ μP (N).",
+)
 def partial_slip_energy(amplitude, load, radius, materials, friction) -> np.ndarray:
     """Energy dissipated per cycle between ±Q* < μP, Mindlin–Deresiewicz (Johnson Eq. 7.53).
 
     W = (9 (μP)² S / (10 a)) [1 − (1 − q)^{5/3} − (5q/6)(1 + (1 − q)^{2/3})], q = Q*/μP,
     from W = 4 Q* δ* − 8 ∫₀^{Q*} δ_mono(u) du (the module docstring derives it).
-
-    Parameters
-    ----------
-    amplitude : float or array_like
-        Force amplitude Q* ≤ μP (N).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Energy per cycle W (mJ = N·mm).
     """
     slip, limit = _scale(load, radius, materials, friction)
     # 9 L² S / (10 a) = (24/5) L δ_slip
@@ -279,42 +239,25 @@ def energy_ratio(displacement_ratio) -> np.ndarray:
     return np.where(x <= 1.0, partial, gross)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Energy per cycle W (mJ).",
+    "amplitude : float or array_like\n    Force amplitude Q* (N).",
+)
 def partial_slip_energy_small_amplitude(amplitude, load, radius, materials, friction):
-    """W ≈ S Q*³ / (36 a μP), the leading term for Q* ≪ μP (Johnson Eq. 7.54).
-
-    Parameters
-    ----------
-    amplitude : float or array_like
-        Force amplitude Q* (N).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Energy per cycle W (mJ).
-    """
+    """W ≈ S Q*³ / (36 a μP), the leading term for Q* ≪ μP (Johnson Eq. 7.54)."""
     a = hertz_contact_radius(load, radius, materials.contact_modulus)
     amplitude = np.asarray(amplitude, dtype=float)
     return compliance_sum(materials) * amplitude**3 / (36.0 * a * friction * load)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n    Energy per cycle W (mJ).",
+    "displacement_amplitude : float or array_like\n    δ* ≥ δ_slip (mm).",
+)
 def gross_slip_energy(displacement_amplitude, load, radius, materials, friction):
     """Energy per cycle under a displacement amplitude δ* ≥ δ_slip (gross slip).
 
     W = W_MD(Q* = μP) + 4 μP (δ* − δ_slip), with W_MD(μP) = 0.8 μP δ_slip.
-
-    Parameters
-    ----------
-    displacement_amplitude : float or array_like
-        δ* ≥ δ_slip (mm).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Energy per cycle W (mJ).
     """
     slip, limit = _scale(load, radius, materials, friction)
     excess = np.asarray(displacement_amplitude, dtype=float) - slip
@@ -323,39 +266,19 @@ def gross_slip_energy(displacement_amplitude, load, radius, materials, friction)
     return 0.8 * limit * slip + 4.0 * limit * np.maximum(excess, 0.0)
 
 
-@_shared_parameters
+@_contact("numpy.ndarray\n    Q* (N).", _DISPLACEMENT_AMPLITUDE)
 def force_amplitude(displacement_amplitude, load, radius, materials, friction):
-    """The force amplitude Q* reached under a displacement amplitude δ*: Q(δ*) or μP.
-
-    Parameters
-    ----------
-    displacement_amplitude : float or array_like
-        δ* (mm).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Q* (N).
-    """
+    """The force amplitude Q* reached under a displacement amplitude δ*: Q(δ*) or μP."""
     return tangential_force(displacement_amplitude, load, radius, materials, friction)
 
 
-@_shared_parameters
+@_contact(
+    "numpy.ndarray\n"
+    "    Energy per cycle W (mJ): Mindlin–Deresiewicz below δ_slip, gross slip above.",
+    _DISPLACEMENT_AMPLITUDE,
+)
 def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
-    """Energy per stabilised cycle under a displacement amplitude δ*, in either regime.
-
-    Parameters
-    ----------
-    displacement_amplitude : float or array_like
-        δ* (mm).
-    {contact}
-
-    Returns
-    -------
-    numpy.ndarray
-        Energy per cycle W (mJ): Mindlin–Deresiewicz below δ_slip, gross slip above.
-    """
+    """Energy per stabilised cycle under a displacement amplitude δ*, in either regime."""
     slip, _ = _scale(load, radius, materials, friction)
     d = np.asarray(displacement_amplitude, dtype=float)
     partial = partial_slip_energy(
@@ -417,13 +340,8 @@ def fretting_loop(
     else:
         peak = float(displacement_amplitude)
         peak_force = float(tangential_force(min(peak, slip), load, radius, materials, friction))
-    forces = np.linspace(peak_force, -peak_force, points)
-    displacements = unloading_displacement(forces, peak_force, load, radius, materials, friction)
-    if peak > displacements[0] * (1.0 + 1e-12):  # gross slip: slide at Q = −μP to −δ*
-        displacements = displacements + (peak - displacements[0])
-        sliding = np.linspace(displacements[-1], -peak, points)[1:]
-        displacements = np.concatenate([displacements, sliding])
-        forces = np.concatenate([forces, np.full(sliding.size, -peak_force)])
-    displacement = np.concatenate([displacements, -displacements[1:]])
-    force = np.concatenate([forces, -forces[1:]])
-    return displacement, force
+
+    def virgin(force):
+        return tangential_displacement(force, load, radius, materials, friction)
+
+    return masing_loop(virgin, peak_force, peak, points)

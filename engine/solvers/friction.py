@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import require_finite, require_non_negative
+from ..validation import CheckedRecord, require_finite, require_non_negative, under_key
 
 
 def _rotation(beta: float) -> tuple[float, float]:
@@ -33,17 +33,17 @@ def from_tribological(beta: float, v1: np.ndarray, v2: np.ndarray):
 
 
 @dataclass(frozen=True)
-class FrictionLaw:
+class FrictionLaw(CheckedRecord):
     """Principal friction coefficients μ1 (along e1), μ2 (along e2) and the angle β (rad)."""
 
     mu1: float
     mu2: float
     beta: float = 0.0
 
+    checks = {"mu1": require_non_negative, "mu2": require_non_negative, "beta": require_finite}
+
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mu1", require_non_negative("mu1", self.mu1))
-        object.__setattr__(self, "mu2", require_non_negative("mu2", self.mu2))
-        object.__setattr__(self, "beta", require_finite("beta", self.beta))
+        super().__post_init__()
         if (self.mu1 == 0.0) != (self.mu2 == 0.0):
             raise ValueError(
                 f"mu1 and mu2 must both be zero (frictionless) or both > 0, "
@@ -116,17 +116,18 @@ class FrictionLaw:
 
 
 @dataclass(frozen=True)
-class WearLaw:
+class WearLaw(CheckedRecord):
     """Principal wear coefficients i1, i2 (1/MPa) along e1, e2 rotated by β (rad)."""
 
     i1: float
     i2: float
     beta: float = 0.0
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "i1", require_non_negative("wear1", self.i1))
-        object.__setattr__(self, "i2", require_non_negative("wear2", self.i2))
-        object.__setattr__(self, "beta", require_finite("beta", self.beta))
+    checks = {
+        "i1": under_key("wear1", require_non_negative),
+        "i2": under_key("wear2", require_non_negative),
+        "beta": require_finite,
+    }
 
     def norm(self, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
         """||Δg||_i of Eq. (13): mm/MPa for slips in mm."""
@@ -158,7 +159,7 @@ def frictional_work(result, previous) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class EnergyWearLaw:
+class EnergyWearLaw(CheckedRecord):
     """Dissipated-energy wear law (Fouvry, Kapsa & Vincent, Wear 1996; Fouvry et al. 2003):
     the local wear depth increment is α times the local frictional work per area,
     Δω = α w (mm = mm³/J · J/mm² with w in mJ/mm² → α in mm³/J is scaled by 10⁻³).
@@ -167,8 +168,7 @@ class EnergyWearLaw:
 
     alpha: float
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "alpha", require_non_negative("alpha", self.alpha))
+    checks = {"alpha": require_non_negative}
 
     def increment(self, result, previous) -> np.ndarray:
         """Δω = α·10⁻³·w (mm), w from :func:`frictional_work` (mJ/mm²)."""

@@ -22,7 +22,7 @@ from ..grid import Grid
 from ..kernels.line_stress import strip_stress_coefficients
 from ..validation import require_finite, require_poisson
 from .peak import PeakTracker
-from .subsurface import StressField
+from .subsurface import PlaneStresses, StressField
 
 __all__ = ["LineSubsurfaceStress", "LinePeakTracker"]
 
@@ -36,10 +36,11 @@ _TERMS = (  # (stress component, load) pairs of the sum
 )
 
 
-class LineSubsurfaceStress:
+class LineSubsurfaceStress(PlaneStresses):
     """Stresses under the surface tractions of a line grid at ``depths`` (mm, all > 0) for a
-    flat of Poisson ratio ``poisson_ratio``; ``plane`` has the signature of
-    ``SubsurfaceStress.plane``, so the peak tracking of ``engine.solvers.peak`` applies."""
+    flat of Poisson ratio ``poisson_ratio``; its ``plane`` is that of every contact
+    (:class:`~engine.solvers.subsurface.PlaneStresses`), so the peak tracking of
+    ``engine.solvers.peak`` applies."""
 
     def __init__(self, grid: Grid, poisson_ratio: float, depths):
         if not grid.is_line:
@@ -66,21 +67,13 @@ class LineSubsurfaceStress:
             spectra[component, load] = np.fft.rfft(wrapped, axis=1)
         return spectra
 
-    def plane(
-        self,
-        pressure,
-        traction_x=None,
-        traction_y=None,
-        angle: float = 0.0,
-        half_length: float | None = None,
-        *,
-        bulk_stress: float | None = None,
+    def _plane(
+        self, pressure, traction_x, traction_y, angle: float, half_length, bulk_stress
     ) -> StressField:
         """The x–z field (n_x, n_z) of ``pressure`` and ``traction_x`` (MPa, (n_x, 1) or
         (n_x,); None: zero) and a bulk stress σ_B (MPa) along x (default: the attribute
-        ``bulk_stress``, 0 unless set). The signature of ``SubsurfaceStress.plane``:
-        ``traction_y`` must be zero (plane strain), ``angle`` 0 (the plane is the x–z plane)
-        and ``half_length`` None (the grid)."""
+        ``bulk_stress``, 0 unless set). ``traction_y`` must be zero (plane strain), ``angle``
+        0 (the plane is the x–z plane) and ``half_length`` None (the grid)."""
         if angle != 0.0 or half_length is not None:
             raise ValueError("a line contact's stresses are on the x–z plane over its grid")
         if traction_y is not None and np.any(np.asarray(traction_y) != 0.0):

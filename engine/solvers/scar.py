@@ -25,7 +25,7 @@ those of h, both bodies together.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -68,12 +68,8 @@ class ScarMeasures:
     pad_wear_depth: float
 
     def row(self) -> dict[str, float]:
-        return {
-            "scar_depth": self.scar_depth,
-            "scar_width": self.scar_width,
-            "scar_area": self.scar_area,
-            "pad_wear_depth": self.pad_wear_depth,
-        }
+        """The four measures as summary columns, named as the fields, in their order."""
+        return asdict(self)
 
 
 def scar_measures(grid: Grid, total_wear: np.ndarray, pad_ratio: float) -> ScarMeasures:

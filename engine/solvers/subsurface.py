@@ -193,7 +193,37 @@ class StressField:
 # --- public API --------------------------------------------------------------------------------
 
 
-class SubsurfaceStress:
+class PlaneStresses:
+    """The stress field on a vertical plane through the punch axis, as the peak tracking
+    (:mod:`engine.solvers.peak`), the fatigue fields and a case's outcome ask for it, whatever
+    the contact: :class:`SubsurfaceStress` (3-D) and
+    :class:`~engine.solvers.line_subsurface.LineSubsurfaceStress` (plane strain) implement
+    ``_plane``."""
+
+    def plane(
+        self,
+        pressure,
+        traction_x=None,
+        traction_y=None,
+        angle: float = 0.0,
+        half_length: float | None = None,
+        *,
+        bulk_stress: float | None = None,
+    ) -> StressField:
+        """Stresses on the vertical plane through the punch axis at angle φ = ``angle`` (rad).
+
+        Tractions (MPa) on the grid, None for zero; ``half_length`` (mm) the extent of the
+        plane on either side of the axis (default: the grid's); ``bulk_stress`` σ_B (MPa)
+        along x, for line contacts only. Returns a ``StressField`` of shape ``(n_s, n_z)``
+        with ``s`` and ``angle`` set; what each contact supports is said by its ``_plane``.
+        """
+        return self._plane(pressure, traction_x, traction_y, angle, half_length, bulk_stress)
+
+    def _plane(self, pressure, traction_x, traction_y, angle, half_length, bulk_stress):
+        raise NotImplementedError
+
+
+class SubsurfaceStress(PlaneStresses):
     """Subsurface stress fields of surface tractions on ``grid`` (Eq. 16 by DC-FFT).
 
     Parameters
@@ -306,13 +336,8 @@ class SubsurfaceStress:
         X, Y, Z = np.meshgrid(x, y, self.depths, indexing="ij")
         return StressField.from_components(X, Y, Z, components, depths=self.depths.copy())
 
-    def plane(
-        self,
-        pressure,
-        traction_x=None,
-        traction_y=None,
-        angle: float = 0.0,
-        half_length: float | None = None,
+    def _plane(
+        self, pressure, traction_x, traction_y, angle: float, half_length, bulk_stress
     ) -> StressField:
         """Stresses on the vertical plane through the punch axis at angle φ = ``angle`` (rad).
 
@@ -324,8 +349,11 @@ class SubsurfaceStress:
         extend beyond the grid (``half_length`` > half width): outside the grid the tractions
         are zero and the stresses are still exact there.
 
-        Returns a ``StressField`` of shape ``(n_s, n_z)`` with ``s`` and ``angle`` set.
+        Returns a ``StressField`` of shape ``(n_s, n_z)`` with ``s`` and ``angle`` set. No bulk
+        stress (``bulk_stress`` must be None): that is a line contact's.
         """
+        if bulk_stress is not None:
+            raise ValueError("a bulk stress applies to line contacts only")
         grid = self.grid
         cos, sin = math.cos(angle), math.sin(angle)
         step = 1.0 / max(abs(cos) / grid.dx, abs(sin) / grid.dy)

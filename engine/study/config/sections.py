@@ -14,6 +14,28 @@ from typing import Any
 from engine.geometry import PROFILES, Profile, profile_for
 from engine.schema import SWEPT_KEY_UNITS
 
+# Every name here is public and re-exported by the package (engine.study.config).
+__all__ = [
+    "StudyConfigError",
+    "StudyInfo",
+    "MaterialConfig",
+    "PunchConfig",
+    "MeshConfig",
+    "LoadingConfig",
+    "WearConfig",
+    "SubsurfaceConfig",
+    "SweepAxis",
+    "SweepConfig",
+    "SolverConfig",
+    "TestingConfig",
+    "contact_modulus",
+    "MISSING",
+    "PROPORTIONAL",
+    "PUNCH_SHAPES",
+    "SWEEPABLE",
+    "WEAR_LAWS",
+]
+
 PROPORTIONAL = "proportional"
 
 PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFILES)
