@@ -559,6 +559,12 @@ COLUMN_UNITS = {
 }  # fmt: skip
 
 #: The one units table of the results: case parameters, summary columns and swept keys.
+#: the bundled fatigue criteria's columns (fretting cases with [fatigue] only)
+COLUMN_UNITS.update(
+    (key, spec.units)
+    for column, described in FATIGUE_CRITERIA.items()
+    for key, spec in fatigue_specs(column, *described).items()
+)
 UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
 
 
@@ -640,7 +646,6 @@ COLUMN_DESCRIPTIONS = {
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
     for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
-        COLUMN_UNITS[_key] = _spec.units
         COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")

@@ -201,6 +201,18 @@ _CONTEXT = {
     ],
     "sweep.alpha": [{"wear": {"law": "energy"}, "sweep": {"wear1": None, "alpha": [1e-5]}}],
 }
+_FATIGUE = {  # every criterion and constant, the point method: each key is read
+    "fatigue": {
+        "criteria": ["crossland", "dang_van", "swt", "fatemi_socie"],
+        "sigma_d": 300.0, "tau_d": 200.0, "sigma_f": 1000.0, "b": -0.09, "eps_f": 0.6,
+        "c": -0.6, "tau_f": 600.0, "gamma_f": 0.9, "b0": -0.09, "c0": -0.6, "k": 0.6,
+        "sigma_y": 800.0, "method": "point", "length": 0.05,
+    }
+}  # fmt: skip
+_CONTEXT.update(
+    {f"fatigue.{name}": [_SPHERE_FRETTING, _FATIGUE] for name in _FATIGUE["fatigue"]}
+    | {"fatigue.plane_step": [_SPHERE_FRETTING, _FATIGUE]}
+)
 _NUMERIC = sorted(
     f"{key.section}.{key.name}"
     for key in STUDY_KEYS

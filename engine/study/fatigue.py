@@ -57,6 +57,12 @@ from engine.schema import (
     fatigue_maps,
     fatigue_specs,
 )
+from engine.study.config.checks import (
+    LENGTH_REASON,
+    MAX_LENGTH,
+    MIN_FATIGUE_EXPONENT,
+    bound,
+)
 
 _PER_CYCLE = ", per simulated cycle (after N = cycle)"
 
@@ -134,6 +140,35 @@ def _criteria(section) -> tuple[str, ...]:
     return tuple(names)
 
 
+#: The kind of each bundled constant, for its bounds (``engine.study.config.checks``):
+#: stresses (MPa) and ductility coefficients > 0, exponents in [MIN_FATIGUE_EXPONENT, 0),
+#: Fatemi–Socie's k ≥ 0. A plug-in's other constants need only be finite numbers (its own
+#: ``check`` refines).
+_KINDS = {
+    **dict.fromkeys(("sigma_d", "tau_d", "sigma_f", "tau_f", "sigma_y"), "stress"),
+    **dict.fromkeys(("eps_f", "gamma_f"), "ductility"),
+    **dict.fromkeys(("b", "c", "b0", "c0"), "exponent"),
+    "k": "k",
+}
+
+
+def _constant(section, name: str, unit: str) -> float:
+    """A constant of the section, within the bounds of its kind (``_KINDS``)."""
+    unit = "" if unit == "1" else unit
+    kind = _KINDS.get(name)
+    if kind == "exponent":
+        value = section.number(name, minimum=MIN_FATIGUE_EXPONENT, unit=unit)
+        if not value < 0.0:
+            raise section.error(name, value, "must be < 0 (a fatigue curve's exponent)")
+        return value
+    if kind in ("stress", "ductility"):
+        options = bound(f"fatigue.{kind}")
+        return section.number(name, minimum=0.0, strict=True, unit=unit, **options)
+    if kind == "k":
+        return section.number(name, minimum=0.0, unit=unit, **bound("fatigue.k"))
+    return section.number(name, unit=unit)
+
+
 def parse_fatigue(section) -> FatigueConfig:
     """Read the ``[fatigue]`` table (``engine.study.config.reader.Section``): errors name the
     key and the value (a constant a listed criterion needs, a constant no listed criterion
@@ -148,16 +183,15 @@ def parse_fatigue(section) -> FatigueConfig:
             raise section.error(
                 key, section.table[key], f"not a constant of the criteria {list(criteria)}"
             )
-    constants = {
-        name: section.number(name, unit="" if unit == "1" else unit)
-        for name, unit in needed.items()
-    }
+    constants = {name: _constant(section, name, unit) for name, unit in needed.items()}
     method = section.string("method", "hotspot")
     if method not in METHODS:
         raise section.error("method", method, f"must be one of {', '.join(METHODS)}")
     length = None
     if method != "hotspot":
-        length = section.number("length", minimum=0.0, strict=True, unit="mm")
+        length = section.number(
+            "length", minimum=0.0, strict=True, unit="mm", maximum=MAX_LENGTH, why=LENGTH_REASON
+        )
     elif "length" in section.table:
         raise section.error(
             "length", section.table["length"], 'applies to a method other than "hotspot"'
