@@ -115,7 +115,7 @@ def _study_copy(name: str, folder: Path) -> Path:
     """The bundled study ``name`` in ``folder``, writing its results there."""
     target = folder / name
     shutil.copy(REPO / "studies" / name, target)
-    text = target.read_text().replace('output = "results/', 'output = "')
+    text = target.read_text().replace('output = "results/', f'output = "{folder}/')
     target.write_text(text)
     return target
 

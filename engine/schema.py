@@ -558,15 +558,6 @@ COLUMN_UNITS = {
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
-#: The one units table of the results: case parameters, summary columns and swept keys.
-#: the bundled fatigue criteria's columns (fretting cases with [fatigue] only)
-COLUMN_UNITS.update(
-    (key, spec.units)
-    for column, described in FATIGUE_CRITERIA.items()
-    for key, spec in fatigue_specs(column, *described).items()
-)
-UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
-
 
 def unit_of(name: str) -> str:
     """Units of a parameter, summary column or swept dotted key (:data:`UNITS`); "" for the
@@ -646,7 +637,11 @@ COLUMN_DESCRIPTIONS = {
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
     for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
+        COLUMN_UNITS[_key] = _spec.units
         COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
+
+#: The one units table of the results: case parameters, summary columns and swept keys.
+UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

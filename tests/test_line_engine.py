@@ -190,3 +190,23 @@ def test_interrupted_fretting_case_resumes_from_its_checkpoint_bit_for_bit(tmp_p
         capture_output=True, text=True, env=_environment(),
     )  # fmt: skip
     assert compare.returncode == 0, compare.stdout + compare.stderr
+
+
+def test_a_cylinder_run_imports_neither_scipy_nor_pandas(tmp_path):
+    """The set-up of a line contact (its nominal half-width, kernels and stresses) keeps the
+    start-up of every rank as light as a 3-D study's (SciPy's import: about 1.5 s of CPU)."""
+    _write(
+        tmp_path, "light", mesh={"n": 16},
+        loading={"kind": "static", "load": LOAD, "steps": 1}, sweep={"mu1": [0.0]},
+    )  # fmt: skip
+    code = (
+        "import sys\n"
+        "from engine.cli import main\n"
+        "status = main(['light.toml', '--no-progress-bar'])\n"
+        "print(status, sorted(m for m in ('scipy', 'pandas', 'matplotlib') if m in sys.modules))\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+        env=_environment(),
+    )  # fmt: skip
+    assert run.stdout.strip().splitlines()[-1] == "0 []", run.stdout + run.stderr

@@ -77,7 +77,13 @@ def test_line_operator_equals_the_block_operator_on_the_line_kernels():
     spectral = SpectralPreconditioner(block)
     close(line.preconditioner.normal(fields[2]), spectral.normal(fields[2]))
     close(line.preconditioner.tangential(*fields[:2]), spectral.tangential(*fields[:2]))
-    assert line.applications == 5
+    # Plane strain proper (q_y = 0): the y transforms are skipped, u_y = 0 exactly.
+    plane = (fields[0], np.zeros_like(fields[1]), fields[2])
+    close(line.apply(*plane), block.apply(*plane))
+    close(line.apply_tangential(*plane[:2]), block.apply_tangential(*plane[:2]))
+    close(line.preconditioner.tangential(*plane[:2]), spectral.tangential(*plane[:2]))
+    assert not np.any(line.apply(*plane)[1]) and not np.any(line.apply_tangential(*plane[:2])[1])
+    assert line.applications == 9
 
 
 def test_line_operator_is_symmetric_positive_definite():

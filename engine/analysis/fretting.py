@@ -29,7 +29,7 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference import line_contact, mindlin
+from engine.reference import mindlin
 
 from .reader import CaseResults, StudyResults
 
@@ -101,17 +101,24 @@ def slip_boundary(study: StudyResults, case: CaseResults):
     ``engine.reference.line_contact.line_slip_displacement``)."""
     if case.mu1 != case.mu2 or not case.mu1 > 0:
         return None
-    shape, radius = setting(study, case, "punch.shape"), setting(study, case, "punch.radius")
-    pair = material(study, case)
-    if shape == "sphere":
-        return lambda load: mindlin.slip_displacement(load, float(radius), pair, case.mu1)
-    if shape == "cylinder":
-        datum = float(setting(study, case, "mesh.reference_distance"))
-        modulus = pair.contact_modulus
-        return lambda load: line_contact.line_slip_displacement(
-            load, float(radius), modulus, case.mu1, datum
-        )
-    return None
+    profile, pair = case_profile(study, case), material(study, case)
+    datum = setting(study, case, "mesh.reference_distance")
+    datum = None if datum is None else float(datum)
+    if profile.slip_displacement(1.0, pair, case.mu1, datum) is None:
+        return None  # no closed form for this geometry
+    return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
+
+
+def case_profile(study: StudyResults, case: CaseResults):
+    """The punch profile (engine.geometry) of a case, with its swept values."""
+    from engine.geometry import profile_for
+
+    edge = setting(study, case, "punch.edge_radius")
+    return profile_for(
+        setting(study, case, "punch.shape", "flat"),
+        float(setting(study, case, "punch.radius")),
+        None if edge is None else float(edge),
+    )
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

@@ -246,14 +246,19 @@ class LineOperator:
 
     def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
         """Full block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
-        spectra = self._forward(p_x, p_y, p_n)
+        if not p_y.any():  # plane strain: q_y = 0, so u_y = 0 without its transforms
+            spectra = self._forward(p_x, p_n)
+            rows = (0, 1)
+        else:
+            spectra = self._forward(p_x, p_n, p_y)
+            spectra[2] *= self._log
+            rows = (0, 1, 2)
         log, coupling = self._log, self._coupling
-        tangential, normal = spectra[0].copy(), spectra[2].copy()
+        tangential, normal = spectra[0].copy(), spectra[1].copy()
         spectra[0] = log * tangential - coupling * normal
-        spectra[1] *= log
-        spectra[2] = coupling * tangential + log * normal
-        u = self._inverse(3)
-        return u[0], u[1], u[2]
+        spectra[1] = coupling * tangential + log * normal
+        u = self._inverse(len(rows))
+        return u[0], u[2] if len(rows) == 3 else np.zeros(self.grid.shape), u[1]
 
     def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
         """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
@@ -262,11 +267,12 @@ class LineOperator:
         return self._inverse(1)[0]
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
-        """The tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
-        spectra = self._forward(p_x, p_y)
+        """The tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm); u_y = 0 for q_y = 0."""
+        fields = (p_x, p_y) if p_y.any() else (p_x,)
+        spectra = self._forward(*fields)
         spectra *= self._log
-        u = self._inverse(2)
-        return u[0], u[1]
+        u = self._inverse(len(fields))
+        return u[0], u[1] if len(fields) == 2 else np.zeros(self.grid.shape)
 
     def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
         """A_zx p_x (mm): normal displacement due to tangential tractions (A_zy = 0)."""
@@ -318,6 +324,8 @@ class LinePreconditioner:
         return self._apply(residual)[0]
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
+        if not ry.any():  # plane strain: no y residual, no y correction
+            return self._apply(rx)[0], np.zeros(rx.shape)
         values = self._apply(rx, ry)
         return values[0], values[1]
 

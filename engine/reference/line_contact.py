@@ -44,7 +44,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 __all__ = [
     "hertz_line_half_width",
@@ -221,9 +220,12 @@ def line_fretting_loop(
     else:
         peak = float(displacement_amplitude)
         slip = float(line_slip_displacement(*args))
-        peak_force = (
-            limit if peak >= slip else brentq(lambda q: float(virgin(q)) - peak, 0.0, limit)
-        )
+        if peak >= slip:
+            peak_force = limit
+        else:
+            from scipy.optimize import brentq  # here: a run of a cylinder imports no SciPy
+
+            peak_force = brentq(lambda q: float(virgin(q)) - peak, 0.0, limit)
     forces = np.linspace(peak_force, -peak_force, points)
     displacements = float(virgin(peak_force)) - 2.0 * virgin(0.5 * (peak_force - forces))
     if peak > displacements[0] * (1.0 + 1e-12):  # gross slip: slide at Q = −μP to −δ*
@@ -280,6 +282,8 @@ def pad_load(half_width: float, flat_half_width: float, edge_radius: float, cont
 def pad_half_width(load: float, flat_half_width: float, edge_radius: float, contact_modulus):
     """The contact half-width a (mm) of the rounded pad under ``load`` P (N/mm): the root of
     ``pad_load`` (monotonic in a), between b and b + the cylinder's a."""
+    from scipy.optimize import brentq  # here: a run of a cylinder imports no SciPy
+
     hertz = hertz_line_half_width(load, edge_radius, contact_modulus)
     low, high = flat_half_width * (1.0 + 1e-15), flat_half_width + hertz
     return brentq(

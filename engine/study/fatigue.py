@@ -57,12 +57,6 @@ from engine.schema import (
     fatigue_maps,
     fatigue_specs,
 )
-from engine.study.config.checks import (
-    LENGTH_REASON,
-    MAX_LENGTH,
-    MIN_FATIGUE_EXPONENT,
-    bound,
-)
 
 _PER_CYCLE = ", per simulated cycle (after N = cycle)"
 
@@ -128,6 +122,33 @@ def fatigue_keys(registry=CRITERIA) -> set[str]:
     return _OPTIONS | {name for cls in registry.values() for name in cls.constants}
 
 
+# The magnitudes a material constant can take (a value outside is a typo or a unit slip:
+# MPa given in Pa, a percentage for a fraction), with the reason printed when it is passed.
+_STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
+CONSTANT_RANGES = {
+    "sigma_d": _STRENGTH, "tau_d": _STRENGTH, "sigma_f": _STRENGTH, "tau_f": _STRENGTH,
+    "sigma_y": _STRENGTH,
+    "b": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "b0": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
+    "c": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "c0": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
+    "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
+    "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
+    "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
+}  # fmt: skip
+MAX_LENGTH = 100.0  # mm, the critical distance
+
+
+def _check_range(section, name: str, value: float) -> None:
+    """Refuse a constant outside :data:`CONSTANT_RANGES` (a fifth criterion's constants
+    without an entry are taken as given), naming the key."""
+    if name not in CONSTANT_RANGES:
+        return
+    low, high, why = CONSTANT_RANGES[name]
+    if not low <= value <= high:
+        raise section.error(name, value, f"must lie in [{low:g}, {high:g}] ({why})")
+
+
 def _criteria(section) -> tuple[str, ...]:
     value = section.raw("criteria")
     names = value if isinstance(value, list) else [value]
@@ -138,35 +159,6 @@ def _criteria(section) -> tuple[str, ...]:
             known = ", ".join(f'"{k}"' for k in CRITERIA)
             raise section.error("criteria", value, f"unknown criterion {name!r} (known: {known})")
     return tuple(names)
-
-
-#: The kind of each bundled constant, for its bounds (``engine.study.config.checks``):
-#: stresses (MPa) and ductility coefficients > 0, exponents in [MIN_FATIGUE_EXPONENT, 0),
-#: Fatemi–Socie's k ≥ 0. A plug-in's other constants need only be finite numbers (its own
-#: ``check`` refines).
-_KINDS = {
-    **dict.fromkeys(("sigma_d", "tau_d", "sigma_f", "tau_f", "sigma_y"), "stress"),
-    **dict.fromkeys(("eps_f", "gamma_f"), "ductility"),
-    **dict.fromkeys(("b", "c", "b0", "c0"), "exponent"),
-    "k": "k",
-}
-
-
-def _constant(section, name: str, unit: str) -> float:
-    """A constant of the section, within the bounds of its kind (``_KINDS``)."""
-    unit = "" if unit == "1" else unit
-    kind = _KINDS.get(name)
-    if kind == "exponent":
-        value = section.number(name, minimum=MIN_FATIGUE_EXPONENT, unit=unit)
-        if not value < 0.0:
-            raise section.error(name, value, "must be < 0 (a fatigue curve's exponent)")
-        return value
-    if kind in ("stress", "ductility"):
-        options = bound(f"fatigue.{kind}")
-        return section.number(name, minimum=0.0, strict=True, unit=unit, **options)
-    if kind == "k":
-        return section.number(name, minimum=0.0, unit=unit, **bound("fatigue.k"))
-    return section.number(name, unit=unit)
 
 
 def parse_fatigue(section) -> FatigueConfig:
@@ -183,15 +175,19 @@ def parse_fatigue(section) -> FatigueConfig:
             raise section.error(
                 key, section.table[key], f"not a constant of the criteria {list(criteria)}"
             )
-    constants = {name: _constant(section, name, unit) for name, unit in needed.items()}
+    constants = {
+        name: section.number(name, unit="" if unit == "1" else unit)
+        for name, unit in needed.items()
+    }
     method = section.string("method", "hotspot")
     if method not in METHODS:
         raise section.error("method", method, f"must be one of {', '.join(METHODS)}")
     length = None
     if method != "hotspot":
         length = section.number(
-            "length", minimum=0.0, strict=True, unit="mm", maximum=MAX_LENGTH, why=LENGTH_REASON
-        )
+            "length", minimum=0.0, strict=True, unit="mm", maximum=MAX_LENGTH,
+            why="critical distances of metals lie in 0.01 … 1 mm",
+        )  # fmt: skip
     elif "length" in section.table:
         raise section.error(
             "length", section.table["length"], 'applies to a method other than "hotspot"'
@@ -214,6 +210,8 @@ def parse_fatigue(section) -> FatigueConfig:
     except ValueError as error:
         key = next((k for k in constants if f"'{k}'" in str(error)), "criteria")
         raise section.error(key, constants.get(key, list(criteria)), str(error)) from None
+    for name, value in constants.items():  # signs checked above, magnitudes here
+        _check_range(section, name, value)
     return config
 
 
@@ -399,7 +397,7 @@ class FatigueAnalysis:
         for result in self.cycles:
             if result.cycle not in self.recorded:
                 continue
-            group = case_group_path("fatigue", cycle_group(result.cycle))
+            group = cycle_group(result.cycle)
             for criterion in self.criteria:
                 column, *described = criterion_schema(criterion)
                 specs = fatigue_maps(column, *described, result.cycle)
@@ -408,7 +406,7 @@ class FatigueAnalysis:
                         data = _hot_spot(result.row, column)
                     else:
                         data = result.maps[name]
-                    datasets[f"{group}/{name}"] = spec.record(data)
+                    datasets[case_group_path("fatigue", group, name)] = spec.record(data)
         return datasets
 
     # ------------------------------------------------------------------ checkpoints

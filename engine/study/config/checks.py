@@ -72,14 +72,7 @@ BOUNDS = {
     "subsurface.depth": (100.0, "stresses 100 radii deep are below 1e-4 of the mean pressure"),
     "solver.maxiter": (10**7, "iterations per increment: a solve not converged in 10^7 will not"),
     "solver.threads": (1024, "FFT threads per rank: more than the cores of a node only slow"),
-    # [fatigue] constants (engine.study.fatigue), by kind
-    "fatigue.stress": (1e5, "MPa: 100 GPa, above the ideal strength of steel (about E/10)"),
-    "fatigue.ductility": (100.0, "a strain coefficient of 100 is a strain of 10^4 %"),
-    "fatigue.k": (100.0, "Fatemi–Socie's normal-stress sensitivity is about 0.3 … 1.5"),
 }
-#: Lower bound of the fatigue curves' exponents (Basquin b, b0: −0.05 … −0.15; Coffin–Manson
-#: c, c0: −0.5 … −0.8): below −10 a decade of cycles changes the amplitude 10^10 times.
-MIN_FATIGUE_EXPONENT = -10.0
 
 
 def bound(key: str) -> dict:
