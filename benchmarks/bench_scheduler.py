@@ -13,9 +13,10 @@ becomes a bottleneck), side by side in one session. Printed per run:
   the cores in use; and the same from CPU time, (CPU of all ranks − the cases' ``cpu_s``)
   / cases: start-up, file creation, dispatch, writing and the read-back, per case;
 - the CPU time of every rank (each rank's process, all threads, start-up and the read-back
-  of the results included) and the time the run would take on an idle machine,
-  max(busiest rank, all CPU / cores): other processes do not change it. Targets: 2 ranks
-  in ≤ 0.6 of one rank's time, 4 ranks (oversubscribed) no slower than 2;
+  of the results included) and max(busiest rank, all CPU / cores): the least time an idle
+  machine would need for the same split of the cases (the split itself depends on the
+  load). Targets: 2 ranks in ≤ 0.6 of one rank's time, 4 ranks (oversubscribed) no slower
+  than 2;
 - share of rank 0 (cases it computed) and the speed-up wall(1 rank) / wall(R ranks);
 - whether the summaries of all runs are identical (parameters and results, runtime aside).
 
@@ -101,9 +102,9 @@ def run(directory: Path, cases: int, ranks: int, tree: Path = REPO, label: str =
     compute = float(summary["runtime_s"].sum())
     compute_cpu = case_cpu_seconds(output)
     cores = min(ranks, os.cpu_count() or 1)
-    # On an idle machine each rank runs about serially (rank 0's threads share one
-    # interpreter lock), so the run takes at least its busiest rank's CPU and at least the
-    # whole CPU spread over the cores: a figure other processes on the machine do not change.
+    # Each rank runs about serially (rank 0's threads share one interpreter lock): on an
+    # idle machine the same split of the cases takes at least the busiest rank's CPU and at
+    # least the whole CPU spread over the cores.
     idle_estimate = max(max(rank_cpu), sum(rank_cpu) / cores)
     return {
         "tree": label,

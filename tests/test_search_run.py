@@ -268,4 +268,7 @@ def test_plot_draws_one_boundary_curve_per_friction_with_every_step(tmp_path, sm
     figures.plt.close(figure)
     assert figures.main([str(path), "--out", str(tmp_path / "figures")]) == 0
     assert (tmp_path / "figures" / "thresholds.png").exists()
+    step = engine.load_summary(path).case_id.iloc[0]  # --case: the figures of one step
+    assert figures.main([str(path), "--case", step, "--out", str(tmp_path / "step")]) == 0
+    assert "fretting_loops.png" in {p.name for p in (tmp_path / "step").iterdir()}
     assert not small_text, small_text

@@ -201,7 +201,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         return 2
     from .threshold_figures import has_thresholds, threshold_figures
 
-    if has_thresholds(args.results):  # a [search] study: its boundary curves
+    if args.case is None and has_thresholds(args.results):  # a [search] study: its boundaries
         out = args.out or args.results.with_name(f"{args.results.stem}_figures")
         for number, path in enumerate(threshold_figures(args.results, out), start=1):
             print(f"plot: [{number}] {path}", flush=True)

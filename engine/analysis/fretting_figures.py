@@ -452,7 +452,7 @@ def _loops_figure(study: StudyResults):
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
     title = f"{study.name}: fretting loops at recorded cycles"
     if any(panel.reference is not None for panel in panels):
-        title += " (dashed: analytic, unworn surfaces)"
+        title += "\n(dashed: analytic, unworn surfaces)"
     return draw_fretting_loops(panels, title, _load_unit(study))
 
 
