@@ -17,7 +17,7 @@ import numpy as np
 
 from .base import CriterionField, FatigueLimitCriterion
 from .history import StressHistory
-from .quantities import deviatoric_coordinates, hydrostatic, minimum_ball
+from .quantities import deviatoric_coordinates, hydrostatic, minimum_ball, point_chunks
 
 
 def _mesoscopic_deviator(history: StressHistory) -> StressHistory:
@@ -41,6 +41,10 @@ class DangVan(FatigueLimitCriterion):
 
     def evaluate(self, history: StressHistory) -> CriterionField:
         alpha = 3.0 * self.tau_d / self.sigma_d - 1.5
-        principal = np.linalg.eigvalsh(_mesoscopic_deviator(history).matrices())
-        tresca = 0.5 * (principal[..., -1] - principal[..., 0])
-        return CriterionField((tresca + alpha * hydrostatic(history)).max(axis=0) / self.tau_d)
+        mesoscopic, pressure = _mesoscopic_deviator(history), hydrostatic(history)
+        value = np.empty(history.n_points)
+        for chunk in point_chunks(history, 9):  # the 3 × 3 matrices and their eigenvalues
+            principal = np.linalg.eigvalsh(mesoscopic.take(chunk).matrices())
+            tresca = 0.5 * (principal[..., -1] - principal[..., 0])
+            value[chunk] = (tresca + alpha * pressure[:, chunk]).max(axis=0)
+        return CriterionField(value / self.tau_d)

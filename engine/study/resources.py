@@ -19,6 +19,11 @@ has 2·steps increments when cyclic, 4·steps when fretting). The fit errs high 
 measured points, e.g. n = 256 static with 32 layers 423 MB estimated, 404 MB measured; n = 512
 static with 16 layers 845 MB, 818 MB measured.
 
+A ``[fatigue]`` section adds, per increment of a simulated cycle, 48 B per element and
+330 B per point of the stress plane (``FATIGUE_BYTES_PER_*``: the arrays it keeps and its
+temporaries); measured: a 3-D fretting case at n = 128, 40 layers, 80 increments peaks at
+473 MB without and 664 MB with all four criteria (2026-11-27), the estimate adds 199 MB.
+
 Every rank of a node runs a case at the same time, so ``ranks on the node × estimate`` of the
 largest case of the plan (mesh, layers and steps may be swept) must fit in the node's memory:
 physical memory, or the cgroup limit of the job when it is smaller (SLURM and containers set
@@ -40,20 +45,33 @@ BYTES_PER_ELEMENT = 600.0
 BYTES_PER_ELEMENT_AND_LAYER = 145.0
 BYTES_PER_ELEMENT_CYCLED = 600.0
 BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 B
+# [fatigue], per increment of the evaluated cycle: its tractions twice (the recorder and the
+# critical-distance evaluator: 2 × 3 fields × 8 B per element) and, per point of the stress
+# plane, the plane kept (11 arrays), the history (6 components) and the criteria's
+# temporaries (about four histories): 8 B × (11 + 6 + 4 · 6) ≈ 330 B.
+FATIGUE_BYTES_PER_ELEMENT = 48.0
+FATIGUE_BYTES_PER_POINT = 330.0
 
 
-def case_memory_bytes(n: int, layers: int, increments: int = 0) -> float:
+def case_memory_bytes(n: int, layers: int, increments: int = 0, fatigue: bool = False) -> float:
     """Estimated peak memory (bytes) of one case on an n × n mesh with ``layers`` layers and
-    ``increments`` load increments per simulated cycle (0: a static case)."""
+    ``increments`` load increments per simulated cycle (0: a static case); ``fatigue``: with
+    a ``[fatigue]`` section (module docstring)."""
     per_element = BYTES_PER_ELEMENT + BYTES_PER_ELEMENT_AND_LAYER * layers
     if increments:
         per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
-    return BASE_BYTES + float(n) ** 2 * per_element
+    memory = BASE_BYTES + float(n) ** 2 * per_element
+    if fatigue:
+        plane = (n + 1) * layers  # points of the stress plane
+        per_increment = FATIGUE_BYTES_PER_ELEMENT * n**2 + FATIGUE_BYTES_PER_POINT * plane
+        memory += increments * per_increment
+    return memory
 
 
 def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, int, int]:
     """(n, layers, increments per simulated cycle) of the plan's case that needs the most
-    memory (the study's own values without a plan)."""
+    memory (the study's own values without a plan; a ``[fatigue]`` section counts in
+    :func:`check_memory`)."""
     increments = config.kind.increments  # per simulated cycle, from [loading] steps
     sizes = set()
     for case in plan.cases if plan is not None else ():
@@ -63,7 +81,8 @@ def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, in
         sizes.add((int(n), int(layers), increments(int(steps))))
     if not sizes:
         sizes.add((config.mesh.n, config.subsurface.layers, increments(config.loading.steps)))
-    return max(sizes, key=lambda size: case_memory_bytes(*size))
+    fatigue = config.fatigue is not None
+    return max(sizes, key=lambda size: case_memory_bytes(*size, fatigue=fatigue))
 
 
 def memory_limit_bytes() -> float:
@@ -89,7 +108,7 @@ def check_memory(
     ``ranks_on_node`` times the largest case of ``plan``."""
     limit = memory_limit_bytes() if limit is None else limit
     n, layers, increments = largest_case(config, plan)
-    per_case = case_memory_bytes(n, layers, increments)
+    per_case = case_memory_bytes(n, layers, increments, fatigue=config.fatigue is not None)
     needed = per_case * max(1, ranks_on_node)
     if needed > limit:
         ranks = f" × {ranks_on_node} ranks on this node" if ranks_on_node > 1 else ""
