@@ -26,7 +26,8 @@ Nothing is installed: a code that cannot be imported is skipped and said so. The
 imported by ``--anchors-python`` (default: this interpreter), e.g. a scratch environment::
 
     python3 -m venv /tmp/anchors-venv
-    /tmp/anchors-venv/bin/pip install tamaas==2.9.0 aspher   # ASPHER builds from source
+    /tmp/anchors-venv/bin/pip install tamaas==2.9.0 aspher   # ASPHER builds from source:
+    # it needs Eigen 3.4 (Debian: apt-get install libeigen3-dev), else its build downloads it
     python benchmarks/bench_anchors.py --anchors-python /tmp/anchors-venv/bin/python
 
 Printed per size and round (codes alternate within a round, so they share the load): set-up,
@@ -255,6 +256,61 @@ def print_ratios(rows: dict, sizes) -> None:
             print(f"{n:>5} {anchor:>7} " + " ".join(f"{value:10.3f}" for value in ratios))
 
 
+def doc_rows(rows: dict, sizes) -> list[tuple]:
+    """Per size and anchor: medians over the rounds of set-up CPU, whole CPU, peak RSS for
+    the engine and the anchor, and the medians of the ratios engine / anchor."""
+    table = []
+    for n in sizes:
+        engine = rows.get((n, "engine"), [])
+        for anchor in ("aspher", "tamaas"):
+            others = rows.get((n, anchor), [])
+            if not engine or not others:
+                continue
+
+            e, o = _medians(engine), _medians(others)
+            table.append((
+                f"{n}²", anchor, f"{e['setup_cpu_s']:.3f} / {e['cpu_s']:.3f}",
+                f"{o['setup_cpu_s']:.3f} / {o['cpu_s']:.3f}",
+                f"{e['peak_mb']:.0f} / {o['peak_mb']:.0f}",
+                f"{_ratio(engine, others, 'cpu_s'):.2f}",
+                f"{_ratio(engine, others, 'peak_mb'):.2f}",
+                f"{e['approach_error']:.1e} / {o['approach_error']:.1e}",
+            ))  # fmt: skip
+    return table
+
+
+def _medians(runs: list[dict]) -> dict[str, float]:
+    keys = ("setup_cpu_s", "cpu_s", "peak_mb", "approach_error")
+    return {key: statistics.median(run[key] for run in runs) for key in keys}
+
+
+def _ratio(engine: list[dict], others: list[dict], key: str) -> float:
+    """Median over the rounds of engine / anchor (the codes alternate within a round)."""
+    return statistics.median(e[key] / o[key] for e, o in zip(engine, others, strict=False))
+
+
+DOC_HEADER = ("n", "anchor", "engine: set-up CPU / whole CPU (s)",
+              "anchor: set-up CPU / whole CPU (s)", "peak RSS engine / anchor (MB)",
+              "ratio of whole CPU", "ratio of peak RSS",
+              "approach error engine / anchor")  # fmt: skip
+
+
+def write_doc_table(rows: dict, args) -> None:
+    """The table of the manual's memory and set-up page (block ``bench-anchors`` or
+    ``bench-anchors-frictional``), with the date, the machine and its load."""
+    sys.path.insert(0, str(REPO))
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    block = "bench-anchors-frictional" if args.frictional else "bench-anchors"
+    note = "`python benchmarks/bench_anchors.py --sizes " + " ".join(map(str, args.sizes))
+    note += f" --repeats {args.repeats}" + " --frictional" * args.frictional
+    note += " --update-docs`, one core per process, medians over the rounds"
+    document = REPO / "docs" / "explanation" / "memory-and-setup.md"
+    table = markdown_table(DOC_HEADER, doc_rows(rows, args.sizes))
+    replace_block(document, block, measured_on(note) + "\n" + table)
+    print(f"{document}: wrote the block {block}")
+
+
 def _value(row: dict, key: str) -> float:
     return row["setup_s"] + row["solve_s"] if key == "whole_s" else row[key]
 
@@ -269,6 +325,10 @@ def main() -> None:
     parser.add_argument(
         "--baseline", type=Path, help="another source tree of the engine, run alongside"
     )
+    parser.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/explanation/memory-and-setup.md",
+    )  # fmt: skip
     parser.add_argument("--child", choices=CODES, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -292,6 +352,8 @@ def main() -> None:
     )
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
     print_ratios(rows, args.sizes)
+    if args.update_docs:
+        write_doc_table(rows, args)
 
 
 if __name__ == "__main__":

@@ -25,8 +25,11 @@ the load shows as dispatch latency, not as longer cases).
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import math
+import os
+import platform
 import shutil
 import subprocess
 import sys
@@ -198,6 +201,11 @@ def main() -> None:
     if args.child is not None:
         child(args.child, args.searches, args.plain)
         return
+    started = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    print(
+        f"{started}, {platform.node()} ({platform.machine()}, {os.cpu_count()} cores, "
+        f"load average {os.getloadavg()[0]:.1f})"
+    )
     print(
         f"{args.searches} concurrent searches (rtol 1e-4, Illinois), synthetic cases of "
         f"{0.5 * args.case_ms:g}–{1.5 * args.case_ms:g} ms"
@@ -218,6 +226,7 @@ def main() -> None:
                 f"{100 * min(whole):13.1f} %"
             )
             assert math.isfinite(figures["wall"])
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
 
 
 if __name__ == "__main__":

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from engine import __version__
+from engine.parallel.waiting import patient_bcast, patient_gather
 
 __all__ = ["StudyRun", "RUN_STATUSES", "run_study"]
 
@@ -253,7 +254,7 @@ def _prepare_on_root(
     ends), then the free space for the cases to run. Returns a :class:`_Prepared` or
     raises."""
     from engine.output.collective import choose_strategy
-    from engine.output.identity import inspect_existing_isolated
+    from engine.output.existing import inspect_existing_isolated
     from engine.output.lock import OutputLock, check_output_path, check_summary_path
     from engine.study.feasibility import check_feasible
     from engine.study.layout import plan_layout
@@ -318,7 +319,11 @@ def _check_space(output: Path, plan, layout, existing) -> None:
     from engine.output.space import check_space, planned_bytes
 
     completed = set(existing.completed) if existing is not None else set()
-    check_space(output, planned_bytes(layout, [c for c in plan.case_ids if c not in completed]))
+    remaining = [case_id for case_id in plan.case_ids if case_id not in completed]
+    if not remaining:
+        return
+    smallest = min(planned_bytes(layout, [case_id]) for case_id in remaining)
+    check_space(output, planned_bytes(layout, remaining), smallest_case=smallest)
 
 
 class ExistingOutput(ValueError):
@@ -401,7 +406,7 @@ def _verdict(comm, study, options: _RunOptions, locks: list, stop_event):
             verdict = ("stopped", "")
     else:
         comm.Split_type(MPI.COMM_TYPE_SHARED)  # collective: every rank takes part
-    return comm.bcast(verdict, root=0)
+    return patient_bcast(comm, verdict)
 
 
 def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> StudyRun:
@@ -427,7 +432,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
         if rank == 0 and prepared.existing is not None:
             prepared.existing.report(sys.stdout, drop_stale=options.drop_stale)
         outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
-        return comm.bcast(dataclasses.replace(run, **outcome) if rank == 0 else None, root=0)
+        return patient_bcast(comm, dataclasses.replace(run, **outcome) if rank == 0 else None)
     finally:
         for lock in locks:
             lock.release()
@@ -470,13 +475,14 @@ def _settle_existing(
 
 
 def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop_event, peers):
-    """Every rank: open this rank's writer for the strategy (engine.output.hdf5.open_writer),
+    """Every rank: open this rank's writer for the strategy (engine.output.writers.open_writer),
     prepare the file (rank 0 alone, or every rank for mpio), run the scheduler, close.
 
     Rank 0 returns the fields of the run's :class:`StudyRun` that the computation decides;
     the other ranks return None (rank 0's answer is broadcast)."""
-    from engine.output.hdf5 import StoppedDuringSetUp, open_writer
+    from engine.output.hdf5 import StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
+    from engine.output.writers import open_writer
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
 
@@ -499,7 +505,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
     searches, settled = None, True
     if rank == 0:
         settled = _settle_existing(prepared, options, command_line, stop_event)
-    if not comm.bcast(settled, root=0):  # every rank, before the writer's first collective
+    if not patient_bcast(comm, settled):  # every rank, before the writer's first collective
         if rank == 0:
             print("stopped while salvaging the damaged file; nothing changed", file=sys.stderr)
         return {"status": "interrupted", "message": "stopped while salvaging"}
@@ -517,33 +523,55 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
             print(f"{stopped} (rerun to start)", file=sys.stderr, flush=True)
             if not writer.collective:
                 scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
+                _check_shares(comm, config, None)  # nothing written: nothing to read back
         return {"status": "interrupted", "message": str(stopped)}
     with writer:
-        if rank != 0:
+        if rank == 0:
+            todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
+            _announce(config, known, completed, todo, comm.Get_size(), writer.announce_suffix)
+            report = _run_with_progress(
+                scheduler, writer, known, completed, todo, options, comm, runner, searches,
+                stop_event,
+            )  # fmt: skip
+            if searches is not None:
+                print(searches.finish(writer), flush=True)
+        else:
             scheduler.run()
-            return None
-        todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
-        _announce(config, known, completed, todo, comm.Get_size(), writer.announce_suffix)
-        report = _run_with_progress(
-            scheduler, writer, known, completed, todo, options, comm, runner, searches, stop_event
-        )
-        if searches is not None:
-            print(searches.finish(writer), flush=True)
+    if rank != 0:
+        _check_shares(comm, config)
+        return None
     _remove_empty_checkpoint_dir(config)
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
     outcome = _report(config, [row["status"] for row in writer.rows()], report)
-    return _check_results(config, writer, todo, outcome)
+    return _check_results(comm, config, writer, todo, outcome)
 
 
-def _check_results(config, writer, todo, outcome: dict[str, Any]) -> dict[str, Any]:
-    """A run never reports success while a case it counts as complete cannot be read: the
-    cases it wrote are read back (:func:`engine.output.verify.check_after_run`; the others
-    were verified when it began). A full disk ends the run as ``"output-full"``."""
+def _check_shares(comm, config, written: list[str] | None = None) -> list:
+    """Every rank: the cases rank 0 names (``written``, sorted; None: no read-back) are read
+    back in shares, rank r the r-th of every ``size`` (the file is closed: several processes
+    may read it); rank 0 alone also reads the status of every other case. Rank 0 returns the
+    bad checks of all ranks, the others an empty list."""
     from engine.output.verify import check_after_run
+
+    rank, size = comm.Get_rank(), comm.Get_size()
+    written = patient_bcast(comm, written)
+    if written is None:
+        return []
+    share = set(written[rank::size])
+    bad = check_after_run(config.study.output, share, others=rank == 0)
+    everyone = patient_gather(comm, bad)
+    return [check for checks in everyone for check in checks] if rank == 0 else []
+
+
+def _check_results(comm, config, writer, todo, outcome: dict[str, Any]) -> dict[str, Any]:
+    """A run never reports success while a case it counts as complete cannot be read: the
+    cases it wrote are read back by every rank (:func:`_check_shares`; the others were
+    verified when it began). A full disk ends the run as ``"output-full"``."""
     from engine.schema import CaseStatus
 
     if writer.full is not None:  # the command line prints the message
+        _check_shares(comm, config, None)  # the workers wait for the list
         return {**outcome, "status": "output-full", "message": str(writer.full)}
     ran = {case.case_id for case in todo}
     written = {
@@ -551,7 +579,7 @@ def _check_results(config, writer, todo, outcome: dict[str, Any]) -> dict[str, A
         for row in writer.rows()
         if row["case_id"] in ran and row["status"] == CaseStatus.COMPLETED
     }
-    bad = check_after_run(config.study.output, written)
+    bad = _check_shares(comm, config, sorted(written))
     if not bad:
         return outcome
     shown = "; ".join(f"{check.case_id}: {check.problem}" for check in bad[:5])

@@ -248,7 +248,7 @@ CYCLE_GROUP = re.compile(r"cycle_(\d+)$")
 
 
 #: The groups of a case group (``/cases/<case_id>/<section>/...``).
-CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes")
+CASE_SECTIONS = ("grid", "history", "fields", "subsurface", "peak_changes", "fatigue")
 
 
 def case_group_path(section: str, *names: str) -> str:
@@ -558,9 +558,6 @@ COLUMN_UNITS = {
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
 
-#: The one units table of the results: case parameters, summary columns and swept keys.
-UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
-
 
 def unit_of(name: str) -> str:
     """Units of a parameter, summary column or swept dotted key (:data:`UNITS`); "" for the
@@ -640,8 +637,11 @@ COLUMN_DESCRIPTIONS = {
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
     for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
-        COLUMN_UNITS[_key] = UNITS[_key] = _spec.units
+        COLUMN_UNITS[_key] = _spec.units
         COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
+
+#: The one units table of the results: case parameters, summary columns and swept keys.
+UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

@@ -24,9 +24,10 @@ def frictionless_64(material):
 
 @pytest.fixture
 def small_text(monkeypatch):
-    """Texts below the figures' MIN_FONT_SIZE, per figure title: every figure closed by
-    ``engine.analysis.figures`` is checked just before it is closed (after it was drawn for
-    saving). A test draws its figures, then asserts the returned dict is empty."""
+    """Texts below the figures' MIN_FONT_SIZE, and texts cut by the figure's edge, per figure
+    title: every figure closed by ``engine.analysis.figures`` is checked just before it is
+    closed (after it was drawn for saving). A test draws its figures, then asserts the
+    returned dict is empty."""
     import matplotlib.pyplot as plt
     from matplotlib.text import Text
 
@@ -45,10 +46,36 @@ def small_text(monkeypatch):
         }
         if texts:
             small[figure.get_suptitle()] = texts
+        cut = _texts_cut_by_the_edge(figure, Text)
+        if cut:
+            small[figure.get_suptitle() + " (cut by the figure's edge)"] = cut
         close(figure)
 
     monkeypatch.setattr(figures.plt, "close", checked_close)
     return small
+
+
+def _texts_cut_by_the_edge(figure, text_type) -> set[str]:
+    """Texts that reach beyond the figure (a title or legend wider than the figure is cut
+    off in the saved PNG): the figure's tight box (what is drawn) must lie inside it, to a
+    hundredth of an inch; the texts beyond are named."""
+    renderer = figure.canvas.get_renderer()
+    tight, edge = figure.get_tightbbox(renderer), figure.bbox_inches
+    slack = 0.01  # in
+    if (
+        tight.x0 >= edge.x0 - slack
+        and tight.y0 >= edge.y0 - slack
+        and tight.x1 <= edge.x1 + slack
+        and tight.y1 <= edge.y1 + slack
+    ):
+        return set()
+    cut = set()
+    for text in figure.findobj(text_type):
+        if text.get_visible() and text.get_text():
+            box = text.get_window_extent(renderer).transformed(figure.dpi_scale_trans.inverted())
+            if box.x0 < edge.x0 - slack or box.x1 > edge.x1 + slack or box.y1 > edge.y1 + slack:
+                cut.add(text.get_text())
+    return cut or {"(an artist beyond the figure's edge)"}
 
 
 # ------------------------------------------------------------------ the validation table

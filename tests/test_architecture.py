@@ -53,12 +53,18 @@ def _module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def _imports(path: Path) -> list[str]:
-    """Every engine module that ``path`` imports (absolute names, relative ones resolved)."""
+def _imports(path: Path, runtime: bool = False) -> list[str]:
+    """Every engine module that ``path`` imports (absolute names, relative ones resolved);
+    ``runtime``: without the imports of ``if TYPE_CHECKING:`` blocks (never executed)."""
     module = _module_name(path)
     package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    tree = ast.parse(path.read_text(), filename=str(path))
+    if runtime:
+        for node in ast.walk(tree):
+            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+                node.body = []
     found = []
-    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+    for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             found += [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -104,6 +110,67 @@ def test_every_import_respects_the_layers():
             if layer_of[_unit(target)] not in allowed[source]:
                 broken.append(f"{path.relative_to(REPO)} ({source}) imports {target}")
     assert not broken, "\n".join(broken)
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """module -> the engine modules it imports when it runs, at module level or inside a
+    function (``if TYPE_CHECKING:`` imports left out: they never run). The package
+    ``engine`` itself is left out as a target: it only gathers the public API, and every
+    module of the engine runs it first anyway."""
+    graph = {}
+    for path in _engine_files():
+        module = _module_name(path)
+        targets = set(_imports(path, runtime=True)) - {"engine", module}
+        graph[module] = {target for target in targets if _is_module(target)}
+    return graph
+
+
+def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for target in sorted(graph.get(node, ())):
+            if target not in index:
+                visit(target)
+                low[node] = min(low[node], low[target])
+            elif target in on_stack:
+                low[node] = min(low[node], index[target])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return found
+
+
+def test_the_circle_finder_finds_a_circle_through_a_function_local_import():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert _circles(graph) == [["a", "b", "c"]]
+    assert _circles({"a": {"b"}, "b": set()}) == []
+
+
+def test_no_import_circles_between_engine_modules():
+    """No module imports, directly or through others, a module that imports it back,
+    function-local imports counted."""
+    circles = _circles(_import_graph())
+    assert not circles, "import circles:\n" + "\n".join(" <-> ".join(c) for c in circles)
 
 
 def test_the_analysis_layer_imports_no_writer():

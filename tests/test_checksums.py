@@ -21,7 +21,7 @@ from engine.output.checksum import (
     manifest_entry,
     verify_case,
 )
-from engine.output.identity import inspect_existing, inspect_existing_isolated
+from engine.output.existing import inspect_existing, inspect_existing_isolated
 from engine.output.isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated
 from engine.output.salvage import apply_existing
 from engine.output.verify import EXIT_CLEAN, EXIT_DAMAGED, main, verify_file

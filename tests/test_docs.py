@@ -348,3 +348,32 @@ def test_every_page_of_the_manual_is_linked_from_its_index():
     pages = {path.resolve() for path in DOCS.rglob("*.md")} - {index.resolve()}
     orphans = sorted(_relative(path) for path in pages - linked)
     assert not orphans, "pages missing from docs/index.md: " + ", ".join(orphans)
+
+
+# A measured figure in the README: a number with a unit of time, memory or a ratio.
+_FIGURE = re.compile(r"(?<![\w.])(\d[\d,]*(?:\.\d+)?) ?(s|ms|min|h|MB|GB|kB|%|×)(?![\w])")
+
+
+def test_the_readme_quotes_only_numbers_of_the_measured_tables():
+    """Every time, memory or ratio the README gives is a cell of a table the benchmarks or
+    the results script wrote (a generated or report block of the manual), so it cannot go
+    stale apart from them; the one exception is the progress interval, the command line's
+    own default."""
+    from engine.cli import build_parser
+
+    interval = build_parser().get_default("progress_interval")
+    cells = {
+        cell.strip()
+        for _, _, _, body in _blocks()
+        for line in body.splitlines()
+        if line.startswith("|")
+        for cell in line.strip("|").split("|")
+    }
+    readme = " ".join((REPO / "README.md").read_text().split())
+    found = _FIGURE.findall(readme)
+    for number, unit in found:
+        if unit == "s" and float(number) == interval and f"every {number} s" in readme:
+            continue
+        assert number in cells or f"{number} {unit}" in cells, (
+            f"README.md quotes {number} {unit}, which no measured table of docs/ holds"
+        )

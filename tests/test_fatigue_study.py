@@ -279,3 +279,23 @@ def test_report_and_figures_say_whether_and_where_a_crack_is_predicted(tmp_path)
             assert f"{case.label}: crack predicted by crossland" in report
     names = [path.name for path in plot_study(study, tmp_path / "figures")]
     assert {"fretting_map.png", "fatigue_maps.png", "fatigue_history.png"} <= set(names)
+
+
+def test_a_search_finds_the_bulk_stress_at_which_a_crack_is_predicted(tmp_path):
+    """``[search]`` on a fatigue column: the bulk stress amplitude at which Crossland at the
+    critical distance reaches 1.3 (it grows with the bulk stress); the final bracket holds
+    the target between its ends' values, within the relative tolerance."""
+    import engine
+
+    config = _line_config(
+        tmp_path,
+        {"loading": {"bulk_stress_max": None, "bulk_stress_min": -50.0}},
+        {"search": {"parameter": "loading.bulk_stress_max", "low": 0.0, "high": 100.0,
+                    "column": "crossland_risk_critical", "target": 1.3, "rtol": 0.05}},
+    )  # fmt: skip
+    run = engine.run_study(config, progress=False)
+    assert run.status == "completed", run
+    (row,) = engine.load_thresholds(tmp_path / "fatigue.h5").to_dict("records")
+    assert row["status"] == "converged", row
+    assert row["lower_value"] < 1.3 <= row["upper_value"]
+    assert row["upper"] - row["lower"] <= 0.05 * row["upper"]

@@ -67,8 +67,8 @@ def test_edge_radius_rules_come_from_the_profiles():
 
 
 def test_no_shape_branches_outside_the_geometry_package():
-    # a comparison with a shape's name or a tuple of names (not an array's shape tuple)
-    pattern = re.compile(r"""shape\s*(==|!=|in)\s*\(?\s*["']|\.get\("shape"\)\s*==""")
+    # a shape compared with a name (not an array's shape with a tuple of sizes)
+    pattern = re.compile(r"""shape"?\)?\s*(==|!=)\s*["']|shape"?\)?\s+(not\s+)?in\s*\(?\s*["']""")
     for path in ENGINE.rglob("*.py"):
         if "geometry" in path.relative_to(ENGINE).parts:
             continue

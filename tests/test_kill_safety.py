@@ -16,8 +16,9 @@ import pandas as pd
 import pytest
 
 from engine import load_summary
+from engine.output.existing import inspect_existing
 from engine.output.hdf5 import ResultsMismatch, SingleWriter, SummaryTable
-from engine.output.identity import inspect_existing, study_identity
+from engine.output.identity import study_identity
 from engine.output.lock import (
     OutputInUse,
     OutputLock,

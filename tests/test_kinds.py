@@ -108,3 +108,21 @@ def test_energy_law_alpha_is_its_own_case_parameter_and_archard_ids_are_unchange
     # the Archard ids of existing studies are unchanged
     assert case_id_for(0.1, 0.1, 1.33e-7, 1.33e-7, 0.0) == "mu0.1_w1.33e-07_b0"
     assert case_id_for(0.1, 0.1, 0.0, 0.0, 0.0, alpha=1e-6) == "mu0.1_a1e-06_b0"
+
+
+def test_case_runners_and_the_layout_take_dataset_paths_from_the_schema():
+    """No dataset path assembled from f-strings in the study layer's case code: every path
+    of a case group comes from engine.schema.case_group_path (its sections listed there)."""
+    from engine.schema import CASE_SECTIONS
+
+    study = KINDS_DIR.parent
+    files = [*KINDS_DIR.glob("*.py"), study / "outcome.py", study / "layout.py"]
+    files += [study / "case.py", study / "fatigue.py"]
+    for path in files:
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.JoinedStr) and node.values:
+                first = node.values[0]
+                text = first.value if isinstance(first, ast.Constant) else ""
+                assert not text.startswith(tuple(f"{s}/" for s in CASE_SECTIONS)), (
+                    f"{path.name}:{node.lineno}: a dataset path from an f-string"
+                )

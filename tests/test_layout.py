@@ -22,7 +22,19 @@ LOADINGS = {  # changes to engine.study.examples.BASE (16 x 16, mu1 = 0.3), by l
         "loading": {"kind": "cyclic", "steps": 3, "cycles": 2000, "record": [0, 500]},
         "sweep": {"wear1": [1.33e-7]},
     },
-}
+    "fretting with fatigue": {  # every criterion: maps, angles, lives and hot spots
+        "loading": {"kind": "fretting", "steps": 2, "cycles": 3, "record": [1],
+                    "force_amplitude": 20.0},
+        "sweep": {"wear1": [1e-8]},
+        "fatigue": {
+            "criteria": ["crossland", "dang_van", "swt", "fatemi_socie"],
+            "sigma_d": 300.0, "tau_d": 200.0,
+            "sigma_f": 1000.0, "b": -0.09, "eps_f": 0.6, "c": -0.6,
+            "tau_f": 600.0, "gamma_f": 0.9, "b0": -0.09, "c0": -0.6, "k": 0.6,
+            "sigma_y": 800.0,
+        },
+    },
+}  # fmt: skip
 
 
 @pytest.mark.parametrize("kind", sorted(LOADINGS))

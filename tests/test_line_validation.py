@@ -275,3 +275,24 @@ def test_bulk_stress_needs_a_line_contact():
     settings = FrettingSettings(load=10.0, steps=2, cycles=1, amplitude=1e-3, bulk_stress_max=5)
     with pytest.raises(ValueError, match="line \\(plane-strain\\) contacts only"):
         FrettingAnalysis(solver, WearLaw(0.0, 0.0), settings)
+
+
+@pytest.mark.parametrize("datum", [1.0, 10.0, 100.0])  # mm
+def test_cylinder_slip_displacement_is_the_stick_point_displacement_at_full_sliding(datum):
+    """The closed form δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2) against the quadrature of its
+    definition: the tangential displacement at the centre x = 0 (where the stick zone
+    vanishes) of the full-sliding traction μ p(ξ), through the plane-strain kernel
+    −(2/(πE*)) ln(|ξ|/d) of both bodies (engine.kernels.line). Self-consistency: 1e-9."""
+    from scipy.integrate import quad
+
+    modulus, radius, load, mu = 109_890.0, 6.0, 185.0, 0.5  # MPa, mm, N/mm, 1
+    a = ref.hertz_line_half_width(load, radius, modulus)
+    p0 = ref.hertz_line_peak_pressure(load, radius, modulus)
+
+    def integrand(t):  # ξ = a t, an even integrand: twice the half [0, 1]
+        return mu * p0 * math.sqrt(1.0 - t * t) * math.log(a * t / datum)
+
+    half, _ = quad(integrand, 0.0, 1.0, limit=200)
+    quadrature = -(2.0 / (math.pi * modulus)) * 2.0 * a * half
+    closed = ref.line_slip_displacement(load, radius, modulus, mu, datum)
+    assert closed == pytest.approx(quadrature, rel=1e-9)

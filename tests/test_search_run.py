@@ -7,7 +7,8 @@ steel on steel, K = 0, μ = 0.5) against Mindlin's closed form δ_slip = 3μP S/
 fretting cycle, 4 increments per quarter, mesh over ±1.5 a): −1.24 % at n = 16, −0.55 % at
 n = 32, −0.41 % at n = 48 — the discrete model's own transition (the last sticking element at
 the centre vanishes later than the continuum's stick zone), converging with the mesh; the
-search's own error is ≤ rtol. Hence 1 % at n = 32.
+search's own error is ≤ rtol. Hence 1 % at n = 32. The cylinder (line contact) against
+Cattaneo–Mindlin's δ_slip, which depends on the displacement datum d: see its test.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ import pytest
 import engine
 from engine.material import MaterialPair
 from engine.reference import mindlin
+from engine.reference.line_contact import line_slip_displacement
 from engine.study.config import StudyConfigError, parse_study
-from engine.study.examples import study_toml
+from engine.study.examples import CYLINDER_ON_STEEL, study_toml
 
 REPO = Path(__file__).resolve().parents[1]
 STEEL = {"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3}  # MPa, 1 (K = 0)
@@ -85,6 +87,41 @@ def test_sphere_transition_amplitude_against_mindlin(tmp_path):
     print(f"threshold {row.threshold * 1e3:.5f} µm vs δ_slip {slip * 1e3:.5f} µm: ")
     print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
     assert row.steps == 12 and grid_cases > 50 * row.steps
+
+
+def test_cylinder_transition_amplitude_against_cattaneo_mindlin(tmp_path):
+    """A steel cylinder on a steel flat (R = 6 mm, P = 185 N/mm, a = 0.113 mm, μ = 0.5, line
+    contact): the searched partial/gross boundary against the closed form
+    δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2)
+    (engine.reference.line_contact.line_slip_displacement), for two displacement
+    datums d = 1 and 10 mm (one search each, swept): 1.81 and 3.04 µm. Measured (rtol 1e-3,
+    one cycle, 4 increments per quarter, ±0.25 mm): −0.13 % at n = 32, −0.09 % and +0.02 % at
+    n = 64, +0.02 % at n = 128; hence 0.5 % at n = 64. Each search takes 12 or 13 cases where
+    a uniform grid of amplitudes reaching the same accuracy needs more than 700."""
+    datums = [1.0, 10.0]  # mm
+    changes = {
+        **CYLINDER_ON_STEEL,
+        "loading": {**ONE_CYCLE, "load": 185.0},
+        "sweep": {"mu1": [0.5], "wear1": [0.0], "mesh.reference_distance": datums},
+        "search": {**SEARCH, "low": 1.5e-3, "high": 6e-3},
+    }
+    study = tmp_path / "cylinder.toml"
+    study.write_text(study_toml("cylinder", str(tmp_path / "cylinder.h5"), changes))
+    result = run(study)
+    assert result.returncode == 0, result.stderr
+    table = engine.load_thresholds(tmp_path / "cylinder.h5")
+    modulus = 1.0 / (2.0 * (1.0 - 0.3**2) / 200e3)  # MPa, E* of steel on steel
+    for datum, row in zip(datums, table.itertuples(), strict=True):
+        slip = line_slip_displacement(185.0, 6.0, modulus, 0.5, datum)
+        assert row.status == "converged"
+        assert abs(row.threshold / slip - 1.0) < 5e-3, (datum, row.threshold, slip)
+        assert (row.lower_value, row.upper_value) == ("partial", "gross")
+        tolerance = SEARCH["rtol"] * row.threshold
+        grid_cases = math.ceil((6e-3 - 1.5e-3) / (2 * tolerance)) + 1
+        print(f"d = {datum} mm: {row.threshold * 1e3:.5f} µm vs {slip * 1e3:.5f} µm, ")
+        print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
+        assert row.steps <= 13 and grid_cases > 50 * row.steps
+    assert table["mesh.reference_distance"].tolist() == datums
 
 
 def test_a_search_study_stores_every_step_and_the_thresholds_table(tmp_path):
@@ -189,3 +226,49 @@ def test_the_searched_parameter_is_neither_swept_nor_set():
                 search=SEARCH,
             )
         )
+
+
+def test_plot_draws_one_boundary_curve_per_friction_with_every_step(tmp_path, small_text):
+    """μ ∈ {0.3, 0.5} × P ∈ {50, 100} N: four searches. The boundary figure has one curve per
+    μ (the friction list tells the curves apart, not only the dotted keys), each against the
+    load in increasing order through its thresholds, with the bracket as error bars, and a
+    point for every step the searches computed; the curves grow with μ and with the load
+    (δ_slip ∝ μ P^(2/3)); `python -m engine plot` writes it, no text too small or cut."""
+    from engine.analysis import figures
+    from engine.analysis.threshold_figures import draw_thresholds
+
+    study = sphere_study(
+        tmp_path,
+        "curves",
+        loading={"load": None},
+        sweep={"mu1": [0.3, 0.5], "loading.load": [50.0, 100.0]},
+        search={"rtol": 5e-2, "low": 5e-4},  # mm: δ_slip(μ = 0.3, 50 N) = 0.8 µm
+    )
+    result = run(study)
+    assert result.returncode == 0, result.stderr
+    path = tmp_path / "curves.h5"
+    table = engine.load_thresholds(path)
+    figure = draw_thresholds(path)
+    axis = figure.axes[0]
+    legend = [text.get_text() for text in axis.get_legend().get_texts()]
+    assert legend == ["mu1 = 0.3", "mu1 = 0.5"]
+    assert (table["status"] == "converged").all()
+    curves = [line for line in axis.get_lines() if line.get_linestyle() == "-"]
+    assert len(curves) == 2
+    for mu, curve in zip((0.3, 0.5), curves, strict=True):
+        rows = table[table.mu1 == mu].sort_values("loading.load")
+        assert list(curve.get_xdata()) == [50.0, 100.0]
+        assert list(curve.get_ydata()) == rows["threshold"].tolist()
+    assert curves[0].get_ydata()[1] > curves[0].get_ydata()[0]  # with the load
+    assert all(curves[1].get_ydata() > curves[0].get_ydata())  # with μ
+    points = [line for line in axis.get_lines() if line.get_marker() in ("o", "x")]
+    assert sum(len(line.get_xdata()) for line in points) == table["steps"].sum()
+    assert figure.axes[0].get_xlabel() == "loading.load (N)"
+    assert figure.axes[0].get_ylabel() == "loading.amplitude (mm)"
+    figures.plt.close(figure)
+    assert figures.main([str(path), "--out", str(tmp_path / "figures")]) == 0
+    assert (tmp_path / "figures" / "thresholds.png").exists()
+    step = engine.load_summary(path).case_id.iloc[0]  # --case: the figures of one step
+    assert figures.main([str(path), "--case", step, "--out", str(tmp_path / "step")]) == 0
+    assert "fretting_loops.png" in {p.name for p in (tmp_path / "step").iterdir()}
+    assert not small_text, small_text

@@ -85,7 +85,9 @@ def test_sweep_figure_has_one_line_per_friction_with_the_summary_values(results)
     plt.close(figure)
 
 
-def test_case_option_draws_the_field_figures_with_the_cases_own_load(results, tmp_path):
+def test_case_option_draws_the_field_figures_with_the_cases_own_load(results, tmp_path, small_text):
+    """One case's figures: its own load, and nothing cut by the edge of a one-panel figure
+    (its title and the legend row once reached beyond it)."""
     assert figures.main([str(results), "--case", "nope", "--out", str(tmp_path)]) == 2
     study = read_results(results).for_case(CASES[2])
     assert study.load == 300.0 and [c.case_id for c in study.cases] == [CASES[2]]
@@ -96,6 +98,7 @@ def test_case_option_draws_the_field_figures_with_the_cases_own_load(results, tm
         "traction_profiles.png",
         "von_mises_final.png",
     }
+    assert not small_text, small_text
 
 
 PEAK = re.compile(r"([★○]) .*? ([\d.]+) at \(([+-][\d.]+), ([\d.]+)\)")

@@ -2,10 +2,10 @@
 ``engine.analysis.fatigue``).
 
 - ``fatigue_maps.png``: each criterion's map on the stress plane at the last recorded cycle
-  (rows: up to ``MAX_MAP_CASES`` cases; columns: criteria), depth z downwards, with the contact
-  and the stick zone of the increment of the largest |Q| marked on the surface, the hot spot
-  (×), the point the critical distance is read below (▼) and, for a risk criterion, the
-  contour risk = 1;
+  (rows: up to ``MAX_MAP_CASES`` cases spread over the sweep; columns: criteria), depth z
+  downwards, with the contact and the stick zone of the increment of the largest |Q| marked
+  on the surface, the hot spot (×), the point the critical distance is read below (▼) and,
+  for a risk criterion, the contour risk = 1;
 - ``fatigue_history.png``: each criterion's hot spot against the cycles (per simulated cycle
   with ``every_cycle``, else per recorded cycle), the critical value where the history has it
   (dashed), risk = 1 marked;
@@ -94,7 +94,9 @@ def _map_panel(axis, study: StudyResults, case: CaseResults, verdict, figure) ->
 
 
 def _maps_figure(study: StudyResults):
-    cases = [case for case in study.cases if case.fatigue][:MAX_MAP_CASES]
+    every = [case for case in study.cases if case.fatigue]
+    picks = np.linspace(0, len(every) - 1, min(MAX_MAP_CASES, len(every))).round()
+    cases = [every[int(i)] for i in sorted(set(picks.tolist()))]  # spread over the sweep
     verdicts = [case_verdicts(study, case) for case in cases]
     columns = max(len(v) for v in verdicts)
     figure, axes = plt.subplots(
@@ -108,8 +110,8 @@ def _maps_figure(study: StudyResults):
             axis.set_visible(False)
     handles, labels = axes[0, 0].get_legend_handles_labels()
     figure.legend(handles, labels, loc="outside lower center", ncols=len(labels))
-    more = len([c for c in study.cases if c.fatigue]) - len(cases)
-    note = f" (first {len(cases)} cases; {more} more in the file)" if more > 0 else ""
+    more = len(every) - len(cases)
+    note = f" ({len(cases)} cases of {len(every)}, spread over the sweep)" if more > 0 else ""
     figure.suptitle(f"{study.name}: fatigue criteria on the stress plane{note}")
     return figure
 
@@ -120,10 +122,10 @@ def _history_figure(study: StudyResults):
     figure, axes = plt.subplots(
         1, len(columns), figsize=(5.0 * len(columns), 3.8), squeeze=False, layout="constrained"
     )
+    colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.9, len(cases)))
     for axis, (column, name, unit) in zip(axes[0], columns, strict=True):
-        for index, case in enumerate(cases):
+        for colour, case in zip(colours, cases, strict=True):
             cycles, values = hot_spot_history(case, column)
-            colour = f"C{index % 10}"
             axis.plot(cycles, values, "o-", color=colour, ms=3, label=case.label)
             critical = case.history.get(f"{column}_critical")
             if critical is not None and len(critical) == len(cycles):
@@ -131,11 +133,13 @@ def _history_figure(study: StudyResults):
         if unit == "1" and column.endswith("_risk"):
             axis.axhline(1.0, color="k", lw=0.8, ls=":")
         axis.set_xscale("symlog", linthresh=1.0)
+        axis.set_xlim(left=0.0)
         axis.set_xlabel("cycle N")
         axis.set_ylabel(name + ("" if unit == "1" else f" ({unit})"))
         axis.grid(alpha=0.3)
         axis.set_title(f"{name}: hot spot (solid), critical distance (dashed)", fontsize=9)
-    axes[0, 0].legend(fontsize=8)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    figure.legend(handles, labels, loc="outside right upper", fontsize=8)
     figure.suptitle(f"{study.name}: fatigue hot spots as wear evolves")
     return figure
 

@@ -63,17 +63,21 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
+from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
 
 __all__ = ["plot_study", "main", "VM_LEVEL_MAX", "von_mises_levels", "study_figures"]
 
-VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale
 DPI = 95
 MIN_FONT_SIZE = 9.0  # points
 MAX_WIDTH_PX = 1600
 MAX_COLUMNS = 3  # panels (cases) per row in the multi-case figures
+# in: a figure of one or two panels is at least this wide, so that its title (study name,
+# case, mesh and load) and the legend row below fit on it (the figures of one case)
+MIN_FIGURE_WIDTH = 8.5
+
 _STYLE = {
     "font.size": 10.0,
     "axes.titlesize": 10.0,
@@ -197,7 +201,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         return 2
     from .threshold_figures import has_thresholds, threshold_figures
 
-    if has_thresholds(args.results):  # a [search] study: its boundary curves
+    if args.case is None and has_thresholds(args.results):  # a [search] study: its boundaries
         out = args.out or args.results.with_name(f"{args.results.stem}_figures")
         for number, path in enumerate(threshold_figures(args.results, out), start=1):
             print(f"plot: [{number}] {path}", flush=True)
@@ -267,24 +271,15 @@ def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns
     columns = min(count, max_columns)
     rows = -(-count // columns)
     figure, axes = plt.subplots(
-        rows, columns, figsize=(width * columns, height * rows), squeeze=False, layout="constrained"
+        rows,
+        columns,
+        figsize=(max(width * columns, MIN_FIGURE_WIDTH), height * rows),
+        squeeze=False,
+        layout="constrained",
     )
     for axis in axes.flat[count:]:
         axis.set_visible(False)
     return figure, list(axes.flat[:count])
-
-
-def von_mises_levels(top: float, linear_top: float = VM_LEVEL_MAX, steps: int = 20) -> np.ndarray:
-    """Contour levels of σ_VM/p0: ``steps`` equal steps up to ``linear_top`` (0.1 apart by
-    default), then geometric (four per doubling) up to ``top`` (the largest peak to show), the
-    last level just above it, so that every marked peak lies inside the colour scale."""
-    levels = np.linspace(0.0, linear_top, steps + 1)
-    if not np.isfinite(top) or top <= linear_top:
-        return levels
-    count = max(int(np.ceil(4.0 * np.log2(top / linear_top))), 1)
-    above = linear_top * (top / linear_top) ** (np.arange(1, count + 1) / count)
-    above[-1] = np.nextafter(top, np.inf)
-    return np.concatenate([levels, above])
 
 
 def _von_mises_peaks(study: StudyResults, plane) -> list[tuple[str, str, tuple]]:
@@ -299,7 +294,8 @@ def _von_mises_peaks(study: StudyResults, plane) -> list[tuple[str, str, tuple]]
 
 _PEAK_MARKERS = {
     "★": {"marker": "*", "ms": 14, "mfc": "w", "mec": "k", "ls": "none"},
-    "○": {"marker": "o", "ms": 8, "mfc": "none", "mec": "w", "mew": 2, "ls": "none"},
+    # black edge: the peaks sit in the red and yellow of the scale, where white vanishes
+    "○": {"marker": "o", "ms": 8, "mfc": "none", "mec": "k", "mew": 2, "ls": "none"},
 }
 
 
@@ -330,7 +326,7 @@ def _von_mises_legend(figure) -> None:
     handles = [
         Line2D([], [], color="k", lw=1.2, label="σ_VM/p0 = 1"),
         Line2D([], [], **_PEAK_MARKERS["★"], label="★ peak over the plane"),
-        Line2D([], [], **{**_PEAK_MARKERS["○"], "mec": "k"}, label="○ below the surface layer"),
+        Line2D([], [], **_PEAK_MARKERS["○"], label="○ below the surface layer"),
     ]
     figure.legend(handles=handles, loc="outside lower center", ncols=3)
 
@@ -351,7 +347,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
     count = len(panels) + int(analytic)
     plane = panels[0].planes[key]
     span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
-    width = 4.6
+    width = 4.6 if count > 1 else MIN_FIGURE_WIDTH - 1.5  # one panel: as wide as the title
     figure, axes = _panel_grid(count, width=width, height=(width - 1.1) / span + 1.6)
     peaks = {case.case_id: _von_mises_peaks(study, case.planes[key]) for case in panels}
     top = max(value for marked in peaks.values() for _, _, (value, _, _) in marked)
@@ -373,11 +369,13 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
             peaks[case.case_id],
         )  # fmt: skip
     ticks = [0.0, 0.5, 1.0, 1.5, VM_LEVEL_MAX] + ([levels[-1]] if len(levels) > 21 else [])
-    label = f"σ_VM / p0 (levels 0.1 apart up to {VM_LEVEL_MAX:g}, geometric above)"
-    bar = figure.colorbar(filled, ax=axes, label=label, shrink=0.9, fraction=0.03, aspect=30)
+    bar = figure.colorbar(filled, ax=axes, label="σ_VM / p0", shrink=0.9, fraction=0.03, aspect=30)
     bar.set_ticks(ticks, labels=[f"{tick:.3g}" for tick in ticks])
     _von_mises_legend(figure)
-    figure.suptitle(suptitle + "\npeak positions at (x/a0, z/a0)")
+    figure.suptitle(
+        suptitle + "\npeak positions at (x/a0, z/a0); colour levels 0.1 apart up to "
+        f"{VM_LEVEL_MAX:g}, geometric above"
+    )
     return figure
 
 
@@ -395,7 +393,7 @@ def static_figures(study: StudyResults):
 def _pressure_frictionless(study: StudyResults, case: CaseResults):
     a, p0 = study.radius, study.p0
     pressure, offset = _central_row(case.fields["final"]["pressure"], study, "x")
-    figure, axis = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    figure, axis = plt.subplots(figsize=(MIN_FIGURE_WIDTH, 4.6), layout="constrained")
     s, curve = _sneddon_curve(study, offset)
     axis.plot(s, curve, "-", color="C0", label="Sneddon, Eq. (17)")
     axis.plot(study.grid_x / a, pressure / p0, "s", ms=4, mfc="none", color="C3", label="computed")
@@ -413,7 +411,7 @@ def _pressure_frictionless(study: StudyResults, case: CaseResults):
 
 def _stiffness_ratio(study: StudyResults):
     mu, ratio, limit, what = stiffness_ratios(study)
-    figure, axis = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    figure, axis = plt.subplots(figsize=(MIN_FIGURE_WIDTH, 4.6), layout="constrained")
     axis.plot(mu, ratio, "s-", color="C3", label=f"computed, k = P/g_n (k_0: {what})")
     axis.axhline(
         limit, color="C0", ls="--",
@@ -584,8 +582,8 @@ def _surface_maps(study: StudyResults, cycle: int):
     columns = _columns_for(len(cases))
     blocks = -(-len(cases) // columns)
     figure, axes = plt.subplots(
-        2 * blocks, columns, figsize=(4.1 * columns, 3.15 * 2 * blocks), squeeze=False,
-        layout="constrained",
+        2 * blocks, columns, figsize=(max(4.1 * columns, MIN_FIGURE_WIDTH), 3.15 * 2 * blocks),
+        squeeze=False, layout="constrained",
     )  # fmt: skip
     for number, case in enumerate(cases):
         block, column = divmod(number, columns)

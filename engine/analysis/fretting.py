@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import h5py
 import numpy as np
@@ -101,12 +101,24 @@ def slip_boundary(study: StudyResults, case: CaseResults):
     ``engine.reference.line_contact.line_slip_displacement``)."""
     if case.mu1 != case.mu2 or not case.mu1 > 0:
         return None
-    radius = float(setting(study, case, "punch.radius"))
-    profile = replace(study.profile, radius=radius)
-    pair, datum = material(study, case), setting(study, case, "mesh.reference_distance")
+    profile, pair = case_profile(study, case), material(study, case)
+    datum = setting(study, case, "mesh.reference_distance")
+    datum = None if datum is None else float(datum)
     if profile.slip_displacement(1.0, pair, case.mu1, datum) is None:
-        return None
+        return None  # no closed form for this geometry
     return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
+
+
+def case_profile(study: StudyResults, case: CaseResults):
+    """The punch profile (engine.geometry) of a case, with its swept values."""
+    from engine.geometry import profile_for
+
+    edge = setting(study, case, "punch.edge_radius")
+    return profile_for(
+        setting(study, case, "punch.shape", "flat"),
+        float(setting(study, case, "punch.radius")),
+        None if edge is None else float(edge),
+    )
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

@@ -30,7 +30,7 @@ a results file; :func:`fretting_figures` is the thin adapter from the results fi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -41,7 +41,8 @@ from engine.reference import mindlin
 from . import fretting as _shared
 from .fatigue import has_fatigue
 from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
-from .fretting import cumulated_energy, read_loops
+from .figures import MIN_FIGURE_WIDTH
+from .fretting import case_profile, cumulated_energy, read_loops
 from .reader import CaseResults, StudyResults
 
 __all__ = [
@@ -175,8 +176,8 @@ def _panels(count: int, width: float, height: float):
     columns = min(3, max(count, 1))
     rows = -(-count // columns)
     figure, axes = plt.subplots(
-        rows, columns, figsize=(width * columns, height * rows), squeeze=False,
-        layout="constrained",
+        rows, columns, figsize=(max(width * columns, MIN_FIGURE_WIDTH), height * rows),
+        squeeze=False, layout="constrained",
     )  # fmt: skip
     for axis in axes.flat[count:]:
         axis.set_visible(False)
@@ -399,13 +400,11 @@ def _loop_cases(study: StudyResults) -> list[CaseResults]:
 
 
 def _reference_loop(study: StudyResults, case: CaseResults):
-    """The analytic stabilised loop of a case, or None where it does not apply (the
-    profile's :meth:`~engine.geometry.Profile.fretting_loop`: Mindlin's for a sphere, the
-    cylinder's closed form)."""
+    """The analytic stabilised loop of a case, or None where it does not apply: Mindlin's
+    for a sphere, the cylinder's (``engine.reference.line_contact.line_fretting_loop``)."""
     if not _isotropic_friction(case) or case.mu1 <= 0:
         return None
     load, material = float(_setting(study, case, "loading.load")), _material(study, case)
-    radius = float(_setting(study, case, "punch.radius"))
     force = _setting(study, case, "loading.force_amplitude")
     if force is not None and float(force) >= case.mu1 * load:
         return None
@@ -415,13 +414,14 @@ def _reference_loop(study: StudyResults, case: CaseResults):
         else {"displacement_amplitude": _amplitude(study, case)}
     )
     datum = _setting(study, case, "mesh.reference_distance")
-    profile = replace(study.profile, radius=radius)
+    datum = None if datum is None else float(datum)
+    profile = case_profile(study, case)  # its loop: None without a closed form
     return profile.fretting_loop(load, material, case.mu1, datum, **amplitudes)
 
 
 def _load_unit(study: StudyResults) -> str:
     """N, or N/mm for a line contact (loads per unit length)."""
-    return "N/mm" if study.profile.is_line else "N"
+    return study.profile.load_unit
 
 
 def _loops_figure(study: StudyResults):
@@ -446,15 +446,13 @@ def _loops_figure(study: StudyResults):
             f"P = {load:g} {_load_unit(study)}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
-        label = "Mindlin–Deresiewicz / gross slip"
-        if _setting(study, case, "punch.shape") == "cylinder":
-            label = "cylinder (Cattaneo, Masing) / gross slip"
+        label = f"{case_profile(study, case).loop_reference} / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
     title = f"{study.name}: fretting loops at recorded cycles"
     if any(panel.reference is not None for panel in panels):
-        title += " (dashed: analytic, unworn surfaces)"
+        title += "\n(dashed: analytic, unworn surfaces)"
     return draw_fretting_loops(panels, title, _load_unit(study))
 
 

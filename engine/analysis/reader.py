@@ -116,9 +116,14 @@ class CaseResults:
 
     @property
     def label(self) -> str:
-        """Short name of the case for legends and titles (μ, and μ2, β when orthotropic)."""
+        """Short name of the case for legends and titles (μ, and μ2, β when orthotropic, and
+        every other swept key with its unit)."""
+        from engine.output.summary import column_unit
+
         swept = "".join(
-            f", {key.rsplit('.', 1)[-1]} = {value:g}" for key, value in self.settings.items()
+            f", {key.rsplit('.', 1)[-1]} = {value:g}"
+            + (f" {column_unit(key)}" if column_unit(key) else "")
+            for key, value in self.settings.items()
         )
         if self.isotropic:
             text = f"μ = {self.mu1:g}"
@@ -219,7 +224,7 @@ class StudyResults:
     @property
     def mesh_label(self) -> str:
         n = self.config["mesh"]["n"]
-        if self.config.get("punch", {}).get("shape") in ("cylinder", "pad"):
+        if self.profile.is_line:
             return f"{n} elements along x"  # a line contact (plane strain)
         return f"{n}×{n} mesh"
 

@@ -36,7 +36,7 @@ from matplotlib.colors import BoundaryNorm
 
 from engine.solvers.peak import AXIS_RADIUS_FRACTION, DEEP_DEPTH_FRACTION, region_name
 
-from .figures import von_mises_levels
+from .levels import VM_LEVEL_MAX, von_mises_levels
 from .reader import CaseResults, StudyResults
 
 __all__ = ["regime_figures", "has_peak_history", "wear_severity_history"]
@@ -49,7 +49,6 @@ REGION_STYLE = {  # marker, colour (colour-blind safe, Okabe–Ito); keys: REGIO
 }
 FRICTION_COLOURS = ("k", "#0072B2", "#D55E00", "#009E73", "#CC79A7")  # per μ in (b)
 PAPER_DEPTH_BAND = (0.6, 0.8)  # z/a0 of the paper's μ = 0.1 peak after 10⁵ cycles (Fig. 8b)
-VM_LEVEL_MAX = 2.0  # top of the σ_VM/p0 colour scale (as engine.analysis.figures)
 
 
 def has_peak_history(study: StudyResults) -> bool:

@@ -3,11 +3,12 @@
 One figure, ``thresholds.png``: the searched parameter (vertical axis, e.g. the displacement
 amplitude in mm) against the first swept key of the sweep (horizontal axis, e.g. the normal
 load in N): the threshold of every search as a curve (one per combination of the other swept
-values), each search's final bracket as an error bar, and every case the searches computed as
-a point — filled where the deciding column is on the target's side (e.g. gross slip), open on
-the other (partial slip), crosses for failed cases. Searches that did not converge are marked
-with their status. A study that sweeps nothing but the friction/wear lists draws the searches
-side by side (horizontal axis: the search's position in the table).
+values, the friction and wear lists included: μ = 0.3 and 0.5 are two curves), each search's
+final bracket as an error bar, and every case the searches computed as a point — filled where
+the deciding column is on the target's side (e.g. gross slip), open on the other (partial
+slip), crosses for failed cases. Searches that did not converge are marked with their status.
+The horizontal axis is the first swept dotted key, else the first friction or wear list with
+more than one value; a study with a single search draws it at position 0.
 """
 
 from __future__ import annotations
@@ -21,9 +22,10 @@ from engine.output.summary import column_unit, load_summary
 from engine.output.thresholds import SEARCH_COLUMNS, load_thresholds
 from engine.schema import THRESHOLDS_GROUP
 
-__all__ = ["has_thresholds", "threshold_figures"]
+__all__ = ["has_thresholds", "threshold_figures", "draw_thresholds", "varying_keys"]
 
-_NOT_SWEPT = {"case_id", "mu1", "mu2", "wear1", "wear2", "beta", "alpha"}
+_LISTS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")  # the [sweep] lists, in order
+FONT_SIZE = 9.0  # points: the figures' smallest text (engine.analysis.figures.MIN_FONT_SIZE)
 
 
 def has_thresholds(path: str | Path) -> bool:
@@ -47,6 +49,20 @@ def _far_side(values, spec: dict) -> np.ndarray:
 
 def threshold_figures(path: str | Path, out_dir: str | Path) -> list[Path]:
     """Draw ``thresholds.png`` into ``out_dir``; returns the paths written."""
+    figure = draw_thresholds(path)  # selects the Agg backend first
+    import matplotlib.pyplot as plt
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    target = out_dir / "thresholds.png"
+    figure.savefig(target, dpi=120)
+    plt.close(figure)
+    return [target]
+
+
+def draw_thresholds(path: str | Path):
+    """The figure of ``thresholds.png`` (module docstring): one errorbar curve per
+    combination of the keys that tell the searches apart, the steps as points."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -56,13 +72,19 @@ def threshold_figures(path: str | Path, out_dir: str | Path) -> list[Path]:
     spec = table.attrs["search"]
     parameter = spec["parameter"]
     summary = load_summary(path)
-    swept = [key for key in table.columns if key not in _NOT_SWEPT | set(SEARCH_COLUMNS)]
-    across = swept[0] if swept else None
+    across, others = varying_keys(table)
     figure, axis = plt.subplots(figsize=(7.0, 4.8), layout="constrained")
-    groups = table.groupby(swept[1:], sort=False) if len(swept) > 1 else [("", table)]
+    groups = table.groupby(others, sort=False) if others else [((), table)]
     for number, (key, group) in enumerate(groups):
+        if across:
+            group = group.sort_values(across, kind="stable")
         x = group[across] if across else group.index.to_numpy(dtype=float)
-        label = f"{', '.join(swept[1:])} = {key}" if len(swept) > 1 else "threshold"
+        values = key if isinstance(key, tuple) else (key,)
+        label = (
+            ", ".join(f"{name} = {value:g}" for name, value in zip(others, values, strict=True))
+            if others
+            else "threshold"
+        )
         below = group["threshold"] - group["lower"]
         above = group["upper"] - group["threshold"]
         axis.errorbar(
@@ -72,21 +94,33 @@ def threshold_figures(path: str | Path, out_dir: str | Path) -> list[Path]:
         _draw_cases(axis, summary, group, across, parameter, spec, f"C{number}")
         for _, row in group[group["status"] != "converged"].iterrows():
             where = row[across] if across else row.name
-            axis.annotate(row["status"], (where, row["upper"]), fontsize=8, color="C3")
+            axis.annotate(row["status"], (where, row["upper"]), fontsize=FONT_SIZE, color="C3")
     axis.set_xlabel(_label(across) if across else "search")
     axis.set_ylabel(_label(parameter))
     axis.grid(alpha=0.3)
-    axis.legend(fontsize=8)
+    axis.legend(fontsize=FONT_SIZE)
     axis.set_title(
         f"{Path(path).stem}: {parameter} at which {spec['column']} reaches {spec['target']!r}"
         "\nfilled: target side, open: other side, ×: failed; bars: final bracket"
     )
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    target = out_dir / "thresholds.png"
-    figure.savefig(target, dpi=120)
-    plt.close(figure)
-    return [target]
+    return figure
+
+
+def varying_keys(table) -> tuple[str | None, list[str]]:
+    """The horizontal axis of the boundary curves and the keys that tell the curves apart:
+    every sweep column of the thresholds table with more than one value (dotted keys first,
+    then the [sweep] lists; mu2 and wear2 only where they differ from mu1 and wear1); the
+    first of them is the axis (None: nothing varies)."""
+    searched = set(SEARCH_COLUMNS) | {"case_id"}
+    dotted = [key for key in table.columns if key not in searched and key not in _LISTS]
+    lists = [key for key in _LISTS if key in table.columns]
+    for second, first in (("mu2", "mu1"), ("wear2", "wear1")):  # isotropic: one of the two
+        if second in lists and first in lists and table[second].equals(table[first]):
+            lists.remove(second)
+    varying = [key for key in dotted + lists if table[key].nunique(dropna=False) > 1]
+    if not varying:
+        return None, []
+    return varying[0], varying[1:]
 
 
 def _draw_cases(axis, summary, group, across, parameter, spec, colour) -> None:

@@ -79,7 +79,7 @@ def build_criteria(
     """Criteria by name (keys of ``registry``, default ``engine.fatigue.CRITERIA``) or class,
     each given the constants it names from ``constants`` (MPa; a flat mapping)."""
     if registry is None:
-        from . import CRITERIA as registry
+        from .criteria import CRITERIA as registry
     built = []
     for name in names:
         cls = registry.get(name) if isinstance(name, str) else name

@@ -20,7 +20,11 @@ gap                            :meth:`~Profile.gap` (``numpy.inf``: no surface t
 border check                   :meth:`~Profile.check_grid`, :attr:`~Profile.extent`
                                (:func:`may_reach_border`, :func:`border_contact`)
 summary parameters             :meth:`~Profile.mean_pressure` (the summary's p0),
-                               :meth:`~Profile.summary` (a0 and p0)
+                               :meth:`~Profile.summary` (a0 and p0), :attr:`~Profile.
+                               load_unit` (N, or N/mm for a line contact)
+fretting references            :meth:`~Profile.slip_displacement`,
+                               :meth:`~Profile.fretting_loop` (closed forms where they
+                               exist: None otherwise)
 =============================  ===========================================================
 
 Units: lengths in mm, loads in N (line contacts: N/mm), moduli and pressures in MPa.
@@ -64,6 +68,10 @@ class Profile:
     is_line: ClassVar[bool] = False
     #: What the mesh must cover, with 4 elements across it (the contact length a0).
     covered: ClassVar[str] = "punch face radius"
+    #: Unit of the load: N (a line contact's: N/mm, per unit length).
+    load_unit: ClassVar[str] = "N"
+    #: Whose closed form :meth:`fretting_loop` draws (figure legends; "" without one).
+    loop_reference: ClassVar[str] = ""
     #: Lengths (mm) that must be > 0, and those that must be >= 0 (checked on creation).
     positive: ClassVar[tuple[str, ...]] = ("radius",)
     non_negative: ClassVar[tuple[str, ...]] = ()
@@ -139,6 +147,7 @@ class LineProfile(Profile):
 
     is_line = True
     covered = "contact half-width"
+    load_unit = "N/mm"
 
     def grid(self, n: int, half_width: float) -> Grid:
         """n elements along x over [−half_width, half_width] (mm), unit length along y."""

@@ -19,6 +19,7 @@ class SphericalPunch(Profile):
 
     name = "sphere"
     covered = "Hertz contact radius"
+    loop_reference = "Mindlin–Deresiewicz"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:

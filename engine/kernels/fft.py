@@ -25,31 +25,9 @@ faster, not reproducible bit for bit between processes).
 
 from __future__ import annotations
 
-import sys
-
 import numpy as np
 
-
-def _import_pyfftw():
-    """``pyfftw`` without its SciPy interfaces: ``pyfftw.interfaces`` imports
-    ``scipy.fftpack`` and ``scipy.fft`` when SciPy is installed (0.2 s of CPU at every start,
-    most of pyfftw's import), and the engine uses only ``pyfftw.FFTW`` and aligned buffers.
-    A ``None`` entry in ``sys.modules`` makes that optional import fail, as if SciPy were
-    absent; it is removed again at once (an explicit ``import scipy.fftpack`` later works)."""
-    if "pyfftw" in sys.modules:
-        return sys.modules["pyfftw"]
-    blocked = "scipy.fftpack" not in sys.modules
-    if blocked:
-        sys.modules["scipy.fftpack"] = None
-    try:
-        import pyfftw
-    finally:
-        if blocked:
-            del sys.modules["scipy.fftpack"]
-    return pyfftw
-
-
-pyfftw = _import_pyfftw()
+from .pyfftw_import import pyfftw
 
 DEFAULT_EFFORT = "FFTW_ESTIMATE"
 EFFORTS = ("FFTW_ESTIMATE", "FFTW_MEASURE", "FFTW_PATIENT", "FFTW_EXHAUSTIVE")

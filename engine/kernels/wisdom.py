@@ -25,7 +25,7 @@ import socket
 import tempfile
 from pathlib import Path
 
-from .fft import pyfftw
+from .pyfftw_import import pyfftw
 
 __all__ = ["wisdom_path", "load", "save", "clear"]
 

@@ -45,7 +45,8 @@ pending group of a case and the structural write of a finished one. Its strategi
 :class:`engine.output.collective.CollectiveWriter` (mpio): every rank writes its own cases into
     the shared file through parallel HDF5; same layout (see that module).
 
-:func:`open_writer` picks the strategy's writer for a rank; the CLI's one compute path uses it.
+``engine.output.writers.open_writer`` picks the strategy's writer for a rank; the one compute
+path uses it.
 """
 
 from __future__ import annotations
@@ -76,6 +77,7 @@ from .checksum import (
     root_checksum,
 )
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
+from .packed import PackedOutcome, pack, unpack
 from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space
 from .summary import pending_row, write_summary_csv
 from .thresholds import thresholds_path
@@ -86,7 +88,6 @@ __all__ = [
     "ResultsWriter",
     "SingleWriter",
     "Bystander",
-    "open_writer",
     "case_record",
     "ResultsMismatch",
     "read_root_metadata",
@@ -315,7 +316,7 @@ class ResultsWriter:
 
     Every call of ``prepare`` and ``close`` is made on the ranks the strategy names (rank 0
     alone for :class:`SingleWriter`, every rank for the collective writer), which is why the
-    CLI has one compute path for all of them (:func:`open_writer`).
+    CLI has one compute path for all of them (``engine.output.writers.open_writer``).
     """
 
     collective = False  # True: prepare/close are collective calls on every rank
@@ -460,7 +461,12 @@ class ResultsWriter:
         row. Through :mod:`engine.output.lowlevel`: the same objects as h5py's high-level
         calls, in about a third of the time."""
         datasets, parents = {}, {}
+        packed = [path for path, item in record["datasets"].items() if item.get("packed")]
+        unpacked = unpack(group, record["image"], packed) if packed else {}
         for path, item in record["datasets"].items():
+            if item.get("packed"):  # copied with its attributes from the computing rank's image
+                datasets[path] = unpacked[path]
+                continue
             new = not item.get("written")
             if new:  # a DatasetID: no high-level wrapper per dataset
                 dataset = create_dataset(group, path, item["data"], parents, wrap=False)
@@ -659,41 +665,20 @@ class Bystander(ResultsWriter):
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
         return set()
 
+    def computing(self, run_case):
+        """``run_case``, then the outcome's datasets packed into an HDF5 image on this rank
+        (:mod:`engine.output.packed`): rank 0 copies it instead of creating every object."""
+
+        def run_and_pack(case: Case, should_stop) -> CaseOutcome:
+            return pack(run_case(case, should_stop))
+
+        return run_and_pack
+
     def write(self, outcome: CaseOutcome) -> None:
         raise RuntimeError("only rank 0 writes with the single strategy")
 
     def close(self) -> None:
         pass
-
-
-def open_writer(
-    strategy: str,
-    path: str | Path,
-    *,
-    comm=None,
-    layout=None,
-    summary_path: str | Path | None = None,
-    journal_dir: str | Path | None = None,
-    drop_stale: bool = False,
-    should_stop=None,
-) -> ResultsWriter:
-    """The writer of this rank for ``strategy`` (``single`` or ``mpio``, see
-    :func:`engine.output.collective.choose_strategy`).
-
-    ``single``: a :class:`SingleWriter` on rank 0, a :class:`Bystander` elsewhere. ``mpio``: a
-    :class:`engine.output.collective.CollectiveWriter` on every rank of ``comm``, with
-    ``layout`` (datasets pre-created per case, :func:`engine.study.layout.plan_layout`) and
-    its write journals in ``journal_dir``."""
-    options = dict(summary_path=summary_path, drop_stale=drop_stale, should_stop=should_stop)
-    if strategy == "mpio":
-        from .collective import CollectiveWriter
-
-        return CollectiveWriter(path, comm, layout, journal_dir=journal_dir, **options)
-    if strategy != "single":
-        raise ValueError(f"output strategy must be 'single' or 'mpio', not {strategy!r}")
-    if comm is not None and comm.Get_rank() != 0:
-        return Bystander(path, **options)
-    return SingleWriter(path, **options)
 
 
 def case_record(outcome: CaseOutcome) -> dict[str, Any]:
@@ -703,7 +688,10 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
     for path, record in outcome.datasets.items():
         item: dict[str, Any] = {"units": record.units, "description": record.description}
         item["attrs"] = dict(getattr(record, "attrs", None) or {})
-        if getattr(record, "written", False):
+        if getattr(record, "packed", False):  # in the outcome's image (engine.output.packed)
+            item["packed"] = True
+            entry = tuple(record.manifest)
+        elif getattr(record, "written", False):
             item["written"] = True
             entry = tuple(record.manifest)  # computed by the rank that wrote the data
         else:
@@ -712,7 +700,7 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
         item["attrs"][DATASET_CHECKSUM] = entry[2]
         manifest[path] = entry
         datasets[path] = item
-    return {
+    record = {
         "checksum": case_checksum(manifest),
         "case_id": outcome.case_id,
         "status": outcome.status,
@@ -724,11 +712,15 @@ def case_record(outcome: CaseOutcome) -> dict[str, Any]:
         "runtime_s": float(outcome.runtime_s),
         "datasets": datasets,
     }
+    if isinstance(outcome, PackedOutcome):
+        record["image"] = outcome.image
+    return record
 
 
 def _record_bytes(record: dict[str, Any]) -> int:
     """Bytes a :func:`case_record` takes in the file (:func:`engine.output.space.case_bytes`)."""
-    return case_bytes(item.get("data") for item in record["datasets"].values())
+    image = len(record.get("image") or b"")
+    return image + case_bytes(item.get("data") for item in record["datasets"].values())
 
 
 def stale_row(group: h5py.Group) -> dict[str, Any]:

@@ -23,8 +23,9 @@ mismatch         another study (different name or settings): :class:`ResultsMism
 
 A completed case is trusted only after it has been read back in full and its checksums
 compared (:func:`engine.output.checksum.verify_case`), in the same pass that reads the case
-statuses. The pass runs in a child process (:func:`inspect_existing_isolated`), where a stop
-signal and a time limit reach it even if HDF5 loops on damaged metadata.
+statuses. The pass runs in a child process
+(``engine.output.existing.inspect_existing_isolated``), where a stop signal and a time limit
+reach it even if HDF5 loops on damaged metadata.
 """
 
 from __future__ import annotations
@@ -40,14 +41,11 @@ from engine.schema import CaseStatus
 from engine.study.config import fill_former_defaults
 from engine.study.plan import Plan
 
-from .checksum import CaseCheck, check_root, verify_case
+from .checksum import CaseCheck, verify_case
 from .hdf5 import FORMAT, ResultsMismatch, StudyMetadata
-from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
 
 __all__ = [
     "ExistingResults",
-    "inspect_existing",
-    "inspect_existing_isolated",
     "describe_differences",
     "study_identity",
     "damaged_path",
@@ -161,54 +159,6 @@ def damaged_path(path: Path) -> Path:
     return candidate
 
 
-def inspect_existing(path: Path, metadata: StudyMetadata, plan: Plan) -> ExistingResults | None:
-    """Read-only look at an existing results file; None when there is none.
-
-    Reads the root and every case's status and verifies every completed case
-    (:func:`engine.output.checksum.verify_case`); a damaged file goes to
-    :func:`engine.output.salvage.scan_damaged`. Raises :class:`ResultsMismatch` for a file of
-    another study or another program.
-    """
-    if not path.exists():
-        return None
-    try:
-        with h5py.File(path, "r") as file:
-            attrs = dict(file.attrs)
-            check_root(attrs)
-            check_identity(path, attrs, metadata)
-            checks = check_cases(file)
-    except ResultsMismatch:
-        raise
-    except Exception as error:  # noqa: BLE001 - any failure to read is damage
-        from .salvage import scan_damaged
-
-        return scan_damaged(path, metadata, plan, _short(error))
-    return verdict(path, plan, checks, in_file=[check.case_id for check in checks])
-
-
-def inspect_existing_isolated(
-    path: Path, metadata: StudyMetadata, plan: Plan, *, should_stop=lambda: False
-) -> ExistingResults | None:
-    """:func:`inspect_existing` in a child process (:mod:`engine.output.isolated`).
-
-    A stop signal raises :class:`engine.output.isolated.IsolatedCallStopped` (nothing was
-    changed); a read that does not finish within its time limit makes the file one that
-    nothing can be read from (``start-over``: kept aside, the study starts over)."""
-    if not path.exists():
-        return None
-    try:
-        return call_isolated(
-            inspect_existing,
-            path,
-            metadata,
-            plan,
-            should_stop=should_stop,
-            time_limit=time_limit_for(path),
-        )
-    except IsolatedCallTimedOut as error:
-        return ExistingResults(path, "start-over", problem=str(error), kept_as=damaged_path(path))
-
-
 def check_cases(file: h5py.File) -> list[CaseCheck]:
     """:func:`engine.output.checksum.verify_case` of every case group, in file order."""
     cases = file.get("cases")
@@ -272,8 +222,3 @@ def check_identity(path: Path, attrs: dict[str, Any], metadata: StudyMetadata) -
             + ". Use --fresh to replace it (its results are deleted) or choose another "
             "[study] output"
         )
-
-
-def _short(error: BaseException) -> str:
-    text = str(error).splitlines()[0] if str(error) else type(error).__name__
-    return text[:200]

@@ -5,7 +5,7 @@ A damaged HDF5 file can send the HDF5 library into an endless loop (a zeroed blo
 B-tree or heap was: measured on 2 of 19 zeroed 4 KiB blocks of a small results file). Inside
 the process that runs it nothing can stop such a loop — HDF5 holds the interpreter, so even
 the stop-signal handlers never run. Every read of an existing file before a run starts
-(:func:`engine.output.identity.inspect_existing`, the salvage copy) therefore runs in a
+(:func:`engine.output.existing.inspect_existing`, the salvage copy) therefore runs in a
 child interpreter (``python -m engine.output.isolated``): the parent waits, polling its stop
 flag; a stop signal ends the child at once, and so does the time limit, after which the file
 counts as damaged beyond reading.

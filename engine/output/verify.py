@@ -121,17 +121,23 @@ def _stored_row(cases: h5py.Group, name: str) -> tuple[int, dict] | None:
         return None
 
 
-def check_after_run(path: Path, written: set[str]) -> list[CaseCheck]:
+def check_after_run(path: Path, written: set[str], *, others: bool = True) -> list[CaseCheck]:
     """The bad cases of a results file a run has just closed: every case group and status
     readable, and the cases ``written`` by the run read back in full with their checksums
-    (the others were verified when the run began). In-process: the file is this run's own."""
+    (the others were verified when the run began). In-process: the file is this run's own.
+    ``others=False``: the cases ``written`` only (a rank checking its share of them)."""
     bad = []
     try:
         with h5py.File(path, "r") as file:
             check_root(dict(file.attrs))
             cases = file["cases"]
             for name in cases:
-                check = _checked(cases, name) if name in written else _status_only(cases, name)
+                if name in written:
+                    check = _checked(cases, name)
+                elif others:
+                    check = _status_only(cases, name)
+                else:
+                    continue
                 if not check.sound:
                     bad.append(check)
     except Exception as error:  # noqa: BLE001 - any failure to read is damage

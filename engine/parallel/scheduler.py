@@ -231,8 +231,11 @@ class Scheduler:
         report = SchedulerReport(self.rank, self.size)
         message: tuple[str, Any] = ("ready", None)
         while True:
-            self.comm.send(message, dest=0, tag=TAG_TO_MASTER)
+            # Not a blocking send: a result too large to go eagerly waits for rank 0 to take
+            # it, and MPICH would spin meanwhile (a core taken from the ranks with work).
+            request = self.comm.isend(message, dest=0, tag=TAG_TO_MASTER)
             kind, case = self._receive_instruction()
+            request.wait()  # done: rank 0 answers a message after receiving it
             if kind == "exit":
                 break
             if self.stop_event.is_set():

@@ -46,77 +46,46 @@ contact_modulus : float
     Contact modulus E* = ((1 − ν_A²)/E_A + (1 − ν_B²)/E_B)⁻¹ (MPa)."""
 
 
-def _shared_parameters(function):
-    """Write the shared load, radius and contact-modulus entries into the docstring."""
-    indented = _HERTZ.replace("\n", "\n    ")
-    function.__doc__ = function.__doc__.replace("{hertz}", indented)
-    return function
+def _hertz(returns: str, first: str = ""):
+    """Decorator: complete a one-line docstring with the Parameters section (``first``, the
+    entries before the shared ones, then load, radius, contact modulus) and the Returns
+    section ``returns`` ("type\n    description")."""
+
+    def complete(function):
+        summary = function.__doc__.strip()
+        parameters = (first + "\n" if first else "") + _HERTZ
+        text = f"{summary}\n\nParameters\n----------\n{parameters}\n\nReturns\n-------\n{returns}"
+        function.__doc__ = text.replace("\n", "\n    ")
+        return function
+
+    return complete
 
 
-@_shared_parameters
+@_hertz("float\n    Contact radius a (mm).")
 def hertz_contact_radius(load: float, radius: float, contact_modulus: float) -> float:
-    """Hertz's contact radius a = (3 P R / (4 E*))^(1/3) (Johnson Eq. 4.22).
-
-    Parameters
-    ----------
-    {hertz}
-
-    Returns
-    -------
-    float
-        Contact radius a (mm).
-    """
+    """Hertz's contact radius a = (3 P R / (4 E*))^(1/3) (Johnson Eq. 4.22)."""
     return (3.0 * load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
 
 
-@_shared_parameters
+@_hertz("float\n    Approach δ (mm).")
 def hertz_approach(load: float, radius: float, contact_modulus: float) -> float:
-    """Hertz's approach δ = a²/R of the two bodies' distant points (Johnson Eq. 4.23).
-
-    Parameters
-    ----------
-    {hertz}
-
-    Returns
-    -------
-    float
-        Approach δ (mm).
-    """
+    """Hertz's approach δ = a²/R of the two bodies' distant points (Johnson Eq. 4.23)."""
     return hertz_contact_radius(load, radius, contact_modulus) ** 2 / radius
 
 
-@_shared_parameters
+@_hertz("float\n    Peak pressure p_max (MPa).")
 def hertz_peak_pressure(load: float, radius: float, contact_modulus: float) -> float:
-    """Hertz's peak pressure p_max = 3 P / (2 π a²) at the centre of the contact.
-
-    Parameters
-    ----------
-    {hertz}
-
-    Returns
-    -------
-    float
-        Peak pressure p_max (MPa).
-    """
+    """Hertz's peak pressure p_max = 3 P / (2 π a²) at the centre of the contact."""
     a = hertz_contact_radius(load, radius, contact_modulus)
     return 3.0 * load / (2.0 * math.pi * a**2)
 
 
-@_shared_parameters
+@_hertz(
+    "numpy.ndarray\n    Contact pressure (MPa), positive in compression, shaped like ``r``.",
+    first="r : array_like\n    Radial distance from the contact's centre (mm).",
+)
 def hertz_pressure(r: np.ndarray, load: float, radius: float, contact_modulus: float):
-    """Hertz's pressure p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside.
-
-    Parameters
-    ----------
-    r : array_like
-        Radial distance from the contact's centre (mm).
-    {hertz}
-
-    Returns
-    -------
-    numpy.ndarray
-        Contact pressure (MPa), positive in compression, shaped like ``r``.
-    """
+    """Hertz's pressure p(r) = p_max √(1 − r²/a²) inside the contact, 0 outside."""
     a = hertz_contact_radius(load, radius, contact_modulus)
     p_max = hertz_peak_pressure(load, radius, contact_modulus)
     r = np.asarray(r, dtype=float)

@@ -52,6 +52,7 @@ from engine.schema import (
     FATIGUE_HOT_SPOT_COLUMNS,
     DatasetRecord,
     DatasetSpec,
+    case_group_path,
     cycle_group,
     fatigue_maps,
     fatigue_specs,
@@ -67,6 +68,7 @@ __all__ = [
     "fatigue_columns",
     "FatigueAnalysis",
     "FatigueCycle",
+    "fatigue_layout",
 ]
 
 _OPTIONS = {"criteria", "method", "length", "amplitude_method", "plane_step", "every_cycle"}
@@ -237,6 +239,19 @@ class FatigueCycle:
     maps: dict[str, np.ndarray] = field(default_factory=dict)
 
 
+def fatigue_layout(config: FatigueConfig, plane_shape) -> dict[str, tuple[int, ...]]:
+    """Shapes of ``fatigue/cycle_NNNNNNN/<name>`` of one recorded cycle (float64): the maps
+    have the stress plane's shape ``plane_shape``, the hot spots
+    ``len(FATIGUE_HOT_SPOT_COLUMNS)`` values (``engine.study.layout``)."""
+    shapes = {}
+    for name in config.criteria:
+        column, *described = criterion_schema(CRITERIA[name])
+        for dataset in fatigue_maps(column, *described, 0):
+            hot_spot = dataset == f"{column}_hot_spot"
+            shapes[dataset] = (len(FATIGUE_HOT_SPOT_COLUMNS),) if hot_spot else tuple(plane_shape)
+    return shapes
+
+
 def criterion_schema(criterion) -> tuple[str, str, str, bool, bool]:
     """(column, unit, what, angle, life) of a criterion for the results schema: the bundled
     criteria's descriptions (``engine.schema.FATIGUE_CRITERIA``), a plug-in's name."""
@@ -363,7 +378,7 @@ class FatigueAnalysis:
             )
         specs = self._column_specs()
         return {
-            f"history/{column}": DatasetRecord(
+            case_group_path("history", column): DatasetRecord(
                 table[column], specs[column].units, specs[column].description + _PER_CYCLE
             )
             for column in self.columns
@@ -382,7 +397,7 @@ class FatigueAnalysis:
         for result in self.cycles:
             if result.cycle not in self.recorded:
                 continue
-            group = f"fatigue/{cycle_group(result.cycle)}"
+            group = cycle_group(result.cycle)
             for criterion in self.criteria:
                 column, *described = criterion_schema(criterion)
                 specs = fatigue_maps(column, *described, result.cycle)
@@ -391,7 +406,7 @@ class FatigueAnalysis:
                         data = _hot_spot(result.row, column)
                     else:
                         data = result.maps[name]
-                    datasets[f"{group}/{name}"] = spec.record(data)
+                    datasets[case_group_path("fatigue", group, name)] = spec.record(data)
         return datasets
 
     # ------------------------------------------------------------------ checkpoints

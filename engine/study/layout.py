@@ -22,6 +22,9 @@ configuration (:meth:`StudyConfig.for_case`): sweeping ``mesh.n``, ``loading.cyc
   :meth:`~engine.solvers.subsurface.SubsurfaceStress.plane` evaluated once for zero tractions,
   so it cannot drift from the solver's sampling rule.
 
+- ``fatigue/cycle_NNNNNNN/*`` (``[fatigue]``): every criterion's maps on the plane's shape
+  and its hot spot (``engine.study.fatigue.fatigue_layout``).
+
 Not in the layout: ``history/*`` (one entry per *simulated* cycle, whose number the adaptive
 cycle jump decides at run time) and ``peak_changes/cycle_NNNNNNN/*`` (the x–z plane at each
 change of the peak region, engine.solvers.peak: how many is known only at run time). They are
@@ -92,6 +95,13 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
             layout[case_group_path("fields", group, name)] = DatasetShape((n_x, n_y), dtype)
         for name, shape in plane.items():
             layout[case_group_path("subsurface", group, name)] = shape
+    if config.fatigue is not None:  # the criteria's maps and hot spots of a recorded cycle
+        from .fatigue import fatigue_layout
+
+        for cycle in recorded_cycles(config):
+            for name, shape in fatigue_layout(config.fatigue, plane["z"].shape).items():
+                path = case_group_path("fatigue", cycle_group(cycle), name)
+                layout[path] = DatasetShape(shape, "float64")
     return layout
 
 

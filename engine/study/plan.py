@@ -26,10 +26,13 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .config import MISSING as _MISSING
-from .config import PROPORTIONAL, StudyConfig, StudyConfigError
+from .config.sections import MISSING as _MISSING
+from .config.sections import PROPORTIONAL, StudyConfigError
+
+if TYPE_CHECKING:  # annotations only: the configuration package parses the kinds' sections
+    from .config import StudyConfig
 
 __all__ = ["Case", "Plan", "make_plan", "case_id_for", "cost_scale", "setting_names"]
 

@@ -537,7 +537,7 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
     name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
     from engine.schema import COLUMN_UNITS, SUMMARY_COLUMNS, TEXT_COLUMNS
 
-    from .config import MISSING, SWEEPABLE, StudyConfigError
+    from .config.sections import MISSING, SWEEPABLE, StudyConfigError
 
     def error(key: str, value: Any, problem: str) -> StudyConfigError:
         return StudyConfigError(source, f"search.{key}", value, problem)
