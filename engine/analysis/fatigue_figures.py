@@ -71,6 +71,7 @@ def _map_panel(axis, study: StudyResults, case: CaseResults, verdict, figure) ->
     figure.colorbar(image, ax=axis, label=verdict.name + unit)
     if verdict.unit == "1" and math.isnan(verdict.life) and values.max() >= 1.0 > values.min():
         axis.contour(s, z, values, levels=[1.0], colors="c", linewidths=1.2)
+        axis.plot([], [], color="c", lw=1.2, label="risk = 1")  # the contour's legend entry
     depth = float(z.max())
     top = -0.04 * depth
     fields = case.fields.get(cycle, {})
@@ -108,8 +109,13 @@ def _maps_figure(study: StudyResults):
             _map_panel(axes[row, column], study, case, verdict, figure)
         for axis in axes[row, len(found) :]:
             axis.set_visible(False)
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    figure.legend(handles, labels, loc="outside lower center", ncols=len(labels))
+    entries = {}  # every panel's entries, once each (the risk = 1 contour is not in all)
+    for axis in axes.flat:
+        for handle, label in zip(*axis.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    figure.legend(
+        list(entries.values()), list(entries), loc="outside lower center", ncols=len(entries)
+    )
     more = len(every) - len(cases)
     note = f" ({len(cases)} cases of {len(every)}, spread over the sweep)" if more > 0 else ""
     figure.suptitle(f"{study.name}: fatigue criteria on the stress plane{note}")
