@@ -26,23 +26,15 @@ def impossible_cases(config, plan) -> list[tuple[str, str]]:
     if type(kind).check_case is LoadingKind.check_case:  # a kind without case checks
         return []
     found = []
+    ends = ("low", "high") if config.search is not None else ("low",)  # a search: both ends
     for case in plan:
-        for extra in _bracket_ends(config):
+        for end in ends:
             try:
-                kind.check_case(case, config.for_case(case.settings + extra))
+                kind.check_case(case, config.for_case(config.at_search_end(case.settings, end)))
             except ValueError as error:
                 found.append((case.case_id, str(error)))
                 break
     return found
-
-
-def _bracket_ends(config) -> tuple[tuple[tuple[str, float], ...], ...]:
-    """The settings to add to a plan case: none, or for a threshold search each end of its
-    bracket (a search's steps lie between them, so both ends must be computable)."""
-    search = config.search
-    if search is None:
-        return ((),)
-    return (((search.parameter, search.low),), ((search.parameter, search.high),))
 
 
 def check_feasible(config, plan) -> None:

@@ -66,9 +66,7 @@ def plan_layout(config: StudyConfig, plan) -> dict[str, dict[str, DatasetShape]]
     result = {}
     for case in plan:
         if case.settings not in layouts:
-            settings = case.settings
-            if config.search is not None and config.search.parameter not in dict(settings):
-                settings += ((config.search.parameter, config.search.low),)
+            settings = config.at_search_end(case.settings)
             layouts[case.settings] = case_layout(config.for_case(settings))
         result[case.case_id] = layouts[case.settings]
     return result

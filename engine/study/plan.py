@@ -203,10 +203,9 @@ def make_plan(config: StudyConfig) -> Plan:
     cases = []
     seen: dict[str, tuple] = {}
     index = 0
-    searched = () if config.search is None else ((config.search.parameter, config.search.low),)
     for settings in _settings_combinations(config):
         try:
-            case_config = config.for_case(settings + searched)  # a search's base: at low
+            case_config = config.for_case(config.at_search_end(settings))
         except StudyConfigError as error:
             shown = ", ".join(f"{key} = {value!r}" for key, value in settings)
             raise StudyConfigError(

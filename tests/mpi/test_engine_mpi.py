@@ -113,6 +113,22 @@ def run_engine(study: Path, *options: str, ranks: int = 2, timeout: float = 180)
     )
 
 
+def run_on_one_and_two_ranks(tmp_path: Path, write_study, timeout: float = 300) -> list[Path]:
+    """The study ``write_study(folder)`` writes (its path; results named after it) run in
+    ``ranks1/`` on 1 rank and in ``ranks2/`` on 2; both must succeed, and their results are
+    the same (:func:`assert_same_results`). Returns the two results files."""
+    results = []
+    for ranks in (1, 2):
+        folder = tmp_path / f"ranks{ranks}"
+        folder.mkdir()
+        study = write_study(folder)
+        run = run_engine(study, ranks=ranks, timeout=timeout)
+        assert run.returncode == 0, run.stdout + run.stderr
+        results.append(study.with_suffix(".h5"))
+    assert_same_results(*results)
+    return results
+
+
 def finished_cases(stdout: str) -> list[str]:
     """Case ids of the per-case progress lines ``[k/N] case_id rank r  t s  status``."""
     return [line.split()[1] for line in stdout.splitlines() if line.startswith("[")]

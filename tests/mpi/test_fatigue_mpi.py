@@ -7,12 +7,14 @@ journals: NaN and infinite lives included)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import h5py
 import numpy as np
 import pytest
 
 from engine.study.examples import CYLINDER_ON_STEEL, study_toml
-from tests.mpi.test_engine_mpi import assert_same_results, run_engine
+from tests.mpi.test_engine_mpi import run_on_one_and_two_ranks
 
 pytestmark = pytest.mark.mpi
 
@@ -23,32 +25,30 @@ FATIGUE = {
 }  # fmt: skip
 
 
-def test_fatigue_study_one_and_two_ranks_identical(tmp_path):
-    results = []
-    for ranks in (1, 2):
-        folder = tmp_path / f"ranks{ranks}"
-        folder.mkdir()
-        study = folder / "fatigue.toml"
-        loading = {
-            "kind": "fretting", "load": 185.0, "steps": 2, "cycles": 12, "record": [1, 12],
-            "force_amplitude": 55.0, "bulk_stress_max": 100.0, "bulk_stress_min": -100.0,
-        }  # fmt: skip
-        study.write_text(
-            study_toml(
-                "fatigue",
-                str(folder / "fatigue.h5"),
-                CYLINDER_ON_STEEL,
-                mesh={"n": 48, "half_width": 0.2},
-                loading=loading,
-                subsurface={"depth": 1.0, "layers": 5},
-                fatigue=FATIGUE,
-                sweep={"mu1": [0.6], "wear1": [1e-8], "fatigue.sigma_d": [300.0, 250.0]},
-            )  # fmt: skip
+def write_study(folder: Path) -> Path:
+    """The cylinder-on-flat fatigue study of the module docstring, in ``folder``."""
+    study = folder / "fatigue.toml"
+    loading = {
+        "kind": "fretting", "load": 185.0, "steps": 2, "cycles": 12, "record": [1, 12],
+        "force_amplitude": 55.0, "bulk_stress_max": 100.0, "bulk_stress_min": -100.0,
+    }  # fmt: skip
+    study.write_text(
+        study_toml(
+            "fatigue",
+            str(folder / "fatigue.h5"),
+            CYLINDER_ON_STEEL,
+            mesh={"n": 48, "half_width": 0.2},
+            loading=loading,
+            subsurface={"depth": 1.0, "layers": 5},
+            fatigue=FATIGUE,
+            sweep={"mu1": [0.6], "wear1": [1e-8], "fatigue.sigma_d": [300.0, 250.0]},
         )
-        run = run_engine(study, ranks=ranks, timeout=300)
-        assert run.returncode == 0, run.stdout + run.stderr
-        results.append(folder / "fatigue.h5")
-    assert_same_results(*results)
+    )
+    return study
+
+
+def test_fatigue_study_one_and_two_ranks_identical(tmp_path):
+    results = run_on_one_and_two_ranks(tmp_path, write_study)
     with h5py.File(results[0], "r") as file:
         for name, group in file["cases"].items():
             risk = group["fatigue/cycle_0000012/crossland_risk"]

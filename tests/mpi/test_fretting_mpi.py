@@ -12,7 +12,7 @@ import h5py
 import pytest
 
 from engine.study.examples import SPHERE_ON_STEEL, study_toml
-from tests.mpi.test_engine_mpi import assert_same_results, run_engine
+from tests.mpi.test_engine_mpi import run_on_one_and_two_ranks
 
 pytestmark = pytest.mark.mpi
 
@@ -38,15 +38,7 @@ def test_fretting_study_one_and_two_ranks_identical(tmp_path):
     """Displacement control, partial (1 µm) and gross (4 µm) slip, energy wear law."""
     sweep = {"alpha": [1e-3], "loading.amplitude": [0.001, 0.004]}
 
-    results = []
-    for ranks in (1, 2):
-        folder = tmp_path / f"ranks{ranks}"
-        folder.mkdir()
-        study = write(folder, "fretting", sweep)
-        run = run_engine(study, ranks=ranks, timeout=300)
-        assert run.returncode == 0, run.stdout + run.stderr
-        results.append(folder / "fretting.h5")
-    assert_same_results(*results)
+    results = run_on_one_and_two_ranks(tmp_path, lambda folder: write(folder, "fretting", sweep))
     with h5py.File(results[0], "r") as file:
         for name, group in file["cases"].items():
             loop = group["fields/cycle_0000100/loop"]

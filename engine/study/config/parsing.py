@@ -135,6 +135,17 @@ class StudyConfig:
         modulus = contact_modulus(self.material)
         return self.punch.profile().contact_length(self.loading.load, modulus)
 
+    def at_search_end(
+        self, settings: tuple[tuple[str, Any], ...], end: str = "low"
+    ) -> tuple[tuple[str, Any], ...]:
+        """A plan combination's ``settings`` with the searched parameter at the ``end``
+        (``"low"`` or ``"high"``) of the ``[search]`` bracket: how a search study's
+        combination is validated, laid out and checked before its steps exist. Unchanged
+        without a search or when the settings already hold the parameter (a step)."""
+        if self.search is None or self.search.parameter in dict(settings):
+            return settings
+        return settings + ((self.search.parameter, getattr(self.search, end)),)
+
     def for_case(self, settings: tuple[tuple[str, Any], ...] | dict[str, Any]) -> StudyConfig:
         """The configuration of one case: the swept ``settings`` ({dotted key: value})
         substituted into the study file and validated again (derived defaults such as
