@@ -52,7 +52,7 @@ def cylinder():
 @pytest.mark.validation
 def test_hertz_line_contact(cylinder, validation):
     solver, result = cylinder
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     grid = solver.grid
     assert result.load == pytest.approx(LOAD, rel=1e-12)  # load control is exact
     half_width = 0.5 * np.count_nonzero(result.pressure > 0.0) * grid.dx
@@ -226,7 +226,7 @@ def test_rounded_pad_against_ciavarella(validation):
     a = ref.pad_half_width(load, b, radius, E_STAR)
     solver = _solver(256, 1.15 * a, RoundedPadProfile(b, radius), mu=0.0)
     result = solver.solve_load(load)
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     grid = solver.grid
     half_width = 0.5 * np.count_nonzero(result.pressure > 0.0) * grid.dx
     assert abs(half_width - a) <= grid.dx
