@@ -276,6 +276,9 @@ class ResultCase:
         with self._group() as group:
             attrs = group.attrs
             self.status: str = _text(attrs.get("status", ""))
+            #: The case's position in the plan (attribute ``index``).
+            index = attrs.get("index")
+            self.index: int = results.case_ids.index(case_id) if index is None else int(index)
             self.message: str = _text(attrs.get("message", ""))
             summary = attrs.get("summary")
             self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
@@ -324,11 +327,7 @@ class ResultCase:
         """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
         with self._group() as group:
             source = group[GRID_GROUP] if GRID_GROUP in group else group.file.get(GRID_GROUP)
-            variables = {}
-            for axis in ("x", "y"):
-                if source is not None and axis in source:
-                    variables[axis] = _variable(source[axis], (axis,))
-        return VariableGroup(f"cases/{self.case_id}/grid", variables)
+            return _grid_group(f"cases/{self.case_id}/grid", source)
 
     @cached_property
     def history(self) -> VariableGroup:
@@ -340,7 +339,8 @@ class ResultCase:
             if "cycle" in history:
                 coords["cycle"] = (("step",), np.asarray(history["cycle"]), "1")
             variables = {
-                name: _variable(dataset, ("step",), coords) for name, dataset in history.items()
+                name: _variable(name, dataset, ("step",), coords)
+                for name, dataset in history.items()
             }
         return VariableGroup(f"cases/{self.case_id}/history", variables)
 
@@ -364,13 +364,35 @@ class ResultCase:
         region (cyclic cases), by cycle N."""
 
         def read(name, group):
-            plane = _plane_group(name, group)
+            plane, scales = _plane_group(name, group), {}
             for key, dataset in group.items():
                 if key not in plane:
-                    plane._items[key] = _field(dataset)
+                    plane._items[key] = _field(key, dataset, scales)
             return plane
 
         return self._records("peak_changes", read)
+
+    @cached_property
+    def fatigue(self) -> Records:
+        """The fatigue criteria's maps by recorded cycle N (fretting studies with
+        ``[fatigue]``): each map on the dimensions ``s`` and ``depth`` of the stress plane of
+        that cycle (its coordinates those of ``planes[N]``), and each criterion's hot spot
+        (``<column>_hot_spot``, its columns as a coordinate)."""
+        planes = self.planes
+
+        def read(name, group):
+            plane = planes.get(cycle_of_group(name.rsplit("/", 1)[-1]))
+            coords = next(iter(plane.values())).coords if plane else {}
+            scales: dict = {}
+            variables = {
+                key: _variable(key, dataset, ("s", "depth"), coords)
+                if dataset.ndim == 2 and "columns" not in dataset.attrs
+                else _field(key, dataset, scales)
+                for key, dataset in group.items()
+            }
+            return VariableGroup(name, variables)
+
+        return self._records("fatigue", read)
 
     def _records(self, section: str, read) -> Records:
         groups = {}
@@ -409,42 +431,61 @@ def _instants(records: Records) -> str:
     return " + ".join(parts) or "none"
 
 
-def _variable(dataset, dims: tuple[str, ...], coords: dict | None = None) -> Variable:
-    attrs = {
-        key: _text(value) if isinstance(value, (bytes, str)) else value
-        for key, value in dataset.attrs.items()
-        if key not in ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST")
-        and key not in ("CLASS", "NAME")
-    }
-    name = dataset.name.rsplit("/", 1)[-1]
+# Attributes a Variable carries as fields (units, description) or that are bookkeeping
+# (the checksum, the dimension-scale links): left out of ``Variable.attrs``, and not read.
+_NOT_ATTRS = frozenset(
+    ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
+)
+
+
+def _variable(name: str, dataset, dims: tuple[str, ...], coords: dict | None = None):
+    """The dataset ``name`` of its group as a :class:`Variable` (attributes are read by name:
+    the scale links, the costly ones, are not read at all)."""
+    stored = dataset.attrs
+    keys = list(stored)
+    attrs = {key: _attribute(stored[key]) for key in keys if key not in _NOT_ATTRS}
     values = np.asarray(dataset)
     if len(dims) != values.ndim:
         dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
     return Variable(
         name=name,
         values=values,
-        units=_text(dataset.attrs.get("units", "")),
-        description=_text(dataset.attrs.get("description", "")),
+        units=_text(stored["units"]) if "units" in keys else "",
+        description=_text(stored["description"]) if "description" in keys else "",
         dims=dims,
         coords=dict(coords or {}),
         attrs=attrs,
     )
 
 
-def _field(dataset) -> Variable:
+def _attribute(value: Any) -> Any:
+    return _text(value) if isinstance(value, (bytes, str)) else value
+
+
+def _grid_group(name: str, source) -> VariableGroup:
+    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none)."""
+    axes = [axis for axis in ("x", "y") if source is not None and axis in source]
+    return VariableGroup(name, {axis: _variable(axis, source[axis], (axis,)) for axis in axes})
+
+
+def _field(name: str, dataset, scales: dict) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
-    dimensions named after it, its ``columns`` attribute as the last one's coordinate."""
+    dimensions named after it, its ``columns`` attribute as the last one's coordinate.
+    ``scales``: the scales read so far (h5py id → coordinate), shared by a group's fields."""
     dims, coords = [], {}
     for dimension in dataset.dims:
         if len(dimension):
             scale = dimension[0]
-            label = scale.name.rsplit("/", 1)[-1]
+            if scale.id not in scales:
+                label = scale.name.rsplit("/", 1)[-1]
+                units = _text(scale.attrs.get("units", ""))
+                scales[scale.id] = (label, ((label,), np.asarray(scale), units))
+            label, coordinate = scales[scale.id]
             dims.append(label)
-            coords[label] = ((label,), np.asarray(scale), _text(scale.attrs.get("units", "")))
+            coords[label] = coordinate
         else:
             dims.append(None)
-    name = dataset.name.rsplit("/", 1)[-1]
     columns = dataset.attrs.get("columns")
     if None in dims:
         dims = [f"{name}_row" if label is None else label for label in dims]
@@ -453,11 +494,12 @@ def _field(dataset) -> Variable:
             dims[-1] = column
             names = np.array([part.strip() for part in _text(columns).split(",")])
             coords[column] = ((column,), names, "")
-    return _variable(dataset, tuple(dims), coords)
+    return _variable(name, dataset, tuple(dims), coords)
 
 
 def _field_group(name: str, group) -> VariableGroup:
-    return VariableGroup(name, {key: _field(dataset) for key, dataset in group.items()})
+    scales: dict = {}
+    return VariableGroup(name, {key: _field(key, data, scales) for key, data in group.items()})
 
 
 def _plane_group(name: str, group) -> VariableGroup:
@@ -475,7 +517,7 @@ def _plane_group(name: str, group) -> VariableGroup:
         along = x * np.cos(phi) + y * np.sin(phi) if angle else x
         if np.all(along == along[:, :1]):
             coords["s"] = (("s",), along[:, 0].copy(), "mm")
-    variables = {key: _variable(dataset, dims, coords) for key, dataset in group.items()}
+    variables = {key: _variable(key, dataset, dims, coords) for key, dataset in group.items()}
     return VariableGroup(name, variables, {"plane_angle": angle})
 
 
@@ -517,6 +559,18 @@ class Results(_Table):
     def swept_keys(self) -> list[str]:
         """Dotted keys swept in ``[sweep]``, in file order."""
         return [key for key in self.study.get("sweep", {}) if "." in key]
+
+    @cached_property
+    def grid(self) -> VariableGroup:
+        """The study's element-centre coordinates ``x`` and ``y`` (mm): the grid every case
+        shares or, when the grid changes from case to case, the first case's (by case id)
+        that holds one (each case's own: ``results[case_id].grid``); empty without any."""
+        with h5py.File(self.path, "r") as file:
+            source = file.get(GRID_GROUP)
+            if source is None:
+                holding = (group for _, group in sorted(file[CASES_GROUP].items()))
+                source = next((group[GRID_GROUP] for group in holding if GRID_GROUP in group), None)
+            return _grid_group("grid", source)
 
     @property
     def case_ids(self) -> list[str]:
