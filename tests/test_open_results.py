@@ -120,6 +120,17 @@ def test_the_figures_and_the_report_read_through_this_layer(cyclic):
     assert study.skipped == []
 
 
+def test_a_peak_change_holds_a_plane_and_surface_fields(cyclic):
+    """peak_changes/cycle_N: the plane's datasets on (s, depth), the surface fields beside
+    it on (x, y) with the grid as coordinates; both in one xarray.Dataset."""
+    case = engine.open_results(cyclic)["mu0.2_w1.33e-07_b0"]
+    group = case.peak_changes[case.peak_changes.cycles[0]]
+    assert group["von_mises"].dims == ("s", "depth") and group["pressure"].dims == ("x", "y")
+    assert np.array_equal(group["pressure"].coords["x"][1], case.grid["x"].values)
+    dataset = group.to_xarray()
+    assert dataset["pressure"].dims == ("x", "y") and dataset["von_mises"].dims == ("s", "depth")
+
+
 def test_to_xarray_takes_coordinates_from_the_file(cyclic):
     case = engine.open_results(cyclic)["mu0.2_w1.33e-07_b0"]
     final = case.fields["final"].to_xarray()

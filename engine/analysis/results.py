@@ -34,7 +34,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, cycle_of_group, unit_of
+from engine.schema import CASES_GROUP, GRID_GROUP, PLANE, CaseStatus, cycle_of_group, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
@@ -361,16 +361,9 @@ class ResultCase:
     @cached_property
     def peak_changes(self) -> Records:
         """The plane and the surface fields at the first cycle and each change of the peak
-        region (cyclic cases), by cycle N."""
-
-        def read(name, group):
-            plane, scales = _plane_group(name, group), {}
-            for key, dataset in group.items():
-                if key not in plane:
-                    plane._items[key] = _field(key, dataset, scales)
-            return plane
-
-        return self._records("peak_changes", read)
+        region (cyclic cases), by cycle N: the plane's datasets as in :attr:`planes`, the
+        fields on ``x``, ``y`` as in :attr:`fields`."""
+        return self._records("peak_changes", _plane_group)
 
     @cached_property
     def fatigue(self) -> Records:
@@ -505,11 +498,19 @@ def _field_group(name: str, group) -> VariableGroup:
 def _plane_group(name: str, group) -> VariableGroup:
     """A stored stress plane: the data on (s, depth); x, y, z (mm) as 2-D coordinates; ``s``
     (the signed distance along the plane, x cos φ + y sin φ) and ``depth`` as 1-D ones when
-    the points form a grid of columns and layers (as the engine writes them)."""
-    x, z = np.asarray(group["x"]), np.asarray(group["z"])
-    y = np.asarray(group["y"]) if "y" in group else np.zeros_like(x)
-    angle = float(group["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in group else 0
-    dims = ("s", "depth")
+    the points form a grid of columns and layers (as the engine writes them). Datasets the
+    schema's PLANE does not name (the surface fields beside a peak change's plane) are
+    fields."""
+    dims, scales = ("s", "depth"), {}
+    variables = {
+        key: _variable(key, dataset, dims) if key in PLANE else _field(key, dataset, scales)
+        for key, dataset in group.items()
+    }
+    x, z = variables["x"].values, variables["z"].values
+    y = variables["y"].values if "y" in variables else np.zeros_like(x)
+    angle = (
+        float(variables["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in group else 0
+    )
     coords: dict[str, tuple] = {"x": (dims, x, "mm"), "y": (dims, y, "mm"), "z": (dims, z, "mm")}
     if np.all(z == z[:1, :]):
         coords["depth"] = (("depth",), z[0].copy(), "mm")
@@ -517,7 +518,9 @@ def _plane_group(name: str, group) -> VariableGroup:
         along = x * np.cos(phi) + y * np.sin(phi) if angle else x
         if np.all(along == along[:, :1]):
             coords["s"] = (("s",), along[:, 0].copy(), "mm")
-    variables = {key: _variable(key, dataset, dims, coords) for key, dataset in group.items()}
+    for key, variable in variables.items():  # the plane's coordinates, read once
+        if key in PLANE:
+            variable.coords.update(coords)
     return VariableGroup(name, variables, {"plane_angle": angle})
 
 
