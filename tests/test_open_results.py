@@ -120,6 +120,21 @@ def test_the_figures_and_the_report_read_through_this_layer(cyclic):
     assert study.skipped == []
 
 
+def test_a_with_block_keeps_the_file_open_for_many_reads(cyclic):
+    """Inside ``with`` the cases read from one open file (closed at the end); outside it,
+    each read opens and closes the file; the values are the same."""
+    results = engine.open_results(cyclic)
+    with results as held:
+        assert held is results
+        inside = [case.fields["final"]["pressure"].values for case in held.completed]
+        with h5py.File(cyclic, "r") as other:  # read-only: other readers are welcome
+            assert other["cases"]
+    again = engine.open_results(cyclic)
+    outside = [case.fields["final"]["pressure"].values for case in again.completed]
+    assert all(np.array_equal(a, b) for a, b in zip(inside, outside, strict=True))
+    assert results.completed[0].planes["final"]["von_mises"].shape  # after the block: reopens
+
+
 def test_a_peak_change_holds_a_plane_and_surface_fields(cyclic):
     """peak_changes/cycle_N: the plane's datasets on (s, depth), the surface fields beside
     it on (x, y) with the grid as coordinates; both in one xarray.Dataset."""

@@ -270,15 +270,16 @@ class StudyResults:
 def read_results(path: str | Path) -> StudyResults:
     """Load every completed case of the results file ``path`` (read by
     :func:`engine.open_results`); the other cases by id in ``skipped``."""
-    results = open_results(path)
-    grid = results.grid
+    with open_results(path) as results:
+        grid = results.grid
+        cases = [_case(case) for case in results.completed]
     return StudyResults(
         path=results.path,
         name=results.name,
         config=results.study,
         grid_x=grid["x"].values if "x" in grid else np.zeros(0),
         grid_y=grid["y"].values if "y" in grid else np.zeros(0),
-        cases=[_case(case) for case in results.completed],
+        cases=cases,
         skipped=sorted(
             (case_id, status)
             for case_id, status in results.statuses.items()

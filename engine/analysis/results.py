@@ -23,6 +23,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 from collections.abc import Iterator, Mapping
@@ -296,7 +297,7 @@ class ResultCase:
             }
 
     def _group(self):
-        return _CaseGroup(self.results.path, self.case_id)
+        return _CaseGroup(self.results, self.case_id)
 
     @property
     def completed(self) -> bool:
@@ -400,17 +401,18 @@ class ResultCase:
 
 
 class _CaseGroup:
-    """``with _CaseGroup(path, case_id) as group``: the case's group, file open meanwhile."""
+    """``with _CaseGroup(results, case_id) as group``: the case's group, the file open
+    meanwhile (the file ``results`` holds open inside its ``with`` block, else opened here)."""
 
-    def __init__(self, path: Path, case_id: str) -> None:
-        self.path, self.case_id = path, case_id
+    def __init__(self, results: Results, case_id: str) -> None:
+        self.results, self.case_id = results, case_id
 
     def __enter__(self) -> h5py.Group:
-        self.file = h5py.File(self.path, "r")
-        return self.file[CASES_GROUP][self.case_id]
+        self.opened = self.results._open()
+        return self.opened.__enter__()[CASES_GROUP][self.case_id]
 
     def __exit__(self, *exc) -> None:
-        self.file.close()
+        self.opened.__exit__(*exc)
 
 
 def _instant_order(key) -> tuple[int, int]:
@@ -461,6 +463,12 @@ def _grid_group(name: str, source) -> VariableGroup:
     return VariableGroup(name, {axis: _variable(axis, source[axis], (axis,)) for axis in axes})
 
 
+def _basename(dataset) -> str:
+    """The last part of the dataset's path (slow for a dataset reached by reference: HDF5
+    searches the file for its path)."""
+    return dataset.name.rsplit("/", 1)[-1]
+
+
 def _field(name: str, dataset, scales: dict) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
@@ -471,7 +479,7 @@ def _field(name: str, dataset, scales: dict) -> Variable:
         if len(dimension):
             scale = dimension[0]
             if scale.id not in scales:
-                label = scale.name.rsplit("/", 1)[-1]
+                label = _text(h5py.h5ds.get_scale_name(scale.id) or b"") or _basename(scale)
                 units = _text(scale.attrs.get("units", ""))
                 scales[scale.id] = (label, ((label,), np.asarray(scale), units))
             label, coordinate = scales[scale.id]
@@ -528,6 +536,8 @@ class Results(_Table):
     """A study's results file: the study, its summary and its cases by id.
 
     Made by :func:`open_results`; a mapping case id → :class:`ResultCase`, in plan order.
+    Each read opens and closes the file; in a ``with`` block (``with open_results(path) as
+    results:``) the reads share one open file.
 
     Parameters
     ----------
@@ -552,6 +562,26 @@ class Results(_Table):
         self.engine_version = engine_version
         self.statuses = statuses
         self._items: dict[str, ResultCase] = {}
+        self._file: h5py.File | None = None
+
+    def __enter__(self) -> Results:
+        """``with open_results(path) as results:`` keeps the file open while reading many
+        cases (each read otherwise opens and closes it)."""
+        if self._file is None:
+            self._file = h5py.File(self.path, "r")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+    def _open(self):
+        """A context giving the open file: the one held inside ``with``, else opened now
+        and closed at its end."""
+        if self._file is not None:
+            return contextlib.nullcontext(self._file)
+        return h5py.File(self.path, "r")
 
     @property
     def kind(self) -> str:
@@ -568,7 +598,7 @@ class Results(_Table):
         """The study's element-centre coordinates ``x`` and ``y`` (mm): the grid every case
         shares or, when the grid changes from case to case, the first case's (by case id)
         that holds one (each case's own: ``results[case_id].grid``); empty without any."""
-        with h5py.File(self.path, "r") as file:
+        with self._open() as file:
             source = file.get(GRID_GROUP)
             if source is None:
                 holding = (group for _, group in sorted(file[CASES_GROUP].items()))
