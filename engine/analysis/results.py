@@ -261,7 +261,7 @@ class Records(_Table):
 
 class ResultCase:
     """One case of a results file: its parameters, status, summary row, histories, surface
-    fields and stress planes (read when first asked for).
+    fields, stress planes and fatigue maps (read when first asked for).
 
     Parameters
     ----------
