@@ -517,7 +517,9 @@ def _plane_group(name: str, group) -> VariableGroup:
     x, z = variables["x"].values, variables["z"].values
     y = variables["y"].values if "y" in variables else np.zeros_like(x)
     angle = (
-        float(variables["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in group else 0
+        float(variables["von_mises"].attrs.get("plane_angle", 0.0))
+        if "von_mises" in variables
+        else 0
     )
     coords: dict[str, tuple] = {"x": (dims, x, "mm"), "y": (dims, y, "mm"), "z": (dims, z, "mm")}
     if np.all(z == z[:1, :]):
