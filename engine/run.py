@@ -501,8 +501,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         drop_stale=options.drop_stale,
         should_stop=stop_event.is_set,
     )
-    scheduler = Scheduler(comm, runner, stop_event=stop_event, peers=peers)
-    scheduler.run_case = writer.computing(runner, scheduler.rank0_is_saturated)
+    scheduler = Scheduler(comm, writer.computing(runner), stop_event=stop_event, peers=peers)
     searches, settled = None, True
     if rank == 0:
         settled = _settle_existing(prepared, options, command_line, stop_event)

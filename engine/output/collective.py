@@ -264,7 +264,7 @@ class CollectiveWriter(ResultsWriter):
         self._rows[outcome.case_id] = dict(outcome.row)
         self._write_summary()
 
-    def computing(self, run_case, rank0_saturated=None):
+    def computing(self, run_case):
         """On ranks > 0, ``run_case`` followed by :meth:`write_own`: the rank writes its case
         and sends rank 0 the light outcome. Rank 0's own cases are written in :meth:`write`."""
         return run_case if self.rank == 0 else self.owner(run_case)

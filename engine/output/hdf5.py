@@ -498,9 +498,8 @@ class ResultsWriter:
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
 
-    def computing(self, run_case, rank0_saturated=None):
-        """What a rank > 0 runs per case: ``run_case`` itself unless the strategy writes there
-        (``rank0_saturated()``: whether rank 0 has time to spare, from the scheduler)."""
+    def computing(self, run_case):
+        """What a rank > 0 runs per case: ``run_case`` itself unless the strategy writes there."""
         return run_case
 
     def closing_note(self) -> str | None:
@@ -674,16 +673,12 @@ class Bystander(ResultsWriter):
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
         return set()
 
-    def computing(self, run_case, rank0_saturated=None):
-        """``run_case``, then, while rank 0 is saturated (``rank0_saturated()``; None: always),
-        the outcome's datasets packed into an HDF5 image on this rank
-        (:mod:`engine.output.packed`): rank 0 copies it instead of creating every object.
-        Packing and copying cost more CPU in all than rank 0's direct write, so while rank 0
-        has time to spare the outcome goes as it is."""
+    def computing(self, run_case):
+        """``run_case``, then the outcome's datasets packed into an HDF5 image on this rank
+        (:mod:`engine.output.packed`): rank 0 copies it instead of creating every object."""
 
         def run_and_pack(case: Case, should_stop) -> CaseOutcome:
-            outcome = run_case(case, should_stop)
-            return pack(outcome) if rank0_saturated is None or rank0_saturated() else outcome
+            return pack(run_case(case, should_stop))
 
         return run_and_pack
 

@@ -25,8 +25,7 @@ event (set by a signal handler) and probes for a ``stop`` message from rank 0.
 Protocol (pickled tuples; one tag per direction so messages stay in order):
 worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
 before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
-A task's payload is ``(case, saturated)`` (see :meth:`Scheduler.rank0_is_saturated`). A
-worker computes its tasks in the order they came; rank 0 keeps one task (more for short
+A worker computes its tasks in the order they came; rank 0 keeps one task (two for short
 cases, see :class:`_Dispatcher`) with each worker and sends ``exit`` once it holds none.
 
 Stopping (SIGTERM/SIGUSR1 on any rank — also on a worker alone, which then interrupts its
@@ -97,10 +96,8 @@ class CaseQueue:
 
 _WAIT = object()  # _Dispatcher._next_case: none now, but the open queue may get one
 SHORT_CASE_S = 1.0  # s: a worker whose last case ran shorter gets its next ones ahead
-AHEAD_S = 0.05  # s of short cases a worker holds beyond its running one (at least one)
+AHEAD_S = 0.2  # s of short cases a worker holds beyond its running one (at least one)
 MOST_AHEAD = 8  # cases a worker holds at most
-SATURATED = 1 / 3  # share of rank 0's time spent on the workers' outcomes that saturates it
-RECENT = 0.1  # weight of the newest measurement in rank 0's running means
 
 
 class _LocalWorker(threading.Thread):
@@ -204,14 +201,6 @@ class Scheduler:
         self.rank = comm.Get_rank()
         self.size = comm.Get_size()
         self.watch = PeerWatch(self.rank, peers)
-        self.rank0_saturated = True  # ranks > 0: what rank 0 said with the last task
-
-    def rank0_is_saturated(self) -> bool:
-        """Ranks > 0: whether rank 0 had no time to spare when it sent the last task (see
-        :class:`_Dispatcher`):
-        work that can be done here instead of on rank 0 should be (e.g. packing outcomes for
-        the single writer, engine.output.packed). True until rank 0 has said otherwise."""
-        return self.rank0_saturated
 
     def run(
         self,
@@ -278,8 +267,7 @@ class Scheduler:
                 if kind == "stop":
                     self.stop_event.set()
                 else:
-                    case, self.rank0_saturated = payload
-                    self._tasks.append(case)
+                    self._tasks.append(payload)
                 wait = not self._tasks
                 delay = 0.0005
                 continue
@@ -333,10 +321,7 @@ class _Dispatcher:
     Rank 0 computes only what its writing leaves time for: its computing thread gets its next
     case when no worker's message is waiting. With many short cases the single writer is
     rank 0's main load; a case computed there would delay the answers to every worker, and
-    the results sent ahead would pile up unwritten at the end of the run. Each task tells the
-    worker whether rank 0 is saturated (:meth:`Scheduler.rank0_is_saturated`: handing on the
-    workers' outcomes takes more than :data:`SATURATED` of its time), so that work which may
-    be done on either side goes where there is time for it.
+    the results sent ahead would pile up unwritten at the end of the run.
     """
 
     def __init__(self, scheduler: Scheduler, cases, on_outcome, on_poll) -> None:
@@ -350,8 +335,6 @@ class _Dispatcher:
         self.parked: deque[int] = deque()  # workers waiting for the open queue
         self.local_parked = False
         self.local_hungry = False  # rank 0's thread is free; fed once no worker waits
-        self.handling_s = 0.0  # mean CPU s rank 0 takes to hand on a worker's outcome
-        self.case_s = 0.0  # mean run time of the workers' cases, s
         self.workers_alive = set(range(1, scheduler.size))
         self.stop_sent: set[int] = set()
         self.local = _LocalWorker(scheduler.run_case, self.stop_event.is_set, self.rank)
@@ -422,7 +405,7 @@ class _Dispatcher:
                 return
             held = self.busy.setdefault(source, deque())
             held.append(case)
-            self.comm.send(("task", (case, self._saturated())), dest=source, tag=TAG_TO_WORKER)
+            self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
 
     def _settle(self, rank: int, kind: str, payload: Any) -> bool:
         """Bookkeeping of a message (cheap, before the next case is handed out); True when
@@ -445,30 +428,7 @@ class _Dispatcher:
         """Record and hand on an outcome."""
         self.report.statuses[payload.case_id] = payload.status
         self.report.cases_per_rank[rank] = self.report.cases_per_rank.get(rank, 0) + 1
-        start = time.thread_time()  # CPU of this thread: neither the load nor the GIL count
         self.on_outcome(payload)
-        if rank != self.rank:
-            self._measure(time.thread_time() - start, getattr(payload, "runtime_s", None))
-
-    def _measure(self, handling_s: float, runtime_s: float | None) -> None:
-        """Running means (weight :data:`RECENT` of the newest) of rank 0's time to hand on a
-        worker's outcome and of the workers' case run times."""
-        if runtime_s is None:
-            return
-        if not self.case_s:
-            self.handling_s, self.case_s = handling_s, float(runtime_s)
-            return
-        self.handling_s += RECENT * (handling_s - self.handling_s)
-        self.case_s += RECENT * (float(runtime_s) - self.case_s)
-
-    def _saturated(self) -> bool:
-        """Whether rank 0 has no time to spare: handing on the outcomes of all workers takes
-        more than :data:`SATURATED` of its time (each worker sends one per case run time);
-        True until a worker's outcome has been measured."""
-        if not self.case_s:
-            return True
-        workers = self.scheduler.size - 1
-        return workers * self.handling_s > SATURATED * self.case_s
 
     def _feed_local(self) -> None:
         case = self._next_case()

@@ -1,8 +1,7 @@
 """The scheduler itself under ``mpiexec -n 2`` with a trivial ``run_case``: short cases go to
-the worker ahead of time (several held at once), whatever happens every case is accounted
+the worker ahead of time (several held at once), and whatever happens every case is accounted
 for exactly once — computed, or listed as not started after a stop (the cases a stopped
-worker held but had not begun come back) — and the worker learns whether rank 0 is
-saturated by the handling of its outcomes."""
+worker held but had not begun come back)."""
 
 from __future__ import annotations
 
@@ -22,7 +21,7 @@ from mpi4py import MPI
 from engine.parallel.scheduler import Scheduler
 
 comm = MPI.COMM_WORLD
-cases, stop_after, handling_s = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
+cases, stop_after = int(sys.argv[1]), int(sys.argv[2])
 
 
 class Case:
@@ -35,7 +34,7 @@ class Outcome:
         self.case_id, self.status, self.rank, self.runtime_s = case_id, status, -1, 0.002
 
 
-done, held, saturated = [], [], []
+done, held = [], []
 scheduler = Scheduler(comm, None)
 
 
@@ -43,7 +42,6 @@ def run_case(case, should_stop):
     time.sleep(0.002 if comm.Get_rank() else 0.02)  # rank 0 slower: the worker runs ahead
     done.append(case.case_id)
     held.append(len(getattr(scheduler, "_tasks", ())))  # received, waiting behind this one
-    saturated.append(scheduler.rank0_is_saturated())
     if comm.Get_rank() == 1 and len(done) == stop_after:
         scheduler.stop_event.set()  # as a signal handler on the worker alone would
     return Outcome(case.case_id, "completed")
@@ -51,26 +49,15 @@ def run_case(case, should_stop):
 
 scheduler.run_case = run_case
 seen = []
-
-
-def on_outcome(outcome):  # rank 0's handling of an outcome: handling_s of CPU
-    start = time.thread_time()
-    while time.thread_time() - start < handling_s:
-        pass
-    seen.append(outcome.case_id)
-
-
 if comm.Get_rank() == 0:
-    report = scheduler.run([Case(f"c{i}") for i in range(cases)], on_outcome)
+    report = scheduler.run([Case(f"c{i}") for i in range(cases)], lambda o: seen.append(o.case_id))
 else:
     report = scheduler.run()
 everyone = comm.gather(done, root=0)
 most_held = comm.gather(max(held, default=0), root=0)
-last_saturated = comm.gather(saturated[-1] if saturated else None, root=0)
 if comm.Get_rank() == 0:
     print(json.dumps({
         "computed": everyone, "most_held": most_held[1], "delivered": seen,
-        "saturated": last_saturated[1],
         "statuses": report.statuses,
         "not_started": report.not_started, "stopped": report.stopped,
         "per_rank": {str(rank): count for rank, count in report.cases_per_rank.items()},
@@ -78,9 +65,8 @@ if comm.Get_rank() == 0:
 """
 
 
-def run_scheduler(cases: int, stop_after: int, handling_s: float = 0.0) -> dict:
+def run_scheduler(cases: int, stop_after: int) -> dict:
     command = [MPIEXEC, "-n", "2", PYTHON, "-c", SCRIPT, str(cases), str(stop_after)]
-    command.append(str(handling_s))
     run = subprocess.run(command, env=environment(), capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout + run.stderr
     return json.loads(run.stdout)
@@ -116,12 +102,3 @@ def test_short_cases_are_held_ahead_long_ones_one_at_a_time():
     assert cases_to_hold(0.001) == MOST_AHEAD
     assert 2 <= cases_to_hold(0.1) < MOST_AHEAD
     assert cases_to_hold(0.5) == 2
-
-
-@pytest.mark.parametrize("handling_s", [0.0, 0.005])
-def test_the_worker_learns_whether_rank_0_has_time_to_spare(handling_s):
-    """Rank 0 tells the workers whether handing on their outcomes saturates it: here the
-    worker's cases run 2 ms, and rank 0 takes no CPU (time to spare: outcomes may go as they
-    are) or 5 ms of CPU for each (saturated: the worker should take work off it)."""
-    result = run_scheduler(60, stop_after=0, handling_s=handling_s)
-    assert result["saturated"] is (handling_s > 0)
