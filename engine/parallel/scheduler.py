@@ -96,7 +96,7 @@ class CaseQueue:
 
 _WAIT = object()  # _Dispatcher._next_case: none now, but the open queue may get one
 SHORT_CASE_S = 1.0  # s: a worker whose last case ran shorter gets its next ones ahead
-AHEAD_S = 0.2  # s of short cases a worker holds beyond its running one (at least one)
+AHEAD_S = 0.1  # s of short cases a worker holds beyond its running one (at least one)
 MOST_AHEAD = 8  # cases a worker holds at most
 
 
