@@ -25,11 +25,11 @@ event (set by a signal handler) and probes for a ``stop`` message from rank 0.
 Protocol (pickled tuples; one tag per direction so messages stay in order):
 worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
 before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
-A worker computes its tasks in the order they came; rank 0 keeps one task (two for short
+A worker computes its tasks in the order they came; rank 0 keeps one task (more for short
 cases, see :class:`_Dispatcher`) with each worker and sends ``exit`` once it holds none.
 
 Stopping (SIGTERM/SIGUSR1 on any rank — also on a worker alone, which then interrupts its
-case or returns the next one — or an interrupted case anywhere): rank 0 hands out no more cases,
+case and returns those it holds — or an interrupted case anywhere): rank 0 hands out no more cases,
 sends ``stop`` to the busy workers, waits for their (interrupted) outcomes, and tells every
 worker to exit. An exception escaping ``run_case`` propagates to the caller; the entry point
 aborts the communicator so no rank is left waiting (see ``engine.cli``).
