@@ -103,8 +103,9 @@ def test_a_stalled_normal_solve_is_finished_by_the_projected_gradient(mu):
     profile = CylinderProfile(RADIUS)
     solver = ContactSolver(grid, STEEL, profile, FrictionLaw(mu, mu), operator=operator, tol=1e-6)
     result = solver.solve_load(LOAD)
-    assert result.converged, result.message
-    assert "stalled" in result.message and "projected gradient" in result.message
+    report = result.report
+    assert report.converged, report.message
+    assert "stalled" in report.message and "projected gradient" in report.message
     assert result.load == pytest.approx(LOAD, rel=1e-9)
     reference = ContactSolver(
         grid, STEEL, profile, FrictionLaw(mu, mu), operator=LineOperator(grid, STEEL, DATUM)

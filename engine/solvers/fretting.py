@@ -506,7 +506,7 @@ class FrettingAnalysis(CyclicAnalysis):
             evaluations += step.evaluations
             self._matvecs += step.matvecs
             matvecs += step.matvecs
-            largest_residual = max(largest_residual, float(result.residual))
+            largest_residual = max(largest_residual, float(result.report.residual))
             self._steps += 1
             if not step.converged:
                 self._failures.append(f"increment {index + 1} (signal {value:g}): {step.message}")
