@@ -196,10 +196,18 @@ class RealFFTPair:
 
     ``forward()`` transforms ``real`` into ``spectrum``; ``inverse()`` transforms
     ``spectrum`` into ``real`` (divided by the number of points, as ``numpy.fft.irfft2``).
-    Both may overwrite their input (``FFTW_DESTROY_INPUT``).
+    Both may overwrite their input (``FFTW_DESTROY_INPUT``). ``inverse=False``: the
+    forward transform only (one plan fewer, e.g. for kernel spectra).
     """
 
-    def __init__(self, shape: tuple[int, ...], *, threads: int = 1, effort: str = DEFAULT_EFFORT):
+    def __init__(
+        self,
+        shape: tuple[int, ...],
+        *,
+        threads: int = 1,
+        effort: str = DEFAULT_EFFORT,
+        inverse: bool = True,
+    ):
         if effort not in EFFORTS:
             raise ValueError(f"planner effort must be one of {EFFORTS}, got {effort!r}")
         shape = tuple(int(n) for n in shape)
@@ -208,8 +216,12 @@ class RealFFTPair:
         axes = (len(shape) - 2, len(shape) - 1)
         options = dict(threads=threads, effort=effort, flags=("FFTW_DESTROY_INPUT",))
         self._forward = plan(self.real, self.spectrum, axes, **options)
-        self._inverse = plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
-        self.scale = 1.0 / float(self._inverse.N)  # what pyfftw's normalised call applies
+        self._inverse = (
+            plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
+            if inverse
+            else None
+        )
+        self.scale = 1.0 / float(shape[-2] * shape[-1])  # what pyfftw's normalised call applies
         self.real[...] = 0.0
         self.spectrum[...] = 0.0
 

@@ -26,12 +26,18 @@ from ..material import MaterialPair
 
 
 def _log_x_plus_r(x: np.ndarray, y: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """ln(x + r), r = √(x²+y²), without cancellation for x < 0: x + r = y²/(r − x)."""
-    negative = x < 0
+    """ln(x + r), r = √(x²+y²), without cancellation for x < 0: x + r = y²/(r − x).
+
+    ln(x + r) is taken everywhere first (one pass, no gather of the x ≥ 0 entries) and the
+    entries with x < 0 are replaced (the same values, element by element, as evaluating each
+    branch on its own entries)."""
     out = np.empty_like(x)
-    out[~negative] = np.log(x[~negative] + r[~negative])
-    xn, yn, rn = x[negative], y[negative], r[negative]
-    out[negative] = np.log(yn * yn) - np.log(rn - xn)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        np.log(x + r, out=out)
+    negative = x < 0
+    if negative.any():
+        xn, yn, rn = x[negative], y[negative], r[negative]
+        out[negative] = np.log(yn * yn) - np.log(rn - xn)
     return out
 
 
@@ -213,6 +219,15 @@ def kernel_values(
     index_x, index_y = np.asarray(index_x), np.asarray(index_y)
     counts = (int(np.abs(index_x).max()) + 1, int(np.abs(index_y).max()) + 1)
     quadrant = kernel_quadrant(grid, material, key, counts)
+    return quadrant_values(quadrant, key, index_x, index_y)
+
+
+def quadrant_values(
+    quadrant: np.ndarray, key: str, index_x: np.ndarray, index_y: np.ndarray
+) -> np.ndarray:
+    """Kernel ``key`` at the offsets (i Δx, j Δy), i in ``index_x``, j in ``index_y``, from
+    its ``quadrant`` (``kernel_quadrant``, covering every |i| and |j|) and its parity."""
+    index_x, index_y = np.asarray(index_x), np.asarray(index_y)
     values = quadrant[np.ix_(np.abs(index_x), np.abs(index_y))]
     parity_x, parity_y = KERNEL_PARITY[key]
     if parity_x < 0:

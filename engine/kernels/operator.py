@@ -18,7 +18,13 @@ import numpy as np
 from ..grid import Grid
 from ..material import MaterialPair
 from .fft import DEFAULT_EFFORT, PaddedTransforms, RealFFTPair, aligned_zeros, wrap_kernel
-from .influence import KERNEL_PARITY, SurfaceInfluence, kernel_quadrant, kernel_values
+from .influence import (
+    KERNEL_PARITY,
+    SurfaceInfluence,
+    kernel_quadrant,
+    kernel_values,
+    quadrant_values,
+)
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
@@ -40,6 +46,9 @@ _BLOCKS = {
 #: (every case on a coupled material needs them: the slip of a frictionless case is the
 #: tangential displacement of its pressure), then the tangential block.
 _SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
+
+#: Kernels whose values on the periodic cell the spectral preconditioner folds.
+_PRECONDITIONED = ("zz", "xx", "yy", "xy")
 
 #: Rows of frequencies whose 3 × 3 symbols ``symbol_bound`` diagonalises at once.
 _SYMBOL_ROWS = 64
@@ -86,6 +95,9 @@ class HalfSpaceOperator:
         self._influence = influence
         self._given = influence is not None  # kernels given whole (line grids)
         self._self_coefficients: dict[str, float] = {}
+        # Kernel values of the preconditioner's periodic cell, kept from the quadrants the
+        # spectra are built from (the same values: kernel_quadrant is element by element).
+        self._cells: dict[str, np.ndarray] = {}
         self._transforms: PaddedTransforms | None = None
         self._targets: np.ndarray | None = None  # products of multi-field blocks
         self._product: np.ndarray | None = None
@@ -115,6 +127,9 @@ class HalfSpaceOperator:
             nx, ny = self.grid.shape
             rows, columns = np.asarray(index_x) + nx - 1, np.asarray(index_y) + ny - 1
             return self._influence.kernels[key][np.ix_(rows, columns)]
+        cell = self._cells.get(key)
+        if cell is not None and _within(cell, index_x, index_y):
+            return quadrant_values(cell, key, index_x, index_y)
         return kernel_values(self.grid, self.material, key, index_x, index_y)
 
     def self_coefficient(self, key: str) -> float:
@@ -145,7 +160,9 @@ class HalfSpaceOperator:
         (``kernel_quadrant``) is written into the transform's buffer in circulant order
         (``wrap_kernel``'s layout: offset k at index k mod 2n), mirrored with its parity."""
         nx, ny = self.grid.shape
-        transform = RealFFTPair((1, *self.padded_shape), threads=self.threads, effort=self._effort)
+        transform = RealFFTPair(
+            (1, *self.padded_shape), threads=self.threads, effort=self._effort, inverse=False
+        )
         real = transform.real[0]
         for key in keys:
             if self._given:
@@ -153,8 +170,11 @@ class HalfSpaceOperator:
                 self._spectra[key] = (transform.forward()[0] * self._scale, "complex")
                 continue
             quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
+            if key in _PRECONDITIONED:  # the preconditioner's periodic cell (kernel())
+                self._cells[key] = quadrant[: nx // 2 + 1, : ny // 2 + 1].copy()
             parity_x, parity_y = KERNEL_PARITY[key]
-            real[...] = 0.0
+            real[nx, :] = 0.0  # offsets ±n: outside the kernel (the rest is written below)
+            real[:, ny] = 0.0
             real[:nx, :ny] = quadrant
             real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
             real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
@@ -195,21 +215,21 @@ class HalfSpaceOperator:
             self._product = np.empty((self.padded_shape[0], self.grid.n_y + 1), complex)
         return self._product
 
-    def _multiply(self, spectrum: np.ndarray, key: str, out: np.ndarray) -> np.ndarray:
-        """``out`` ← (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
-        ``spectrum``. A real or imaginary kernel spectrum multiplies the real and imaginary
-        parts (as float pairs) by a real array: half the flops of a complex product."""
+    def _multiply(
+        self, spectrum: np.ndarray, key: str, out: np.ndarray, sign: float = 1.0
+    ) -> np.ndarray:
+        """``out`` ← ``sign`` · (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
+        ``spectrum``. A real kernel spectrum k multiplies the complex values by a real array
+        (a + ib)k = ak + ibk; an imaginary one ik then turns the product by ±i:
+        (ak + ibk)(±i) = ∓bk ± iak. Each part is one rounded product (the other factor of
+        numpy's complex product is an exact 0 or ±1), so the values are those of the float
+        pairs multiplied one by one, in one pass instead of two."""
         values, kind = self._stored(key)
-        if kind == "complex":
-            return np.multiply(spectrum, values, out=out)
-        pairs, result = _pairs(spectrum), _pairs(out)
-        if kind == "real":
-            np.multiply(pairs, values[..., None], out=result)
-            return out
-        real_part = pairs[..., 0] * values  # (a + ib)(ik) = −bk + i ak
-        np.multiply(pairs[..., 1], values, out=result[..., 0])
-        np.negative(result[..., 0], out=result[..., 0])
-        result[..., 1] = real_part
+        np.multiply(spectrum, values, out=out)
+        if kind == "imaginary":
+            np.multiply(out, 1j * sign, out=out)
+        elif sign < 0:
+            np.negative(out, out=out)
         return out
 
     def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
@@ -223,9 +243,7 @@ class HalfSpaceOperator:
             for a, ((key, sign),) in enumerate(rows):
                 transform.fields(1)[0] = fields[0]
                 spectrum = transform.forward(1)
-                self._multiply(spectrum[0], key, out=spectrum[0])
-                if sign < 0:
-                    np.negative(spectrum, out=spectrum)
+                self._multiply(spectrum[0], key, out=spectrum[0], sign=sign)
                 result[a] = transform.inverse(spectrum)[0]
         else:
             transform = self._transform(max(len(fields), len(rows)))
@@ -244,9 +262,7 @@ class HalfSpaceOperator:
         """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]``."""
         for b, (key, sign) in enumerate(row):
             if b == 0:
-                self._multiply(spectra[0], key, out=target)
-                if sign < 0:
-                    np.negative(target, out=target)
+                self._multiply(spectra[0], key, out=target, sign=sign)
                 continue
             product = self._multiply(spectra[b], key, out=self._product_buffer())
             if sign > 0:
@@ -304,9 +320,12 @@ class HalfSpaceOperator:
         return self._symbol_bound
 
 
-def _pairs(spectrum: np.ndarray) -> np.ndarray:
-    """A contiguous complex array as float pairs (..., 2): real and imaginary parts."""
-    return spectrum.view(np.float64).reshape(*spectrum.shape, 2)
+def _within(quadrant: np.ndarray, index_x, index_y) -> bool:
+    """Whether ``quadrant`` holds every offset |i| of ``index_x`` and |j| of ``index_y``."""
+    return (
+        int(np.abs(index_x).max()) < quadrant.shape[0]
+        and int(np.abs(index_y).max()) < quadrant.shape[1]
+    )
 
 
 def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
