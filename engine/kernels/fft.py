@@ -152,6 +152,24 @@ class PaddedTransforms:
         columns.execute()
         return self.spectra[:batch]
 
+    def forward_mirrored(self, parity_x: float) -> np.ndarray:
+        """``spectra[0]`` ← unnormalised FFT of a whole (2n_x, 2n_y) field, even
+        (``parity_x`` = 1) or odd (−1) in its first index: rows 0 … n_x − 1 are ``real[0]``
+        (all 2n_y columns, written by the caller), row n_x is zero and row 2n_x − i is
+        ``parity_x`` · row i. The row FFTs of the mirrored rows are those of the first rows
+        times the parity (exact), so only n_x rows are transformed; the transforms are the
+        padded ones (the same FFTW plans, so the same values as a 2-D real FFT of the whole
+        field: a circulant kernel's spectrum, ``engine.kernels.operator``). Returns a view."""
+        nx = self.shape[0]
+        rows, columns = self._plan("forward", 1, self.spectra)
+        self._padding_dirty = True  # the caller wrote the padding columns
+        rows.execute()
+        spectrum = self.spectra[0]
+        spectrum[nx] = 0.0
+        np.multiply(spectrum[1:nx][::-1], parity_x, out=spectrum[nx + 1 :])
+        columns.execute()
+        return spectrum
+
     def inverse(self, spectra: np.ndarray) -> np.ndarray:
         """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectra`` (batch,
         2n_x, n_y + 1): ``self.spectra`` or an aligned buffer of the same layout, overwritten.

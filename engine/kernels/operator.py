@@ -21,7 +21,7 @@ from .fft import DEFAULT_EFFORT, PaddedTransforms, RealFFTPair, aligned_zeros, w
 from .influence import (
     KERNEL_PARITY,
     SurfaceInfluence,
-    kernel_quadrant,
+    kernel_quadrants,
     kernel_values,
     quadrant_values,
 )
@@ -61,16 +61,17 @@ class HalfSpaceOperator:
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
 
     Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
-    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is kept;
-    the kernel itself is written from its quadrant (``kernel_quadrant``) straight into the
-    transform's buffer and not kept. A_zz is built with the operator, and on a coupled
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) values, real or imaginary, 1/(4 n_x n_y) folded in)
+    is kept; the kernel itself is written from its quadrant (``kernel_quadrants``) straight
+    into the padded transforms' buffer (its first n_x rows; the others mirror them) and not
+    kept. A_zz is built with the operator, and on a coupled
     material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
     case is the tangential displacement its pressure produces); the tangential block the
     first time a product needs it (frictional cases). ``influence``: kernels given whole
     instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
     needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
-    buffers of one direction are shared by the plans of
-    every batch size (``PaddedBuffers``), grown to the largest batch asked.
+    buffers (``PaddedTransforms``) are shared by the plans of every batch size and by the
+    kernel spectra, grown to the largest batch asked.
     """
 
     def __init__(
@@ -96,7 +97,7 @@ class HalfSpaceOperator:
         self._given = influence is not None  # kernels given whole (line grids)
         self._self_coefficients: dict[str, float] = {}
         # Kernel values of the preconditioner's periodic cell, kept from the quadrants the
-        # spectra are built from (the same values: kernel_quadrant is element by element).
+        # spectra are built from (the same values: kernel_quadrants is element by element).
         self._cells: dict[str, np.ndarray] = {}
         self._transforms: PaddedTransforms | None = None
         self._targets: np.ndarray | None = None  # products of multi-field blocks
@@ -156,30 +157,31 @@ class HalfSpaceOperator:
         return self._spectra[key]
 
     def _build_spectra(self, keys: tuple[str, ...]) -> None:
-        """Spectra of ``keys`` through one transform: each kernel's quadrant
-        (``kernel_quadrant``) is written into the transform's buffer in circulant order
-        (``wrap_kernel``'s layout: offset k at index k mod 2n), mirrored with its parity."""
-        nx, ny = self.grid.shape
-        transform = RealFFTPair(
-            (1, *self.padded_shape), threads=self.threads, effort=self._effort, inverse=False
-        )
-        real = transform.real[0]
-        for key in keys:
-            if self._given:
-                real[...] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
+        """Spectra of ``keys`` through the padded transforms (their plans and buffers, no
+        others): each kernel's quadrant (``kernel_quadrants``, the group's together) is
+        written in circulant order (``wrap_kernel``'s layout: offset k at index k mod 2n),
+        mirrored with its parity in y here and in x by ``PaddedTransforms.forward_mirrored``."""
+        if self._given:
+            transform = RealFFTPair(
+                (1, *self.padded_shape), threads=self.threads, effort=self._effort, inverse=False
+            )
+            for key in keys:
+                transform.real[0] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
                 self._spectra[key] = (transform.forward()[0] * self._scale, "complex")
-                continue
-            quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
+            return
+        nx, ny = self.grid.shape
+        transform = self._transform(1)
+        real = transform.real[0]  # rows 0 … n_x − 1 of the circulant kernel (2n_y columns)
+        quadrants = kernel_quadrants(self.grid, self.material, keys, (nx, ny))
+        for key in keys:
+            quadrant = quadrants.pop(key)
             if key in _PRECONDITIONED:  # the preconditioner's periodic cell (kernel())
                 self._cells[key] = quadrant[: nx // 2 + 1, : ny // 2 + 1].copy()
             parity_x, parity_y = KERNEL_PARITY[key]
-            real[nx, :] = 0.0  # offsets ±n: outside the kernel (the rest is written below)
-            real[:, ny] = 0.0
-            real[:nx, :ny] = quadrant
-            real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
-            real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
-            real[-1:-nx:-1, -1:-ny:-1] = (parity_x * parity_y) * quadrant[1:, 1:]
-            spectrum = transform.forward()[0]
+            real[:, :ny] = quadrant
+            real[:, ny] = 0.0  # offset ±n_y: outside the kernel
+            np.multiply(quadrant[:, :0:-1], parity_y, out=real[:, ny + 1 :])
+            spectrum = transform.forward_mirrored(parity_x)
             if parity_x * parity_y > 0:  # even circulant: a real spectrum
                 self._spectra[key] = (spectrum.real * self._scale, "real")
             else:  # odd along one axis: an imaginary spectrum
@@ -219,13 +221,15 @@ class HalfSpaceOperator:
         self, spectrum: np.ndarray, key: str, out: np.ndarray, sign: float = 1.0
     ) -> np.ndarray:
         """``out`` ← ``sign`` · (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
-        ``spectrum``. A real kernel spectrum k multiplies the complex values by a real array
-        (a + ib)k = ak + ibk; an imaginary one ik then turns the product by ±i:
-        (ak + ibk)(±i) = ∓bk ± iak. Each part is one rounded product (the other factor of
-        numpy's complex product is an exact 0 or ±1), so the values are those of the float
-        pairs multiplied one by one, in one pass instead of two."""
+        ``spectrum``. A real kernel spectrum k multiplies the real and imaginary parts:
+        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one ik then turns the
+        product by ±i: (ak + ibk)(±i) = ∓bk ± iak, exactly (the other factor of each part of
+        numpy's complex product is an exact 0 or ±1)."""
         values, kind = self._stored(key)
-        np.multiply(spectrum, values, out=out)
+        if kind == "complex":
+            np.multiply(spectrum, values, out=out)
+        else:
+            multiply_by_real(spectrum, values, out)
         if kind == "imaginary":
             np.multiply(out, 1j * sign, out=out)
         elif sign < 0:
@@ -237,6 +241,9 @@ class HalfSpaceOperator:
         (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
         its own transform pair, the product taken in place (no further buffer)."""
         nx, ny = self.grid.shape
+        for row in rows:  # spectra first: building one uses the transforms' buffers
+            for key, _ in row:
+                self._stored(key)
         result = np.empty((len(rows), nx, ny))
         if len(fields) == 1:
             transform = self._transform(1)
@@ -320,6 +327,15 @@ class HalfSpaceOperator:
         return self._symbol_bound
 
 
+def multiply_by_real(spectrum: np.ndarray, values: np.ndarray, out: np.ndarray) -> None:
+    """``out`` ← ``spectrum`` · ``values`` (complex by real, element by element; ``out`` may be
+    ``spectrum``): the real and imaginary parts multiplied in place. ``np.multiply`` of a
+    complex and a real array would cast the real one to complex through a buffer allocated
+    at each call (fresh pages: more time than the product on small grids)."""
+    np.multiply(spectrum.real, values, out=out.real)
+    np.multiply(spectrum.imag, values, out=out.imag)
+
+
 def _within(quadrant: np.ndarray, index_x, index_y) -> bool:
     """Whether ``quadrant`` holds every offset |i| of ``index_x`` and |j| of ``index_y``."""
     return (
@@ -390,7 +406,7 @@ class SpectralPreconditioner:
         fft = self._one
         fft.real[0] = residual
         spectrum = fft.forward()
-        spectrum *= self._normal
+        multiply_by_real(spectrum, self._normal, spectrum)
         return fft.inverse()[0].copy()
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
