@@ -59,7 +59,8 @@ KERNEL_INTEGRALS = {
 #: Corners evaluated at once by ``kernel_quadrants``: bounds its work arrays (about ten of
 #: this size, 128 kB each, reused from block to block) whatever the grid; the values do not
 #: depend on it.
-BLOCK_ELEMENTS = 1 << 14
+BLOCK_ELEMENTS = 1 << 12
+BLOCK_ROWS = 16
 
 
 class _Work:
@@ -255,7 +256,7 @@ def kernel_quadrants(
     corners_y = (grid.dy * (np.arange(count_y + 1) - 0.5))[None, :]
     quadrants = {key: np.empty((count_x, count_y)) for key in keys}
     integrals = tuple(dict.fromkeys(name for key in keys for name in KERNEL_INTEGRALS[key]))
-    rows = max(1, BLOCK_ELEMENTS // (count_y + 1))
+    rows = max(BLOCK_ROWS, BLOCK_ELEMENTS // (count_y + 1))
     work = _Work((min(rows, count_x) + 1, count_y + 1))
     for start in range(0, count_x, rows):
         stop = min(start + rows, count_x)

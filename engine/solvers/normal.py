@@ -108,8 +108,8 @@ def solve_normal(
         np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
         residual_c[outside] = 0.0
         z = preconditioner.normal(residual_c)  # np.where(contact, M r, 0)
+        z -= z[contact].mean()
         z[outside] = 0.0
-        z[contact] -= z[contact].mean()
         product = float(np.sum(np.multiply(residual_c, z, out=work)))
         beta = product / previous if conjugate else 0.0
         direction *= beta  # np.where(contact, z + beta d, 0)
