@@ -236,7 +236,7 @@ class HalfSpaceOperator:
             np.negative(out, out=out)
         return out
 
-    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
+    def _convolve(self, rows: tuple, fields: list[np.ndarray], out=None) -> np.ndarray:
         """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
         (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
         its own transform pair, the product taken in place (no further buffer)."""
@@ -244,7 +244,7 @@ class HalfSpaceOperator:
         for row in rows:  # spectra first: building one uses the transforms' buffers
             for key, _ in row:
                 self._stored(key)
-        result = np.empty((len(rows), nx, ny))
+        result = np.empty((len(rows), nx, ny)) if out is None else out
         if len(fields) == 1:
             transform = self._transform(1)
             for a, ((key, sign),) in enumerate(rows):
@@ -286,9 +286,11 @@ class HalfSpaceOperator:
         u = self._convolve(self._rows(range(3), range(3)), [p_x, p_y, p_n])
         return u[0], u[1], u[2]
 
-    def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
-        """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
-        return self._convolve(self._rows(range(2, 3), range(2, 3)), [p_n])[0]
+    def apply_normal(self, p_n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` (an
+        array of the grid's shape) when given (an iteration's work array: no fresh memory)."""
+        rows = self._rows(range(2, 3), range(2, 3))
+        return self._convolve(rows, [p_n], None if out is None else out[None])[0]
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
@@ -402,12 +404,17 @@ class SpectralPreconditioner:
             self._two = self._transform(2)
         return self._tangential
 
-    def normal(self, residual: np.ndarray) -> np.ndarray:
+    def normal(self, residual: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """M r (MPa) of a normal residual r (mm), into ``out`` when given."""
         fft = self._one
         fft.real[0] = residual
         spectrum = fft.forward()
         multiply_by_real(spectrum, self._normal, spectrum)
-        return fft.inverse()[0].copy()
+        result = fft.inverse()[0]
+        if out is None:
+            return result.copy()
+        out[...] = result
+        return out
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
         ixx, ixy, iyy = self._tangential_symbols()

@@ -86,13 +86,13 @@ def solve_normal(
     direction = np.zeros(grid.shape)
     # Work arrays, reused by every iteration (fresh pages at each iteration cost more than
     # the arithmetic on small grids).
-    gap, residual_c, work = (np.empty(grid.shape) for _ in range(3))
+    gap, residual_c, work, pressure_image, step_image, z = (np.empty(grid.shape) for _ in range(6))
     contact, outside = np.empty(grid.shape, bool), np.empty(grid.shape, bool)
     previous = 1.0
     conjugate = False
     residual, approach, iterations, converged_image = math.inf, 0.0, 0, None
     for iterations in range(1, maxiter + 1):  # noqa: B007
-        raw = known if known is not None else operator.apply_normal(pressure)
+        raw = known if known is not None else operator.apply_normal(pressure, out=pressure_image)
         known = None
         np.add(raw, offset, out=gap)
         np.logical_and(mask, np.greater(pressure, 0.0, out=contact), out=contact)
@@ -107,7 +107,7 @@ def solve_normal(
         # same operations, element by element, as the textbook expressions in the comments).
         np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
         residual_c[outside] = 0.0
-        z = preconditioner.normal(residual_c)  # np.where(contact, M r, 0)
+        preconditioner.normal(residual_c, out=z)  # np.where(contact, M r, 0)
         z -= z[contact].mean()
         z[outside] = 0.0
         product = float(np.sum(np.multiply(residual_c, z, out=work)))
@@ -115,13 +115,11 @@ def solve_normal(
         direction *= beta  # np.where(contact, z + beta d, 0)
         direction += z
         direction[outside] = 0.0
-        del z
         previous = product
-        step_image = operator.apply_normal(direction)
+        operator.apply_normal(direction, out=step_image)
         step_image -= step_image[contact].mean()
         numerator = float(np.sum(np.multiply(residual_c, direction, out=work)))
         step = numerator / float(np.sum(np.multiply(step_image, direction, out=step_image)))
-        del step_image
         change = np.multiply(direction, step, out=work)  # max(where(contact, p − step d, 0), 0)
         np.subtract(pressure, change, out=pressure)
         pressure[outside] = 0.0
