@@ -290,7 +290,10 @@ class HalfSpaceOperator:
         """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` (an
         array of the grid's shape) when given (an iteration's work array: no fresh memory)."""
         rows = self._rows(range(2, 3), range(2, 3))
-        return self._convolve(rows, [p_n], None if out is None else out[None])[0]
+        if out is None:
+            return self._convolve(rows, [p_n])[0]
+        self._convolve(rows, [p_n], out[None])
+        return out
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
