@@ -56,11 +56,12 @@ KERNEL_INTEGRALS = {
     "zy": ("y",),
 }
 
-#: Corners evaluated at once by ``kernel_quadrants``: bounds its work arrays (about ten of
-#: this size, 128 kB each, reused from block to block) whatever the grid; the values do not
+#: Corners evaluated at once by ``kernel_quadrants`` (rows of corners, at least
+#: ``BLOCK_ROWS``): bounds its work arrays (about ten of this size, 32 kB each on small grids,
+#: reused from block to block, so they stay in cache) whatever the grid; the values do not
 #: depend on it.
 BLOCK_ELEMENTS = 1 << 12
-BLOCK_ROWS = 16
+BLOCK_ROWS = 16  # fewer, longer blocks on large grids: the per-block calls stay negligible
 
 
 class _Work:
