@@ -120,7 +120,7 @@ def child_engine(n: int, frictional: bool) -> dict:
 
     def solve(solver):
         result = solver.solve_load(LOAD)
-        return result.approach, result.converged, result.iterations
+        return result.approach, result.report.converged, result.report.iterations
 
     return _timed(build, solve)
 

@@ -42,7 +42,8 @@ law = FrictionLaw(float(mu), float(mu))
 solver = ContactSolver(grid, paper_material(), FlatPunch(float(radius)), law, tol=float(tol))
 print("built", flush=True)
 result = solver.solve_load(float(load))
-print(f"finished converged={result.converged} iterations={result.iterations}", flush=True)
+report = result.report
+print(f"finished converged={report.converged} iterations={report.iterations}", flush=True)
 """
 
 

@@ -66,7 +66,10 @@ def frictionless_solve(n: int, tol: float) -> dict:
     result = solver.solve_load(LOAD)
     elapsed = time.perf_counter() - start
     return dict(
-        time=elapsed, iterations=result.iterations, face=face_residual(solver, result), tol=tol
+        time=elapsed,
+        iterations=result.report.iterations,
+        face=face_residual(solver, result),
+        tol=tol,
     )
 
 
@@ -82,10 +85,10 @@ def run_size(n: int) -> dict:
     row["frictionless"] = dict(
         tol=TOL,
         time=elapsed,
-        iterations=result.iterations,
-        matvecs=result.matvecs,
+        iterations=result.report.iterations,
+        matvecs=result.report.matvecs,
         ratio=elapsed / t_normal,
-        converged=result.converged,
+        converged=result.report.converged,
         approach_error=result.approach / sneddon_approach(LOAD, RADIUS, material.contact_modulus)
         - 1,
         face=face_residual(solver, result),
@@ -105,13 +108,13 @@ def run_size(n: int) -> dict:
     fista.lipschitz()  # FISTA's step estimate: once per grid, reused by every increment
     fista_warm = fista.solve_load(LOAD, fista.solve_load(0.5 * LOAD).state)
     row["mu=0.2"] = dict(
-        fista_warm_matvecs=fista_warm.matvecs,
+        fista_warm_matvecs=fista_warm.report.matvecs,
         time=elapsed,
-        iterations=cold.iterations,
-        matvecs=cold.matvecs,
+        iterations=cold.report.iterations,
+        matvecs=cold.report.matvecs,
         ratio=elapsed / t_full,
-        converged=cold.converged and warm.converged,
-        warm_matvecs=warm.matvecs,
+        converged=cold.report.converged and warm.report.converged,
+        warm_matvecs=warm.report.matvecs,
         warm_time=warm_time,
         op=t_full,
     )

@@ -102,8 +102,9 @@ def frictional_solve(grid: Grid, threads: int, pressure: np.ndarray, maxiter: in
     start = time.perf_counter()
     result = solver.solve_load(LOAD)
     elapsed = time.perf_counter() - start
+    report = result.report
     label = (
-        f"{elapsed:.3f} s ({result.matvecs} operator applications, converged={result.converged})"
+        f"{elapsed:.3f} s ({report.matvecs} operator applications, converged={report.converged})"
     )
     return (elapsed, label), (result.pressure, result.traction_x, result.traction_y)
 

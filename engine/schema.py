@@ -6,8 +6,8 @@ stored in the histories, the summary columns and the row of a case without resul
 loading kinds (:mod:`engine.study.kinds`), the layout (:mod:`engine.study.layout`), the solvers'
 histories (:mod:`engine.solvers.cyclic`, :mod:`engine.solvers.peak`), the writers
 (:mod:`engine.output.hdf5`, :mod:`engine.output.collective`), the summary, the scheduler, the
-CLI and the reader (:mod:`engine.analysis.reader`) all take them from here. This module sits
-below every layer and imports nothing of the engine.
+CLI and the results reader (:mod:`engine.analysis.results`) all take them from here. This
+module sits below every layer and imports nothing of the engine.
 
 Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dimensionless)::
 

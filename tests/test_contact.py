@@ -26,7 +26,7 @@ from tests.conftest import LOAD, RADIUS
 def test_frictionless_punch_matches_sneddon(frictionless_64, material, validation):
     """Acceptance 1: Eq. (18) within 1 % and Eq. (17) within 3 % for r <= 0.8 a0 at 64²."""
     result = frictionless_64.solve_load(LOAD)
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     expected = sneddon_approach(LOAD, RADIUS, material.contact_modulus)
     assert result.approach == pytest.approx(expected, rel=0.01)
     r = frictionless_64.grid.radius()
@@ -50,7 +50,7 @@ def test_displacement_control_reproduces_load_control(frictionless_64):
     """The two controls are inverse to each other (within the solver tolerance)."""
     by_load = frictionless_64.solve_load(LOAD)
     by_approach = frictionless_64.solve_approach(by_load.approach)
-    assert by_approach.converged, by_approach.message
+    assert by_approach.report.converged, by_approach.report.message
     assert by_approach.load == pytest.approx(LOAD, rel=1e-6)
 
 
@@ -75,7 +75,7 @@ def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material, va
     (artanh(β)/β with Dundurs' β for E_B = 100 E_A, 1.02745; 1.02863 for a rigid punch)."""
     frictionless = frictionless_64.solve_load(LOAD)
     stuck = with_friction(frictionless_64, FrictionLaw(1.0, 1.0)).solve_load(LOAD)
-    assert stuck.converged, stuck.message
+    assert stuck.report.converged, stuck.report.message
     in_contact = stuck.status != 0
     assert np.all(stuck.status[in_contact] == STICK)
     ratio = frictionless.approach / stuck.approach  # same load: k ∝ 1/approach
@@ -139,7 +139,7 @@ def test_orthotropic_beta_90_is_rotated_beta_0(material):
     at_90 = with_friction(base, FrictionLaw(0.1, 0.4, np.pi / 2)).solve_load(LOAD)
     swapped = with_friction(base, FrictionLaw(0.4, 0.1, 0.0)).solve_load(LOAD)
     for result in (at_0, at_90, swapped):
-        assert result.converged, result.message
+        assert result.report.converged, result.report.message
     scale = at_0.pressure.max()
     np.testing.assert_allclose(at_90.pressure, _rotate_scalar(at_0.pressure), atol=1e-6 * scale)
     rx, ry = _rotate_vector(at_0.traction_x, at_0.traction_y)
@@ -160,9 +160,9 @@ def test_non_convergence_is_reported(frictionless_64):
     solver = with_friction(frictionless_64, FrictionLaw(0.2, 0.2))
     solver.maxiter = 5
     result = solver.solve_load(LOAD)
-    assert not result.converged
-    assert "did not converge" in result.message
-    assert result.residual > solver.tol
+    assert not result.report.converged
+    assert "did not converge" in result.report.message
+    assert result.report.residual > solver.tol
 
 
 @pytest.mark.parametrize(

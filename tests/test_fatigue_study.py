@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from engine.schema import FATIGUE_HOT_SPOT_COLUMNS
 from engine.study.config.reader import Section
 from engine.study.config.sections import StudyConfigError
 from engine.study.fatigue import (
@@ -279,6 +280,22 @@ def test_report_and_figures_say_whether_and_where_a_crack_is_predicted(tmp_path)
             assert f"{case.label}: crack predicted by crossland" in report
     names = [path.name for path in plot_study(study, tmp_path / "figures")]
     assert {"fretting_map.png", "fatigue_maps.png", "fatigue_history.png"} <= set(names)
+    # The public reading layer gives the same maps, on the stress plane's dimensions.
+    results = engine.open_results(tmp_path / "fatigue.h5")
+    for case in study.cases:
+        maps = results[case.case_id].fatigue
+        assert list(maps) == list(case.fatigue) and maps.cycles
+        for cycle, group in maps.items():
+            assert list(group) == list(case.fatigue[cycle])
+            plane_x = results[case.case_id].planes[cycle]["x"].values
+            for name, variable in group.items():
+                assert np.array_equal(variable.values, case.fatigue[cycle][name], equal_nan=True)
+                if name.endswith("_hot_spot"):
+                    columns = list(variable.coords[f"{name}_column"][1])
+                    assert columns == list(FATIGUE_HOT_SPOT_COLUMNS)
+                else:
+                    assert variable.dims == ("s", "depth")
+                    assert np.array_equal(variable.coords["x"][1], plane_x)
 
 
 def test_a_search_finds_the_bulk_stress_at_which_a_crack_is_predicted(tmp_path):

@@ -49,8 +49,8 @@ def test_alternation_agrees_with_fista(material, friction):
     _, ours = _two_increments(solver)
     _, reference = _two_increments(_fista(solver))
     for result in (ours, reference):
-        assert result.converged, result.message
-    assert "alternating" in ours.message and "accelerated" in reference.message
+        assert result.report.converged, result.report.message
+    assert "alternating" in ours.report.message and "accelerated" in reference.report.message
     scale = reference.pressure.max()
     for name in ("pressure", "traction_x", "traction_y"):
         np.testing.assert_allclose(
@@ -78,14 +78,14 @@ def test_a_guess_changes_where_the_iteration_starts_not_the_answer(material, fri
         values = getattr(noisy, name)
         values *= 1.0 + 0.01 * rng.standard_normal(values.shape)
     guided = solver.solve_load(LOAD, half.state, guess=noisy)
-    assert guided.converged, guided.message
+    assert guided.report.converged, guided.report.message
     scale = reference.pressure.max()
     for name in ("pressure", "traction_x", "traction_y"):
         np.testing.assert_allclose(
             getattr(guided, name), getattr(reference, name), atol=1e-6 * scale, err_msg=name
         )
     again = solver.solve_load(LOAD, half.state, guess=reference.state)
-    assert again.matvecs == 1 and "0 passes" in again.message, again.message
+    assert again.report.matvecs == 1 and "0 passes" in again.report.message, again.report.message
     np.testing.assert_array_equal(again.pressure, reference.pressure)
 
 
@@ -97,8 +97,8 @@ def test_warm_increment_work_does_not_grow_with_the_mesh(material):
     for n in (32, 128):
         solver = _solver(material, n, FrictionLaw(0.2, 0.2), tol=1e-8)
         _, warm = _two_increments(solver)
-        assert warm.converged, warm.message
-        counts[n] = warm.matvecs
+        assert warm.report.converged, warm.report.message
+        counts[n] = warm.report.matvecs
     assert counts[128] <= 1.5 * counts[32], counts
 
 
@@ -108,8 +108,8 @@ def test_fallback_to_fista_when_alternation_does_not_settle(material, monkeypatc
     monkeypatch.setattr(alternation, "MAX_OUTER", 1)
     solver = _solver(material, 32, FrictionLaw(0.2, 0.2))
     result = solver.solve_load(LOAD)
-    assert result.converged, result.message
-    assert "after 1 alternating passes" in result.message
+    assert result.report.converged, result.report.message
+    assert "after 1 alternating passes" in result.report.message
     monkeypatch.undo()
     direct = _solver(material, 32, FrictionLaw(0.2, 0.2)).solve_load(LOAD)
     np.testing.assert_allclose(result.pressure, direct.pressure, atol=1e-6 * direct.pressure.max())

@@ -132,7 +132,7 @@ def test_pressure_does_not_depend_on_the_datum_under_load_control():
             grid, material, CylinderProfile(6.0), FrictionLaw(0.0, 0.0), operator=operator
         )
         result = solver.solve_load(100.0)
-        assert result.converged, result.message
+        assert result.report.converged, result.report.message
         pressures.append(result.pressure)
     np.testing.assert_allclose(pressures[0], pressures[1], atol=1e-6 * pressures[0].max())
 

@@ -52,7 +52,7 @@ def cylinder():
 @pytest.mark.validation
 def test_hertz_line_contact(cylinder, validation):
     solver, result = cylinder
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     grid = solver.grid
     assert result.load == pytest.approx(LOAD, rel=1e-12)  # load control is exact
     half_width = 0.5 * np.count_nonzero(result.pressure > 0.0) * grid.dx
@@ -187,6 +187,32 @@ def test_line_loop_energy_limits():
     assert ref.line_loop_energy(MU * LOAD, LOAD, E_STAR, MU) == pytest.approx(scale)
 
 
+@pytest.mark.parametrize("factor", [0.3, 0.8, 2.5])
+def test_line_fretting_loop_encloses_the_energy_per_cycle(factor):
+    """The drawn loop (2001 points per branch) passes through (±δ*, ±Q*) and encloses
+    line_loop_energy(Q*) in partial slip, that plus 4μP(δ* − δ_slip) in gross slip (2e-5:
+    polygon of a smooth curve). Q* under a displacement amplitude comes from the numerical
+    inverse of the virgin curve (1e-12: Brent's xtol and rounding; measured 4e-15)."""
+    contact = (LOAD, RADIUS, E_STAR, MU, DATUM)
+    slip = float(ref.line_slip_displacement(*contact))
+    amplitude = factor * slip
+    delta, force = ref.line_fretting_loop(*contact, displacement_amplitude=amplitude, points=2001)
+    peak_force = force[0]
+    assert delta[0] == pytest.approx(amplitude, rel=1e-12)
+    assert delta.min() == pytest.approx(-amplitude, rel=1e-12)
+    assert (delta[-1], force[-1]) == (delta[0], force[0])
+    limit = MU * LOAD
+    if factor < 1.0:
+        reached = float(ref.line_tangential_displacement(peak_force, *contact))
+        assert reached == pytest.approx(amplitude, rel=1e-12)
+        expected = ref.line_loop_energy(peak_force, LOAD, E_STAR, MU)
+    else:
+        assert peak_force == limit
+        expected = ref.line_loop_energy(limit, LOAD, E_STAR, MU) + 4 * limit * (amplitude - slip)
+    area = 0.5 * abs(np.sum(delta[:-1] * force[1:] - delta[1:] * force[:-1]))
+    assert area == pytest.approx(expected, rel=2e-5)
+
+
 def test_rounded_pad_closed_form_is_consistent():
     """The pressure integrates to P (to the quadrature's 1e-6), reduces to Hertz as b → 0,
     and inside the flat matches direct quadrature of the inversion integral (the integrand
@@ -226,7 +252,7 @@ def test_rounded_pad_against_ciavarella(validation):
     a = ref.pad_half_width(load, b, radius, E_STAR)
     solver = _solver(256, 1.15 * a, RoundedPadProfile(b, radius), mu=0.0)
     result = solver.solve_load(load)
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     grid = solver.grid
     half_width = 0.5 * np.count_nonzero(result.pressure > 0.0) * grid.dx
     assert abs(half_width - a) <= grid.dx

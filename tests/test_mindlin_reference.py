@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 from engine.material import MaterialPair
-from engine.reference import mindlin
+from engine.reference import masing, mindlin
 from engine.reference.hertz import hertz_contact_radius
 
 STEEL = MaterialPair(E_A=210000.0, nu_A=0.3, E_B=210000.0, nu_B=0.3)
@@ -141,6 +141,24 @@ def test_force_controlled_loop_and_argument_check():
     )
     with pytest.raises(ValueError):
         mindlin.fretting_loop(*ARGS)
+
+
+def test_loop_by_numerical_inverse_matches_the_closed_form_inverse():
+    """masing.fretting_loop without the closed-form Q(δ) (Brent's root of δ(Q) = δ*) draws
+    the sphere's loop to 1e-12 of μP and δ_slip (Brent's xtol, 2e-12 N on μP = 60 N, and
+    rounding; measured: identical); at δ* ≥ δ_slip both give Q* = μP."""
+    limit = MU * LOAD
+    slip = mindlin.slip_displacement(*ARGS)
+
+    def virgin(force):
+        return mindlin.tangential_displacement(force, *ARGS)
+
+    for amplitude in (0.4 * slip, 1.7 * slip):
+        exact = mindlin.fretting_loop(*ARGS, displacement_amplitude=amplitude)
+        numerical = masing.fretting_loop(virgin, limit, displacement_amplitude=amplitude)
+        np.testing.assert_allclose(numerical[0], exact[0], rtol=0, atol=1e-12 * slip)
+        np.testing.assert_allclose(numerical[1], exact[1], rtol=0, atol=1e-12 * limit)
+    assert exact[1][0] == numerical[1][0] == limit
 
 
 def test_energy_ratio_master_curve():

@@ -92,6 +92,60 @@ def test_fields_history_and_planes_are_the_stored_values_with_the_schema_units(c
     assert "pressure" in repr(case.fields["final"]) and "[MPa]" in repr(pressure)
 
 
+def test_the_figures_and_the_report_read_through_this_layer(cyclic):
+    """engine.analysis.reader (the figures' and the report's objects) is built on
+    open_results: the study grid, the cases in plan order with their index, and every array
+    are the ones the public objects give."""
+    from engine.analysis.reader import read_results
+
+    results = engine.open_results(cyclic)
+    study = read_results(cyclic)
+    with h5py.File(cyclic) as file:
+        assert np.array_equal(results.grid["x"].values, file["grid/x"][()])
+        assert [file["cases"][c].attrs["index"] for c in results.case_ids] == [0, 1]
+    assert np.array_equal(study.grid_x, results.grid["x"].values)
+    assert [(case.case_id, case.index) for case in study.cases] == [
+        (case.case_id, case.index) for case in results.completed
+    ]
+    for mine, public in zip(study.cases, results.completed, strict=True):
+        assert mine.mu1 == public.parameters["mu1"] and mine.summary == public.summary
+        assert list(mine.fields) == list(public.fields) == [10, 20, "final"]
+        for key, group in public.fields.items():
+            for name, variable in group.items():
+                assert np.array_equal(mine.fields[key][name], variable.values)
+        for key, plane in public.planes.items():
+            assert np.array_equal(mine.planes[key].von_mises, plane["von_mises"].values)
+            assert mine.planes[key].angle == plane.attrs["plane_angle"] == 0.0
+        assert np.array_equal(mine.history["wear_volume"], public.history["wear_volume"].values)
+    assert study.skipped == []
+
+
+def test_a_with_block_keeps_the_file_open_for_many_reads(cyclic):
+    """Inside ``with`` the cases read from one open file (closed at the end); outside it,
+    each read opens and closes the file; the values are the same."""
+    results = engine.open_results(cyclic)
+    with results as held:
+        assert held is results
+        inside = [case.fields["final"]["pressure"].values for case in held.completed]
+        with h5py.File(cyclic, "r") as other:  # read-only: other readers are welcome
+            assert other["cases"]
+    again = engine.open_results(cyclic)
+    outside = [case.fields["final"]["pressure"].values for case in again.completed]
+    assert all(np.array_equal(a, b) for a, b in zip(inside, outside, strict=True))
+    assert results.completed[0].planes["final"]["von_mises"].shape  # after the block: reopens
+
+
+def test_a_peak_change_holds_a_plane_and_surface_fields(cyclic):
+    """peak_changes/cycle_N: the plane's datasets on (s, depth), the surface fields beside
+    it on (x, y) with the grid as coordinates; both in one xarray.Dataset."""
+    case = engine.open_results(cyclic)["mu0.2_w1.33e-07_b0"]
+    group = case.peak_changes[case.peak_changes.cycles[0]]
+    assert group["von_mises"].dims == ("s", "depth") and group["pressure"].dims == ("x", "y")
+    assert np.array_equal(group["pressure"].coords["x"][1], case.grid["x"].values)
+    dataset = group.to_xarray()
+    assert dataset["pressure"].dims == ("x", "y") and dataset["von_mises"].dims == ("s", "depth")
+
+
 def test_to_xarray_takes_coordinates_from_the_file(cyclic):
     case = engine.open_results(cyclic)["mu0.2_w1.33e-07_b0"]
     final = case.fields["final"].to_xarray()

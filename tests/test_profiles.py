@@ -123,7 +123,7 @@ def test_sphere_frictionless_against_hertz_64(validation):
     p_max = hertz.hertz_peak_pressure(load, radius, modulus)
     grid = Grid.square(64, 1.5 * a)
     result = solve(grid, PAPER, SphericalPunch(radius), load)
-    assert result.converged
+    assert result.report.converged
     contact = math.sqrt(result.contact_area(grid.element_area) / math.pi)
     assert contact == pytest.approx(a, rel=0.02)
     assert result.approach == pytest.approx(hertz.hertz_approach(load, radius, modulus), rel=2e-3)
@@ -166,7 +166,7 @@ def test_rounded_punch_against_axisymmetric_reference_64(validation):
     reference, load, a = _rounded_case()
     grid = Grid.square(64, 1.3)
     result = solve(grid, UNIT, RoundedPunch(1.0, 1.0), load)
-    assert result.converged
+    assert result.report.converged
     assert result.approach == pytest.approx(reference.approach(a), rel=2e-3)
     radii = np.linspace(0.0, 0.8, 41)
     profile = reference.pressures(radii, a)
@@ -255,7 +255,7 @@ def test_frictional_sphere_is_self_similar_and_stiffer():
         result = solver.solve_load(load * step / 8, state)
         state = result.state
         if step in (4, 8):
-            assert result.converged
+            assert result.report.converged
             contact = math.sqrt(result.contact_area(grid.element_area) / math.pi)
             stick = math.sqrt(result.stick_area(grid.element_area) / math.pi)
             ratios.append(stick / contact)
@@ -310,7 +310,7 @@ def test_frictional_sphere_against_ring_reference(friction, n, validation):
     for step in range(1, 9):
         result = solver.solve_load(load * step / 8, state)
         state = result.state
-    assert result.converged
+    assert result.report.converged
     contact = math.sqrt(result.contact_area(grid.element_area) / math.pi)
     stick = math.sqrt(result.stick_area(grid.element_area) / math.pi)
     frictionless = static_analysis(

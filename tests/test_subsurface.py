@@ -51,7 +51,7 @@ def _solver_pressure() -> np.ndarray:
         PAPER_GRID, paper_material(), FlatPunch(A0), friction.FrictionLaw(0.0, 0.0, 0.0)
     )
     result = solver.solve_load(LOAD)
-    assert result.converged, result.message
+    assert result.report.converged, result.report.message
     return result.pressure
 
 

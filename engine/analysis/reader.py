@@ -1,23 +1,27 @@
-"""Read a study's results file (layout: :mod:`engine.schema`) into plain in-memory objects.
+"""A study's results in memory, as the figures and the report use them.
 
-Used by the figures and the report; nothing here writes. Units as stored: mm, N, MPa; the
-objects add the normalisations the paper uses (a0 = punch radius, p0 = P/(π a0²), Eq. 19).
-Only completed cases are loaded; the others are listed in ``StudyResults.skipped``.
+The file is read through the public reading layer (:func:`engine.open_results`,
+:mod:`engine.analysis.results`: the one place that knows the layout of
+:mod:`engine.schema`); :func:`read_results` loads every completed case's values into plain
+arrays and adds what the analyses need: the normalisations of the paper (a0 = punch radius,
+p0 = P/(π a0²), Eq. 19), the study's profile and material, case labels and the stress
+planes' peaks. Units as stored: mm, N, MPa. The other cases are listed in
+``StudyResults.skipped``. Nothing here writes.
 """
 
 from __future__ import annotations
 
 import copy
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, cycle_of_group
+from engine.schema import CaseStatus
+
+from .results import Records, ResultCase, VariableGroup, open_results
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
 
@@ -253,14 +257,10 @@ class StudyResults:
             section, name = key.split(".", 1)
             config.setdefault(section, {})[name] = value
             config.get("sweep", {}).pop(key, None)
-        with h5py.File(self.path, "r") as file:
-            group = file[CASES_GROUP][case_id]
-            grid = group[GRID_GROUP] if GRID_GROUP in group else file.get(GRID_GROUP)
-            grid_x, grid_y = (
-                (np.asarray(grid["x"]), np.asarray(grid["y"]))
-                if grid is not None
-                else (self.grid_x, self.grid_y)
-            )
+        grid = open_results(self.path)[case_id].grid
+        grid_x, grid_y = (
+            (grid["x"].values, grid["y"].values) if grid else (self.grid_x, self.grid_y)
+        )
         return StudyResults(
             path=self.path, name=f"{self.name} {case_id}", config=config, grid_x=grid_x,
             grid_y=grid_y, cases=chosen,
@@ -268,78 +268,61 @@ class StudyResults:
 
 
 def read_results(path: str | Path) -> StudyResults:
-    """Load every completed case of the results file ``path``."""
-    path = Path(path)
-    with h5py.File(path, "r") as file:
-        config = json.loads(file.attrs["study_json"])
-        cases, skipped = [], []
-        for case_id, group in file[CASES_GROUP].items():
-            status = str(group.attrs.get("status", ""))
-            if status != CaseStatus.COMPLETED:
-                skipped.append((case_id, status))
-                continue
-            cases.append(_read_case(case_id, group))
-        study = StudyResults(
-            path=path,
-            name=str(file.attrs.get("study_name", path.stem)),
-            config=config,
-            grid_x=_grid(file, "x"),
-            grid_y=_grid(file, "y"),
-            cases=sorted(cases, key=lambda case: case.index),
-            skipped=skipped,
+    """Load every completed case of the results file ``path`` (read by
+    :func:`engine.open_results`); the other cases by id in ``skipped``."""
+    with open_results(path) as results:
+        grid = results.grid
+        cases = [_case(case) for case in results.completed]
+    return StudyResults(
+        path=results.path,
+        name=results.name,
+        config=results.study,
+        grid_x=grid["x"].values if "x" in grid else np.zeros(0),
+        grid_y=grid["y"].values if "y" in grid else np.zeros(0),
+        cases=cases,
+        skipped=sorted(
+            (case_id, status)
+            for case_id, status in results.statuses.items()
+            if status != CaseStatus.COMPLETED
+        ),
+    )
+
+
+def _case(case: ResultCase) -> CaseResults:
+    """A completed case's values in memory."""
+    parameters = case.parameters
+    return CaseResults(
+        case_id=case.case_id,
+        index=case.index,
+        mu1=float(parameters["mu1"]),
+        mu2=float(parameters["mu2"]),
+        wear1=float(parameters["wear1"]),
+        wear2=float(parameters["wear2"]),
+        beta=float(parameters["beta"]),
+        summary=case.summary,
+        history=_values(case.history),
+        fields={key: _values(group) for key, group in case.fields.items()},
+        planes=_planes(case.planes),
+        change_planes=_planes(case.peak_changes),
+        fatigue={key: _values(group) for key, group in case.fatigue.items()},
+        settings={key: value for key, value in parameters.items() if "." in key},
+    )
+
+
+def _values(group: VariableGroup) -> dict[str, np.ndarray]:
+    return {name: variable.values for name, variable in group.items()}
+
+
+def _planes(records: Records) -> dict[Any, StressPlane]:
+    """The stored planes by instant; each one's angle (degrees) from its ``plane_angle``
+    attribute (absent: 0)."""
+    return {
+        key: StressPlane(
+            x=group["x"].values,
+            z=group["z"].values,
+            von_mises=group["von_mises"].values,
+            y=group["y"].values if "y" in group else None,
+            angle=float(group.attrs["plane_angle"]),
         )
-    return study
-
-
-def _grid(file: h5py.File, name: str) -> np.ndarray:
-    """The study's grid coordinates: the root grid, or (grid swept from case to case) the
-    first case's own grid; ``/cases/<case_id>/grid`` has every case's."""
-    if GRID_GROUP in file:
-        return np.asarray(file[GRID_GROUP][name])
-    for group in file[CASES_GROUP].values():
-        if GRID_GROUP in group:
-            return np.asarray(group[GRID_GROUP][name])
-    return np.zeros(0)
-
-
-def _group_key(name: str):
-    cycle = cycle_of_group(name)
-    return name if cycle is None else cycle
-
-
-def _read_case(case_id: str, group: h5py.Group) -> CaseResults:
-    attrs = group.attrs
-    case = CaseResults(
-        case_id=case_id,
-        index=int(attrs.get("index", 0)),
-        mu1=float(attrs["mu1"]),
-        mu2=float(attrs["mu2"]),
-        wear1=float(attrs["wear1"]),
-        wear2=float(attrs["wear2"]),
-        beta=float(attrs["beta"]),
-        summary=json.loads(attrs["summary"]),
-        settings={key: attrs[key].item() for key in attrs if "." in key},
-    )
-    if "history" in group:
-        case.history = {name: np.asarray(data) for name, data in group["history"].items()}
-    for name, sub in group.get("fields", {}).items():
-        case.fields[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
-    for name, sub in group.get("subsurface", {}).items():
-        case.planes[_group_key(name)] = _plane(sub)
-    for name, sub in group.get("peak_changes", {}).items():
-        case.change_planes[_group_key(name)] = _plane(sub)
-    for name, sub in group.get("fatigue", {}).items():
-        case.fatigue[_group_key(name)] = {key: np.asarray(data) for key, data in sub.items()}
-    return case
-
-
-def _plane(group: h5py.Group) -> StressPlane:
-    """A stored plane; its angle (degrees) from the ``plane_angle`` attribute (absent: 0)."""
-    von_mises = group["von_mises"]
-    return StressPlane(
-        x=np.asarray(group["x"]),
-        z=np.asarray(group["z"]),
-        von_mises=np.asarray(von_mises),
-        y=np.asarray(group["y"]) if "y" in group else None,
-        angle=float(von_mises.attrs.get("plane_angle", 0.0)),
-    )
+        for key, group in records.items()
+    }

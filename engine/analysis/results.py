@@ -23,6 +23,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 from collections.abc import Iterator, Mapping
@@ -34,7 +35,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, cycle_of_group, unit_of
+from engine.schema import CASES_GROUP, GRID_GROUP, PLANE, CaseStatus, cycle_of_group, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
@@ -260,7 +261,7 @@ class Records(_Table):
 
 class ResultCase:
     """One case of a results file: its parameters, status, summary row, histories, surface
-    fields and stress planes (read when first asked for).
+    fields, stress planes and fatigue maps (read when first asked for).
 
     Parameters
     ----------
@@ -276,6 +277,9 @@ class ResultCase:
         with self._group() as group:
             attrs = group.attrs
             self.status: str = _text(attrs.get("status", ""))
+            #: The case's position in the plan (attribute ``index``).
+            index = attrs.get("index")
+            self.index: int = results.case_ids.index(case_id) if index is None else int(index)
             self.message: str = _text(attrs.get("message", ""))
             summary = attrs.get("summary")
             self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
@@ -293,7 +297,7 @@ class ResultCase:
             }
 
     def _group(self):
-        return _CaseGroup(self.results.path, self.case_id)
+        return _CaseGroup(self.results, self.case_id)
 
     @property
     def completed(self) -> bool:
@@ -324,11 +328,7 @@ class ResultCase:
         """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
         with self._group() as group:
             source = group[GRID_GROUP] if GRID_GROUP in group else group.file.get(GRID_GROUP)
-            variables = {}
-            for axis in ("x", "y"):
-                if source is not None and axis in source:
-                    variables[axis] = _variable(source[axis], (axis,))
-        return VariableGroup(f"cases/{self.case_id}/grid", variables)
+            return _grid_group(f"cases/{self.case_id}/grid", source)
 
     @cached_property
     def history(self) -> VariableGroup:
@@ -340,7 +340,8 @@ class ResultCase:
             if "cycle" in history:
                 coords["cycle"] = (("step",), np.asarray(history["cycle"]), "1")
             variables = {
-                name: _variable(dataset, ("step",), coords) for name, dataset in history.items()
+                name: _variable(name, dataset, ("step",), coords)
+                for name, dataset in history.items()
             }
         return VariableGroup(f"cases/{self.case_id}/history", variables)
 
@@ -361,16 +362,31 @@ class ResultCase:
     @cached_property
     def peak_changes(self) -> Records:
         """The plane and the surface fields at the first cycle and each change of the peak
-        region (cyclic cases), by cycle N."""
+        region (cyclic cases), by cycle N: the plane's datasets as in :attr:`planes`, the
+        fields on ``x``, ``y`` as in :attr:`fields`."""
+        return self._records("peak_changes", _plane_group)
+
+    @cached_property
+    def fatigue(self) -> Records:
+        """The fatigue criteria's maps by recorded cycle N (fretting studies with
+        ``[fatigue]``): each map on the dimensions ``s`` and ``depth`` of the stress plane of
+        that cycle (its coordinates those of ``planes[N]``), and each criterion's hot spot
+        (``<column>_hot_spot``, its columns as a coordinate)."""
+        planes = self.planes
 
         def read(name, group):
-            plane = _plane_group(name, group)
-            for key, dataset in group.items():
-                if key not in plane:
-                    plane._items[key] = _field(dataset)
-            return plane
+            plane = planes.get(cycle_of_group(name.rsplit("/", 1)[-1]))
+            coords = next(iter(plane.values())).coords if plane else {}
+            scales: dict = {}
+            variables = {
+                key: _variable(key, dataset, ("s", "depth"), coords)
+                if dataset.ndim == 2 and "columns" not in dataset.attrs
+                else _field(key, dataset, scales)
+                for key, dataset in group.items()
+            }
+            return VariableGroup(name, variables)
 
-        return self._records("peak_changes", read)
+        return self._records("fatigue", read)
 
     def _records(self, section: str, read) -> Records:
         groups = {}
@@ -385,17 +401,18 @@ class ResultCase:
 
 
 class _CaseGroup:
-    """``with _CaseGroup(path, case_id) as group``: the case's group, file open meanwhile."""
+    """``with _CaseGroup(results, case_id) as group``: the case's group, the file open
+    meanwhile (the file ``results`` holds open inside its ``with`` block, else opened here)."""
 
-    def __init__(self, path: Path, case_id: str) -> None:
-        self.path, self.case_id = path, case_id
+    def __init__(self, results: Results, case_id: str) -> None:
+        self.results, self.case_id = results, case_id
 
     def __enter__(self) -> h5py.Group:
-        self.file = h5py.File(self.path, "r")
-        return self.file[CASES_GROUP][self.case_id]
+        self.opened = self.results._open()
+        return self.opened.__enter__()[CASES_GROUP][self.case_id]
 
     def __exit__(self, *exc) -> None:
-        self.file.close()
+        self.opened.__exit__(*exc)
 
 
 def _instant_order(key) -> tuple[int, int]:
@@ -409,42 +426,67 @@ def _instants(records: Records) -> str:
     return " + ".join(parts) or "none"
 
 
-def _variable(dataset, dims: tuple[str, ...], coords: dict | None = None) -> Variable:
-    attrs = {
-        key: _text(value) if isinstance(value, (bytes, str)) else value
-        for key, value in dataset.attrs.items()
-        if key not in ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST")
-        and key not in ("CLASS", "NAME")
-    }
-    name = dataset.name.rsplit("/", 1)[-1]
+# Attributes a Variable carries as fields (units, description) or that are bookkeeping
+# (the checksum, the dimension-scale links): left out of ``Variable.attrs``, and not read.
+_NOT_ATTRS = frozenset(
+    ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
+)
+
+
+def _variable(name: str, dataset, dims: tuple[str, ...], coords: dict | None = None):
+    """The dataset ``name`` of its group as a :class:`Variable` (attributes are read by name:
+    the scale links, the costly ones, are not read at all)."""
+    stored = dataset.attrs
+    keys = list(stored)
+    attrs = {key: _attribute(stored[key]) for key in keys if key not in _NOT_ATTRS}
     values = np.asarray(dataset)
     if len(dims) != values.ndim:
         dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
     return Variable(
         name=name,
         values=values,
-        units=_text(dataset.attrs.get("units", "")),
-        description=_text(dataset.attrs.get("description", "")),
+        units=_text(stored["units"]) if "units" in keys else "",
+        description=_text(stored["description"]) if "description" in keys else "",
         dims=dims,
         coords=dict(coords or {}),
         attrs=attrs,
     )
 
 
-def _field(dataset) -> Variable:
+def _attribute(value: Any) -> Any:
+    return _text(value) if isinstance(value, (bytes, str)) else value
+
+
+def _grid_group(name: str, source) -> VariableGroup:
+    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none)."""
+    axes = [axis for axis in ("x", "y") if source is not None and axis in source]
+    return VariableGroup(name, {axis: _variable(axis, source[axis], (axis,)) for axis in axes})
+
+
+def _basename(dataset) -> str:
+    """The last part of the dataset's path (slow for a dataset reached by reference: HDF5
+    searches the file for its path)."""
+    return dataset.name.rsplit("/", 1)[-1]
+
+
+def _field(name: str, dataset, scales: dict) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
-    dimensions named after it, its ``columns`` attribute as the last one's coordinate."""
+    dimensions named after it, its ``columns`` attribute as the last one's coordinate.
+    ``scales``: the scales read so far (h5py id → coordinate), shared by a group's fields."""
     dims, coords = [], {}
     for dimension in dataset.dims:
         if len(dimension):
             scale = dimension[0]
-            label = scale.name.rsplit("/", 1)[-1]
+            if scale.id not in scales:
+                label = _text(h5py.h5ds.get_scale_name(scale.id) or b"") or _basename(scale)
+                units = _text(scale.attrs.get("units", ""))
+                scales[scale.id] = (label, ((label,), np.asarray(scale), units))
+            label, coordinate = scales[scale.id]
             dims.append(label)
-            coords[label] = ((label,), np.asarray(scale), _text(scale.attrs.get("units", "")))
+            coords[label] = coordinate
         else:
             dims.append(None)
-    name = dataset.name.rsplit("/", 1)[-1]
     columns = dataset.attrs.get("columns")
     if None in dims:
         dims = [f"{name}_row" if label is None else label for label in dims]
@@ -453,21 +495,32 @@ def _field(dataset) -> Variable:
             dims[-1] = column
             names = np.array([part.strip() for part in _text(columns).split(",")])
             coords[column] = ((column,), names, "")
-    return _variable(dataset, tuple(dims), coords)
+    return _variable(name, dataset, tuple(dims), coords)
 
 
 def _field_group(name: str, group) -> VariableGroup:
-    return VariableGroup(name, {key: _field(dataset) for key, dataset in group.items()})
+    scales: dict = {}
+    return VariableGroup(name, {key: _field(key, data, scales) for key, data in group.items()})
 
 
 def _plane_group(name: str, group) -> VariableGroup:
     """A stored stress plane: the data on (s, depth); x, y, z (mm) as 2-D coordinates; ``s``
     (the signed distance along the plane, x cos φ + y sin φ) and ``depth`` as 1-D ones when
-    the points form a grid of columns and layers (as the engine writes them)."""
-    x, z = np.asarray(group["x"]), np.asarray(group["z"])
-    y = np.asarray(group["y"]) if "y" in group else np.zeros_like(x)
-    angle = float(group["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in group else 0
-    dims = ("s", "depth")
+    the points form a grid of columns and layers (as the engine writes them). Datasets the
+    schema's PLANE does not name (the surface fields beside a peak change's plane) are
+    fields."""
+    dims, scales = ("s", "depth"), {}
+    variables = {
+        key: _variable(key, dataset, dims) if key in PLANE else _field(key, dataset, scales)
+        for key, dataset in group.items()
+    }
+    x, z = variables["x"].values, variables["z"].values
+    y = variables["y"].values if "y" in variables else np.zeros_like(x)
+    angle = (
+        float(variables["von_mises"].attrs.get("plane_angle", 0.0))
+        if "von_mises" in variables
+        else 0
+    )
     coords: dict[str, tuple] = {"x": (dims, x, "mm"), "y": (dims, y, "mm"), "z": (dims, z, "mm")}
     if np.all(z == z[:1, :]):
         coords["depth"] = (("depth",), z[0].copy(), "mm")
@@ -475,7 +528,9 @@ def _plane_group(name: str, group) -> VariableGroup:
         along = x * np.cos(phi) + y * np.sin(phi) if angle else x
         if np.all(along == along[:, :1]):
             coords["s"] = (("s",), along[:, 0].copy(), "mm")
-    variables = {key: _variable(dataset, dims, coords) for key, dataset in group.items()}
+    for key, variable in variables.items():  # the plane's coordinates, read once
+        if key in PLANE:
+            variable.coords.update(coords)
     return VariableGroup(name, variables, {"plane_angle": angle})
 
 
@@ -483,6 +538,8 @@ class Results(_Table):
     """A study's results file: the study, its summary and its cases by id.
 
     Made by :func:`open_results`; a mapping case id → :class:`ResultCase`, in plan order.
+    Each read opens and closes the file; in a ``with`` block (``with open_results(path) as
+    results:``) the reads share one open file.
 
     Parameters
     ----------
@@ -507,6 +564,26 @@ class Results(_Table):
         self.engine_version = engine_version
         self.statuses = statuses
         self._items: dict[str, ResultCase] = {}
+        self._file: h5py.File | None = None
+
+    def __enter__(self) -> Results:
+        """``with open_results(path) as results:`` keeps the file open while reading many
+        cases (each read otherwise opens and closes it)."""
+        if self._file is None:
+            self._file = h5py.File(self.path, "r")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+    def _open(self):
+        """A context giving the open file: the one held inside ``with``, else opened now
+        and closed at its end."""
+        if self._file is not None:
+            return contextlib.nullcontext(self._file)
+        return h5py.File(self.path, "r")
 
     @property
     def kind(self) -> str:
@@ -517,6 +594,18 @@ class Results(_Table):
     def swept_keys(self) -> list[str]:
         """Dotted keys swept in ``[sweep]``, in file order."""
         return [key for key in self.study.get("sweep", {}) if "." in key]
+
+    @cached_property
+    def grid(self) -> VariableGroup:
+        """The study's element-centre coordinates ``x`` and ``y`` (mm): the grid every case
+        shares or, when the grid changes from case to case, the first case's (by case id)
+        that holds one (each case's own: ``results[case_id].grid``); empty without any."""
+        with self._open() as file:
+            source = file.get(GRID_GROUP)
+            if source is None:
+                holding = (group for _, group in sorted(file[CASES_GROUP].items()))
+                source = next((group[GRID_GROUP] for group in holding if GRID_GROUP in group), None)
+            return _grid_group("grid", source)
 
     @property
     def case_ids(self) -> list[str]:

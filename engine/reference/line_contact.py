@@ -45,7 +45,8 @@ import math
 
 import numpy as np
 
-from .masing import masing_loop
+from . import masing
+from .docstrings import documented
 
 __all__ = [
     "hertz_line_half_width",
@@ -192,43 +193,31 @@ def line_slip_displacement(
     return friction_coefficient * p0 * a / contact_modulus * log_term
 
 
+@documented(
+    "(numpy.ndarray, numpy.ndarray)\n    δ (mm) and Q (N/mm) around the loop.",
+    "load : float\n    Normal load P (N/mm), held constant.",
+    "radius : float\n    Cylinder radius R (mm).",
+    "contact_modulus : float\n    E* (MPa).",
+    "friction_coefficient : float\n    Coulomb friction coefficient μ.",
+    "reference_distance : float\n    The displacement datum d (mm; ``engine.kernels.line``).",
+    masing.LOOP_OPTIONS,
+)
 def line_fretting_loop(
-    load: float,
-    radius: float,
-    contact_modulus: float,
-    friction_coefficient: float,
-    reference_distance: float,
-    *,
-    displacement_amplitude: float | None = None,
-    force_amplitude: float | None = None,
-    points: int = 201,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The stabilised fretting loop (δ in mm, Q in N/mm) of a cylinder, closed, from
-    (δ*, Q*): the unloading branch δ = δ* − 2 δ((Q* − Q)/2) (Masing, on the virgin curve
-    ``line_tangential_displacement``) to (−δ*, −Q*), sliding at Q = −μP in gross slip (δ*
-    beyond ``line_slip_displacement``); the reloading branch is its point reflection. Give
-    exactly one of ``displacement_amplitude`` (mm) and ``force_amplitude`` (N/mm, ≤ μP)."""
-    if (displacement_amplitude is None) == (force_amplitude is None):
-        raise ValueError("give exactly one of displacement_amplitude and force_amplitude")
-    args = (load, radius, contact_modulus, friction_coefficient, reference_distance)
-    limit = friction_coefficient * load
+    load, radius, contact_modulus, friction_coefficient, reference_distance, **loop
+):
+    """The cylinder's stabilised fretting loop (δ in mm, Q in N/mm), closed, from (δ*, Q*).
 
-    def virgin(force):
-        return line_tangential_displacement(force, *args)
-
-    if force_amplitude is not None:
-        peak_force = float(force_amplitude)
-        peak = float(virgin(peak_force))
-    else:
-        peak = float(displacement_amplitude)
-        slip = float(line_slip_displacement(*args))
-        if peak >= slip:
-            peak_force = limit
-        else:
-            from scipy.optimize import brentq  # here: a run of a cylinder imports no SciPy
-
-            peak_force = brentq(lambda q: float(virgin(q)) - peak, 0.0, limit)
-    return masing_loop(virgin, peak_force, peak, points)
+    :func:`engine.reference.masing.fretting_loop` on the virgin curve
+    :func:`line_tangential_displacement` (inverted numerically): the unloading branch
+    δ = δ* − 2 δ((Q* − Q)/2) to (−δ*, −Q*), sliding at Q = −μP in gross slip (δ* beyond
+    :func:`line_slip_displacement`); the reloading branch is its point reflection.
+    """
+    contact = (load, radius, contact_modulus, friction_coefficient, reference_distance)
+    return masing.fretting_loop(
+        lambda force: line_tangential_displacement(force, *contact),
+        friction_coefficient * load,
+        **loop,
+    )
 
 
 def bulk_surface_strain(bulk_stress: float, young_modulus: float, poisson_ratio: float):

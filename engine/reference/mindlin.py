@@ -43,9 +43,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..material import MaterialPair
+from . import masing
 from .docstrings import documented
 from .hertz import hertz_contact_radius
-from .masing import masing_loop
 
 __all__ = [
     "compliance_sum",
@@ -292,56 +292,24 @@ def energy_per_cycle(displacement_amplitude, load, radius, materials, friction):
     return np.where(d < slip, partial, gross)
 
 
-def fretting_loop(
-    load: float,
-    radius: float,
-    materials: MaterialPair,
-    friction: float,
-    *,
-    displacement_amplitude: float | None = None,
-    force_amplitude: float | None = None,
-    points: int = 201,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The stabilised fretting loop (δ, Q), closed, starting and ending at (δ*, Q*).
+@documented(
+    "(numpy.ndarray, numpy.ndarray)\n    δ (mm) and Q (N) around the loop.",
+    *_CONTACT,
+    masing.LOOP_OPTIONS,
+)
+def fretting_loop(load, radius, materials, friction, **loop):
+    """The sphere's stabilised fretting loop (δ, Q), closed, starting and ending at (δ*, Q*).
 
-    The unloading branch runs from (δ*, Q*) to (−δ*, −Q*) (Masing curve, then sliding at
-    Q = −μP in gross slip); the reloading branch is its point reflection.
-
-    Parameters
-    ----------
-    load : float
-        Normal load P (N), held constant.
-    radius : float
-        Sphere radius R (mm).
-    materials : engine.material.MaterialPair
-        The two elastic bodies (Young's moduli in MPa, Poisson's ratios).
-    friction : float
-        Coulomb friction coefficient μ.
-    displacement_amplitude : float, optional
-        δ* (mm), partial or gross slip; give exactly one of the two amplitudes.
-    force_amplitude : float, optional
-        Q* ≤ μP (N).
-    points : int
-        Points per branch.
-
-    Returns
-    -------
-    displacement : numpy.ndarray
-        δ (mm) around the loop.
-    force : numpy.ndarray
-        Q (N) around the loop.
+    :func:`engine.reference.masing.fretting_loop` on the Cattaneo–Mindlin curve
+    (:func:`tangential_displacement`, inverted by :func:`tangential_force`): the unloading
+    branch runs from (δ*, Q*) to (−δ*, −Q*) (Masing curve, then sliding at Q = −μP in gross
+    slip); the reloading branch is its point reflection.
     """
-    if (displacement_amplitude is None) == (force_amplitude is None):
-        raise ValueError("give exactly one of displacement_amplitude and force_amplitude")
-    slip, limit = _scale(load, radius, materials, friction)
-    if force_amplitude is not None:
-        peak_force = float(force_amplitude)
-        peak = float(tangential_displacement(peak_force, load, radius, materials, friction))
-    else:
-        peak = float(displacement_amplitude)
-        peak_force = float(tangential_force(min(peak, slip), load, radius, materials, friction))
-
-    def virgin(force):
-        return tangential_displacement(force, load, radius, materials, friction)
-
-    return masing_loop(virgin, peak_force, peak, points)
+    contact = (load, radius, materials, friction)
+    _, limit = _scale(*contact)
+    return masing.fretting_loop(
+        lambda force: tangential_displacement(force, *contact),
+        limit,
+        inverse=lambda displacement: tangential_force(displacement, *contact),
+        **loop,
+    )

@@ -44,6 +44,7 @@ from .increment import (
     CoupledSolution,
     IncrementProblem,
     IncrementResult,
+    SolveReport,
 )
 from .normal import solve_normal
 from .projected_gradient import largest_eigenvalue, solve_projected_gradient
@@ -54,6 +55,7 @@ __all__ = [
     "SLIP",
     "ContactState",
     "IncrementResult",
+    "SolveReport",
     "ContactSolver",
     "with_friction",
 ]
@@ -242,11 +244,7 @@ class ContactSolver:
             status=np.zeros(self.grid.shape, dtype=np.int8),
             approach=new_state.approach,
             load=0.0,
-            iterations=0,
-            matvecs=0,
-            residual=0.0,
-            converged=True,
-            message="zero load: surfaces just touching, no tractions",
+            report=SolveReport.unloaded(),
             state=new_state,
         )
 
@@ -267,20 +265,15 @@ class ContactSolver:
         return status
 
     def _result(self, problem, solution: CoupledSolution, matvecs: int) -> IncrementResult:
-        """The reported increment: slip Δs = u_t − u_t^ref in contact, status, load, the
-        converged flag and the message naming the method that finished the increment."""
-        pressure, residual = solution.pressure, float(solution.residual)
-        iterations, kind = solution.iterations, solution.method
-        converged = residual <= self.tol
+        """The reported increment: slip Δs = u_t − u_t^ref in contact, status, load and the
+        solve's report (converged against the solver's tolerance, the method's message)."""
+        pressure = solution.pressure
         in_contact = pressure > 0.0
         displacement, reference = solution.displacement, problem.slip_reference
         slip_x = np.where(in_contact, displacement[0] - reference[0], 0.0)
         slip_y = np.where(in_contact, displacement[1] - reference[1], 0.0)
-        message = (
-            f"{kind} converged in {iterations} iterations (residual {residual:.2e})"
-            if converged
-            else f"{kind} did not converge: residual {residual:.2e} > tol {self.tol:.1e} "
-            f"after {iterations} iterations"
+        report = SolveReport.judge(
+            solution.method, solution.iterations, matvecs, solution.residual, self.tol
         )
         approach = float(solution.approach)
         new_state = ContactState(
@@ -300,11 +293,7 @@ class ContactSolver:
             status=self._status(pressure, solution.traction_x, solution.traction_y),
             approach=approach,
             load=float(pressure.sum() * self.grid.element_area),
-            iterations=iterations,
-            matvecs=matvecs,
-            residual=residual,
-            converged=converged,
-            message=message,
+            report=report,
             state=new_state,
         )
 

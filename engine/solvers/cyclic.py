@@ -203,15 +203,15 @@ class CyclicAnalysis:
             guess = None if guesses is None else guesses(index)
             result = self.solver.solve_load(load, state, wear=wear, guess=guess)
             increments.append(_starting_point(result.state, zeros))
-            if not result.converged:
-                failures.append(f"increment {index + 1} (P = {load:g} N): {result.message}")
+            if not result.report.converged:
+                failures.append(f"increment {index + 1} (P = {load:g} N): {result.report.message}")
             wear_increment += self.wear_law.increment(result, state)
             if on_increment is not None:
                 on_increment(result)
             if index == self.settings.steps - 1:
                 peak = result
             state = result.state
-            self._matvecs += result.matvecs
+            self._matvecs += result.report.matvecs
             self._steps += 1
         self._failures.extend(failures)
         return _CycleOutcome(

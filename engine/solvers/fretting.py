@@ -252,10 +252,10 @@ class TangentialDriver:
             rigid,
             total_force(result, self.area),
             1,
-            result.matvecs,
+            result.report.matvecs,
             0.0,
-            result.converged,
-            f"displacement control: {result.message}",
+            result.report.converged,
+            f"displacement control: {result.report.message}",
         )
 
     def force(self, state, rigid_previous, target, scale, first_guess, stiffness, **options):
@@ -291,14 +291,14 @@ class TangentialDriver:
                 high, side = (s, f), (side + 1 if side >= 0 else 1)
             s = self._next_point(points, low, high, stiffness, side)
         step, f = best  # the accepted evaluation: its own contact solve must have converged
-        solves_converged = step.result.converged
+        solves_converged = step.result.report.converged
         converged = abs(f) <= tolerance and solves_converged
         method = f"force control by safeguarded secant on δ ({evaluations} increment solves)"
         message = (
             f"{method}: |Q·d − Q| = {abs(f):.2e} N"
             if converged
             else f"{method} did not converge: |Q·d − Q| = {abs(f):.2e} N > {tolerance:.1e} N"
-            + ("" if solves_converged else f"; {step.result.message}")
+            + ("" if solves_converged else f"; {step.result.report.message}")
         )
         return TangentialIncrement(
             step.result, step.rigid, step.force, evaluations, matvecs, abs(f), converged, message
@@ -396,7 +396,7 @@ class FrettingAnalysis(CyclicAnalysis):
         for index in range(1, self.settings.steps + 1):
             load = self.settings.load * index / self.settings.steps
             result = self.solver.solve_load(load, contact, wear=state.wear)
-            self._account(state, result.matvecs, result.converged, result.message, "normal")
+            self._account(state, result.report, "normal")
             contact = result.state
             approaches.append(result.approach)
             loads.append(load)
@@ -405,7 +405,7 @@ class FrettingAnalysis(CyclicAnalysis):
         for index, value in enumerate(self.settings.quarter()):
             step = self._increment(contact, rigid, (previous, value), state, None, None)
             previous = value
-            self._account(state, step.matvecs, step.converged, step.message, f"first {index}")
+            self._account(state, step, f"first {index}")
             contact, rigid = step.result.state, step.rigid
         state.contact, state.rigid = contact, rigid
         return state
@@ -421,11 +421,14 @@ class FrettingAnalysis(CyclicAnalysis):
             normal = loads[-1] / max(abs(approaches[-1]), 1e-300)
         return abs(normal) * 2.0 * (1.0 - nu) / (2.0 - nu)
 
-    def _account(self, state, matvecs, converged, message, label) -> None:
-        state.matvecs += matvecs
+    def _account(self, state, report, label) -> None:
+        """Count a solve's operator applications and keep its failure: ``report`` a
+        :class:`~engine.solvers.increment.SolveReport` or a :class:`TangentialIncrement`
+        (both carry matvecs, converged and message)."""
+        state.matvecs += report.matvecs
         state.load_steps += 1
-        if not converged:
-            state.failures.append(f"{label}: {message}")
+        if not report.converged:
+            state.failures.append(f"{label}: {report.message}")
 
     def bulk_strain(self, bulk_stress: float) -> float:
         """ε = (1 − ν_A²) σ_B / E_A: the flat's surface strain along x under the bulk stress

@@ -67,12 +67,47 @@ class ContactState:
         }
 
 
+@dataclass(frozen=True)
+class SolveReport:
+    """How an increment's solve went (the solver's account, in the manner of
+    ``scipy.optimize.OptimizeResult``): ``method`` that finished it, ``iterations``,
+    operator applications ``matvecs``, ``residual`` (relative natural residual, see
+    ``engine.solvers.projected_gradient``), ``converged`` (residual ≤ tol) and a ``message``
+    that begins with the method. Built once, by :meth:`judge` or :meth:`unloaded`."""
+
+    method: str
+    iterations: int
+    matvecs: int
+    residual: float
+    converged: bool
+    message: str
+
+    @classmethod
+    def judge(cls, method: str, iterations: int, matvecs: int, residual, tol: float):
+        """The report of a solve that ended at ``residual``: converged when ≤ ``tol``."""
+        residual = float(residual)
+        converged = residual <= tol
+        message = (
+            f"{method} converged in {iterations} iterations (residual {residual:.2e})"
+            if converged
+            else f"{method} did not converge: residual {residual:.2e} > tol {tol:.1e} "
+            f"after {iterations} iterations"
+        )
+        return cls(method, iterations, matvecs, residual, converged, message)
+
+    @classmethod
+    def unloaded(cls) -> SolveReport:
+        """Zero load: nothing to solve, exact."""
+        message = "zero load: surfaces just touching, no tractions"
+        return cls("none", 0, 0, 0.0, True, message)
+
+
 @dataclass
 class IncrementResult:
     """Outcome of one increment. Fields (n_x, n_y): pressure, traction_x, traction_y (MPa);
     slip_x, slip_y: slip increment Δs in contact (mm); status: 0 no contact, 1 stick, 2 slip.
-    approach δ (mm), load P (N); iterations, operator applications (matvecs), residual
-    (relative, see ``engine.solvers.projected_gradient``), converged and a message."""
+    approach δ (mm), load P (N); ``report``: the :class:`SolveReport` (iterations, operator
+    applications, residual, converged, message); ``state``: the start of the next increment."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
@@ -82,11 +117,7 @@ class IncrementResult:
     status: np.ndarray
     approach: float
     load: float
-    iterations: int
-    matvecs: int
-    residual: float
-    converged: bool
-    message: str
+    report: SolveReport
     state: ContactState = field(repr=False)
 
     def stick_area(self, element_area: float) -> float:

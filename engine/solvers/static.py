@@ -44,18 +44,19 @@ def static_analysis(solver: ContactSolver, load: float, steps: int) -> StaticRes
         result = solver.solve_load(load * step / steps, state)
         results.append(result)
         state = result.state
-    failed = [i + 1 for i, r in enumerate(results) if not r.converged]
+    reports = [r.report for r in results]
+    failed = [i + 1 for i, report in enumerate(reports) if not report.converged]
     message = (
         f"{steps} increments converged"
         if not failed
-        else f"increments {failed} did not converge: {results[failed[0] - 1].message}"
+        else f"increments {failed} did not converge: {reports[failed[0] - 1].message}"
     )
     return StaticResult(
         final=results[-1],
         loads=np.array([r.load for r in results]),
         approaches=np.array([r.approach for r in results]),
-        iterations=sum(r.iterations for r in results),
-        matvecs=sum(r.matvecs for r in results),
+        iterations=sum(report.iterations for report in reports),
+        matvecs=sum(report.matvecs for report in reports),
         converged=not failed,
         message=message,
     )

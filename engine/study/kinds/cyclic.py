@@ -62,9 +62,8 @@ class CyclicKind(CycledKind):
         if not result.completed:
             return self.interrupted(case, result.state, checkpoint)
         final = result.final
-        converged = getattr(result, "converged", final.converged)
-        if not converged:
-            message = getattr(result, "message", "") or final.message
+        if not result.converged:
+            message = result.message or final.report.message
             return CaseOutcome(case, FAILED, message=f"cyclic analysis did not converge: {message}")
 
         datasets = outcome.history_datasets(result.history, self.history_spec)
