@@ -66,8 +66,11 @@ def test_worn_conforming_contact_converges_from_the_stalled_start():
 class _NoPreconditioner:
     """A preconditioner that returns nothing: the CG has no direction and cannot move."""
 
-    def normal(self, residual):
-        return np.zeros_like(residual)
+    def normal(self, residual, out=None):
+        if out is None:
+            return np.zeros_like(residual)
+        out[...] = 0.0
+        return out
 
     def tangential(self, rx, ry):
         return np.zeros_like(rx), np.zeros_like(ry)
