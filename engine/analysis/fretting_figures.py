@@ -446,7 +446,8 @@ def _loops_figure(study: StudyResults):
             f"P = {load:g} {_load_unit(study)}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
-        label = f"{case_profile(study, case).loop_reference} / gross slip"
+        reference = _shared.case_reference(study, case)[0]
+        label = f"{reference.name if reference else 'analytic'} / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
