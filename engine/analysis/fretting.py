@@ -91,15 +91,6 @@ def regime(case: CaseResults) -> str:
     return str(case.summary.get("slip_regime", "partial"))
 
 
-def sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    """The sphere's radius R (mm) for the Hertz–Mindlin references, None for other shapes."""
-    from engine.geometry import PROFILES, SphericalPunch
-
-    if PROFILES.get(setting(study, case, "punch.shape")) is not SphericalPunch:
-        return None
-    return float(setting(study, case, "punch.radius"))
-
-
 def slip_boundary(study: StudyResults, case: CaseResults):
     """δ_slip(P) (mm) of the case's geometry as a function of the load P, or None where no
     closed form applies (it needs isotropic friction μ1 = μ2 = μ > 0): Mindlin's

@@ -159,6 +159,10 @@ class FrettingReference:
     loop_energy : callable, optional
         The closed-form energy per cycle W(Q*) (mJ, or mJ/mm) of the loop between ±Q* ≤ μP;
         default: the area of the Masing loop (trapezoidal rule, :data:`ENERGY_POINTS`).
+    master_curve : callable, optional
+        Fouvry's A against δ*/δ_slip where it is one curve for every load, size and μ (the
+        sphere's, ``engine.reference.mindlin.energy_ratio``); None where A depends on more
+        (the cylinder's, on a/d).
     """
 
     name: str
@@ -166,6 +170,7 @@ class FrettingReference:
     limit: float
     inverse: Callable[[np.ndarray], np.ndarray] | None = None
     loop_energy: Callable[[float], float] | None = None
+    master_curve: Callable[[np.ndarray], np.ndarray] | None = None
 
     @property
     def slip_displacement(self) -> float:

@@ -324,7 +324,7 @@ def fretting_loop(load, radius, materials, friction, **loop):
 def fretting_reference(load, radius, materials, friction):
     """The sphere's closed forms under fretting at the load P, as one object: the
     Cattaneo–Mindlin curve, its inverse and the Mindlin–Deresiewicz energy
-    (:func:`partial_slip_energy`)."""
+    (:func:`partial_slip_energy`), Fouvry's master curve (:func:`energy_ratio`)."""
     contact = (load, radius, materials, friction)
     _, limit = _scale(*contact)
     return masing.FrettingReference(
@@ -333,4 +333,5 @@ def fretting_reference(load, radius, materials, friction):
         limit,
         inverse=lambda displacement: tangential_force(displacement, *contact),
         loop_energy=lambda amplitude: float(partial_slip_energy(amplitude, *contact)),
+        master_curve=energy_ratio,
     )
