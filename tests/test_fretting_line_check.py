@@ -112,7 +112,7 @@ def test_displacement_control_against_the_cylinder_closed_forms(reports):
     assert gross.energy_ratio / gross.exact_energy_ratio - 1 == pytest.approx(
         gross.energy_error, abs=1e-4
     )
-    assert f"energy at N = 1 {gross.energy:.4g} mJ vs {gross.exact:.4g} mJ" in text
+    assert f"energy at N = 1 {gross.energy:.4g} mJ/mm vs {gross.exact:.4g} mJ/mm" in text
 
 
 def test_force_control_against_the_cylinder_closed_forms(reports):

@@ -109,9 +109,11 @@ def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck
         if check.regime_holds
         else f"{check.reference} says {check.expected}"
     )
+    unit = "mJ/mm" if study.profile.is_line else "mJ"  # a line contact's: per mm of length
     text = (
         f"{case.label}: {where}, first cycle {check.computed} slip ({verdict}); energy at "
-        f"N = 1 {check.energy:.4g} mJ vs {check.exact:.4g} mJ ({check.energy_error:+.2%})"
+        f"N = 1 {check.energy:.4g} {unit} vs {check.exact:.4g} {unit} "
+        f"({check.energy_error:+.2%})"
     )
     if math.isfinite(check.sampled_error):
         text += f", vs the analytic loop at the solver's increments {check.sampled_error:+.2%}"
