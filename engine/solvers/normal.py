@@ -56,11 +56,12 @@ def _scaled_start(operator, candidate, target, initial, image):
     return pressure, known
 
 
-def _violation_rms(gap, contact, mask, count) -> float:
+def _violation_rms(gap, contact, mask, count, work) -> float:
     """RMS over the candidate elements of the gap in contact and of the negative gap (an
-    overlap) elsewhere (mm)."""
-    violation = np.where(contact, gap, np.minimum(gap, 0.0))
-    return math.sqrt(np.sum(violation[mask] ** 2) / count)
+    overlap) elsewhere (mm); ``work``: an array of the grid's shape, overwritten."""
+    violation = np.minimum(gap, 0.0, out=work)  # np.where(contact, gap, min(gap, 0))
+    np.copyto(violation, gap, where=contact)
+    return math.sqrt(np.sum(np.square(violation, out=violation)[mask]) / count)
 
 
 def solve_normal(
@@ -83,42 +84,45 @@ def solve_normal(
     count = int(mask.sum())
     pressure, known = _scaled_start(operator, mask, target, initial, image)
     direction = np.zeros(grid.shape)
+    # Work arrays, reused by every iteration (fresh pages at each iteration cost more than
+    # the arithmetic on small grids).
+    gap, residual_c, work, pressure_image, step_image, z = (np.empty(grid.shape) for _ in range(6))
+    contact, outside = np.empty(grid.shape, bool), np.empty(grid.shape, bool)
     previous = 1.0
     conjugate = False
     residual, approach, iterations, converged_image = math.inf, 0.0, 0, None
     for iterations in range(1, maxiter + 1):  # noqa: B007
-        raw = known if known is not None else operator.apply_normal(pressure)
+        raw = known if known is not None else operator.apply_normal(pressure, out=pressure_image)
         known = None
-        gap = raw + offset
-        contact = mask & (pressure > 0.0)
+        np.add(raw, offset, out=gap)
+        np.logical_and(mask, np.greater(pressure, 0.0, out=contact), out=contact)
+        np.logical_not(contact, out=outside)
         approach = float(gap[contact].mean())
         gap -= approach
-        residual = _violation_rms(gap, contact, mask, count) / abs(approach)
+        residual = _violation_rms(gap, contact, mask, count, work) / abs(approach)
         if residual <= tol:
             converged_image = raw
             break
         # Work arrays are updated in place where the old values are not needed again (the
         # same operations, element by element, as the textbook expressions in the comments).
-        residual_c = gap.copy()  # np.where(contact, gap, 0)
-        residual_c[~contact] = 0.0
-        z = preconditioner.normal(residual_c)  # np.where(contact, M r, 0)
-        z[~contact] = 0.0
-        z[contact] -= z[contact].mean()
-        product = float(np.sum(residual_c * z))
+        np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
+        residual_c[outside] = 0.0
+        preconditioner.normal(residual_c, out=z)  # np.where(contact, M r, 0)
+        z -= z[contact].mean()
+        z[outside] = 0.0
+        product = float(np.sum(np.multiply(residual_c, z, out=work)))
         beta = product / previous if conjugate else 0.0
         direction *= beta  # np.where(contact, z + beta d, 0)
         direction += z
-        direction[~contact] = 0.0
-        del z
+        direction[outside] = 0.0
         previous = product
-        step_image = operator.apply_normal(direction)
+        operator.apply_normal(direction, out=step_image)
         step_image -= step_image[contact].mean()
-        step = float(np.sum(residual_c * direction)) / float(np.sum(step_image * direction))
-        del step_image, residual_c
-        change = step * direction  # max(np.where(contact, p − step d, 0), 0)
+        numerator = float(np.sum(np.multiply(residual_c, direction, out=work)))
+        step = numerator / float(np.sum(np.multiply(step_image, direction, out=step_image)))
+        change = np.multiply(direction, step, out=work)  # max(where(contact, p − step d, 0), 0)
         np.subtract(pressure, change, out=pressure)
-        del change
-        pressure[~contact] = 0.0
+        pressure[outside] = 0.0
         np.maximum(pressure, 0.0, out=pressure)
         overlap = mask & (pressure <= 0.0) & (gap < 0.0)
         conjugate = not np.any(overlap)
