@@ -99,5 +99,4 @@ class Grid(CheckedRecord):
 
     def radius(self) -> np.ndarray:
         """Distance of each element centre from the punch axis, shape ``(n_x, n_y)``, mm."""
-        X, Y = self.coordinates()
-        return np.hypot(X, Y)
+        return np.hypot(self.x[:, None], self.y[None, :])  # broadcast: no coordinate arrays

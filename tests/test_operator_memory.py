@@ -14,9 +14,17 @@ import numpy as np
 import pytest
 
 from engine.grid import Grid
-from engine.kernels import wisdom
-from engine.kernels.fft import RealFFTPair
-from engine.kernels.influence import KERNEL_INTEGRALS, KERNEL_PARITY, _combine, element_integrals
+from engine.kernels import influence, wisdom
+from engine.kernels.fft import RealFFTPair, wrap_kernel
+from engine.kernels.influence import (
+    KERNEL_INTEGRALS,
+    KERNEL_PARITY,
+    SurfaceInfluence,
+    _combine,
+    element_integrals,
+    kernel_quadrant,
+    kernel_quadrants,
+)
 from engine.kernels.operator import HalfSpaceOperator
 from engine.material import MaterialPair, paper_material
 
@@ -34,6 +42,44 @@ def test_quadrant_kernels_match_element_integrals_and_are_exactly_even_or_odd():
         parity_x, parity_y = KERNEL_PARITY[key]
         assert np.array_equal(values[::-1], parity_x * values), key
         assert np.array_equal(values[:, ::-1], parity_y * values), key
+
+
+def test_quadrants_do_not_depend_on_the_blocks_or_the_kernels_evaluated_together(monkeypatch):
+    """Each corner value is computed element by element (bit for bit, whatever the blocks)."""
+    grid, material = Grid(23, 17, 1.0, 0.7), paper_material()
+    keys = tuple(KERNEL_INTEGRALS)
+    alone = {key: kernel_quadrant(grid, material, key, grid.shape) for key in keys}
+    monkeypatch.setattr(influence, "BLOCK_ELEMENTS", 40)  # blocks of 2 rows of corners
+    monkeypatch.setattr(influence, "BLOCK_ROWS", 2)
+    together = kernel_quadrants(grid, material, keys, grid.shape)
+    for key in keys:
+        assert np.array_equal(together[key], alone[key]), key
+
+
+def test_spectra_from_the_mirrored_half_are_the_2d_transforms_of_the_kernels():
+    """The operator transforms the first n_x rows of each circulant kernel and mirrors the row
+    spectra (``PaddedTransforms.forward_mirrored``): the 2-D real FFT of the whole wrapped
+    kernel (numpy's), to 1e-14 of the largest value (rounding of two FFT implementations)."""
+    grid, material = Grid(12, 9, 1.0, 0.8), paper_material()
+    operator = HalfSpaceOperator(grid, material)
+    influence_kernels = SurfaceInfluence.build(grid, material).kernels
+    for key, kernel in influence_kernels.items():
+        wrapped = wrap_kernel(kernel, operator.padded_shape)
+        expected = np.fft.rfft2(wrapped) / wrapped.size
+        got = operator.spectrum(key)
+        scale = np.abs(expected).max()
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-14 * scale, err_msg=key)
+
+
+def test_outputs_into_work_arrays_are_the_same_bits():
+    grid = Grid(14, 11, 1.0, 0.8)
+    operator = HalfSpaceOperator(grid, paper_material())
+    pressure = np.random.default_rng(5).random(grid.shape)
+    out = np.empty(grid.shape)
+    assert operator.apply_normal(pressure, out=out) is out
+    assert np.array_equal(out, operator.apply_normal(pressure))
+    assert operator.preconditioner.normal(pressure, out=out) is out
+    assert np.array_equal(out, operator.preconditioner.normal(pressure))
 
 
 def test_frictionless_case_builds_only_the_spectra_it_needs():

@@ -333,7 +333,7 @@ def draw_wear_energy(series: Sequence[WearSeries], title: str, per_length: str =
 # The results-file helpers shared with the report and scripts/check_fretting_map.py live in
 # engine.analysis.fretting (no matplotlib there); the short names below are this module's.
 _setting, _direction, _amplitude = _shared.setting, _shared.direction, _shared.amplitude
-_regime, _sphere_radius, _material = _shared.regime, _shared.sphere_radius, _shared.material
+_regime, _material = _shared.regime, _shared.material
 _energy_coefficient = _shared.energy_coefficient
 
 
@@ -350,7 +350,8 @@ def _map_figure(study: StudyResults):
         boundary = _shared.slip_boundary(study, case)
         if boundary is not None:
             boundaries.setdefault(case.mu1, boundary)
-            if _sphere_radius(study, case) is not None:  # Mindlin's one master curve
+            reference = _shared.case_reference(study, case)[0]
+            if reference is not None and reference.master_curve is not None:  # one curve
                 item.displacement_ratio = amplitude / float(boundary(load))
                 item.energy_ratio = _computed_energy_ratio(case)
         cases.append(item)
@@ -446,7 +447,8 @@ def _loops_figure(study: StudyResults):
             f"P = {load:g} {_load_unit(study)}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
-        label = f"{case_profile(study, case).loop_reference} / gross slip"
+        reference = _shared.case_reference(study, case)[0]
+        label = f"{reference.name if reference else 'analytic'} / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))

@@ -14,11 +14,13 @@ cycle N (or the cycles of ``--cycles``):
 
 then, with a ``[fatigue]`` section, per case and criterion the hot spot, the critical value
 and whether and where a crack is predicted (``engine.analysis.fatigue``); then the measured
-checks against Mindlin where they apply (engine.analysis.fretting: a
-sphere, μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle against δ_slip(P),
-energy per cycle at N = 1 against Mindlin–Deresiewicz (partial slip) or the gross-slip
-energy, and against the analytic loop sampled at the solver's increments; Fouvry's energy
-ratio A = W/(4δ*Q*) against Mindlin's master curve; under the energy wear law V/(α E_d).
+checks against the closed forms of the case's profile where it has some
+(engine.analysis.fretting: Mindlin–Deresiewicz for a sphere, the cylinder's Cattaneo–Masing
+loop for a line contact; μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle
+against δ_slip(P), energy per cycle at N = 1 against the closed form's (partial or gross
+slip), and against the analytic loop sampled at the solver's increments; Fouvry's energy
+ratio A = W/(4δ*Q*) against the closed form's; under the energy wear law V/(α E_d). The
+cases without a check are listed by reason ("no closed form for the pad profile", …).
 No matplotlib here (tests/test_architecture.py).
 """
 
@@ -30,7 +32,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .fatigue import fatigue_facts, fatigue_table, has_fatigue
-from .fretting import MindlinCheck, check_case, material, wear_energy_ratios
+from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
 from .reader import CaseResults, StudyResults
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
@@ -96,27 +98,33 @@ def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> 
     return lines
 
 
-def _mindlin_fact(study: StudyResults, case: CaseResults, check: MindlinCheck) -> str:
-    """One case against Mindlin: regime, energy, energy ratio."""
+def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck) -> str:
+    """One case against its closed forms: regime, energy, energy ratio."""
     if check.control == "displacement":
         where = f"δ*/δ_slip = {check.ratio:.3g}"
     else:
         where = f"Q*/μP = {check.ratio:.3g}"
-    verdict = "as Mindlin" if check.regime_holds else f"Mindlin says {check.expected}"
+    verdict = (
+        f"as {check.reference}"
+        if check.regime_holds
+        else f"{check.reference} says {check.expected}"
+    )
+    unit = "mJ/mm" if study.profile.is_line else "mJ"  # a line contact's: per mm of length
     text = (
         f"{case.label}: {where}, first cycle {check.computed} slip ({verdict}); energy at "
-        f"N = 1 {check.energy:.4g} mJ vs {check.exact:.4g} mJ ({check.energy_error:+.2%})"
+        f"N = 1 {check.energy:.4g} {unit} vs {check.exact:.4g} {unit} "
+        f"({check.energy_error:+.2%})"
     )
     if math.isfinite(check.sampled_error):
         text += f", vs the analytic loop at the solver's increments {check.sampled_error:+.2%}"
     if math.isfinite(check.energy_ratio):
         text += (
-            f"; energy ratio A = W/(4δ*Q*) {check.energy_ratio:.3f} "
-            f"(Mindlin {check.exact_energy_ratio:.3f})"
+            f"; energy ratio A = W/(4δ*Q*) {check.energy_ratio:.3g} "
+            f"({check.reference} {check.exact_energy_ratio:.3g})"
         )
     if not check.exact_coupling:
         coupling = _coupling(study, case)
-        text += f" [K = {coupling:.3g} ≠ 0: Mindlin is only approximate]"
+        text += f" [K = {coupling:.3g} ≠ 0: {check.reference} is only approximate]"
     return text
 
 
@@ -124,27 +132,30 @@ def _coupling(study: StudyResults, case: CaseResults) -> float:
     return float(material(study, case).coupling)
 
 
-def _worst(checks: Sequence[MindlinCheck], regime: str, error: str) -> str:
-    errors = [getattr(check, error) for check in checks if check.expected == regime]
+def _worst(checks: Sequence[FrettingCheck], regime: str | None, error: str) -> str:
+    """The largest |error| over the checks of ``regime`` (None: all), "–" without one."""
+    errors = [getattr(check, error) for check in checks if regime in (None, check.expected)]
     errors = [abs(value) for value in errors if math.isfinite(value)]
     return f"{max(errors):.2%}" if errors else "–"
 
 
 def fretting_facts(study: StudyResults) -> list[str]:
-    """The checks against Mindlin and the energy wear law (module docstring): the totals
-    first (the figures of scripts/check_fretting_map.py), then one line per case."""
+    """The checks against the closed forms and the energy wear law (module docstring): the
+    totals first (the figures of scripts/check_fretting_map.py), then one line per case, then
+    the cases without a check, by reason."""
     checks = [(case, check_case(study, case)) for case in study.cases]
     applicable = [(case, check) for case, check in checks if check is not None]
     facts = []
     if applicable:
         holding = sum(check.regime_holds for _, check in applicable)
         found = [check for _, check in applicable]
+        names = ", ".join(dict.fromkeys(check.reference for check in found))
         facts.append(
-            f"slip regime of the first cycle on Mindlin's side (sphere, isotropic friction): "
-            f"{holding} of {len(applicable)} cases; largest |energy error| at N = 1 against "
-            f"Mindlin: partial slip {_worst(found, 'partial', 'energy_error')}, gross slip "
-            f"{_worst(found, 'gross', 'energy_error')} (against the analytic loop at the "
-            f"solver's increments {_worst(found, 'gross', 'sampled_error')})"
+            f"slip regime of the first cycle on the side of the closed form's δ_slip "
+            f"({names}; isotropic friction): {holding} of {len(applicable)} cases; largest "
+            f"|energy error| at N = 1: partial slip {_worst(found, 'partial', 'energy_error')}, "
+            f"gross slip {_worst(found, 'gross', 'energy_error')} (against the analytic loop "
+            f"at the solver's increments {_worst(found, None, 'sampled_error')})"
         )
     ratios = [wear_energy_ratios(study, case) for case in study.cases]
     ratios = np.concatenate(ratios) if ratios else np.zeros(0)
@@ -153,13 +164,12 @@ def fretting_facts(study: StudyResults) -> list[str]:
             f"wear volume / (α E_d) over every case and history row: {ratios.min():.5f} … "
             f"{ratios.max():.5f} (1 for the energy wear law)"
         )
-    facts += [_mindlin_fact(study, case, check) for case, check in applicable]
-    others = [case.label for case, check in checks if check is None]
-    if others:
-        facts.append(
-            "no analytic reference (not a sphere, orthotropic friction, μ = 0 or Q* ≥ μP): "
-            + ", ".join(others)
-        )
+    facts += [_reference_fact(study, case, check) for case, check in applicable]
+    unchecked: dict[str, list[str]] = {}
+    for case, check in checks:
+        if check is None:
+            unchecked.setdefault(unchecked_reason(study, case), []).append(case.label)
+    facts += [f"not checked, {reason}: {', '.join(labels)}" for reason, labels in unchecked.items()]
     return facts
 
 

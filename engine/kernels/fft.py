@@ -152,6 +152,24 @@ class PaddedTransforms:
         columns.execute()
         return self.spectra[:batch]
 
+    def forward_mirrored(self, parity_x: float) -> np.ndarray:
+        """``spectra[0]`` ← unnormalised FFT of a whole (2n_x, 2n_y) field, even
+        (``parity_x`` = 1) or odd (−1) in its first index: rows 0 … n_x − 1 are ``real[0]``
+        (all 2n_y columns, written by the caller), row n_x is zero and row 2n_x − i is
+        ``parity_x`` · row i. The row FFTs of the mirrored rows are those of the first rows
+        times the parity (exact), so only n_x rows are transformed; the transforms are the
+        padded ones (the same FFTW plans, so the same values as a 2-D real FFT of the whole
+        field: a circulant kernel's spectrum, ``engine.kernels.operator``). Returns a view."""
+        nx = self.shape[0]
+        rows, columns = self._plan("forward", 1, self.spectra)
+        self._padding_dirty = True  # the caller wrote the padding columns
+        rows.execute()
+        spectrum = self.spectra[0]
+        spectrum[nx] = 0.0
+        np.multiply(spectrum[1:nx][::-1], parity_x, out=spectrum[nx + 1 :])
+        columns.execute()
+        return spectrum
+
     def inverse(self, spectra: np.ndarray) -> np.ndarray:
         """First (n_x, n_y) block of the unnormalised inverse FFT of ``spectra`` (batch,
         2n_x, n_y + 1): ``self.spectra`` or an aligned buffer of the same layout, overwritten.
@@ -196,10 +214,18 @@ class RealFFTPair:
 
     ``forward()`` transforms ``real`` into ``spectrum``; ``inverse()`` transforms
     ``spectrum`` into ``real`` (divided by the number of points, as ``numpy.fft.irfft2``).
-    Both may overwrite their input (``FFTW_DESTROY_INPUT``).
+    Both may overwrite their input (``FFTW_DESTROY_INPUT``). ``inverse=False``: the
+    forward transform only (one plan fewer, e.g. for kernel spectra).
     """
 
-    def __init__(self, shape: tuple[int, ...], *, threads: int = 1, effort: str = DEFAULT_EFFORT):
+    def __init__(
+        self,
+        shape: tuple[int, ...],
+        *,
+        threads: int = 1,
+        effort: str = DEFAULT_EFFORT,
+        inverse: bool = True,
+    ):
         if effort not in EFFORTS:
             raise ValueError(f"planner effort must be one of {EFFORTS}, got {effort!r}")
         shape = tuple(int(n) for n in shape)
@@ -208,8 +234,12 @@ class RealFFTPair:
         axes = (len(shape) - 2, len(shape) - 1)
         options = dict(threads=threads, effort=effort, flags=("FFTW_DESTROY_INPUT",))
         self._forward = plan(self.real, self.spectrum, axes, **options)
-        self._inverse = plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
-        self.scale = 1.0 / float(self._inverse.N)  # what pyfftw's normalised call applies
+        self._inverse = (
+            plan(self.spectrum, self.real, axes, direction="FFTW_BACKWARD", **options)
+            if inverse
+            else None
+        )
+        self.scale = 1.0 / float(shape[-2] * shape[-1])  # what pyfftw's normalised call applies
         self.real[...] = 0.0
         self.spectrum[...] = 0.0
 

@@ -260,11 +260,16 @@ class LineOperator:
         u = self._inverse(len(rows))
         return u[0], u[2] if len(rows) == 3 else np.zeros(self.grid.shape), u[1]
 
-    def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
-        """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
+    def apply_normal(self, p_n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` when
+        given."""
         spectra = self._forward(p_n)
         spectra *= self._log
-        return self._inverse(1)[0]
+        result = self._inverse(1)[0]
+        if out is None:
+            return result
+        out[...] = result
+        return out
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm); u_y = 0 for q_y = 0."""
@@ -320,8 +325,12 @@ class LinePreconditioner:
         spectra *= self._inverse
         return self._transforms.inverse(len(residuals), self._n)
 
-    def normal(self, residual: np.ndarray) -> np.ndarray:
-        return self._apply(residual)[0]
+    def normal(self, residual: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        result = self._apply(residual)[0]
+        if out is None:
+            return result
+        out[...] = result
+        return out
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
         if not ry.any():  # plane strain: no y residual, no y correction

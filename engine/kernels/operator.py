@@ -18,7 +18,13 @@ import numpy as np
 from ..grid import Grid
 from ..material import MaterialPair
 from .fft import DEFAULT_EFFORT, PaddedTransforms, RealFFTPair, aligned_zeros, wrap_kernel
-from .influence import KERNEL_PARITY, SurfaceInfluence, kernel_quadrant, kernel_values
+from .influence import (
+    KERNEL_PARITY,
+    SurfaceInfluence,
+    kernel_quadrants,
+    kernel_values,
+    quadrant_values,
+)
 
 __all__ = ["HalfSpaceOperator", "SpectralPreconditioner", "fold_periodic", "wrap_kernel"]
 
@@ -41,6 +47,9 @@ _BLOCKS = {
 #: tangential displacement of its pressure), then the tangential block.
 _SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
 
+#: Kernels whose values on the periodic cell the spectral preconditioner folds.
+_PRECONDITIONED = ("zz", "xx", "yy", "xy")
+
 #: Rows of frequencies whose 3 × 3 symbols ``symbol_bound`` diagonalises at once.
 _SYMBOL_ROWS = 64
 
@@ -52,16 +61,17 @@ class HalfSpaceOperator:
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
 
     Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
-    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) complex values, 1/(4 n_x n_y) folded in) is kept;
-    the kernel itself is written from its quadrant (``kernel_quadrant``) straight into the
-    transform's buffer and not kept. A_zz is built with the operator, and on a coupled
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) values, real or imaginary, 1/(4 n_x n_y) folded in)
+    is kept; the kernel itself is written from its quadrant (``kernel_quadrants``) straight
+    into the padded transforms' buffer (its first n_x rows; the others mirror them) and not
+    kept. A_zz is built with the operator, and on a coupled
     material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
     case is the tangential displacement its pressure produces); the tangential block the
     first time a product needs it (frictional cases). ``influence``: kernels given whole
     instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
     needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
-    buffers of one direction are shared by the plans of
-    every batch size (``PaddedBuffers``), grown to the largest batch asked.
+    buffers (``PaddedTransforms``) are shared by the plans of every batch size and by the
+    kernel spectra, grown to the largest batch asked.
     """
 
     def __init__(
@@ -86,6 +96,9 @@ class HalfSpaceOperator:
         self._influence = influence
         self._given = influence is not None  # kernels given whole (line grids)
         self._self_coefficients: dict[str, float] = {}
+        # Kernel values of the preconditioner's periodic cell, kept from the quadrants the
+        # spectra are built from (the same values: kernel_quadrants is element by element).
+        self._cells: dict[str, np.ndarray] = {}
         self._transforms: PaddedTransforms | None = None
         self._targets: np.ndarray | None = None  # products of multi-field blocks
         self._product: np.ndarray | None = None
@@ -115,6 +128,9 @@ class HalfSpaceOperator:
             nx, ny = self.grid.shape
             rows, columns = np.asarray(index_x) + nx - 1, np.asarray(index_y) + ny - 1
             return self._influence.kernels[key][np.ix_(rows, columns)]
+        cell = self._cells.get(key)
+        if cell is not None and _within(cell, index_x, index_y):
+            return quadrant_values(cell, key, index_x, index_y)
         return kernel_values(self.grid, self.material, key, index_x, index_y)
 
     def self_coefficient(self, key: str) -> float:
@@ -141,25 +157,31 @@ class HalfSpaceOperator:
         return self._spectra[key]
 
     def _build_spectra(self, keys: tuple[str, ...]) -> None:
-        """Spectra of ``keys`` through one transform: each kernel's quadrant
-        (``kernel_quadrant``) is written into the transform's buffer in circulant order
-        (``wrap_kernel``'s layout: offset k at index k mod 2n), mirrored with its parity."""
-        nx, ny = self.grid.shape
-        transform = RealFFTPair((1, *self.padded_shape), threads=self.threads, effort=self._effort)
-        real = transform.real[0]
-        for key in keys:
-            if self._given:
-                real[...] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
+        """Spectra of ``keys`` through the padded transforms (their plans and buffers, no
+        others): each kernel's quadrant (``kernel_quadrants``, the group's together) is
+        written in circulant order (``wrap_kernel``'s layout: offset k at index k mod 2n),
+        mirrored with its parity in y here and in x by ``PaddedTransforms.forward_mirrored``."""
+        if self._given:
+            transform = RealFFTPair(
+                (1, *self.padded_shape), threads=self.threads, effort=self._effort, inverse=False
+            )
+            for key in keys:
+                transform.real[0] = wrap_kernel(self._influence.kernels[key], self.padded_shape)
                 self._spectra[key] = (transform.forward()[0] * self._scale, "complex")
-                continue
-            quadrant = kernel_quadrant(self.grid, self.material, key, (nx, ny))
+            return
+        nx, ny = self.grid.shape
+        transform = self._transform(1)
+        real = transform.real[0]  # rows 0 … n_x − 1 of the circulant kernel (2n_y columns)
+        quadrants = kernel_quadrants(self.grid, self.material, keys, (nx, ny))
+        for key in keys:
+            quadrant = quadrants.pop(key)
+            if key in _PRECONDITIONED:  # the preconditioner's periodic cell (kernel())
+                self._cells[key] = quadrant[: nx // 2 + 1, : ny // 2 + 1].copy()
             parity_x, parity_y = KERNEL_PARITY[key]
-            real[...] = 0.0
-            real[:nx, :ny] = quadrant
-            real[-1:-nx:-1, :ny] = parity_x * quadrant[1:]
-            real[:nx, -1:-ny:-1] = parity_y * quadrant[:, 1:]
-            real[-1:-nx:-1, -1:-ny:-1] = (parity_x * parity_y) * quadrant[1:, 1:]
-            spectrum = transform.forward()[0]
+            real[:, :ny] = quadrant
+            real[:, ny] = 0.0  # offset ±n_y: outside the kernel
+            np.multiply(quadrant[:, :0:-1], parity_y, out=real[:, ny + 1 :])
+            spectrum = transform.forward_mirrored(parity_x)
             if parity_x * parity_y > 0:  # even circulant: a real spectrum
                 self._spectra[key] = (spectrum.real * self._scale, "real")
             else:  # odd along one axis: an imaginary spectrum
@@ -195,37 +217,40 @@ class HalfSpaceOperator:
             self._product = np.empty((self.padded_shape[0], self.grid.n_y + 1), complex)
         return self._product
 
-    def _multiply(self, spectrum: np.ndarray, key: str, out: np.ndarray) -> np.ndarray:
-        """``out`` ← (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
-        ``spectrum``. A real or imaginary kernel spectrum multiplies the real and imaginary
-        parts (as float pairs) by a real array: half the flops of a complex product."""
+    def _multiply(
+        self, spectrum: np.ndarray, key: str, out: np.ndarray, sign: float = 1.0
+    ) -> np.ndarray:
+        """``out`` ← ``sign`` · (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
+        ``spectrum``. A real kernel spectrum k multiplies the real and imaginary parts:
+        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one ik then turns the
+        product by ±i: (ak + ibk)(±i) = ∓bk ± iak, exactly (the other factor of each part of
+        numpy's complex product is an exact 0 or ±1)."""
         values, kind = self._stored(key)
         if kind == "complex":
-            return np.multiply(spectrum, values, out=out)
-        pairs, result = _pairs(spectrum), _pairs(out)
-        if kind == "real":
-            np.multiply(pairs, values[..., None], out=result)
-            return out
-        real_part = pairs[..., 0] * values  # (a + ib)(ik) = −bk + i ak
-        np.multiply(pairs[..., 1], values, out=result[..., 0])
-        np.negative(result[..., 0], out=result[..., 0])
-        result[..., 1] = real_part
+            np.multiply(spectrum, values, out=out)
+        else:
+            multiply_by_real(spectrum, values, out)
+        if kind == "imaginary":
+            np.multiply(out, 1j * sign, out=out)
+        elif sign < 0:
+            np.negative(out, out=out)
         return out
 
-    def _convolve(self, rows: tuple, fields: list[np.ndarray]) -> np.ndarray:
+    def _convolve(self, rows: tuple, fields: list[np.ndarray], out=None) -> np.ndarray:
         """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
         (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
         its own transform pair, the product taken in place (no further buffer)."""
         nx, ny = self.grid.shape
-        result = np.empty((len(rows), nx, ny))
+        for row in rows:  # spectra first: building one uses the transforms' buffers
+            for key, _ in row:
+                self._stored(key)
+        result = np.empty((len(rows), nx, ny)) if out is None else out
         if len(fields) == 1:
             transform = self._transform(1)
             for a, ((key, sign),) in enumerate(rows):
                 transform.fields(1)[0] = fields[0]
                 spectrum = transform.forward(1)
-                self._multiply(spectrum[0], key, out=spectrum[0])
-                if sign < 0:
-                    np.negative(spectrum, out=spectrum)
+                self._multiply(spectrum[0], key, out=spectrum[0], sign=sign)
                 result[a] = transform.inverse(spectrum)[0]
         else:
             transform = self._transform(max(len(fields), len(rows)))
@@ -244,9 +269,7 @@ class HalfSpaceOperator:
         """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]``."""
         for b, (key, sign) in enumerate(row):
             if b == 0:
-                self._multiply(spectra[0], key, out=target)
-                if sign < 0:
-                    np.negative(target, out=target)
+                self._multiply(spectra[0], key, out=target, sign=sign)
                 continue
             product = self._multiply(spectra[b], key, out=self._product_buffer())
             if sign > 0:
@@ -263,9 +286,14 @@ class HalfSpaceOperator:
         u = self._convolve(self._rows(range(3), range(3)), [p_x, p_y, p_n])
         return u[0], u[1], u[2]
 
-    def apply_normal(self, p_n: np.ndarray) -> np.ndarray:
-        """A_zz only: pressure (MPa) → relative normal displacement (mm)."""
-        return self._convolve(self._rows(range(2, 3), range(2, 3)), [p_n])[0]
+    def apply_normal(self, p_n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` (an
+        array of the grid's shape) when given (an iteration's work array: no fresh memory)."""
+        rows = self._rows(range(2, 3), range(2, 3))
+        if out is None:
+            return self._convolve(rows, [p_n])[0]
+        self._convolve(rows, [p_n], out[None])
+        return out
 
     def apply_tangential(self, p_x: np.ndarray, p_y: np.ndarray):
         """The 2×2 tangential block: (p_x, p_y) (MPa) → (u_x, u_y) (mm)."""
@@ -304,9 +332,21 @@ class HalfSpaceOperator:
         return self._symbol_bound
 
 
-def _pairs(spectrum: np.ndarray) -> np.ndarray:
-    """A contiguous complex array as float pairs (..., 2): real and imaginary parts."""
-    return spectrum.view(np.float64).reshape(*spectrum.shape, 2)
+def multiply_by_real(spectrum: np.ndarray, values: np.ndarray, out: np.ndarray) -> None:
+    """``out`` ← ``spectrum`` · ``values`` (complex by real, element by element; ``out`` may be
+    ``spectrum``): the real and imaginary parts multiplied in place. ``np.multiply`` of a
+    complex and a real array would cast the real one to complex through a buffer allocated
+    at each call (fresh pages: more time than the product on small grids)."""
+    np.multiply(spectrum.real, values, out=out.real)
+    np.multiply(spectrum.imag, values, out=out.imag)
+
+
+def _within(quadrant: np.ndarray, index_x, index_y) -> bool:
+    """Whether ``quadrant`` holds every offset |i| of ``index_x`` and |j| of ``index_y``."""
+    return (
+        int(np.abs(index_x).max()) < quadrant.shape[0]
+        and int(np.abs(index_y).max()) < quadrant.shape[1]
+    )
 
 
 def fold_periodic(kernel: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
@@ -367,12 +407,17 @@ class SpectralPreconditioner:
             self._two = self._transform(2)
         return self._tangential
 
-    def normal(self, residual: np.ndarray) -> np.ndarray:
+    def normal(self, residual: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """M r (MPa) of a normal residual r (mm), into ``out`` when given."""
         fft = self._one
         fft.real[0] = residual
         spectrum = fft.forward()
-        spectrum *= self._normal
-        return fft.inverse()[0].copy()
+        multiply_by_real(spectrum, self._normal, spectrum)
+        result = fft.inverse()[0]
+        if out is None:
+            return result.copy()
+        out[...] = result
+        return out
 
     def tangential(self, rx: np.ndarray, ry: np.ndarray):
         ixx, ixy, iyy = self._tangential_symbols()
