@@ -86,10 +86,11 @@ _INTEGER_COLUMNS, _TEXT_COLUMNS = INTEGER_COLUMNS, TEXT_COLUMNS
 _KNOWN = frozenset(SUMMARY_COLUMNS)
 
 
-def column_unit(column: str) -> str:
-    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included
-    (the results schema's one units table, :func:`engine.schema.unit_of`)."""
-    unit = unit_of(column)
+def column_unit(column: str, line: bool = False) -> str:
+    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included,
+    in a 3-D or (``line``) a line contact (the results schema's one units table,
+    :func:`engine.schema.unit_of`)."""
+    unit = unit_of(column, line)
     return "" if unit == "1" else unit
 
 
