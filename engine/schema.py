@@ -587,8 +587,12 @@ COLUMN_UNITS = {
 
 
 #: A line (plane-strain) contact's unit of each extensive unit of the tables: per mm of
-#: contact length along y (loads and forces, energies, areas, volumes).
-PER_UNIT_LENGTH = {"N": "N/mm", "mJ": "mJ/mm", "mm^2": "mm^2/mm", "mm^3": "mm^3/mm"}
+#: contact length along y (loads and forces, energies, areas, volumes; the reports' mm², mm³
+#: and J too).
+PER_UNIT_LENGTH = {
+    "N": "N/mm", "mJ": "mJ/mm", "J": "J/mm", "mm^2": "mm^2/mm", "mm^3": "mm^3/mm",
+    "mm²": "mm²/mm", "mm³": "mm³/mm",
+}  # fmt: skip
 
 
 def contact_units(units: str, line: bool) -> str:
