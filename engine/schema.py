@@ -31,7 +31,8 @@ any path of a case group, so a test can check a written file against this table.
 
 The units of the tables are a 3-D contact's. A line (plane-strain) contact is computed per
 unit length along y: its forces, energies, areas and volumes are per mm of contact length
-(N → N/mm, mJ → mJ/mm, mm^2 → mm^2/mm, mm^3 → mm^3/mm, :data:`PER_UNIT_LENGTH`);
+(N → N/mm, mJ → mJ/mm, mm^2 → mm^2/mm, and a volume mm^3 → mm^2/mm, the worn area per mm
+of length as ``scar_area``, :data:`PER_UNIT_LENGTH`);
 :func:`contact_units` turns a table's unit into the contact's, :func:`unit_of` and
 :func:`parameter_units` take the geometry, and :meth:`DatasetRecord.per_unit_length` gives a
 line contact's record. Lengths, pressures, stresses and counts are the same in both.
@@ -587,11 +588,11 @@ COLUMN_UNITS = {
 
 
 #: A line (plane-strain) contact's unit of each extensive unit of the tables: per mm of
-#: contact length along y (loads and forces, energies, areas, volumes; the reports' mm², mm³
-#: and J too).
+#: contact length along y (loads and forces, energies, areas; a volume becomes the worn area
+#: per mm of length, mm²/mm as ``scar_area``; the reports' mm², mm³ and J too).
 PER_UNIT_LENGTH = {
-    "N": "N/mm", "mJ": "mJ/mm", "J": "J/mm", "mm^2": "mm^2/mm", "mm^3": "mm^3/mm",
-    "mm²": "mm²/mm", "mm³": "mm³/mm",
+    "N": "N/mm", "mJ": "mJ/mm", "J": "J/mm", "mm^2": "mm^2/mm", "mm^3": "mm^2/mm",
+    "mm²": "mm²/mm", "mm³": "mm²/mm",
 }  # fmt: skip
 
 
