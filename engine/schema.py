@@ -319,6 +319,13 @@ FRETTING_HISTORY = {
         ),
         ("stick_area", "mm^2", "stick area at the increment of the largest |Q|"),
         ("evaluations", "1", "increment solves of the cycle (force control: secant evaluations)"),
+        ("matvecs", "1", "operator applications of the cycle's increment solves"),
+        (
+            "residual",
+            "1",
+            "largest relative residual of the cycle's increment solves (≤ [solver] tol unless "
+            "the case failed)",
+        ),
         # only when [loading] direction != 0 (the plane then contains the sliding direction)
         ("vm_max_y", "mm", "y of vm_max"),
         ("vm_sub_max_y", "mm", "y of vm_sub_max"),

@@ -207,7 +207,8 @@ class ContactSolver:
         return self._result(problem, solution, self.operator.applications - start)
 
     def _frictionless(self, problem: IncrementProblem, load, start_from) -> CoupledSolution:
-        """Frictionless load control: the normal problem alone, from ``start_from``."""
+        """Frictionless load control: the normal problem alone, from ``start_from``; the
+        projected gradient finishes it should the CG stall."""
         normal = solve_normal(
             self.operator,
             self.candidate,
@@ -218,6 +219,10 @@ class ContactSolver:
             maxiter=self.maxiter,
         )
         zeros = np.zeros(self.grid.shape)
+        if normal.stalled:
+            start = np.array([zeros, zeros, normal.pressure])
+            label = " after the preconditioned CG stalled"
+            return solve_projected_gradient(problem, load, None, start_from, start, label)
         return CoupledSolution(
             pressure=normal.pressure,
             traction_x=zeros,
