@@ -12,9 +12,6 @@ the force-bound message and the report say N/mm for the line contact. ~8 s in al
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import h5py
@@ -23,8 +20,7 @@ import pytest
 from engine.cli import main
 from engine.schema import PER_UNIT_LENGTH, contact_units, parameter_units, unit_of
 from engine.study.examples import CYLINDER_ON_STEEL, SPHERE_ON_STEEL, study_toml
-
-REPO = Path(__file__).resolve().parents[1]
+from tests.test_cli import _engine  # python -m engine in a subprocess (this worktree's engine)
 
 FRETTING = {"kind": "fretting", "load": 185.0, "steps": 2, "cycles": 4, "record": [2, 4]}
 STATIC = {"kind": "static", "load": 185.0, "steps": 2}
@@ -43,15 +39,6 @@ EXTENSIVE = {
     "fields/cycle_0000002/loop": "mm, mm, N, N",
     "fields/cycle_0000004/loop": "mm, mm, N, N",
 }
-
-
-def _engine(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    env = {**os.environ, "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
-    return subprocess.run(
-        [sys.executable, "-m", "engine", *args],
-        cwd=cwd, env=env, capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
 
 
 def _units(path: Path) -> dict[str, dict[str, str]]:
