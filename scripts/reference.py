@@ -39,21 +39,21 @@ def _code(text: str) -> str:
     return f"`{text}`"
 
 
+def _units(units: str) -> str:
+    """A 3-D contact's ``units``, and a line contact's (per unit length) where they differ."""
+    line = schema.contact_units(units, line=True)
+    return units if line == units else f"{units} (line contact: {line})"
+
+
 def study_keys() -> str:
     """One table per section: key, type, default, unit, meaning."""
     parts = []
     for section, what in SECTIONS.items():
         keys = [key for key in STUDY_KEYS if key.section == section]
         parts.append(f"### `[{section}]`: {what}\n")
-        rows = [(_code(k.name), k.type, k.default, k.unit, k.meaning) for k in keys]
+        rows = [(_code(k.name), k.type, k.default, _units(k.unit), k.meaning) for k in keys]
         parts.append(markdown_table(("key", "type", "default", "unit", "meaning"), rows))
     return "\n".join(parts)
-
-
-def _units(units: str) -> str:
-    """A 3-D contact's ``units``, and a line contact's (per unit length) where they differ."""
-    line = schema.contact_units(units, line=True)
-    return units if line == units else f"{units} (line contact: {line})"
 
 
 def sweepable_keys() -> str:

@@ -154,3 +154,18 @@ def test_dry_run_report_and_messages_say_n_per_mm(studies, tmp_path, capsys):
     refused = _engine("bound.toml", cwd=tmp_path)
     assert refused.returncode == 2
     assert "force_amplitude = 95 N/mm is not below the friction bound 92.5 N/mm" in (refused.stderr)
+
+
+def test_thresholds_table_units_follow_the_contact():
+    """A search along the load for a tangential force: the table's parameter and value
+    columns in N/mm for a line contact, N for a 3-D one; lengths and counts unchanged."""
+    from engine.output.thresholds import table_units
+    from engine.study.search import SearchSpec
+
+    spec = SearchSpec("loading.load", 50.0, 500.0, "q_amplitude", 40.0, rtol=1e-3)
+    rows = [{"case_id": "mu0.5", "mu1": 0.5, "loading.amplitude": 0.002}]
+    line, sphere = table_units(rows, spec, line=True), table_units(rows, spec)
+    for name in ("threshold", "lower", "upper", "lower_value", "upper_value"):
+        assert (sphere[name], line[name]) == ("N", "N/mm"), name
+    assert line["loading.amplitude"] == sphere["loading.amplitude"] == "mm"
+    assert line["steps"] == sphere["steps"] == ""
