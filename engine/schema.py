@@ -40,6 +40,7 @@ line contact's record. Lengths, pressures, stresses and counts are the same in b
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 import re
@@ -135,9 +136,7 @@ class DatasetRecord:
         """This record for a line contact (``line``: its units per unit length,
         :func:`contact_units`) or a 3-D one (itself); the data is the same array."""
         units = contact_units(self.units, line)
-        if units == self.units:
-            return self
-        return DatasetRecord(self.data, units, self.description, self.attrs)
+        return self if units == self.units else dataclasses.replace(self, units=units)
 
 
 @dataclass(frozen=True)

@@ -120,10 +120,10 @@ class CaseRunner:
                 traceback=traceback_module.format_exc(),
             )
         outcome.runtime_s = previous.get("runtime_s", 0.0) + time.perf_counter() - start
-        line = self.config.punch.is_line  # per unit length (engine.schema.contact_units)
-        outcome.datasets = {
-            path: record.per_unit_length(line) for path, record in outcome.datasets.items()
-        }
+        if self.config.punch.is_line:  # per unit length (engine.schema.contact_units)
+            outcome.datasets = {
+                path: record.per_unit_length(True) for path, record in outcome.datasets.items()
+            }
         if outcome.status == INTERRUPTED:
             self._save_progress(case, {"runtime_s": outcome.runtime_s})
         else:
