@@ -32,9 +32,11 @@ blocks of docs/explanation/results.md, each headed by the date, machine and load
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import subprocess
 import sys
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -90,10 +92,23 @@ LOADS = (
 RIPPLE_WINDOW = 9  # elements of the local cubic fit that the ripple is measured against
 
 
-def run_study(study: Path, ranks: int, fresh: bool) -> float:
-    """Run (or resume) a study; returns the wall time (s) of the command."""
+def completed_cases(results: Path) -> int:
+    """How many cases of a results file are complete (0 without the file)."""
+    if not results.exists():
+        return 0
+    with h5py.File(results, "r") as file:
+        return sum(group.attrs["status"] == "completed" for group in file["cases"].values())
+
+
+def run_study(load: Load, ranks: int, fresh: bool) -> float | None:
+    """Run (or resume) a load's study; returns the wall time (s) of the command, or None when
+    the results file already held every case complete (nothing was computed, so no time)."""
     import time
 
+    study = load.study_path
+    sweep = tomllib.loads(study.read_text())["sweep"]
+    cases = math.prod(len(values) for values in sweep.values())
+    already_complete = not fresh and completed_cases(load.results) == cases
     mpiexec = Path(sys.executable).parent / "mpiexec"
     command = [str(mpiexec), "-n", str(ranks), sys.executable, "-m", "engine", str(study)]
     command += ["--no-progress-bar", "--progress-interval", "60"] + (["--fresh"] if fresh else [])
@@ -102,7 +117,7 @@ def run_study(study: Path, ranks: int, fresh: bool) -> float:
     completed = subprocess.run(command, cwd=REPO, env=env)
     if completed.returncode not in (0, 1):  # 1: a case failed, reported in the table
         raise SystemExit(f"the study stopped with exit code {completed.returncode}")
-    return time.perf_counter() - start
+    return None if already_complete else time.perf_counter() - start
 
 
 def element_ripple(wear: np.ndarray) -> float:
@@ -298,13 +313,13 @@ def main() -> None:
     args = parser.parse_args()
     bundled = {}
     for load in LOADS:
-        wall = None if args.no_run else run_study(load.study_path, args.ranks, args.fresh)
+        wall = None if args.no_run else run_study(load, args.ranks, args.fresh)
         measures = case_measures(load.results, load.half_width)
         count = len(measures)
         timing = (
             f"; the study {load.study} ({count} cases) took {wall:.0f} s on {args.ranks} ranks"
-            if wall
-            else ""
+            if wall is not None
+            else f"; read from the complete results/{load.study}.h5 (CPU times of its run)"
         )
         write_blocks(load, measures, timing)
         bundled[load.load] = measures[BUNDLED]
