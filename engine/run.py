@@ -771,6 +771,7 @@ def _loading_description(config, plan) -> str:
         return _range_text(_values(plan, key) if key in swept else [first], unit, form)
 
     swept = set(config.sweep.swept_keys)
+    line = config.punch.is_line  # a line contact's loads per unit length
     what = config.kind.describe(config, value)
     rules = _followers(config.sweep)
     ranges = []
@@ -778,12 +779,12 @@ def _loading_description(config, plan) -> str:
         values = _values(plan, key)
         if len(values) < 2:
             continue
-        text = f"{key} = {_range_text(values, column_unit(key))}"
+        text = f"{key} = {_range_text(values, column_unit(key, line))}"
         if key in rules:  # not swept: it follows its rule, named beside the key it follows
             leader, rule = rules[key]
             if len(_values(plan, leader)) > 1:
                 continue
-            text = f"{key} = {rule} = {_range_text(values, column_unit(key))}"
+            text = f"{key} = {rule} = {_range_text(values, column_unit(key, line))}"
         text += "".join(
             f", {follower} = {rule}" for follower, (leader, rule) in rules.items() if leader == key
         )

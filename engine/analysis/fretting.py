@@ -124,8 +124,8 @@ def material(study: StudyResults, case: CaseResults) -> MaterialPair:
 
 
 def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
-    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N) of a case, by cycle N
-    (the nearest enclosing ``cycle_N`` group)."""
+    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N, a line contact's
+    N/mm) of a case, by cycle N (the nearest enclosing ``cycle_N`` group)."""
     loops: dict[int, np.ndarray] = {}
 
     def visit(name, item):

@@ -27,6 +27,7 @@ No matplotlib here (tests/test_architecture.py).
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 
 import numpy as np
@@ -43,6 +44,16 @@ COLUMNS = [
     "at (x, y, z) (mm)", "σ_VM cycle max (MPa)", "at (x, y, z) (mm)",
 ]  # fmt: skip
 REGIME_WORDS = {0: "partial", 1: "gross"}
+_PER_CONTACT = re.compile(r"\((N|mJ|mm³)\)")  # the units of COLUMNS a line contact divides
+
+
+def table_columns(study: StudyResults) -> list[str]:
+    """:data:`COLUMNS` in the study's units (a line contact's forces, energies, volumes per
+    unit length)."""
+    return [
+        _PER_CONTACT.sub(lambda match: f"({study.per_contact(match.group(1))})", column)
+        for column in COLUMNS
+    ]
 
 
 def _row(values: Sequence[str]) -> str:
@@ -76,7 +87,7 @@ def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> 
     """The fretting columns per case and cycle (module docstring)."""
     if cycles is None:
         cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
-    lines = [_row(COLUMNS), "|" + "|".join("---" for _ in COLUMNS) + "|"]
+    lines = [_row(table_columns(study)), "|" + "|".join("---" for _ in COLUMNS) + "|"]
     for case in study.cases:
         for cycle in cycles:
             energy = case.history_at("energy", cycle)
@@ -109,7 +120,7 @@ def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck
         if check.regime_holds
         else f"{check.reference} says {check.expected}"
     )
-    unit = "mJ/mm" if study.profile.is_line else "mJ"  # a line contact's: per mm of length
+    unit = study.per_contact("mJ")
     text = (
         f"{case.label}: {where}, first cycle {check.computed} slip ({verdict}); energy at "
         f"N = 1 {check.energy:.4g} {unit} vs {check.exact:.4g} {unit} "
@@ -186,7 +197,7 @@ def _signal(study: StudyResults) -> str:
     """The tangential signal: control mode, amplitude and direction."""
     loading = study.config["loading"]
     if loading.get("force_amplitude") is not None or "loading.force_amplitude" in study.swept_keys:
-        signal = f"force control, Q* = {_value(study, 'force_amplitude', ' N')}"
+        signal = f"force control, Q* = {_value(study, 'force_amplitude', ' ' + study.load_unit)}"
     else:
         signal = f"displacement control, δ* = {_value(study, 'amplitude', ' mm')}"
     return f"{signal} along {_value(study, 'direction', '°', 0.0)} from x"
@@ -210,10 +221,11 @@ def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     swept = f"; swept: {', '.join(study.swept_keys)}" if study.swept_keys else ""
     law = config.get("wear", {}).get("law", "archard")
     subsurface = config.get("subsurface", {})
+    load = _value(study, "load", " " + study.load_unit)
     lines = [
         f"### {study.name}",
         "",
-        f"{study.mesh_label}, tangential fretting: P = {_value(study, 'load', ' N')} (held), "
+        f"{study.mesh_label}, tangential fretting: P = {load} (held), "
         f"{_signal(study)}, {int(loading['cycles']):,} cycles, {law} wear law{swept} (a "
         "case's label gives its swept values). "
         f"Subsurface: {subsurface.get('layers')} layers to z = "
