@@ -131,6 +131,54 @@ class Variable:
         )
 
 
+class _Attributes:
+    """The attributes of the dataset at ``path`` of the file ``results`` opens, read all at
+    once when a :class:`Variable`'s ``units``, ``description`` or ``attrs`` is first asked
+    for (until then the Variable holds this in their place)."""
+
+    __slots__ = ("results", "path", "stored")
+
+    def __init__(self, results: Results, path: str) -> None:
+        self.results, self.path = results, path
+        self.stored: dict[str, Any] | None = None
+
+    def value(self, name: str) -> Any:
+        """The Variable's field ``name`` (``units``, ``description`` or ``attrs``)."""
+        if self.stored is None:
+            with self.results._open() as file:
+                stored = file[self.path].attrs
+                self.stored = {key: stored[key] for key in stored if key not in _LINKS}
+        if name == "attrs":
+            return {
+                key: _attribute(value)
+                for key, value in self.stored.items()
+                if key not in _NOT_ATTRS
+            }
+        return _text(self.stored.get(name, ""))
+
+
+class _FromFile:
+    """A field of :class:`Variable` that may stand as :class:`_Attributes` until first read."""
+
+    def __init__(self, name: str) -> None:
+        self.name, self.slot = name, f"_stored_{name}"
+
+    def __get__(self, variable, owner=None):
+        if variable is None:
+            raise AttributeError(self.name)
+        value = variable.__dict__[self.slot]
+        if isinstance(value, _Attributes):
+            value = variable.__dict__[self.slot] = value.value(self.name)
+        return value
+
+    def __set__(self, variable, value) -> None:
+        variable.__dict__[self.slot] = value
+
+
+for _name in ("units", "description", "attrs"):  # read lazily (the dataclass's fields still)
+    setattr(Variable, _name, _FromFile(_name))
+
+
 class _Table(Mapping):
     """A read-only mapping over the dict ``self._items``."""
 
@@ -300,6 +348,11 @@ class ResultCase:
         return _CaseGroup(self.results, self.case_id)
 
     @property
+    def _path(self) -> str:
+        """The case's group in the file."""
+        return f"/{CASES_GROUP}/{self.case_id}"
+
+    @property
     def completed(self) -> bool:
         """Whether the case completed (only completed cases hold datasets)."""
         return self.status == CaseStatus.COMPLETED
@@ -328,7 +381,7 @@ class ResultCase:
         """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
         with self._group() as group:
             source = group[GRID_GROUP] if GRID_GROUP in group else group.file.get(GRID_GROUP)
-            return _grid_group(f"cases/{self.case_id}/grid", source)
+            return _grid_group(f"cases/{self.case_id}/grid", source, self.results)
 
     @cached_property
     def history(self) -> VariableGroup:
@@ -339,8 +392,9 @@ class ResultCase:
             coords = {}
             if "cycle" in history:
                 coords["cycle"] = (("step",), np.asarray(history["cycle"]), "1")
+            source = _Source(self.results, f"{self._path}/history")
             variables = {
-                name: _variable(name, dataset, ("step",), coords)
+                name: _variable(name, dataset, ("step",), coords, source)
                 for name, dataset in history.items()
             }
         return VariableGroup(f"cases/{self.case_id}/history", variables)
@@ -374,14 +428,14 @@ class ResultCase:
         (``<column>_hot_spot``, its columns as a coordinate)."""
         planes = self.planes
 
-        def read(name, group):
+        def read(name, group, source):
             plane = planes.get(cycle_of_group(name.rsplit("/", 1)[-1]))
             coords = next(iter(plane.values())).coords if plane else {}
             scales: dict = {}
             variables = {
-                key: _variable(key, dataset, ("s", "depth"), coords)
+                key: _variable(key, dataset, ("s", "depth"), coords, source)
                 if dataset.ndim == 2 and "columns" not in dataset.attrs
-                else _field(key, dataset, scales)
+                else _field(key, dataset, scales, source)
                 for key, dataset in group.items()
             }
             return VariableGroup(name, variables)
@@ -394,7 +448,9 @@ class ResultCase:
             for name, sub in group.get(section, {}).items():
                 cycle = cycle_of_group(name)
                 groups[name if cycle is None else cycle] = read(
-                    f"cases/{self.case_id}/{section}/{name}", sub
+                    f"cases/{self.case_id}/{section}/{name}",
+                    sub,
+                    _Source(self.results, f"{self._path}/{section}/{name}"),
                 )
         ordered = {key: groups[key] for key in sorted(groups, key=_instant_order)}
         return Records("planes" if section == "subsurface" else section, ordered)
@@ -426,41 +482,52 @@ def _instants(records: Records) -> str:
     return " + ".join(parts) or "none"
 
 
-# Attributes a Variable carries as fields (units, description) or that are bookkeeping
-# (the checksum, the dimension-scale links): left out of ``Variable.attrs``, and not read.
-_NOT_ATTRS = frozenset(
-    ("units", "description", "sha256", "DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
-)
+# The dimension-scale links (costly to read, never read) and the attributes a Variable
+# carries as fields (units, description) or that are bookkeeping (the checksum): left out of
+# ``Variable.attrs``.
+_LINKS = frozenset(("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME"))
+_NOT_ATTRS = _LINKS | {"units", "description", "sha256"}
 
 
-def _variable(name: str, dataset, dims: tuple[str, ...], coords: dict | None = None):
-    """The dataset ``name`` of its group as a :class:`Variable` (attributes are read by name:
-    the scale links, the costly ones, are not read at all)."""
-    stored = dataset.attrs
-    keys = list(stored)
-    attrs = {key: _attribute(stored[key]) for key in keys if key not in _NOT_ATTRS}
+def _variable(
+    name: str, dataset, dims: tuple[str, ...], coords: dict | None, source: _Source
+) -> Variable:
+    """The dataset ``name`` of the group ``source`` as a :class:`Variable` (its attributes
+    read when first asked for)."""
     values = np.asarray(dataset)
     if len(dims) != values.ndim:
         dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
+    attributes = _Attributes(source.results, f"{source.path}/{name}")
     return Variable(
         name=name,
         values=values,
-        units=_text(stored["units"]) if "units" in keys else "",
-        description=_text(stored["description"]) if "description" in keys else "",
+        units=attributes,  # type: ignore[arg-type]  # read when first asked for
+        description=attributes,  # type: ignore[arg-type]
         dims=dims,
         coords=dict(coords or {}),
-        attrs=attrs,
+        attrs=attributes,  # type: ignore[arg-type]
     )
+
+
+@dataclass(frozen=True)
+class _Source:
+    """Where a group's datasets are: the file ``results`` opens, the group's ``path``."""
+
+    results: Results
+    path: str
 
 
 def _attribute(value: Any) -> Any:
     return _text(value) if isinstance(value, (bytes, str)) else value
 
 
-def _grid_group(name: str, source) -> VariableGroup:
-    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none)."""
-    axes = [axis for axis in ("x", "y") if source is not None and axis in source]
-    return VariableGroup(name, {axis: _variable(axis, source[axis], (axis,)) for axis in axes})
+def _grid_group(name: str, group, results: Results) -> VariableGroup:
+    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none) of ``results``."""
+    axes = [axis for axis in ("x", "y") if group is not None and axis in group]
+    source = _Source(results, group.name) if axes else None
+    return VariableGroup(
+        name, {axis: _variable(axis, group[axis], (axis,), None, source) for axis in axes}
+    )
 
 
 def _basename(dataset) -> str:
@@ -469,7 +536,7 @@ def _basename(dataset) -> str:
     return dataset.name.rsplit("/", 1)[-1]
 
 
-def _field(name: str, dataset, scales: dict) -> Variable:
+def _field(name: str, dataset, scales: dict, source: _Source) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
     dimensions named after it, its ``columns`` attribute as the last one's coordinate.
@@ -487,23 +554,25 @@ def _field(name: str, dataset, scales: dict) -> Variable:
             coords[label] = coordinate
         else:
             dims.append(None)
-    columns = dataset.attrs.get("columns")
     if None in dims:
+        columns = dataset.attrs.get("columns")
         dims = [f"{name}_row" if label is None else label for label in dims]
         if columns is not None:
             column = f"{name}_column"
             dims[-1] = column
             names = np.array([part.strip() for part in _text(columns).split(",")])
             coords[column] = ((column,), names, "")
-    return _variable(name, dataset, tuple(dims), coords)
+    return _variable(name, dataset, tuple(dims), coords, source)
 
 
-def _field_group(name: str, group) -> VariableGroup:
+def _field_group(name: str, group, source: _Source) -> VariableGroup:
     scales: dict = {}
-    return VariableGroup(name, {key: _field(key, data, scales) for key, data in group.items()})
+    return VariableGroup(
+        name, {key: _field(key, data, scales, source) for key, data in group.items()}
+    )
 
 
-def _plane_group(name: str, group) -> VariableGroup:
+def _plane_group(name: str, group, source: _Source) -> VariableGroup:
     """A stored stress plane: the data on (s, depth); x, y, z (mm) as 2-D coordinates; ``s``
     (the signed distance along the plane, x cos φ + y sin φ) and ``depth`` as 1-D ones when
     the points form a grid of columns and layers (as the engine writes them). Datasets the
@@ -511,15 +580,15 @@ def _plane_group(name: str, group) -> VariableGroup:
     fields."""
     dims, scales = ("s", "depth"), {}
     variables = {
-        key: _variable(key, dataset, dims) if key in PLANE else _field(key, dataset, scales)
+        key: _variable(key, dataset, dims, None, source)
+        if key in PLANE
+        else _field(key, dataset, scales, source)
         for key, dataset in group.items()
     }
     x, z = variables["x"].values, variables["z"].values
     y = variables["y"].values if "y" in variables else np.zeros_like(x)
     angle = (
-        float(variables["von_mises"].attrs.get("plane_angle", 0.0))
-        if "von_mises" in variables
-        else 0
+        float(group["von_mises"].attrs.get("plane_angle", 0.0)) if "von_mises" in variables else 0
     )
     coords: dict[str, tuple] = {"x": (dims, x, "mm"), "y": (dims, y, "mm"), "z": (dims, z, "mm")}
     if np.all(z == z[:1, :]):
@@ -605,7 +674,7 @@ class Results(_Table):
             if source is None:
                 holding = (group for _, group in sorted(file[CASES_GROUP].items()))
                 source = next((group[GRID_GROUP] for group in holding if GRID_GROUP in group), None)
-            return _grid_group("grid", source)
+            return _grid_group("grid", source, self)
 
     @property
     def case_ids(self) -> list[str]:
