@@ -391,7 +391,7 @@ class ResultCase:
             history = group.get("history", {})
             coords = {}
             if "cycle" in history:
-                coords["cycle"] = (("step",), np.asarray(history["cycle"]), "1")
+                coords["cycle"] = (("step",), _read(history["cycle"]), "1")
             source = _Source(self.results, f"{self._path}/history")
             variables = {
                 name: _variable(name, dataset, ("step",), coords, source)
@@ -494,7 +494,7 @@ def _variable(
 ) -> Variable:
     """The dataset ``name`` of the group ``source`` as a :class:`Variable` (its attributes
     read when first asked for)."""
-    values = np.asarray(dataset)
+    values = _read(dataset)
     if len(dims) != values.ndim:
         dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
     attributes = _Attributes(source.results, f"{source.path}/{name}")
@@ -507,6 +507,12 @@ def _variable(
         coords=dict(coords or {}),
         attrs=attributes,  # type: ignore[arg-type]
     )
+
+
+def _read(dataset) -> np.ndarray:
+    """The whole dataset as an array (``dataset[()]``: h5py's direct read, quicker than
+    ``numpy.asarray(dataset)``)."""
+    return np.asarray(dataset[()])
 
 
 @dataclass(frozen=True)
@@ -548,7 +554,7 @@ def _field(name: str, dataset, scales: dict, source: _Source) -> Variable:
             if scale.id not in scales:
                 label = _text(h5py.h5ds.get_scale_name(scale.id) or b"") or _basename(scale)
                 units = _text(scale.attrs.get("units", ""))
-                scales[scale.id] = (label, ((label,), np.asarray(scale), units))
+                scales[scale.id] = (label, ((label,), _read(scale), units))
             label, coordinate = scales[scale.id]
             dims.append(label)
             coords[label] = coordinate
