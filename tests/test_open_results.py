@@ -135,6 +135,29 @@ def test_a_with_block_keeps_the_file_open_for_many_reads(cyclic):
     assert results.completed[0].planes["final"]["von_mises"].shape  # after the block: reopens
 
 
+def test_units_and_descriptions_asked_for_after_the_block_are_those_stored(cyclic):
+    """A variable's units, description and other attributes are read when first asked
+    for: after the ``with`` block (the file closed) they are still the stored ones, equal
+    to those read outside any block, and each grid's coordinates are those of its case."""
+    with engine.open_results(cyclic) as results:
+        held = [(case.fields, case.planes["final"]) for case in results.completed]
+    outside = engine.open_results(cyclic)
+    for (fields, plane), case in zip(held, outside.completed, strict=True):
+        for key, group in fields.items():
+            for name, variable in group.items():
+                other = case.fields[key][name]
+                assert (variable.units, variable.description, variable.attrs) == (
+                    other.units,
+                    other.description,
+                    other.attrs,
+                )
+                assert variable.units == field_dataset(name).units
+                assert np.array_equal(variable.coords["x"][1], case.grid["x"].values)
+        von_mises = plane["von_mises"]
+        assert von_mises.units == PLANE["von_mises"].units == "MPa"
+        assert von_mises.description == case.planes["final"]["von_mises"].description != ""
+
+
 def test_a_peak_change_holds_a_plane_and_surface_fields(cyclic):
     """peak_changes/cycle_N: the plane's datasets on (s, depth), the surface fields beside
     it on (x, y) with the grid as coordinates; both in one xarray.Dataset."""

@@ -431,11 +431,10 @@ class ResultCase:
         def read(name, group, source):
             plane = planes.get(cycle_of_group(name.rsplit("/", 1)[-1]))
             coords = next(iter(plane.values())).coords if plane else {}
-            scales: dict = {}
             variables = {
                 key: _variable(key, dataset, ("s", "depth"), coords, source)
                 if dataset.ndim == 2 and "columns" not in dataset.attrs
-                else _field(key, dataset, scales, source)
+                else _field(key, dataset, source)
                 for key, dataset in group.items()
             }
             return VariableGroup(name, variables)
@@ -450,7 +449,7 @@ class ResultCase:
                 groups[name if cycle is None else cycle] = read(
                     f"cases/{self.case_id}/{section}/{name}",
                     sub,
-                    _Source(self.results, f"{self._path}/{section}/{name}"),
+                    _Source(self.results, f"{self._path}/{section}/{name}", self.results._scales),
                 )
         ordered = {key: groups[key] for key in sorted(groups, key=_instant_order)}
         return Records("planes" if section == "subsurface" else section, ordered)
@@ -517,10 +516,13 @@ def _read(dataset) -> np.ndarray:
 
 @dataclass(frozen=True)
 class _Source:
-    """Where a group's datasets are: the file ``results`` opens, the group's ``path``."""
+    """Where a group's datasets are: the file ``results`` opens, the group's ``path``; and
+    the dimension scales read so far (h5py id → (label, coordinate)): the group's own, or
+    (``results._scales``) those of every group read while the file stays open."""
 
     results: Results
     path: str
+    scales: dict = field(default_factory=dict, compare=False)
 
 
 def _attribute(value: Any) -> Any:
@@ -542,12 +544,11 @@ def _basename(dataset) -> str:
     return dataset.name.rsplit("/", 1)[-1]
 
 
-def _field(name: str, dataset, scales: dict, source: _Source) -> Variable:
+def _field(name: str, dataset, source: _Source) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
-    dimensions named after it, its ``columns`` attribute as the last one's coordinate.
-    ``scales``: the scales read so far (h5py id → coordinate), shared by a group's fields."""
-    dims, coords = [], {}
+    dimensions named after it, its ``columns`` attribute as the last one's coordinate."""
+    dims, coords, scales = [], {}, source.scales
     for dimension in dataset.dims:
         if len(dimension):
             scale = dimension[0]
@@ -572,10 +573,7 @@ def _field(name: str, dataset, scales: dict, source: _Source) -> Variable:
 
 
 def _field_group(name: str, group, source: _Source) -> VariableGroup:
-    scales: dict = {}
-    return VariableGroup(
-        name, {key: _field(key, data, scales, source) for key, data in group.items()}
-    )
+    return VariableGroup(name, {key: _field(key, data, source) for key, data in group.items()})
 
 
 def _plane_group(name: str, group, source: _Source) -> VariableGroup:
@@ -584,11 +582,11 @@ def _plane_group(name: str, group, source: _Source) -> VariableGroup:
     the points form a grid of columns and layers (as the engine writes them). Datasets the
     schema's PLANE does not name (the surface fields beside a peak change's plane) are
     fields."""
-    dims, scales = ("s", "depth"), {}
+    dims = ("s", "depth")
     variables = {
         key: _variable(key, dataset, dims, None, source)
         if key in PLANE
-        else _field(key, dataset, scales, source)
+        else _field(key, dataset, source)
         for key, dataset in group.items()
     }
     x, z = variables["x"].values, variables["z"].values
@@ -640,6 +638,7 @@ class Results(_Table):
         self.statuses = statuses
         self._items: dict[str, ResultCase] = {}
         self._file: h5py.File | None = None
+        self._scales_read: dict = {}
 
     def __enter__(self) -> Results:
         """``with open_results(path) as results:`` keeps the file open while reading many
@@ -652,6 +651,13 @@ class Results(_Table):
         if self._file is not None:
             self._file.close()
             self._file = None
+            self._scales_read = {}
+
+    @property
+    def _scales(self) -> dict:
+        """The dimension scales read while the file stays open (h5py ids hold only then);
+        outside ``with``, a new dict."""
+        return self._scales_read if self._file is not None else {}
 
     def _open(self):
         """A context giving the open file: the one held inside ``with``, else opened now
