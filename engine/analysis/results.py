@@ -52,14 +52,10 @@ def open_results(path: str | Path) -> Results:
         study = json.loads(file.attrs["study_json"])
         name = str(file.attrs.get("study_name", path.stem))
         version = str(file.attrs.get("engine_version", ""))
-        statuses = {
-            case_id: str(group.attrs.get("status", ""))
-            for case_id, group in file[CASES_GROUP].items()
-        }
-        order = {
-            case_id: int(group.attrs.get("index", position))
-            for position, (case_id, group) in enumerate(file[CASES_GROUP].items())
-        }
+        statuses, order = {}, {}
+        for position, (case_id, group) in enumerate(file[CASES_GROUP].items()):
+            statuses[case_id] = str(group.attrs.get("status", ""))
+            order[case_id] = int(group.attrs.get("index", position))
     case_ids = sorted(statuses, key=lambda case_id: order[case_id])
     return Results(path, name, study, version, {case_id: statuses[case_id] for case_id in case_ids})
 
@@ -323,7 +319,8 @@ class ResultCase:
         self.results = results
         self.case_id = case_id
         with self._group() as group:
-            attrs = group.attrs
+            stored_attrs = group.attrs
+            attrs = {key: stored_attrs[key] for key in stored_attrs}  # each read once
             self.status: str = _text(attrs.get("status", ""))
             #: The case's position in the plan (attribute ``index``).
             index = attrs.get("index")
@@ -335,8 +332,8 @@ class ResultCase:
             stored = json.loads(units) if units is not None else {}
             names = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
             self.parameters: dict[str, Any] = {
-                key: attrs[key].item() if hasattr(attrs[key], "item") else attrs[key]
-                for key in attrs
+                key: value.item() if hasattr(value, "item") else value
+                for key, value in attrs.items()
                 if key in names or "." in key
             }
             # the units table of the schema for a parameter the file left without its unit
