@@ -42,9 +42,9 @@ _BLOCKS = {
     (2, 2): ("zz", 1.0),
 }
 
-#: Kernel spectra built together (one transform): the normal one and the coupling ones
-#: (every case on a coupled material needs them: the slip of a frictionless case is the
-#: tangential displacement of its pressure), then the tangential block.
+#: Kernel spectra built together, each group on its first use: the normal one, the
+#: coupling ones (frictional cases on a coupled material, and the slip reported for a
+#: frictionless one: the tangential displacement of its pressure), the tangential block.
 _SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
 
 #: Kernels whose values on the periodic cell the spectral preconditioner folds.
@@ -64,10 +64,10 @@ class HalfSpaceOperator:
     ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) values, real or imaginary, 1/(4 n_x n_y) folded in)
     is kept; the kernel itself is written from its quadrant (``kernel_quadrants``) straight
     into the padded transforms' buffer (its first n_x rows; the others mirror them) and not
-    kept. A_zz is built with the operator, and on a coupled
-    material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
-    case is the tangential displacement its pressure produces); the tangential block the
-    first time a product needs it (frictional cases). ``influence``: kernels given whole
+    kept. A_zz is built with the operator; A_zx and A_zy the first time a product needs
+    them (a frictional case on a coupled material, K ≠ 0, or the slip of a frictionless
+    one when it is read: the tangential displacement its pressure produces); the tangential
+    block likewise (frictional cases). ``influence``: kernels given whole
     instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
     needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
     buffers (``PaddedTransforms``) are shared by the plans of every batch size and by the
@@ -105,8 +105,7 @@ class HalfSpaceOperator:
         self.applications = 0
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
-        # Built now, with the operator: A_zz, and on a coupled material A_zx and A_zy.
-        self._build_spectra(("zz", "zx", "zy") if material.coupling != 0.0 else ("zz",))
+        self._build_spectra(("zz",))  # the others on first use (_stored)
 
     @property
     def influence(self) -> SurfaceInfluence:

@@ -42,6 +42,7 @@ from .increment import (
     STICK,
     ContactState,
     CoupledSolution,
+    Deferred,
     IncrementProblem,
     IncrementResult,
     SolveReport,
@@ -178,13 +179,14 @@ class ContactSolver:
             if wear.shape != self.grid.shape:
                 raise ValueError(f"wear has shape {wear.shape}, expected {self.grid.shape}")
             offset[self.candidate] += wear[self.candidate]
-        slip_reference = np.array([state.displacement_x, state.displacement_y])
+        # Formed when first read: a frictionless solve reads it only for the reported slip.
+        reference = Deferred(lambda: np.array([state.displacement_x, state.displacement_y]))
         return IncrementProblem(
             operator=self.operator,
             friction=self.friction,
             candidate=self.candidate,
             offset=offset,
-            slip_reference=slip_reference,
+            reference=reference,
             tol=self.tol,
             maxiter=self.maxiter,
             largest_eigenvalue=self.lipschitz,
@@ -195,19 +197,29 @@ class ContactSolver:
         problem = self._problem(state, wear)
         if load is not None and load == 0.0:
             return self._unloaded(problem)
+        frictionless = load is not None and self.friction.frictionless
+        if not frictionless:
+            # The methods read the slip reference: formed before the count starts, so that
+            # a deferred displacement of the previous increment is not counted as this one's.
+            problem.slip_reference  # noqa: B018
         start = self.operator.applications
         if load is None:
             solution = solve_projected_gradient(problem, None, approach, state)
-        elif self.friction.frictionless:
+        elif frictionless:
             solution = self._frictionless(problem, load, guess or state)
         elif self.load_control_method == "projected_gradient":
             solution = solve_projected_gradient(problem, load, None, state)
         else:
             solution = solve_alternating(problem, load, state, guess)
-        return self._result(problem, solution, self.operator.applications - start)
+        matvecs = self.operator.applications - start
+        if frictionless and self.material.coupling != 0.0:
+            matvecs += 1  # its tangential displacement's (made when first read: deferred)
+        return self._result(problem, solution, matvecs)
 
     def _frictionless(self, problem: IncrementProblem, load, start_from) -> CoupledSolution:
-        """Frictionless load control: the normal problem alone, from ``start_from``."""
+        """Frictionless load control: the normal problem alone, from ``start_from``. The
+        tangential displacement of its pressure (A_xz p, A_yz p), which the solve does not
+        need, is computed when first read (the slip, the next increment's reference)."""
         normal = solve_normal(
             self.operator,
             self.candidate,
@@ -218,11 +230,12 @@ class ContactSolver:
             maxiter=self.maxiter,
         )
         zeros = np.zeros(self.grid.shape)
+        operator, pressure = self.operator, normal.pressure.copy()  # the result's may change
         return CoupledSolution(
             pressure=normal.pressure,
             traction_x=zeros,
             traction_y=zeros.copy(),
-            displacement=self.operator.coupling_to_tangential(normal.pressure),
+            displacement=Deferred(lambda: operator.coupling_to_tangential(pressure)),
             approach=normal.approach,
             iterations=normal.iterations,
             residual=normal.residual,
@@ -239,8 +252,7 @@ class ContactSolver:
             pressure=zeros,
             traction_x=zeros.copy(),
             traction_y=zeros.copy(),
-            slip_x=zeros.copy(),
-            slip_y=zeros.copy(),
+            _slip=Deferred.known((zeros.copy(), zeros.copy())),
             status=np.zeros(self.grid.shape, dtype=np.int8),
             approach=new_state.approach,
             load=0.0,
@@ -265,31 +277,35 @@ class ContactSolver:
         return status
 
     def _result(self, problem, solution: CoupledSolution, matvecs: int) -> IncrementResult:
-        """The reported increment: slip Δs = u_t − u_t^ref in contact, status, load and the
-        solve's report (converged against the solver's tolerance, the method's message)."""
+        """The reported increment: slip Δs = u_t − u_t^ref in contact (computed when first
+        read if the displacement is deferred), status, load and the solve's report
+        (converged against the solver's tolerance, the method's message)."""
         pressure = solution.pressure
         in_contact = pressure > 0.0
-        displacement, reference = solution.displacement, problem.slip_reference
-        slip_x = np.where(in_contact, displacement[0] - reference[0], 0.0)
-        slip_y = np.where(in_contact, displacement[1] - reference[1], 0.0)
+        displacement = solution.displacement
+        if not isinstance(displacement, Deferred):
+            displacement = Deferred.known(displacement)
+        reference = problem.reference
+
+        def slip():
+            u, u_ref = displacement.get(), reference.get()
+            return (
+                np.where(in_contact, u[0] - u_ref[0], 0.0),
+                np.where(in_contact, u[1] - u_ref[1], 0.0),
+            )
+
         report = SolveReport.judge(
             solution.method, solution.iterations, matvecs, solution.residual, self.tol
         )
         approach = float(solution.approach)
-        new_state = ContactState(
-            pressure,
-            solution.traction_x,
-            solution.traction_y,
-            displacement[0],
-            displacement[1],
-            approach,
+        new_state = ContactState.deferred(
+            pressure, solution.traction_x, solution.traction_y, displacement, approach
         )
         return IncrementResult(
             pressure=pressure,
             traction_x=solution.traction_x,
             traction_y=solution.traction_y,
-            slip_x=slip_x,
-            slip_y=slip_y,
+            _slip=Deferred(slip) if not displacement.done else Deferred.known(slip()),
             status=self._status(pressure, solution.traction_x, solution.traction_y),
             approach=approach,
             load=float(pressure.sum() * self.grid.element_area),
