@@ -65,6 +65,11 @@ class Deferred(Generic[Values]):
         return self._values
 
 
+def _component(deferred: str, index: int, doc: str) -> property:
+    """A read-only attribute: component ``index`` of the ``Deferred`` named ``deferred``."""
+    return property(lambda self: getattr(self, deferred).get()[index], doc=doc)
+
+
 class ContactState:
     """Converged tractions of an increment (MPa), the relative tangential surface
     displacement they produce (mm) and the approach (mm); the start of the next increment.
@@ -101,13 +106,8 @@ class ContactState:
         state._displacement = displacement
         return state
 
-    @property
-    def displacement_x(self) -> np.ndarray:
-        return self._displacement.get()[0]
-
-    @property
-    def displacement_y(self) -> np.ndarray:
-        return self._displacement.get()[1]
+    displacement_x = _component("_displacement", 0, "u_x (mm), made on the first read")
+    displacement_y = _component("_displacement", 1, "u_y (mm), made on the first read")
 
     def __repr__(self) -> str:
         return f"ContactState(approach={self.approach!r}, shape={np.shape(self.pressure)})"
@@ -192,13 +192,8 @@ class IncrementResult:
     report: SolveReport
     state: ContactState = field(repr=False)
 
-    @property
-    def slip_x(self) -> np.ndarray:
-        return self._slip.get()[0]
-
-    @property
-    def slip_y(self) -> np.ndarray:
-        return self._slip.get()[1]
+    slip_x = _component("_slip", 0, "Δs_x (mm), made on the first read")
+    slip_y = _component("_slip", 1, "Δs_y (mm), made on the first read")
 
     def stick_area(self, element_area: float) -> float:
         return float(np.count_nonzero(self.status == STICK) * element_area)
