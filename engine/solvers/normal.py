@@ -56,6 +56,26 @@ def _scaled_start(operator, candidate, target, initial, image):
     return pressure, known
 
 
+class _ContactMean:
+    """Means over the contact set into one work buffer: the values the boolean gather
+    ``values[contact]`` makes, summed the same way (``np.add.reduce`` of the contiguous
+    gathered values, then divided by their number: what ``ndarray.mean`` computes)."""
+
+    def __init__(self, contact: np.ndarray):
+        self._contact = contact.reshape(-1)  # a view: follows the contact array
+        self._buffer = np.empty(contact.size)
+        self._count = 0
+
+    def update(self) -> None:
+        """After the contact array changed: its number of elements."""
+        self._count = int(np.count_nonzero(self._contact))
+
+    def __call__(self, values: np.ndarray) -> float:
+        gathered = self._buffer[: self._count]
+        np.compress(self._contact, values.reshape(-1), out=gathered)
+        return float(np.add.reduce(gathered)) / self._count
+
+
 def _violation_rms(gap, contact, mask, count, work) -> float:
     """RMS over the candidate elements of the gap in contact and of the negative gap (an
     overlap) elsewhere (mm); ``work``: an array of the grid's shape, overwritten."""
@@ -87,7 +107,8 @@ def solve_normal(
     # Work arrays, reused by every iteration (fresh pages at each iteration cost more than
     # the arithmetic on small grids).
     gap, residual_c, work, pressure_image, step_image, z = (np.empty(grid.shape) for _ in range(6))
-    contact, outside = np.empty(grid.shape, bool), np.empty(grid.shape, bool)
+    contact, outside, overlap, negative = (np.empty(grid.shape, bool) for _ in range(4))
+    contact_mean = _ContactMean(contact)
     previous = 1.0
     conjugate = False
     residual, approach, iterations, converged_image = math.inf, 0.0, 0, None
@@ -97,7 +118,8 @@ def solve_normal(
         np.add(raw, offset, out=gap)
         np.logical_and(mask, np.greater(pressure, 0.0, out=contact), out=contact)
         np.logical_not(contact, out=outside)
-        approach = float(gap[contact].mean())
+        contact_mean.update()
+        approach = contact_mean(gap)
         gap -= approach
         residual = _violation_rms(gap, contact, mask, count, work) / abs(approach)
         if residual <= tol:
@@ -108,7 +130,7 @@ def solve_normal(
         np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
         residual_c[outside] = 0.0
         preconditioner.normal(residual_c, out=z)  # np.where(contact, M r, 0)
-        z -= z[contact].mean()
+        z -= contact_mean(z)
         z[outside] = 0.0
         product = float(np.sum(np.multiply(residual_c, z, out=work)))
         beta = product / previous if conjugate else 0.0
@@ -117,19 +139,22 @@ def solve_normal(
         direction[outside] = 0.0
         previous = product
         operator.apply_normal(direction, out=step_image)
-        step_image -= step_image[contact].mean()
+        step_image -= contact_mean(step_image)
         numerator = float(np.sum(np.multiply(residual_c, direction, out=work)))
         step = numerator / float(np.sum(np.multiply(step_image, direction, out=step_image)))
         change = np.multiply(direction, step, out=work)  # max(where(contact, p − step d, 0), 0)
         np.subtract(pressure, change, out=pressure)
         pressure[outside] = 0.0
         np.maximum(pressure, 0.0, out=pressure)
-        overlap = mask & (pressure <= 0.0) & (gap < 0.0)
+        np.less_equal(pressure, 0.0, out=overlap)  # mask & (pressure <= 0) & (gap < 0)
+        np.logical_and(overlap, mask, out=overlap)
+        np.logical_and(overlap, np.less(gap, 0.0, out=negative), out=overlap)
         conjugate = not np.any(overlap)
-        # Re-entry along the gap; never below zero (a step of round-off size and the wrong
-        # sign near convergence would otherwise leave a negative pressure, whose friction
-        # bound then has no meaning).
-        pressure[overlap] = np.maximum(pressure[overlap] - step * gap[overlap], 0.0)
+        if not conjugate:
+            # Re-entry along the gap; never below zero (a step of round-off size and the
+            # wrong sign near convergence would otherwise leave a negative pressure, whose
+            # friction bound then has no meaning).
+            pressure[overlap] = np.maximum(pressure[overlap] - step * gap[overlap], 0.0)
         pressure *= target / pressure.sum()
     return NormalSolution(
         pressure, approach, iterations, residual, residual <= tol, converged_image
