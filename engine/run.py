@@ -761,7 +761,8 @@ def _range_text(values: Sequence[float], unit: str = "", form: str = "g") -> str
 
 def _loading_description(config, plan) -> str:
     """One line on the loading of a study: each value as swept over the plan (the range of a
-    swept key, not only its first value), then the ranges of every swept parameter."""
+    swept key, not only its first value), then the ranges of every swept parameter; one the
+    user did not sweep but that follows another (mu2 = mu1) is named beside it."""
 
     from engine.output.summary import column_unit
 
@@ -770,13 +771,40 @@ def _loading_description(config, plan) -> str:
         return _range_text(_values(plan, key) if key in swept else [first], unit, form)
 
     swept = set(config.sweep.swept_keys)
+    line = config.punch.is_line  # a line contact's loads per unit length
     what = config.kind.describe(config, value)
-    ranges = [
-        f"{key} = {_range_text(values, column_unit(key))}"
-        for key in (*_PARAMETERS, *config.sweep.swept_keys)
-        if len(values := _values(plan, key)) > 1
-    ]
+    rules = _followers(config.sweep)
+    ranges = []
+    for key in (*_PARAMETERS, *config.sweep.swept_keys):
+        values = _values(plan, key)
+        if len(values) < 2:
+            continue
+        text = f"{key} = {_range_text(values, column_unit(key, line))}"
+        if key in rules:  # not swept: it follows its rule, named beside the key it follows
+            leader, rule = rules[key]
+            if len(_values(plan, leader)) > 1:
+                continue
+            text = f"{key} = {rule} = {_range_text(values, column_unit(key, line))}"
+        text += "".join(
+            f", {follower} = {rule}" for follower, (leader, rule) in rules.items() if leader == key
+        )
+        ranges.append(text)
     return what + ("; swept: " + "; ".join(ranges) if ranges else "")
+
+
+def _followers(sweep) -> dict[str, tuple[str, str]]:
+    """The parameters the user did not sweep that follow another: (the one followed, the
+    rule) by name (``[sweep] mu2`` absent: mu2 = mu1; ``wear2`` absent: wear1,
+    ``"proportional"``: wear1·mu2/mu1). The dry run names them beside the parameter they
+    follow, not as swept."""
+    rules = {}
+    if sweep.mu2 is None:
+        rules["mu2"] = ("mu1", "mu1")
+    if sweep.alpha is None and sweep.wear2 is None:
+        rules["wear2"] = ("wear1", "wear1")
+    elif sweep.alpha is None and isinstance(sweep.wear2, str):  # "proportional"
+        rules["wear2"] = ("wear1", "wear1·mu2/mu1")
+    return rules
 
 
 def _print_case_table(plan, todo, states, swept: Sequence[str]) -> None:

@@ -28,10 +28,19 @@ Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dime
 and at the root ``/grid/x``, ``/grid/y`` (ROOT_GRID) when every case shares the grid. Every
 dataset carries ``units`` and ``description`` attributes; :func:`case_dataset` gives both for
 any path of a case group, so a test can check a written file against this table.
+
+The units of the tables are a 3-D contact's. A line (plane-strain) contact is computed per
+unit length along y: its forces, energies, areas and volumes are per mm of contact length
+(N → N/mm, mJ → mJ/mm, mm^2 → mm^2/mm, and a volume mm^3 → mm^2/mm, the worn area per mm
+of length as ``scar_area``, :data:`PER_UNIT_LENGTH`);
+:func:`contact_units` turns a table's unit into the contact's, :func:`unit_of` and
+:func:`parameter_units` take the geometry, and :meth:`DatasetRecord.per_unit_length` gives a
+line contact's record. Lengths, pressures, stresses and counts are the same in both.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 import re
@@ -66,6 +75,8 @@ __all__ = [
     "PARAMETERS",
     "SWEPT_KEY_UNITS",
     "UNITS",
+    "PER_UNIT_LENGTH",
+    "contact_units",
     "unit_of",
     "parameter_units",
     "SUMMARY_COLUMNS",
@@ -120,6 +131,12 @@ class DatasetRecord:
     units: str
     description: str = ""
     attrs: dict[str, Any] = field(default_factory=dict)  # further attributes (e.g. columns)
+
+    def per_unit_length(self, line: bool) -> DatasetRecord:
+        """This record for a line contact (``line``: its units per unit length,
+        :func:`contact_units`) or a 3-D one (itself); the data is the same array."""
+        units = contact_units(self.units, line)
+        return self if units == self.units else dataclasses.replace(self, units=units)
 
 
 @dataclass(frozen=True)
@@ -301,6 +318,13 @@ FRETTING_HISTORY = {
         ),
         ("stick_area", "mm^2", "stick area at the increment of the largest |Q|"),
         ("evaluations", "1", "increment solves of the cycle (force control: secant evaluations)"),
+        ("matvecs", "1", "operator applications of the cycle's increment solves"),
+        (
+            "residual",
+            "1",
+            "largest relative residual of the cycle's increment solves (≤ [solver] tol unless "
+            "the case failed)",
+        ),
         # only when [loading] direction != 0 (the plane then contains the sliding direction)
         ("vm_max_y", "mm", "y of vm_max"),
         ("vm_sub_max_y", "mm", "y of vm_sub_max"),
@@ -312,9 +336,10 @@ LOOP_COLUMNS = ("delta_x", "delta_y", "Q_x", "Q_y")
 FRETTING_RECORDS = {
     "loop": DatasetSpec(
         "mm, mm, N, N",
-        "fretting loop: columns delta_x, delta_y (rigid tangential displacement of the punch, "
-        "mm), Q_x, Q_y (total tangential force on the half-space, N); row 0 is the start of the "
-        "cycle (the end of the previous one), then one row per increment (4·steps)",
+        "fretting loop: columns delta_x, delta_y (rigid tangential displacement of the punch), "
+        "Q_x, Q_y (total tangential force on the half-space), units per column in `units`; "
+        "row 0 is the start of the cycle (the end of the previous one), then one row per "
+        "increment (4·steps)",
         ", ".join(LOOP_COLUMNS),
     ),
     "vm_cycle": DatasetSpec(
@@ -568,18 +593,36 @@ COLUMN_UNITS = {
 }  # fmt: skip
 
 
-def unit_of(name: str) -> str:
-    """Units of a parameter, summary column or swept dotted key (:data:`UNITS`); "" for the
-    text columns and names the table does not know."""
-    return UNITS.get(name, "")
+#: A line (plane-strain) contact's unit of each extensive unit of the tables: per mm of
+#: contact length along y (loads and forces, energies, areas; a volume becomes the worn area
+#: per mm of length, mm²/mm as ``scar_area``; the reports' mm², mm³ and J too).
+PER_UNIT_LENGTH = {
+    "N": "N/mm", "mJ": "mJ/mm", "J": "J/mm", "mm^2": "mm^2/mm", "mm^3": "mm^2/mm",
+    "mm²": "mm²/mm", "mm³": "mm²/mm",
+}  # fmt: skip
 
 
-def parameter_units(parameters) -> dict[str, str]:
+def contact_units(units: str, line: bool) -> str:
+    """``units`` (a unit of the tables, or a table's "mm, mm, N, N", one per column) in a line
+    contact (``line``: :data:`PER_UNIT_LENGTH`) or a 3-D one (unchanged)."""
+    if not line:
+        return units
+    return ", ".join(PER_UNIT_LENGTH.get(unit, unit) for unit in units.split(", "))
+
+
+def unit_of(name: str, line: bool = False) -> str:
+    """Units of a parameter, summary column or swept dotted key (:data:`UNITS`) in a 3-D or,
+    ``line``, a line contact (:func:`contact_units`); "" for the text columns and names the
+    table does not know."""
+    return contact_units(UNITS.get(name, ""), line)
+
+
+def parameter_units(parameters, line: bool = False) -> dict[str, str]:
     """Units of a case's parameter attributes: :data:`PARAMETER_UNITS` and those of the
-    swept dotted keys among ``parameters`` (names)."""
+    swept dotted keys among ``parameters`` (names), in a 3-D or (``line``) a line contact."""
     units = dict(PARAMETER_UNITS)
     units.update({name: SWEPT_KEY_UNITS[name] for name in parameters if "." in name})
-    return units
+    return {name: contact_units(unit, line) for name, unit in units.items()}
 
 
 #: What each summary column holds (the manual's outputs reference is generated from these,

@@ -20,9 +20,14 @@ import sys
 
 import numpy as np
 
-from engine.analysis.fretting import check_case, material, setting, wear_energy_ratios
+from engine.analysis.fretting import (
+    case_profile,
+    check_case,
+    material,
+    setting,
+    wear_energy_ratios,
+)
 from engine.analysis.reader import read_results
-from engine.reference.hertz import hertz_contact_radius
 
 
 def main(path: str) -> int:
@@ -37,8 +42,8 @@ def main(path: str) -> int:
             if np.isfinite(check.sampled_error):
                 sampled = max(sampled, abs(check.sampled_error))
         ratios.append(wear_energy_ratios(study, case))
-        load, radius = float(setting(study, case, "loading.load")), study.config["punch"]["radius"]
-        a = hertz_contact_radius(load, float(radius), material(study, case).contact_modulus)
+        load = float(setting(study, case, "loading.load"))
+        a = case_profile(study, case).contact_length(load, material(study, case).contact_modulus)
         widest = max(widest, case.summary["contact_radius"] / a)
     print("\n".join(wrong) or f"slip regimes: all {len(study.cases)} on Mindlin's side")
     print(f"energy vs Mindlin: partial {worst['partial']:.2%}, gross {worst['gross']:.2%}; "

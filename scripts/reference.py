@@ -39,27 +39,33 @@ def _code(text: str) -> str:
     return f"`{text}`"
 
 
+def _units(units: str) -> str:
+    """A 3-D contact's ``units``, and a line contact's (per unit length) where they differ."""
+    line = schema.contact_units(units, line=True)
+    return units if line == units else f"{units} (line contact: {line})"
+
+
 def study_keys() -> str:
     """One table per section: key, type, default, unit, meaning."""
     parts = []
     for section, what in SECTIONS.items():
         keys = [key for key in STUDY_KEYS if key.section == section]
         parts.append(f"### `[{section}]`: {what}\n")
-        rows = [(_code(k.name), k.type, k.default, k.unit, k.meaning) for k in keys]
+        rows = [(_code(k.name), k.type, k.default, _units(k.unit), k.meaning) for k in keys]
         parts.append(markdown_table(("key", "type", "default", "unit", "meaning"), rows))
     return "\n".join(parts)
 
 
 def sweepable_keys() -> str:
     """The dotted keys of ``[sweep]`` with their units."""
-    rows = [(_code(f'"{key}"'), unit) for key, unit in SWEEPABLE.items()]
+    rows = [(_code(f'"{key}"'), _units(unit)) for key, unit in SWEEPABLE.items()]
     return markdown_table(("dotted key", "unit"), rows)
 
 
 def _column_unit(column: str) -> str:
     if column in schema.TEXT_COLUMNS:
         return "–"
-    return schema.unit_of(column) or "1"
+    return _units(schema.unit_of(column) or "1")
 
 
 def summary_columns() -> str:
@@ -76,7 +82,8 @@ def summary_columns() -> str:
 def _dataset_rows(prefix: str, table: dict[str, schema.DatasetSpec], names=None):
     names = table if names is None else names
     return [
-        (_code(f"{prefix}/{name}"), table[name].units, table[name].description) for name in names
+        (_code(f"{prefix}/{name}"), _units(table[name].units), table[name].description)
+        for name in names
     ]
 
 

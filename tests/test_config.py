@@ -237,3 +237,34 @@ def test_every_numeric_key_is_bounded_and_the_refusal_names_it(key, value):
         assert info.value.key in ("search.low", "search.high") and repr(value) in str(info.value)
     else:
         assert info.value.key == key, str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("punch", "load", "accepted"),
+    [
+        # a pad of flat half-width 0.05 mm at 185 N/mm: p0 = P/(2 a0) ≈ 1.4 GPa ≈ 0.013 E*
+        ({"shape": "pad", "radius": 0.05, "edge_radius": 3.0}, 185.0, True),
+        # a cylinder R = 6 mm at 185 N/mm: Hertz p0 = P/(2a) ≈ 0.8 GPa ≈ 0.007 E*
+        ({"shape": "cylinder", "radius": 6.0}, 185.0, True),
+        # a sphere R = 10 mm at 20 N: Hertz p0 = P/(π a²) ≈ 0.82 GPa ≈ 0.007 E*
+        ({"shape": "sphere", "radius": 10.0}, 20.0, True),
+        # a flat punch a = 0.5 mm at 1e5 N: P/(π a²) ≈ 127 GPa > 0.1 E*
+        ({"shape": "flat", "radius": 0.5}, 1e5, False),
+    ],
+)
+def test_the_load_is_judged_by_the_mean_pressure_over_the_profiles_own_contact(
+    punch, load, accepted
+):
+    """p0/E* ≤ 0.1 with p0 the mean pressure over the profile's nominal contact (P/(π a0²),
+    or P/(2 a0) per unit length for a line contact), not P/(π radius²) for every shape (which
+    refused a valid pad at 185 N/mm as 0.21 E*)."""
+    text = study_toml(
+        "p", "p.h5", SPHERE_ON_STEEL, {"punch": punch, "mesh": {"n": 64, "half_width": 1.0}},
+        {"loading": {"kind": "static", "load": load}},
+    )  # fmt: skip
+    if accepted:
+        parse_study(text, source="p.toml")
+        return
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(text, source="p.toml")
+    assert info.value.key == "loading.load" and "P/(π a0²)" in str(info.value)

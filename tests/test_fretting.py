@@ -185,11 +185,13 @@ def test_wear_volume_is_the_sum_of_increments(law):
     start = analysis.initial_state()
     previous = {"state": start.contact}
     per_row: dict[int, float] = {}
+    solves: dict[int, list] = {}
     area = analysis.solver.grid.element_area
 
     def hook(result, row):
         depth = wear_law.increment(result, previous["state"])
         per_row[row] = per_row.get(row, 0.0) + float(np.sum(depth) * area)
+        solves.setdefault(row, []).append(result.report)
         previous["state"] = result.state
 
     outcome = analysis.run(state=start, on_increment=hook)
@@ -197,6 +199,11 @@ def test_wear_volume_is_the_sum_of_increments(law):
     expected = sum(jumps[row] * volume for row, volume in per_row.items())
     assert outcome.history["wear_volume"][-1] == pytest.approx(expected, rel=1e-12)
     assert expected > 0.0
+    # The history's solver columns: each cycle's operator applications and largest residual.
+    for row, reports in solves.items():
+        assert outcome.history["matvecs"][row] == sum(r.matvecs for r in reports)
+        assert outcome.history["residual"][row] == max(r.residual for r in reports)
+        assert outcome.history["residual"][row] <= analysis.solver.tol
     if law == "energy":  # V = α Σ jumps × ∮Q·dδ up to the elastic energy change (measured
         # 0.37 %: the loops drift as the wear grows, gross slip at δ* = 3 µm)
         energy = sum(j * e for j, e in zip(jumps, outcome.history["energy"], strict=True))

@@ -47,7 +47,7 @@ def test_report_shows_the_fretting_columns_and_mindlin_checks(results):
     rows = [line for line in text.splitlines() if line.startswith("| μ = 0.6")]
     assert len(rows) == 4  # 2 cases × the recorded cycles 1 and 4
     assert [row.split(" | ")[5] for row in rows] == ["partial", "partial", "gross", "gross"]
-    assert "on Mindlin's side (sphere, isotropic friction): 2 of 2 cases" in text
+    assert "δ_slip (Mindlin–Deresiewicz; isotropic friction): 2 of 2 cases" in text
     assert text.count("wear volume / (α E_d) over every case") == 1
     assert text.count("energy at N = 1") == 2  # one line per case
 

@@ -243,7 +243,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
 # ----------------------------------------------------------------------------- helpers
 def _title(study: StudyResults, what: str) -> str:
-    return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} N)"
+    return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} {study.load_unit})"
 
 
 def _central_row(values: np.ndarray, study: StudyResults, axis: str) -> tuple[np.ndarray, float]:
@@ -490,7 +490,7 @@ def _wear_history(study: StudyResults):
         depth_axis.loglog(cycles[keep], depth[keep], **style)
         volume_axis.loglog(cycles[keep], volume[keep], **style)
     depth_axis.set_ylabel("maximum wear depth (µm)")
-    volume_axis.set_ylabel("wear volume (mm³)")
+    volume_axis.set_ylabel(f"wear volume ({study.per_contact('mm³')})")
     for axis in (depth_axis, volume_axis):
         axis.set_xlabel("load cycles N")
         axis.grid(alpha=0.3, which="both")

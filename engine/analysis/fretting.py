@@ -1,22 +1,28 @@
-"""Fretting results against Mindlin, without plotting (issue 13): shared by the report
-(:mod:`engine.analysis.report`), the figures (:mod:`engine.analysis.fretting_figures`) and
-``scripts/check_fretting_map.py``.
+"""Fretting results against the closed forms of their geometry, without plotting (issue 13):
+shared by the report (:mod:`engine.analysis.report`), the figures
+(:mod:`engine.analysis.fretting_figures`) and ``scripts/check_fretting_map.py``.
 
-A case of a fretting study (``[loading] kind = "fretting"``) is compared with the analytic
-references of :mod:`engine.reference.mindlin` where they apply: a sphere, isotropic friction
-μ1 = μ2 = μ > 0 and, for exactness, K = 0 (identical materials). Then
+A case of a fretting study (``[loading] kind = "fretting"``) is compared with the closed
+forms its punch profile hands out (``engine.geometry.Profile.fretting_reference``, an
+:class:`engine.reference.masing.FrettingReference`: Mindlin–Deresiewicz for a sphere, the
+cylinder's Cattaneo–Masing loop for a line contact; none for the flat, rounded and pad
+profiles) where they apply: isotropic friction μ1 = μ2 = μ > 0 and, for exactness, K = 0
+(identical materials). Then
 
 - the slip regime of the first simulated cycle (unworn surfaces) must lie on the side of
-  Mindlin's δ_slip(P) = 3μP S/(16a) its amplitude δ* lies on (displacement control) or be
-  partial (force control, Q* < μP);
-- the energy per cycle of the loop recorded at N = 1 is compared with the exact
-  Mindlin–Deresiewicz energy (partial slip) or the gross-slip energy 0.8 μP δ_slip +
-  4μP (δ* − δ_slip), and in gross slip also with the analytic loop sampled at the solver's own
-  increments (:func:`sampled_loop_energy`: the load-step error removed);
+  the closed form's δ_slip(P) its amplitude δ* lies on (displacement control) or be partial
+  (force control, Q* < μP);
+- the energy per cycle of the loop recorded at N = 1 is compared with the closed form's
+  (the Masing loop's energy in partial slip, W(μP) + 4μP (δ* − δ_slip) in gross slip), and
+  in gross slip (displacement control) and under force control also with the analytic loop
+  sampled at the solver's own increments (``FrettingReference.sampled_loop_energy``,
+  ``sampled_force_loop_energy``: the load-step error removed);
+- Fouvry's energy ratio A = W/(4δ*Q*) with the closed form's;
 - under the energy wear law, the wear volume over α times the cumulated dissipated energy
   (1 for Fouvry's linear law).
 
-Units: mm, N, mJ (per cycle), J (cumulated), mm³/J (α).
+Units: mm, N, mJ (per cycle), J (cumulated), mm³/J (α); a line contact's loads and
+energies are per mm of length (N/mm, mJ/mm).
 """
 
 from __future__ import annotations
@@ -29,26 +35,26 @@ import h5py
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.reference import mindlin
 from engine.schema import CASES_GROUP
 
 from .reader import CaseResults, StudyResults
 
 __all__ = [
-    "MindlinCheck",
+    "FrettingCheck",
     "amplitude",
+    "case_reference",
     "check_case",
     "cumulated_energy",
     "direction",
     "energy_coefficient",
     "read_loops",
     "regime",
-    "sampled_loop_energy",
     "setting",
     "slip_boundary",
+    "unchecked_reason",
 ]
 
-K_EXACT = 1e-12  # |K| below which Mindlin's references are exact (uncoupled materials)
+K_EXACT = 1e-12  # |K| below which the closed forms are exact (uncoupled materials)
 _CYCLE = re.compile(r"cycle_(\d+)$")
 
 
@@ -85,15 +91,6 @@ def regime(case: CaseResults) -> str:
     return str(case.summary.get("slip_regime", "partial"))
 
 
-def sphere_radius(study: StudyResults, case: CaseResults) -> float | None:
-    """The sphere's radius R (mm) for the Hertz–Mindlin references, None for other shapes."""
-    from engine.geometry import PROFILES, SphericalPunch
-
-    if PROFILES.get(setting(study, case, "punch.shape")) is not SphericalPunch:
-        return None
-    return float(setting(study, case, "punch.radius"))
-
-
 def slip_boundary(study: StudyResults, case: CaseResults):
     """δ_slip(P) (mm) of the case's geometry as a function of the load P, or None where no
     closed form applies (it needs isotropic friction μ1 = μ2 = μ > 0): Mindlin's
@@ -102,9 +99,7 @@ def slip_boundary(study: StudyResults, case: CaseResults):
     ``engine.reference.line_contact.line_slip_displacement``)."""
     if case.mu1 != case.mu2 or not case.mu1 > 0:
         return None
-    profile, pair = case_profile(study, case), material(study, case)
-    datum = setting(study, case, "mesh.reference_distance")
-    datum = None if datum is None else float(datum)
+    profile, pair, datum = case_profile(study, case), material(study, case), _datum(study, case)
     if profile.slip_displacement(1.0, pair, case.mu1, datum) is None:
         return None  # no closed form for this geometry
     return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
@@ -129,8 +124,8 @@ def material(study: StudyResults, case: CaseResults) -> MaterialPair:
 
 
 def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
-    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N) of a case, by cycle N
-    (the nearest enclosing ``cycle_N`` group)."""
+    """Every ``loop`` dataset (rows, 4: δ_x, δ_y in mm, Q_x, Q_y in N, a line contact's
+    N/mm) of a case, by cycle N (the nearest enclosing ``cycle_N`` group)."""
     loops: dict[int, np.ndarray] = {}
 
     def visit(name, item):
@@ -178,33 +173,51 @@ def energy_coefficient(study: StudyResults, case: CaseResults) -> float | None:
     return None if sweep is None else float(sweep)
 
 
-def sampled_loop_energy(delta, amplitude, reference_args) -> float:
-    """∮ Q dδ (mJ) of the analytic loop sampled at the solver's displacements ``delta`` (mm),
-    unloading on the first half of the rows, reloading on the second (trapezoidal rule).
+def _datum(study: StudyResults, case: CaseResults) -> float | None:
+    """A line contact's displacement datum d (mm, ``[mesh] reference_distance``); None in 3-D."""
+    datum = setting(study, case, "mesh.reference_distance")
+    return None if datum is None else float(datum)
 
-    ``reference_args`` = (P in N, R in mm, material, μ) as for engine.reference.mindlin."""
-    limit = reference_args[-1] * reference_args[0]
-    peak = float(mindlin.force_amplitude(amplitude, *reference_args))
 
-    def unloading(x):
-        return np.maximum(
-            peak - 2 * mindlin.tangential_force((amplitude - x) / 2, *reference_args), -limit
-        )
+def case_reference(study: StudyResults, case: CaseResults):
+    """(the case's closed forms, "") or (None, why there are none): its profile's
+    :class:`~engine.reference.masing.FrettingReference` at the case's load and μ, which needs
+    a fretting history, isotropic friction μ1 = μ2 = μ > 0, a profile with closed forms and,
+    under force control, Q* < μP."""
+    if "energy" not in case.history:
+        return None, "no fretting history"
+    if case.mu1 != case.mu2:
+        return None, "orthotropic friction"
+    if not case.mu1 > 0:
+        return None, "μ = 0"
+    profile, load = case_profile(study, case), float(setting(study, case, "loading.load"))
+    reference = profile.fretting_reference(
+        load, material(study, case), case.mu1, _datum(study, case)
+    )
+    if reference is None:
+        return None, f"no closed form for the {profile.name} profile"
+    force = setting(study, case, "loading.force_amplitude")
+    if force is not None and float(force) >= reference.limit:
+        return None, "Q* ≥ μP"
+    return reference, ""
 
-    half = len(delta) // 2
-    force = np.concatenate([unloading(delta[: half + 1]), -unloading(-delta[half + 1 :])])
-    return float(np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(delta)))
+
+def unchecked_reason(study: StudyResults, case: CaseResults) -> str:
+    """Why :func:`check_case` has no check for the case ("" when it has one)."""
+    return case_reference(study, case)[1]
 
 
 @dataclass
-class MindlinCheck:
-    """One case against Mindlin (module docstring). ``expected``/``computed``: regime of the
-    first simulated cycle; ``energy``: the computed energy per cycle (mJ) at N = 1 (the first
-    history row without a cycle-1 row), ``exact`` Mindlin's, ``sampled`` the analytic loop at
-    the solver's increments (gross slip, displacement control; NaN otherwise); ``ratio``:
+class FrettingCheck:
+    """One case against its closed forms (module docstring). ``reference``: whose
+    (``FrettingReference.name``); ``expected``/``computed``: regime of the first simulated
+    cycle; ``energy``: the computed energy per cycle (mJ, mJ/mm for a line contact) at N = 1
+    (the first history row without a cycle-1 row), ``exact`` the closed form's, ``sampled``
+    the analytic loop at the solver's increments (its displacements in gross slip under
+    displacement control, its forces under force control; NaN otherwise); ``ratio``:
     δ*/δ_slip (displacement control) or Q*/μP (force control); ``exact_coupling``: K = 0;
     ``energy_ratio``: Fouvry's A = W/(4δ*Q*) at N = 1 with the prescribed δ*, and
-    ``exact_energy_ratio`` Mindlin's (displacement control; NaN otherwise)."""
+    ``exact_energy_ratio`` the closed form's (displacement control; NaN otherwise)."""
 
     case_id: str
     control: str  # "displacement" | "force"
@@ -216,7 +229,8 @@ class MindlinCheck:
     sampled: float = math.nan
     exact_coupling: bool = True
     energy_ratio: float = math.nan  # Fouvry's A = W/(4δ*Q*) at N = 1 (displacement control)
-    exact_energy_ratio: float = math.nan  # Mindlin's master curve at δ*/δ_slip
+    exact_energy_ratio: float = math.nan  # the closed form's at δ*
+    reference: str = ""  # whose closed forms
 
     @property
     def regime_holds(self) -> bool:
@@ -238,45 +252,47 @@ def _first_row(case: CaseResults) -> int:
     return int(hits[0]) if hits.size else 0
 
 
-def check_case(study: StudyResults, case: CaseResults) -> MindlinCheck | None:
-    """The case against Mindlin, or None where Mindlin does not apply (not a sphere,
-    orthotropic friction, μ = 0, Q* ≥ μP, no history)."""
-    radius = sphere_radius(study, case)
-    if radius is None or case.mu1 != case.mu2 or case.mu1 <= 0 or "energy" not in case.history:
+def check_case(study: StudyResults, case: CaseResults) -> FrettingCheck | None:
+    """The case against its profile's closed forms, or None where there are none
+    (:func:`unchecked_reason` says why: not a profile with closed forms, orthotropic
+    friction, μ = 0, Q* ≥ μP, no history)."""
+    reference, _ = case_reference(study, case)
+    if reference is None:
         return None
-    load, pair = float(setting(study, case, "loading.load")), material(study, case)
-    arguments = (load, radius, pair, case.mu1)
     row = _first_row(case)
     energy = float(case.history["energy"][row])
     computed = "gross" if int(case.history["slip_regime"][row]) == 1 else "partial"
-    exact_coupling = abs(pair.coupling) < K_EXACT
+    exact_coupling = abs(material(study, case).coupling) < K_EXACT
     force = setting(study, case, "loading.force_amplitude")
+    loop = case.fields.get(int(case.history["cycle"][row]), {}).get("loop")
+    if loop is not None:  # δ and Q along the sliding direction
+        theta = direction(study, case)
+        rows = np.asarray(loop)
+        delta = rows[:, 0] * np.cos(theta) + rows[:, 1] * np.sin(theta)
+        forces = rows[:, 2] * np.cos(theta) + rows[:, 3] * np.sin(theta)
     if force is not None:
-        ratio = float(force) / (case.mu1 * load)
-        if ratio >= 1.0:
-            return None
-        exact = float(mindlin.partial_slip_energy(float(force), *arguments))
-        return MindlinCheck(
-            case.case_id, "force", ratio, "partial", computed, energy, exact, math.nan,
-            exact_coupling,
+        exact = reference.partial_slip_energy(float(force))
+        sampled = math.nan
+        if loop is not None:
+            sampled = reference.sampled_force_loop_energy(forces, float(force))
+        return FrettingCheck(
+            case.case_id, "force", float(force) / reference.limit, "partial", computed, energy,
+            exact, sampled, exact_coupling, reference=reference.name,
         )  # fmt: skip
     delta_star = amplitude(study, case)
-    ratio = delta_star / float(mindlin.slip_displacement(*arguments))
+    ratio = delta_star / reference.slip_displacement
     expected = "gross" if ratio > 1.0 else "partial"
-    exact = float(mindlin.energy_per_cycle(delta_star, *arguments))
-    check = MindlinCheck(
-        case.case_id, "displacement", ratio, expected, computed, energy, exact, math.nan,
-        exact_coupling,
+    check = FrettingCheck(
+        case.case_id, "displacement", ratio, expected, computed, energy,
+        reference.energy_per_cycle(delta_star), math.nan, exact_coupling,
+        reference=reference.name,
     )  # fmt: skip
     denominator = 4.0 * delta_star * float(case.history["q_amplitude"][row])
     if denominator > 0:
         check.energy_ratio = energy / denominator
-        check.exact_energy_ratio = float(mindlin.energy_ratio(ratio))
-    loop = case.fields.get(int(case.history["cycle"][row]), {}).get("loop")
+        check.exact_energy_ratio = reference.energy_ratio(delta_star)
     if expected == "gross" and loop is not None:
-        theta = direction(study, case)  # δ along the sliding direction
-        delta = np.asarray(loop)[:, 0] * np.cos(theta) + np.asarray(loop)[:, 1] * np.sin(theta)
-        check.sampled = sampled_loop_energy(delta, delta_star, arguments)
+        check.sampled = reference.sampled_loop_energy(delta, delta_star)
     return check
 
 

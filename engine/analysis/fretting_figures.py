@@ -37,6 +37,7 @@ import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from engine.reference import mindlin
+from engine.schema import contact_units
 
 from . import fretting as _shared
 from .fatigue import has_fatigue
@@ -275,13 +276,14 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str
     return figure
 
 
-def draw_wear_energy(series: Sequence[WearSeries], title: str, per_length: str = ""):
+def draw_wear_energy(series: Sequence[WearSeries], title: str, line: bool = False):
     """Wear volume (mm³) against cumulated dissipated energy (J), linear and log–log.
 
     Series with an energy-law coefficient α (mm³/J) get the line V = α E_d (one per distinct
     α); without (Archard's law) the least-squares line through the origin of all points is
     drawn and its slope, the energy wear coefficient Archard's law implies, is given.
-    ``per_length``: appended to the units (" per mm" for a line contact).
+    ``line``: a line contact's series, energies and volumes per unit length
+    (:func:`engine.schema.contact_units`).
     """
     figure, (linear, logarithmic) = plt.subplots(1, 2, figsize=(13.0, 4.8), layout="constrained")
     energy = np.concatenate([np.asarray(item.energy, dtype=float) for item in series] or [[0.0]])
@@ -318,8 +320,8 @@ def draw_wear_energy(series: Sequence[WearSeries], title: str, per_length: str =
         logarithmic.set_xscale("log")
         logarithmic.set_yscale("log")
     for axis in (linear, logarithmic):
-        axis.set_xlabel(f"cumulated dissipated energy E_d (J{per_length})")
-        axis.set_ylabel(f"wear volume V (mm³{per_length})")
+        axis.set_xlabel(f"cumulated dissipated energy E_d ({contact_units('J', line)})")
+        axis.set_ylabel(f"wear volume V ({contact_units('mm³', line)})")
         axis.grid(alpha=0.3, which="both")
     linear.set_xlim(left=0.0)
     linear.set_ylim(bottom=0.0)
@@ -333,7 +335,7 @@ def draw_wear_energy(series: Sequence[WearSeries], title: str, per_length: str =
 # The results-file helpers shared with the report and scripts/check_fretting_map.py live in
 # engine.analysis.fretting (no matplotlib there); the short names below are this module's.
 _setting, _direction, _amplitude = _shared.setting, _shared.direction, _shared.amplitude
-_regime, _sphere_radius, _material = _shared.regime, _shared.sphere_radius, _shared.material
+_regime, _material = _shared.regime, _shared.material
 _energy_coefficient = _shared.energy_coefficient
 
 
@@ -350,7 +352,8 @@ def _map_figure(study: StudyResults):
         boundary = _shared.slip_boundary(study, case)
         if boundary is not None:
             boundaries.setdefault(case.mu1, boundary)
-            if _sphere_radius(study, case) is not None:  # Mindlin's one master curve
+            reference = _shared.case_reference(study, case)[0]
+            if reference is not None and reference.master_curve is not None:  # one curve
                 item.displacement_ratio = amplitude / float(boundary(load))
                 item.energy_ratio = _computed_energy_ratio(case)
         cases.append(item)
@@ -358,10 +361,10 @@ def _map_figure(study: StudyResults):
     span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
     lines = {mu: (boundary(span), span) for mu, boundary in boundaries.items()}
     title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
-    if _load_unit(study) == "N/mm":
+    if study.profile.is_line:
         datum = study.config.get("mesh", {}).get("reference_distance")
         figure = draw_fretting_map(
-            cases, lines, title, load_unit="N/mm",
+            cases, lines, title, load_unit=study.load_unit,
             boundary_label=f"cylinder δ_slip(P), datum {datum:g} mm",
         )  # fmt: skip
     else:
@@ -419,11 +422,6 @@ def _reference_loop(study: StudyResults, case: CaseResults):
     return profile.fretting_loop(load, material, case.mu1, datum, **amplitudes)
 
 
-def _load_unit(study: StudyResults) -> str:
-    """N, or N/mm for a line contact (loads per unit length)."""
-    return study.profile.load_unit
-
-
 def _loops_figure(study: StudyResults):
     panels = []
     for case in _loop_cases(study):
@@ -443,17 +441,18 @@ def _loops_figure(study: StudyResults):
             else f"μ1, μ2 = {case.mu1:g}, {case.mu2:g}, β = {case.beta:g}°"
         )
         title = (
-            f"P = {load:g} {_load_unit(study)}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
+            f"P = {load:g} {study.load_unit}, δ* = {_amplitude(study, case) * 1e3:.3g} µm"
             f"\n{friction}, {_regime(case)} slip"
         )
-        label = f"{case_profile(study, case).loop_reference} / gross slip"
+        reference = _shared.case_reference(study, case)[0]
+        label = f"{reference.name if reference else 'analytic'} / gross slip"
         if abs(_material(study, case).coupling) > 1e-12:
             label += " (K ≠ 0: approximate)"
         panels.append(LoopPanel(title, loops, _reference_loop(study, case), label))
     title = f"{study.name}: fretting loops at recorded cycles"
     if any(panel.reference is not None for panel in panels):
         title += "\n(dashed: analytic, unworn surfaces)"
-    return draw_fretting_loops(panels, title, _load_unit(study))
+    return draw_fretting_loops(panels, title, study.load_unit)
 
 
 def _wear_energy_figure(study: StudyResults):
@@ -466,7 +465,7 @@ def _wear_energy_figure(study: StudyResults):
         coefficient = _energy_coefficient(study, case)
         series.append(
             WearSeries(
-                f"P = {load:g} {_load_unit(study)}",
+                f"P = {load:g} {study.load_unit}",
                 cumulated_energy(case),
                 volume,
                 coefficient,
@@ -475,8 +474,7 @@ def _wear_energy_figure(study: StudyResults):
         )
     law = study.config.get("wear", {}).get("law", "archard")
     title = f"{study.name}: wear volume vs dissipated energy ({law} wear law)"
-    per_length = " per mm" if _load_unit(study) == "N/mm" else ""
-    return draw_wear_energy(series, title, per_length)
+    return draw_wear_energy(series, title, study.profile.is_line)
 
 
 def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:

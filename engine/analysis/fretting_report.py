@@ -14,23 +14,26 @@ cycle N (or the cycles of ``--cycles``):
 
 then, with a ``[fatigue]`` section, per case and criterion the hot spot, the critical value
 and whether and where a crack is predicted (``engine.analysis.fatigue``); then the measured
-checks against Mindlin where they apply (engine.analysis.fretting: a
-sphere, μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle against δ_slip(P),
-energy per cycle at N = 1 against Mindlin–Deresiewicz (partial slip) or the gross-slip
-energy, and against the analytic loop sampled at the solver's increments; Fouvry's energy
-ratio A = W/(4δ*Q*) against Mindlin's master curve; under the energy wear law V/(α E_d).
+checks against the closed forms of the case's profile where it has some
+(engine.analysis.fretting: Mindlin–Deresiewicz for a sphere, the cylinder's Cattaneo–Masing
+loop for a line contact; μ1 = μ2 > 0; exact for K = 0): slip regime of the first cycle
+against δ_slip(P), energy per cycle at N = 1 against the closed form's (partial or gross
+slip), and against the analytic loop sampled at the solver's increments; Fouvry's energy
+ratio A = W/(4δ*Q*) against the closed form's; under the energy wear law V/(α E_d). The
+cases without a check are listed by reason ("no closed form for the pad profile", …).
 No matplotlib here (tests/test_architecture.py).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 
 import numpy as np
 
 from .fatigue import fatigue_facts, fatigue_table, has_fatigue
-from .fretting import MindlinCheck, check_case, material, wear_energy_ratios
+from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
 from .reader import CaseResults, StudyResults
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
@@ -41,6 +44,16 @@ COLUMNS = [
     "at (x, y, z) (mm)", "σ_VM cycle max (MPa)", "at (x, y, z) (mm)",
 ]  # fmt: skip
 REGIME_WORDS = {0: "partial", 1: "gross"}
+_PER_CONTACT = re.compile(r"\((N|mJ|mm³)\)")  # the units of COLUMNS a line contact divides
+
+
+def table_columns(study: StudyResults) -> list[str]:
+    """:data:`COLUMNS` in the study's units (a line contact's forces, energies, volumes per
+    unit length)."""
+    return [
+        _PER_CONTACT.sub(lambda match: f"({study.per_contact(match.group(1))})", column)
+        for column in COLUMNS
+    ]
 
 
 def _row(values: Sequence[str]) -> str:
@@ -74,7 +87,7 @@ def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> 
     """The fretting columns per case and cycle (module docstring)."""
     if cycles is None:
         cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
-    lines = [_row(COLUMNS), "|" + "|".join("---" for _ in COLUMNS) + "|"]
+    lines = [_row(table_columns(study)), "|" + "|".join("---" for _ in COLUMNS) + "|"]
     for case in study.cases:
         for cycle in cycles:
             energy = case.history_at("energy", cycle)
@@ -96,27 +109,33 @@ def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> 
     return lines
 
 
-def _mindlin_fact(study: StudyResults, case: CaseResults, check: MindlinCheck) -> str:
-    """One case against Mindlin: regime, energy, energy ratio."""
+def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck) -> str:
+    """One case against its closed forms: regime, energy, energy ratio."""
     if check.control == "displacement":
         where = f"δ*/δ_slip = {check.ratio:.3g}"
     else:
         where = f"Q*/μP = {check.ratio:.3g}"
-    verdict = "as Mindlin" if check.regime_holds else f"Mindlin says {check.expected}"
+    verdict = (
+        f"as {check.reference}"
+        if check.regime_holds
+        else f"{check.reference} says {check.expected}"
+    )
+    unit = study.per_contact("mJ")
     text = (
         f"{case.label}: {where}, first cycle {check.computed} slip ({verdict}); energy at "
-        f"N = 1 {check.energy:.4g} mJ vs {check.exact:.4g} mJ ({check.energy_error:+.2%})"
+        f"N = 1 {check.energy:.4g} {unit} vs {check.exact:.4g} {unit} "
+        f"({check.energy_error:+.2%})"
     )
     if math.isfinite(check.sampled_error):
         text += f", vs the analytic loop at the solver's increments {check.sampled_error:+.2%}"
     if math.isfinite(check.energy_ratio):
         text += (
-            f"; energy ratio A = W/(4δ*Q*) {check.energy_ratio:.3f} "
-            f"(Mindlin {check.exact_energy_ratio:.3f})"
+            f"; energy ratio A = W/(4δ*Q*) {check.energy_ratio:.3g} "
+            f"({check.reference} {check.exact_energy_ratio:.3g})"
         )
     if not check.exact_coupling:
         coupling = _coupling(study, case)
-        text += f" [K = {coupling:.3g} ≠ 0: Mindlin is only approximate]"
+        text += f" [K = {coupling:.3g} ≠ 0: {check.reference} is only approximate]"
     return text
 
 
@@ -124,27 +143,30 @@ def _coupling(study: StudyResults, case: CaseResults) -> float:
     return float(material(study, case).coupling)
 
 
-def _worst(checks: Sequence[MindlinCheck], regime: str, error: str) -> str:
-    errors = [getattr(check, error) for check in checks if check.expected == regime]
+def _worst(checks: Sequence[FrettingCheck], regime: str | None, error: str) -> str:
+    """The largest |error| over the checks of ``regime`` (None: all), "–" without one."""
+    errors = [getattr(check, error) for check in checks if regime in (None, check.expected)]
     errors = [abs(value) for value in errors if math.isfinite(value)]
     return f"{max(errors):.2%}" if errors else "–"
 
 
 def fretting_facts(study: StudyResults) -> list[str]:
-    """The checks against Mindlin and the energy wear law (module docstring): the totals
-    first (the figures of scripts/check_fretting_map.py), then one line per case."""
+    """The checks against the closed forms and the energy wear law (module docstring): the
+    totals first (the figures of scripts/check_fretting_map.py), then one line per case, then
+    the cases without a check, by reason."""
     checks = [(case, check_case(study, case)) for case in study.cases]
     applicable = [(case, check) for case, check in checks if check is not None]
     facts = []
     if applicable:
         holding = sum(check.regime_holds for _, check in applicable)
         found = [check for _, check in applicable]
+        names = ", ".join(dict.fromkeys(check.reference for check in found))
         facts.append(
-            f"slip regime of the first cycle on Mindlin's side (sphere, isotropic friction): "
-            f"{holding} of {len(applicable)} cases; largest |energy error| at N = 1 against "
-            f"Mindlin: partial slip {_worst(found, 'partial', 'energy_error')}, gross slip "
-            f"{_worst(found, 'gross', 'energy_error')} (against the analytic loop at the "
-            f"solver's increments {_worst(found, 'gross', 'sampled_error')})"
+            f"slip regime of the first cycle on the side of the closed form's δ_slip "
+            f"({names}; isotropic friction): {holding} of {len(applicable)} cases; largest "
+            f"|energy error| at N = 1: partial slip {_worst(found, 'partial', 'energy_error')}, "
+            f"gross slip {_worst(found, 'gross', 'energy_error')} (against the analytic loop "
+            f"at the solver's increments {_worst(found, None, 'sampled_error')})"
         )
     ratios = [wear_energy_ratios(study, case) for case in study.cases]
     ratios = np.concatenate(ratios) if ratios else np.zeros(0)
@@ -153,13 +175,12 @@ def fretting_facts(study: StudyResults) -> list[str]:
             f"wear volume / (α E_d) over every case and history row: {ratios.min():.5f} … "
             f"{ratios.max():.5f} (1 for the energy wear law)"
         )
-    facts += [_mindlin_fact(study, case, check) for case, check in applicable]
-    others = [case.label for case, check in checks if check is None]
-    if others:
-        facts.append(
-            "no analytic reference (not a sphere, orthotropic friction, μ = 0 or Q* ≥ μP): "
-            + ", ".join(others)
-        )
+    facts += [_reference_fact(study, case, check) for case, check in applicable]
+    unchecked: dict[str, list[str]] = {}
+    for case, check in checks:
+        if check is None:
+            unchecked.setdefault(unchecked_reason(study, case), []).append(case.label)
+    facts += [f"not checked, {reason}: {', '.join(labels)}" for reason, labels in unchecked.items()]
     return facts
 
 
@@ -176,7 +197,7 @@ def _signal(study: StudyResults) -> str:
     """The tangential signal: control mode, amplitude and direction."""
     loading = study.config["loading"]
     if loading.get("force_amplitude") is not None or "loading.force_amplitude" in study.swept_keys:
-        signal = f"force control, Q* = {_value(study, 'force_amplitude', ' N')}"
+        signal = f"force control, Q* = {_value(study, 'force_amplitude', ' ' + study.load_unit)}"
     else:
         signal = f"displacement control, δ* = {_value(study, 'amplitude', ' mm')}"
     return f"{signal} along {_value(study, 'direction', '°', 0.0)} from x"
@@ -200,10 +221,11 @@ def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     swept = f"; swept: {', '.join(study.swept_keys)}" if study.swept_keys else ""
     law = config.get("wear", {}).get("law", "archard")
     subsurface = config.get("subsurface", {})
+    load = _value(study, "load", " " + study.load_unit)
     lines = [
         f"### {study.name}",
         "",
-        f"{study.mesh_label}, tangential fretting: P = {_value(study, 'load', ' N')} (held), "
+        f"{study.mesh_label}, tangential fretting: P = {load} (held), "
         f"{_signal(study)}, {int(loading['cycles']):,} cycles, {law} wear law{swept} (a "
         "case's label gives its swept values). "
         f"Subsurface: {subsurface.get('layers')} layers to z = "

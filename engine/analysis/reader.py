@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from engine.material import MaterialPair
-from engine.schema import CaseStatus
+from engine.schema import CaseStatus, contact_units
 
 from .results import Records, ResultCase, VariableGroup, open_results
 
@@ -113,6 +113,7 @@ class CaseResults:
     change_planes: dict[int, StressPlane] = field(default_factory=dict)  # peak_changes/, by N
     fatigue: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)  # fatigue/, by N
     settings: dict[str, Any] = field(default_factory=dict)  # swept dotted keys -> values
+    parameter_units: dict[str, str] = field(default_factory=dict)  # as stored in the file
 
     @property
     def isotropic(self) -> bool:
@@ -124,9 +125,12 @@ class CaseResults:
         every other swept key with its unit)."""
         from engine.output.summary import column_unit
 
+        def unit(key: str) -> str:  # the file's unit (a line contact's per unit length)
+            stored = self.parameter_units.get(key, "1")
+            return column_unit(key) if stored == "1" else stored
+
         swept = "".join(
-            f", {key.rsplit('.', 1)[-1]} = {value:g}"
-            + (f" {column_unit(key)}" if column_unit(key) else "")
+            f", {key.rsplit('.', 1)[-1]} = {value:g}" + (f" {unit(key)}" if unit(key) else "")
             for key, value in self.settings.items()
         )
         if self.isotropic:
@@ -188,6 +192,16 @@ class StudyResults:
     def swept_keys(self) -> list[str]:
         """Dotted keys swept in ``[sweep]`` ("loading.load", "mesh.n", …), file order."""
         return [key for key in self.config.get("sweep", {}) if "." in key]
+
+    @property
+    def load_unit(self) -> str:
+        """Unit of the load and the tangential force: N (a line contact's: N/mm)."""
+        return self.profile.load_unit
+
+    def per_contact(self, unit: str) -> str:
+        """``unit`` (N, mJ, mm³ …) in this study's contact: a line contact's forces,
+        energies, areas and volumes per unit length (:func:`engine.schema.contact_units`)."""
+        return contact_units(unit, self.profile.is_line)
 
     @property
     def profile(self):
@@ -306,6 +320,7 @@ def _case(case: ResultCase) -> CaseResults:
         change_planes=_planes(case.peak_changes),
         fatigue={key: _values(group) for key, group in case.fatigue.items()},
         settings={key: value for key, value in parameters.items() if "." in key},
+        parameter_units=dict(case.parameter_units),
     )
 
 

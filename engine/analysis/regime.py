@@ -120,7 +120,7 @@ def _regime_map(study: StudyResults):
     _draw_peaks(peak_axis, study, _frictions(study)[0])
     figure.suptitle(
         f"{study.name}: where the σ_VM peak goes as the surface wears "
-        f"({study.mesh_label}, P = {study.load:g} N, "
+        f"({study.mesh_label}, P = {study.load:g} {study.load_unit}, "
         f"{int(study.config['loading']['cycles']):,} cycles)",
         fontsize=12,
     )

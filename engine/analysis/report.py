@@ -84,7 +84,14 @@ def cyclic_table(study: StudyResults, cycles: Sequence[int] | None = None) -> li
     if cycles is None:
         cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
     lines = _header(
-        ["case", "N", "max wear depth (µm)", "wear volume (mm³)", "p_max/p0", *_PEAK_COLUMNS]
+        [
+            "case",
+            "N",
+            "max wear depth (µm)",
+            f"wear volume ({study.per_contact('mm³')})",
+            "p_max/p0",
+            *_PEAK_COLUMNS,
+        ]
     )
     for case in study.cases:
         for cycle in cycles:
@@ -222,7 +229,9 @@ def _trend(values: Sequence[float]) -> str:
     return "not monotone"
 
 
-def _trend_fact(cycle, cases, parameter: str, symbol: str, label: str) -> str | None:
+def _trend_fact(
+    cycle, cases, parameter: str, symbol: str, label: str, volume_unit: str = "mm³"
+) -> str | None:
     """Trend of wear depth and volume at ``cycle`` along ``parameter`` within one group of cases
     that differ only in that parameter (and in what follows from it, e.g. a proportional i2).
 
@@ -244,7 +253,7 @@ def _trend_fact(cycle, cases, parameter: str, symbol: str, label: str) -> str | 
         verdict = (
             f"with {symbol} = {listed}: wear depth {depth_trend} "
             f"({', '.join(f'{d:.4g}' for d in depths)} µm), wear volume {volume_trend} "
-            f"({', '.join(f'{v:.3e}' for v in volumes)} mm³)"
+            f"({', '.join(f'{v:.3e}' for v in volumes)} {volume_unit})"
         )
     return f"{where}: {verdict}"
 
@@ -279,15 +288,16 @@ def wear_trend_facts(study: StudyResults, cycle: int) -> list[str]:
     """
     cases = [case for case in study.cases if cycle in case.fields]
     varying = _varying_parameters(cases)
+    volume_unit = study.per_contact("mm³")
     facts: list[str | None] = []
     isotropic = [case for case in cases if case.isotropic]
     for group in _groups(isotropic, lambda case: (case.beta, case.wear1)):
         label = _group_label(group[0], ("beta", "wear1"), varying)
-        facts.append(_trend_fact(cycle, group, "mu1", "μ", label))
+        facts.append(_trend_fact(cycle, group, "mu1", "μ", label, volume_unit))
     orthotropic = [case for case in cases if not case.isotropic]
     for group in _groups(orthotropic, lambda case: (case.mu1, case.wear1, case.beta)):
         label = _group_label(group[0], ("mu1", "wear1", "beta"), varying)
-        facts.append(_trend_fact(cycle, group, "mu2", "μ2", label))
+        facts.append(_trend_fact(cycle, group, "mu2", "μ2", label, volume_unit))
     for group in _groups(cases, lambda case: (case.mu1, case.mu2, case.wear1, case.wear2)):
         label = _group_label(group[0], ("mu1", "mu2", "wear1", "wear2"), varying)
         facts.append(_spread_fact(cycle, group, label))
@@ -342,7 +352,7 @@ def standard_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     lines = [
         f"### {study.name}",
         "",
-        f"{study.mesh_label}, P = {study.load:g} N, a0 = {study.radius:g} mm, "
+        f"{study.mesh_label}, P = {study.load:g} {study.load_unit}, a0 = {study.radius:g} mm, "
         f"p0 = {study.p0:.2f} MPa; subsurface to z = {config['subsurface']['depth']:g} a0 in "
         f"{config['subsurface']['layers']} layers"
         + (f"; {config['loading']['cycles']:,} cycles" if study.is_cyclic else "; static")
@@ -386,7 +396,8 @@ def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
 
     from .sweep_report import sweep_report
 
-    text = sweep_report(load_summary(study.path), study.swept_keys, study.name)
+    line = study.profile.is_line
+    text = sweep_report(load_summary(study.path), study.swept_keys, study.name, line)
     if set(study.swept_keys) & _STUDY_WIDE:
         return text
     lines = ["", *(cyclic_table(study, cycles) if study.is_cyclic else static_table(study))]

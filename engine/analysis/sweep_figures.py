@@ -47,8 +47,9 @@ class SweepQuantity:
     unit: str | None = None  # None: the summary's unit of the column
     categories: tuple[str, ...] = ()
 
-    def label(self) -> str:
-        unit = column_unit(self.column) if self.unit is None else self.unit
+    def label(self, line: bool = False) -> str:
+        """ "name (unit)"; ``line``: a line contact's unit (per unit length)."""
+        unit = column_unit(self.column, line) if self.unit is None else self.unit
         unit = unit.replace("^3", "³").replace("^2", "²")
         return f"{self.name} ({unit})" if unit else self.name
 
@@ -89,13 +90,14 @@ def _plotted(column: pd.Series, quantity: SweepQuantity) -> np.ndarray:
     return pd.to_numeric(column, errors="coerce").to_numpy(float) * quantity.scale
 
 
-def _key_label(key: str) -> str:
-    unit = column_unit(key)
+def _key_label(key: str, line: bool = False) -> str:
+    unit = column_unit(key, line)
     return f"{key} ({unit})" if unit else key
 
 
-def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str):
-    """One panel per quantity against ``key``; one line per combination of the others."""
+def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, line: bool = False):
+    """One panel per quantity against ``key``; one line per combination of the others
+    (``line``: a line contact's study, its units per unit length)."""
     rows = _completed(summary)
     quantities = _present(rows)
     columns = min(3, max(len(quantities), 1))
@@ -119,8 +121,8 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str):
             axis.set_ylim(-0.5, len(quantity.categories) - 0.5)
         if logarithmic and axis.has_data():
             axis.set_xscale("log")
-        axis.set_xlabel(_key_label(key))
-        axis.set_ylabel(quantity.label())
+        axis.set_xlabel(_key_label(key, line))
+        axis.set_ylabel(quantity.label(line))
         axis.grid(alpha=0.3, which="both")
     for axis in axes.flat[len(quantities) :]:
         axis.set_visible(False)
@@ -142,4 +144,5 @@ def sweep_figures(study: StudyResults):
     for key in keys:
         if _completed(summary)[key].nunique() < 2:
             continue  # one value among the completed cases: nothing to draw against
-        yield f"sweep_{key}.png", sweep_figure(summary, key, keys, study.name)
+        figure = sweep_figure(summary, key, keys, study.name, study.profile.is_line)
+        yield f"sweep_{key}.png", figure

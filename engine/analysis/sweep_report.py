@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from engine.output.summary import column_unit
-from engine.schema import SUMMARY_COLUMNS, CaseStatus
+from engine.schema import SUMMARY_COLUMNS, CaseStatus, contact_units
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
@@ -58,8 +58,8 @@ def _header(columns: list[str]) -> list[str]:
     return ["| " + " | ".join(columns) + " |", "|" + "|".join("---" for _ in columns) + "|"]
 
 
-def _named(column: str) -> str:
-    unit = column_unit(column)
+def _named(column: str, line: bool = False) -> str:
+    unit = column_unit(column, line)
     return f"{column} ({unit})" if unit else column
 
 
@@ -69,14 +69,17 @@ def _number(value) -> str:
     return f"{value:.5g}"
 
 
-def key_table(summary: pd.DataFrame, key: str, swept: Sequence[str]) -> list[str]:
-    """The main columns against the values of the swept ``key``."""
+def key_table(
+    summary: pd.DataFrame, key: str, swept: Sequence[str], line: bool = False
+) -> list[str]:
+    """The main columns against the values of the swept ``key`` (``line``: a line contact's
+    study, its forces, energies and volumes per unit length)."""
     columns = [c for c in _MAIN_COLUMNS if c in summary]
     lines = [f"#### Against {key}", ""]
     for label, rows in _groups(_completed(summary), key, swept):
         if label:
             lines += [f"{label}:", ""]
-        lines += _header([_named(key)] + [_named(c) for c in columns])
+        lines += _header([_named(key, line)] + [_named(c, line) for c in columns])
         for _, row in rows.iterrows():
             lines.append("| " + " | ".join(_number(row[c]) for c in [key, *columns]) + " |")
         lines.append("")
@@ -92,15 +95,17 @@ def power_law_exponent(x: Sequence[float], y: Sequence[float]) -> float:
     return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
 
 
-def load_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
-    """Wear volume and depth against the load, with the fitted exponents."""
+def load_table(summary: pd.DataFrame, swept: Sequence[str], line: bool = False) -> list[str]:
+    """Wear volume and depth against the load, with the fitted exponents (``line``: a line
+    contact's study, per unit length)."""
+    load, volume = contact_units("N", line), contact_units("mm³", line)
     key = "loading.load"
     lines = ["#### Wear against the load", ""]
     for label, rows in _groups(_completed(summary), key, swept):
         if label:
             lines += [f"{label}:", ""]
-        lines += _header(["P (N)", "wear volume (mm³)", "V/V(P_min)", "max wear depth (µm)",
-                          "p0 (MPa)", "stick fraction"])  # fmt: skip
+        lines += _header([f"P ({load})", f"wear volume ({volume})", "V/V(P_min)",
+                          "max wear depth (µm)", "p0 (MPa)", "stick fraction"])  # fmt: skip
         first = rows["wear_volume"].iloc[0]
         for _, row in rows.iterrows():
             ratio = row["wear_volume"] / first if first else math.nan
@@ -135,9 +140,10 @@ def _verdict(values: list[float]) -> str:
     return "converging" if shrinking else "not converging"
 
 
-def convergence_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
+def convergence_table(summary: pd.DataFrame, swept: Sequence[str], line: bool = False) -> list[str]:
     """Every numeric summary column against ``mesh.n``: values, relative changes between
-    successive meshes, observed order (for n doubling), verdict."""
+    successive meshes, observed order (for n doubling), verdict (``line``: a line contact's
+    study, per unit length)."""
     key = "mesh.n"
     lines = ["#### Convergence with the mesh", ""]
     numeric = [
@@ -167,7 +173,7 @@ def convergence_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
                     order = math.log2(absolute[-2] / absolute[-1])
             cost = column in ("runtime_s", "matvecs", "load_steps")
             lines.append(
-                f"| {_named(column)} | " + " | ".join(_number(v) for v in values) + " | "
+                f"| {_named(column, line)} | " + " | ".join(_number(v) for v in values) + " | "
                 + " | ".join("–" if not math.isfinite(c) else f"{c:+.2%}" for c in changes)
                 + f" | {_number(order)} | {'cost' if cost else _verdict(values)} |"
             )  # fmt: skip
@@ -182,18 +188,21 @@ def convergence_table(summary: pd.DataFrame, swept: Sequence[str]) -> list[str]:
     return lines
 
 
-def sweep_report(summary: pd.DataFrame, swept: Sequence[str], title: str = "") -> str:
-    """Markdown of all sweep tables of a study's ``summary``."""
+def sweep_report(
+    summary: pd.DataFrame, swept: Sequence[str], title: str = "", line: bool = False
+) -> str:
+    """Markdown of all sweep tables of a study's ``summary`` (``line``: a line contact's
+    study, its forces, energies and volumes per unit length)."""
     lines = [f"### {title}", ""] if title else []
     done = _completed(summary)
     lines.append(f"{len(done)} of {len(summary)} cases completed; swept: {', '.join(swept)}.")
     lines.append("")
     if "loading.load" in swept:
-        lines += load_table(summary, swept)
+        lines += load_table(summary, swept, line)
     if "mesh.n" in swept:
-        lines += convergence_table(summary, swept)
+        lines += convergence_table(summary, swept, line)
     for key in swept:
-        lines += key_table(summary, key, swept)
+        lines += key_table(summary, key, swept, line)
     return "\n".join(lines) + "\n"
 
 

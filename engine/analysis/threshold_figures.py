@@ -34,8 +34,9 @@ def has_thresholds(path: str | Path) -> bool:
         return THRESHOLDS_GROUP in file
 
 
-def _label(key: str) -> str:
-    unit = column_unit(key)
+def _label(key: str, units: dict[str, str]) -> str:
+    """ "key (unit)" in the unit the table stored (a line contact's per unit length)."""
+    unit = units.get(key) or column_unit(key)
     return f"{key} ({unit})" if unit else key
 
 
@@ -95,8 +96,9 @@ def draw_thresholds(path: str | Path):
         for _, row in group[group["status"] != "converged"].iterrows():
             where = row[across] if across else row.name
             axis.annotate(row["status"], (where, row["upper"]), fontsize=FONT_SIZE, color="C3")
-    axis.set_xlabel(_label(across) if across else "search")
-    axis.set_ylabel(_label(parameter))
+    units = table.attrs.get("units", {})
+    axis.set_xlabel(_label(across, units) if across else "search")
+    axis.set_ylabel(_label(parameter, units))
     axis.grid(alpha=0.3)
     axis.legend(fontsize=FONT_SIZE)
     axis.set_title(

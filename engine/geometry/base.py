@@ -22,9 +22,10 @@ border check                   :meth:`~Profile.check_grid`, :attr:`~Profile.exte
 summary parameters             :meth:`~Profile.mean_pressure` (the summary's p0),
                                :meth:`~Profile.summary` (a0 and p0), :attr:`~Profile.
                                load_unit` (N, or N/mm for a line contact)
-fretting references            :meth:`~Profile.slip_displacement`,
-                               :meth:`~Profile.fretting_loop` (closed forms where they
-                               exist: None otherwise)
+fretting references            :meth:`~Profile.fretting_reference` (the closed forms
+                               where they exist, None otherwise), and from it
+                               :meth:`~Profile.slip_displacement`,
+                               :meth:`~Profile.fretting_loop`
 =============================  ===========================================================
 
 Units: lengths in mm, loads in N (line contacts: N/mm), moduli and pressures in MPa.
@@ -70,8 +71,6 @@ class Profile:
     covered: ClassVar[str] = "punch face radius"
     #: Unit of the load: N (a line contact's: N/mm, per unit length).
     load_unit: ClassVar[str] = "N"
-    #: Whose closed form :meth:`fretting_loop` draws (figure legends; "" without one).
-    loop_reference: ClassVar[str] = ""
     #: Lengths (mm) that must be > 0, and those that must be >= 0 (checked on creation).
     positive: ClassVar[tuple[str, ...]] = ("radius",)
     non_negative: ClassVar[tuple[str, ...]] = ()
@@ -118,18 +117,32 @@ class Profile:
 
         return mean_pressure(load, contact_length)
 
-    def slip_displacement(self, load, material, mu: float, reference_distance):
-        """The closed-form partial/gross-slip transition amplitude δ_slip (mm) at ``load``
-        (N, or N/mm for a line contact; an array too) with isotropic friction ``mu``, or None
-        where no closed form applies (the default)."""
+    def fretting_reference(self, load: float, material, mu: float, reference_distance):
+        """The closed forms of this profile under fretting at ``load`` (N, or N/mm for a line
+        contact) with isotropic friction ``mu``
+        (:class:`engine.reference.masing.FrettingReference`: δ_slip, the force amplitude,
+        the energy per cycle, the loop), or None where there are none (the default).
+        ``reference_distance`` is a line contact's displacement datum (mm; None in 3-D)."""
         return None
 
+    def slip_displacement(self, load, material, mu: float, reference_distance):
+        """The partial/gross-slip transition amplitude δ_slip (mm) at ``load`` (a number or
+        an array: the boundary of a fretting map), or None without closed forms."""
+        loads = np.asarray(load, dtype=float)
+        references = [
+            self.fretting_reference(float(value), material, mu, reference_distance)
+            for value in loads.ravel()
+        ]
+        if not references or references[0] is None:
+            return None
+        return np.reshape([item.slip_displacement for item in references], loads.shape)
+
     def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
-        """The analytic stabilised Q–δ loop of this profile under fretting at ``load`` with
-        isotropic friction ``mu`` and one of ``displacement_amplitude`` (mm) or
-        ``force_amplitude`` (N), or None where no closed form applies (the default).
-        ``reference_distance`` is a line contact's displacement datum (mm)."""
-        return None
+        """The analytic stabilised Q–δ loop at ``load`` under one of
+        ``displacement_amplitude`` (mm) or ``force_amplitude`` (N, N/mm), or None without
+        closed forms (:meth:`fretting_reference`)."""
+        reference = self.fretting_reference(load, material, mu, reference_distance)
+        return None if reference is None else reference.loop(**amplitude)
 
     def summary(self, load: float, contact_modulus: float) -> dict[str, float]:
         """The nominal contact: ``a0`` (mm) and ``p0`` (MPa) at the load."""

@@ -19,7 +19,6 @@ class CylinderProfile(LineProfile):
     """Cylinder of radius ``radius`` (R, mm), axis along y at x = 0: g = x²/(2R)."""
 
     name = "cylinder"
-    loop_reference = "cylinder (Cattaneo, Masing)"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
@@ -31,21 +30,12 @@ class CylinderProfile(LineProfile):
         x, _ = grid.coordinates()
         return x**2 / (2.0 * self.radius)
 
-    def slip_displacement(self, load, material, mu: float, reference_distance):
-        """The cylinder's δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2) with the displacement datum
-        d = ``reference_distance``
-        (:func:`engine.reference.line_contact.line_slip_displacement`)."""
+    def fretting_reference(self, load: float, material, mu: float, reference_distance):
+        """The cylinder's closed forms relative to the displacement datum
+        ``reference_distance`` d (mm): δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2), the loop energy
+        (:func:`engine.reference.line_contact.line_fretting_reference`)."""
         from engine.reference import line_contact
 
-        return line_contact.line_slip_displacement(
+        return line_contact.line_fretting_reference(
             load, self.radius, material.contact_modulus, mu, float(reference_distance)
-        )
-
-    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
-        """The cylinder's loop (:func:`engine.reference.line_contact.line_fretting_loop`)
-        with the displacement datum ``reference_distance`` (mm)."""
-        from engine.reference import line_contact
-
-        return line_contact.line_fretting_loop(
-            load, self.radius, material.contact_modulus, mu, reference_distance, **amplitude
         )

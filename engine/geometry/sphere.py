@@ -19,7 +19,6 @@ class SphericalPunch(Profile):
 
     name = "sphere"
     covered = "Hertz contact radius"
-    loop_reference = "Mindlin–Deresiewicz"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
@@ -36,14 +35,8 @@ class SphericalPunch(Profile):
     def gap(self, grid: Grid) -> np.ndarray:
         return grid.radius() ** 2 / (2.0 * self.radius)
 
-    def slip_displacement(self, load, material, mu: float, reference_distance):
-        """Mindlin's δ_slip = 3μP S/(16a) (:func:`engine.reference.mindlin.slip_displacement`)."""
+    def fretting_reference(self, load: float, material, mu: float, reference_distance):
+        """Mindlin's closed forms (:func:`engine.reference.mindlin.fretting_reference`)."""
         from engine.reference import mindlin
 
-        return mindlin.slip_displacement(load, self.radius, material, mu)
-
-    def fretting_loop(self, load: float, material, mu: float, reference_distance, **amplitude):
-        """Mindlin's loop (:func:`engine.reference.mindlin.fretting_loop`)."""
-        from engine.reference import mindlin
-
-        return mindlin.fretting_loop(load, self.radius, material, mu, **amplitude)
+        return mindlin.fretting_reference(load, self.radius, material, mu)

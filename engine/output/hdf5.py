@@ -630,7 +630,8 @@ class SingleWriter(ResultsWriter):
         in the file and as ``NAME_thresholds.csv`` beside the summary."""
         from .thresholds import thresholds_path, write_thresholds
 
-        write_thresholds(self._file, thresholds_path(self.summary_path), rows, spec)
+        line = self._plan is not None and self._plan.line
+        write_thresholds(self._file, thresholds_path(self.summary_path), rows, spec, line)
         self._file.flush()
 
     def _commit_flags(self, force: bool = False) -> bool:
@@ -763,8 +764,9 @@ class SummaryTable:
 
 
 def _parameter_units(case: Case) -> dict[str, str]:
-    """Units of the case's parameter attributes, swept dotted keys included."""
-    return parameter_units(key for key, _ in case.settings)
+    """Units of the case's parameter attributes, swept dotted keys included (a line
+    contact's per unit length)."""
+    return parameter_units((key for key, _ in case.settings), case.line)
 
 
 def _json_safe(row: dict[str, Any]) -> dict[str, Any]:

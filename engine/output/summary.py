@@ -40,7 +40,9 @@ runtime_s          s       wall time of the case (summed over resumed runs)
 Every dotted key swept in ``[sweep]`` (``"loading.load"``, ``"mesh.n"``, …) adds a column of
 that name after these, in the units of its study-file key (:func:`column_unit`).
 For a sphere, p0 is Hertz's mean pressure P/(π a²) (a: Hertz's contact radius); for a
-rounded punch a0 is the radius of its flat face.
+rounded punch a0 is the radius of its flat face. A line contact's loads, forces, energies and
+volumes are per unit length (N/mm, mJ/mm, mm²/mm: ``column_unit(column, line=True)``,
+:func:`engine.schema.contact_units`).
 """
 
 from __future__ import annotations
@@ -86,10 +88,11 @@ _INTEGER_COLUMNS, _TEXT_COLUMNS = INTEGER_COLUMNS, TEXT_COLUMNS
 _KNOWN = frozenset(SUMMARY_COLUMNS)
 
 
-def column_unit(column: str) -> str:
-    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included
-    (the results schema's one units table, :func:`engine.schema.unit_of`)."""
-    unit = unit_of(column)
+def column_unit(column: str, line: bool = False) -> str:
+    """Unit of a summary column ("" when dimensionless or text), swept dotted keys included,
+    in a 3-D or (``line``) a line contact (the results schema's one units table,
+    :func:`engine.schema.unit_of`)."""
+    unit = unit_of(column, line)
     return "" if unit == "1" else unit
 
 

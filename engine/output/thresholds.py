@@ -72,22 +72,24 @@ def thresholds_path(summary_path: str | Path) -> Path:
     return summary_path.with_name(f"{summary_path.stem}_thresholds.csv")
 
 
-def table_units(rows: list[dict[str, Any]], spec: SearchSpec) -> dict[str, str]:
-    """Unit of every column of the table ("" for text and dimensionless columns)."""
-    specs = _search_specs(spec)
+def table_units(rows: list[dict[str, Any]], spec: SearchSpec, line: bool = False) -> dict[str, str]:
+    """Unit of every column of the table ("" for text and dimensionless columns) in a 3-D or
+    (``line``) a line contact."""
+    specs = _search_specs(spec, line)
     units = {}
     for name in _columns(rows):
         if name in specs:
             unit = specs[name].units
             units[name] = "" if unit == "1" or name in _TEXT else unit
         else:
-            units[name] = "" if name in _TEXT else column_unit(name)
+            units[name] = "" if name in _TEXT else column_unit(name, line)
     return units
 
 
-def _search_specs(spec: SearchSpec) -> dict:
-    parameter_unit = column_unit(spec.parameter) or "1"
-    return threshold_columns(spec.parameter, parameter_unit, spec.column, column_unit(spec.column))
+def _search_specs(spec: SearchSpec, line: bool = False) -> dict:
+    parameter_unit = column_unit(spec.parameter, line) or "1"
+    column = column_unit(spec.column, line)
+    return threshold_columns(spec.parameter, parameter_unit, spec.column, column)
 
 
 def _columns(rows: list[dict[str, Any]]) -> list[str]:
@@ -98,17 +100,22 @@ def _columns(rows: list[dict[str, Any]]) -> list[str]:
 
 
 def write_thresholds(
-    file: h5py.File, csv_path: str | Path, rows: list[dict[str, Any]], spec: SearchSpec
+    file: h5py.File,
+    csv_path: str | Path,
+    rows: list[dict[str, Any]],
+    spec: SearchSpec,
+    line: bool = False,
 ) -> None:
-    """Write the table into ``file`` (replacing ``/thresholds``) and as CSV (atomically)."""
+    """Write the table into ``file`` (replacing ``/thresholds``) and as CSV (atomically);
+    ``line``: a line contact's study (units per unit length)."""
     if THRESHOLDS_GROUP in file:
         del file[THRESHOLDS_GROUP]
     group = file.create_group(THRESHOLDS_GROUP)
     settings = dataclasses.asdict(spec)
     for name, value in settings.items():
         group.attrs[name] = value
-    specs = _search_specs(spec)
-    units = table_units(rows, spec)
+    specs = _search_specs(spec, line)
+    units = table_units(rows, spec, line)
     group.attrs["column_order"] = _columns(rows)
     for name in _columns(rows):
         values = [row.get(name, math.nan) for row in rows]

@@ -59,6 +59,7 @@ __all__ = [
     "line_tangential_displacement",
     "line_slip_displacement",
     "line_fretting_loop",
+    "line_fretting_reference",
     "bulk_surface_strain",
     "nowell_hills_stick_offset",
     "pad_load",
@@ -217,6 +218,24 @@ def line_fretting_loop(
         lambda force: line_tangential_displacement(force, *contact),
         friction_coefficient * load,
         **loop,
+    )
+
+
+def line_fretting_reference(
+    load, radius, contact_modulus, friction_coefficient, reference_distance
+) -> masing.FrettingReference:
+    """The cylinder's closed forms under fretting at the load P (N/mm) as one object
+    (:class:`engine.reference.masing.FrettingReference`): the virgin curve
+    :func:`line_tangential_displacement` relative to the datum ``reference_distance`` d (mm),
+    inverted numerically, and the loop energy :func:`line_loop_energy` (N·mm per mm)."""
+    contact = (load, radius, contact_modulus, friction_coefficient, reference_distance)
+    return masing.FrettingReference(
+        "Cattaneo–Masing (cylinder)",
+        lambda force: line_tangential_displacement(force, *contact),
+        friction_coefficient * load,
+        loop_energy=lambda amplitude: line_loop_energy(
+            amplitude, load, contact_modulus, friction_coefficient
+        ),
     )
 
 

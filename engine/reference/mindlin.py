@@ -61,6 +61,7 @@ __all__ = [
     "energy_ratio",
     "force_amplitude",
     "fretting_loop",
+    "fretting_reference",
 ]
 
 
@@ -312,4 +313,25 @@ def fretting_loop(load, radius, materials, friction, **loop):
         limit,
         inverse=lambda displacement: tangential_force(displacement, *contact),
         **loop,
+    )
+
+
+@documented(
+    "engine.reference.masing.FrettingReference\n"
+    "    δ_slip, Q*(δ*), the energy per cycle (Mindlin–Deresiewicz, gross slip), the loop.",
+    *_CONTACT,
+)
+def fretting_reference(load, radius, materials, friction):
+    """The sphere's closed forms under fretting at the load P, as one object: the
+    Cattaneo–Mindlin curve, its inverse and the Mindlin–Deresiewicz energy
+    (:func:`partial_slip_energy`), Fouvry's master curve (:func:`energy_ratio`)."""
+    contact = (load, radius, materials, friction)
+    _, limit = _scale(*contact)
+    return masing.FrettingReference(
+        "Mindlin–Deresiewicz",
+        lambda force: tangential_displacement(force, *contact),
+        limit,
+        inverse=lambda displacement: tangential_force(displacement, *contact),
+        loop_energy=lambda amplitude: float(partial_slip_energy(amplitude, *contact)),
+        master_curve=energy_ratio,
     )

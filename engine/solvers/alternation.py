@@ -13,7 +13,7 @@ tangential solver updates with A_tt Δq; u_n: A_zz p of the normal solve plus th
 the new tractions, which the next pass needs anyway), so an increment stops as soon as it is
 certified, without a further pass to show that nothing moves (issue 17: 3.3 → 2.1 passes per
 increment at 64², μ = 0.1). Should the alternation not settle within ``MAX_OUTER`` passes,
-FISTA continues from its iterate.
+or the normal CG stall (``engine.solvers.normal``), FISTA continues from its iterate.
 
 From a ``guess`` (a nearby solution: the same increment one cycle jump earlier), the first
 inner tolerance is ``INNER_FACTOR`` times the guess's own coupled residual rather than 0.1,
@@ -171,6 +171,8 @@ def solve_alternating(
     for outer in range(1, MAX_OUTER + 1):  # noqa: B007 (count kept after loop)
         tol = max(0.3 * problem.tol, iterate.inner_tol)
         normal = _normal_pass(problem, load, iterate, coupling, tol)
+        if normal.stalled:  # the projected gradient below takes the increment over
+            break
         u = np.array(operator.apply(*iterate.tractions, iterate.pressure))
         tangential = _tangential_pass(problem, iterate, u, tol * abs(normal.approach))
         if normal.iterations == 1 and tangential.iterations == 0:
@@ -200,6 +202,7 @@ def solve_alternating(
         residual, _ = natural_residual(problem, x, u, load)
     if not settled and iterate.budget > 0 and residual > problem.tol:
         label = f" after {outer} alternating passes"
+        label += " (the normal CG stalled)" if normal.stalled else ""
         return solve_projected_gradient(problem, load, None, state, start=x, label=label)
     iterations = problem.maxiter - max(iterate.budget, 0)
     return _solution(problem, x, u, iterations, residual, outer)

@@ -179,14 +179,13 @@ class ContactSolver:
             if wear.shape != self.grid.shape:
                 raise ValueError(f"wear has shape {wear.shape}, expected {self.grid.shape}")
             offset[self.candidate] += wear[self.candidate]
-        # Formed when first read: a frictionless solve reads it only for the reported slip.
-        reference = Deferred(lambda: np.array([state.displacement_x, state.displacement_y]))
+        slip_reference = np.array([state.displacement_x, state.displacement_y])
         return IncrementProblem(
             operator=self.operator,
             friction=self.friction,
             candidate=self.candidate,
             offset=offset,
-            reference=reference,
+            slip_reference=slip_reference,
             tol=self.tol,
             maxiter=self.maxiter,
             largest_eigenvalue=self.lipschitz,
@@ -197,29 +196,25 @@ class ContactSolver:
         problem = self._problem(state, wear)
         if load is not None and load == 0.0:
             return self._unloaded(problem)
-        frictionless = load is not None and self.friction.frictionless
-        if not frictionless:
-            # The methods read the slip reference: formed before the count starts, so that
-            # a deferred displacement of the previous increment is not counted as this one's.
-            problem.slip_reference  # noqa: B018
         start = self.operator.applications
         if load is None:
             solution = solve_projected_gradient(problem, None, approach, state)
-        elif frictionless:
+        elif self.friction.frictionless:
             solution = self._frictionless(problem, load, guess or state)
         elif self.load_control_method == "projected_gradient":
             solution = solve_projected_gradient(problem, load, None, state)
         else:
             solution = solve_alternating(problem, load, state, guess)
         matvecs = self.operator.applications - start
-        if frictionless and self.material.coupling != 0.0:
-            matvecs += 1  # its tangential displacement's (made when first read: deferred)
+        if isinstance(solution.displacement, Deferred) and self.material.coupling != 0.0:
+            matvecs += 1  # its tangential displacement's, made when first read
         return self._result(problem, solution, matvecs)
 
     def _frictionless(self, problem: IncrementProblem, load, start_from) -> CoupledSolution:
-        """Frictionless load control: the normal problem alone, from ``start_from``. The
-        tangential displacement of its pressure (A_xz p, A_yz p), which the solve does not
-        need, is computed when first read (the slip, the next increment's reference)."""
+        """Frictionless load control: the normal problem alone, from ``start_from``; the
+        projected gradient finishes it should the CG stall. The tangential displacement of
+        its pressure (A_xz p, A_yz p), which the CG does not need, is computed when first
+        read (the slip, the next increment's reference)."""
         normal = solve_normal(
             self.operator,
             self.candidate,
@@ -230,6 +225,10 @@ class ContactSolver:
             maxiter=self.maxiter,
         )
         zeros = np.zeros(self.grid.shape)
+        if normal.stalled:
+            start = np.array([zeros, zeros, normal.pressure])
+            label = " after the preconditioned CG stalled"
+            return solve_projected_gradient(problem, load, None, start_from, start, label)
         operator, pressure = self.operator, normal.pressure.copy()  # the result's may change
         return CoupledSolution(
             pressure=normal.pressure,
@@ -285,10 +284,10 @@ class ContactSolver:
         displacement = solution.displacement
         if not isinstance(displacement, Deferred):
             displacement = Deferred.known(displacement)
-        reference = problem.reference
+        reference = problem.slip_reference
 
         def slip():
-            u, u_ref = displacement.get(), reference.get()
+            u, u_ref = displacement.get(), reference
             return (
                 np.where(in_contact, u[0] - u_ref[0], 0.0),
                 np.where(in_contact, u[1] - u_ref[1], 0.0),

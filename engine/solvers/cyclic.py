@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..schema import CYCLIC_HISTORY_KEYS, HISTORY, RECORDED_FIELDS
+from ..schema import CYCLIC_HISTORY_KEYS, HISTORY, RECORDED_FIELDS, contact_units
 from ..validation import require_positive
 from .contact import SLIP, STICK, ContactSolver, ContactState, IncrementResult
 from .defaults import MAX_JUMP_GROWTH, MAX_WEAR_FRACTION
@@ -199,12 +199,15 @@ class CyclicAnalysis:
         peak = None
         failures = []
         increments, zeros = [], np.zeros_like(wear)
+        load_unit = contact_units("N", self.solver.grid.is_line)
         for index, load in enumerate(self.loads()):
             guess = None if guesses is None else guesses(index)
             result = self.solver.solve_load(load, state, wear=wear, guess=guess)
             increments.append(_starting_point(result.state, zeros))
             if not result.report.converged:
-                failures.append(f"increment {index + 1} (P = {load:g} N): {result.report.message}")
+                failures.append(
+                    f"increment {index + 1} (P = {load:g} {load_unit}): {result.report.message}"
+                )
             wear_increment += self.wear_law.increment(result, state)
             if on_increment is not None:
                 on_increment(result)

@@ -48,8 +48,9 @@ Per simulated cycle (history): ``q_amplitude`` max_k |Q_k| (N); ``displacement_a
 increments from its starting point (the area of the loop polygon, mJ = N·mm);
 ``slip_regime`` 0 (partial) or 1 (gross): gross when no element sticks at the increment of
 the largest |Q| (status of :mod:`.contact`: an element slips when ||q||_μ ≥ (1 − 10⁻⁹) p);
-``stick_area`` at that increment. The "peak" of a cycle (stresses, the cyclic history's
-columns) is the increment of the largest |Q|.
+``stick_area`` at that increment; ``matvecs`` (operator applications) and ``residual`` (the
+largest relative residual) of the cycle's increment solves. The "peak" of a cycle (stresses,
+the cyclic history's columns) is the increment of the largest |Q|.
 
 Energy consistency (exact to round-off, tested): per increment, with the trapezoidal rule,
 ½(Q_k + Q_{k−1})·Δδ_k = Σ_e ½(q_k + q_{k−1})·(Δu_k − Δs_k) ΔA, and Σ_e ½(q_k + q_{k−1})·Δu_k ΔA
@@ -347,6 +348,8 @@ class _FrettingCycle:
     evaluations: int
     peak_index: int
     cycle_vm: np.ndarray | None = None
+    matvecs: int = 0  # operator applications of the cycle's increment solves
+    residual: float = 0.0  # the largest relative residual of the cycle's increment solves
 
 
 class FrettingAnalysis(CyclicAnalysis):
@@ -491,6 +494,7 @@ class FrettingAnalysis(CyclicAnalysis):
         rows = [[*rigid, *previous_force]]
         wear_increment, increments, zeros = np.zeros_like(wear), [], np.zeros_like(wear)
         along, evaluations, peak, peak_norm, cycle_vm = [], 0, None, -1.0, None
+        matvecs, largest_residual = 0, 0.0
         warm_rigid = fretting.rigid_warm if len(fretting.rigid_warm) else None
         previous = self.settings.signal_amplitude
         for index, value in enumerate(self.settings.cycle_signal()):
@@ -501,6 +505,8 @@ class FrettingAnalysis(CyclicAnalysis):
             result = step.result
             evaluations += step.evaluations
             self._matvecs += step.matvecs
+            matvecs += step.matvecs
+            largest_residual = max(largest_residual, float(result.report.residual))
             self._steps += 1
             if not step.converged:
                 self._failures.append(f"increment {index + 1} (signal {value:g}): {step.message}")
@@ -522,6 +528,7 @@ class FrettingAnalysis(CyclicAnalysis):
         fretting.rigid, fretting.rigid_warm = rigid, np.asarray(along)
         self._cycle = _FrettingCycle(np.asarray(rows), np.asarray(along), evaluations, peak_index)
         self._cycle.cycle_vm = cycle_vm
+        self._cycle.matvecs, self._cycle.residual = matvecs, largest_residual
         return _CycleOutcome(
             peak=peak, wear_increment=wear_increment, end_state=state, increments=increments
         )
@@ -551,6 +558,8 @@ class FrettingAnalysis(CyclicAnalysis):
             "energy": energy,
             "slip_regime": float(GROSS if stick == 0 else PARTIAL),
             "evaluations": float(cycle.evaluations),
+            "matvecs": float(cycle.matvecs),
+            "residual": cycle.residual,
         }
         rows = len(state.history["cycle"]) - 1
         for key, value in row.items():

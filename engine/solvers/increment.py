@@ -218,14 +218,10 @@ class IncrementProblem:
     friction: FrictionLaw
     candidate: np.ndarray
     offset: np.ndarray
-    reference: Deferred  # slip_reference, formed on its first read
+    slip_reference: np.ndarray
     tol: float
     maxiter: int
     largest_eigenvalue: Callable[[], float]
-
-    @property
-    def slip_reference(self) -> np.ndarray:
-        return self.reference.get()
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -255,14 +251,14 @@ class IncrementProblem:
 class CoupledSolution:
     """What a method found for the increment: ``pressure``, ``traction_x``, ``traction_y``
     (MPa); ``displacement`` (2, n_x, n_y): the tangential displacements u_t = (A x)_t (mm)
-    of these tractions; ``approach`` δ (mm); ``iterations``; ``residual`` (relative natural
-    residual); ``method``: the name of the method that finished the increment (it begins
-    the message)."""
+    of these tractions, or a ``Deferred`` of them (a frictionless solve's); ``approach``
+    δ (mm); ``iterations``; ``residual`` (relative natural residual); ``method``: the name
+    of the method that finished the increment (it begins the message)."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
     traction_y: np.ndarray
-    displacement: np.ndarray
+    displacement: np.ndarray | Deferred
     approach: float
     iterations: int
     residual: float

@@ -11,6 +11,22 @@ to the load each step (Polonsky & Keer, Wear 231, 1999), with the spectral preco
 (Vollebregt 2014) restricted to the contact set. The approach δ is the mean gap over the
 contact set. Residual: RMS over the candidate elements of the gap violation (g on the
 contact set, min(g, 0) elsewhere), divided by |δ|.
+
+**Re-entry.** An element out of contact whose gap is negative (an overlap) re-enters with
+the pressure of a gradient step of the same length as the CG step. Without a preconditioner
+that is Polonsky & Keer's p = −α g (α in MPa/mm). With it, α is dimensionless (the
+direction M r is already a pressure, MPa) and the step along the gap must be preconditioned
+too: p = −α (M v) at the overlapping elements, v the gap violation of the residual. The
+unpreconditioned expression −α g (mm) hands a re-entering element a pressure of round-off
+size (10⁻⁵ MPa against a mean of 260 MPa on the worn line contact that exposed it): it drops
+out again at the next step, and on a conforming (worn) contact with many elements of nearly
+zero gap the contact set cycles for ever (period 4, 165–195 elements, the residual stuck
+near 10⁻³; ``tests/test_normal_reentry.py``). The preconditioned value may be ≥ 0 at an
+overlapping element (M is not local); the element then waits for a later step.
+
+**Stagnation.** Should the residual still not reach a new minimum for ``STALL_ITERATIONS``
+iterations, the solve stops and says so (``stalled``); the alternation then hands the
+increment to the projected gradient instead of spending its whole budget here.
 """
 
 from __future__ import annotations
@@ -22,13 +38,16 @@ import numpy as np
 
 from ..kernels.operator import HalfSpaceOperator
 
+STALL_ITERATIONS = 200  # iterations without a new smallest residual before giving up
+
 
 @dataclass
 class NormalSolution:
     """``pressure`` (MPa), ``approach`` δ (mm), ``iterations`` (operator applications of
     the loop), ``residual`` (relative, module doc), ``converged`` (residual ≤ tol);
     ``image``: A_zz ``pressure`` (mm) when the last iteration computed it (converged), else
-    None — the next solve from this pressure can start from it."""
+    None — the next solve from this pressure can start from it; ``stalled``: stopped
+    because the residual made no progress for ``STALL_ITERATIONS`` iterations."""
 
     pressure: np.ndarray
     approach: float
@@ -36,6 +55,7 @@ class NormalSolution:
     residual: float
     converged: bool
     image: np.ndarray | None
+    stalled: bool = False
 
 
 def _scaled_start(operator, candidate, target, initial, image):
@@ -76,11 +96,19 @@ class _ContactMean:
         return float(np.add.reduce(gathered)) / self._count
 
 
-def _violation_rms(gap, contact, mask, count, work) -> float:
-    """RMS over the candidate elements of the gap in contact and of the negative gap (an
-    overlap) elsewhere (mm); ``work``: an array of the grid's shape, overwritten."""
-    violation = np.minimum(gap, 0.0, out=work)  # np.where(contact, gap, min(gap, 0))
+def _violation(gap, contact, mask, out) -> np.ndarray:
+    """The gap violation (mm) into ``out`` (an array of the grid's shape): the gap in
+    contact, the negative gap (an overlap) elsewhere on the candidate elements, 0 off them."""
+    violation = np.minimum(gap, 0.0, out=out)  # np.where(contact, gap, min(gap, 0))
     np.copyto(violation, gap, where=contact)
+    violation[~mask] = 0.0
+    return violation
+
+
+def _violation_rms(gap, contact, mask, count, work) -> float:
+    """RMS over the candidate elements of the gap violation (mm); ``work``: an array of the
+    grid's shape, overwritten."""
+    violation = _violation(gap, contact, mask, work)
     return math.sqrt(np.sum(np.square(violation, out=violation)[mask]) / count)
 
 
@@ -112,6 +140,7 @@ def solve_normal(
     previous = 1.0
     conjugate = False
     residual, approach, iterations, converged_image = math.inf, 0.0, 0, None
+    best, since_best, stalled = math.inf, 0, False
     for iterations in range(1, maxiter + 1):  # noqa: B007
         raw = known if known is not None else operator.apply_normal(pressure, out=pressure_image)
         known = None
@@ -125,6 +154,10 @@ def solve_normal(
         if residual <= tol:
             converged_image = raw
             break
+        best, since_best = (residual, 0) if residual < best else (best, since_best + 1)
+        if since_best >= STALL_ITERATIONS:
+            stalled = True
+            break
         # Work arrays are updated in place where the old values are not needed again (the
         # same operations, element by element, as the textbook expressions in the comments).
         np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
@@ -133,7 +166,7 @@ def solve_normal(
         z -= contact_mean(z)
         z[outside] = 0.0
         product = float(np.sum(np.multiply(residual_c, z, out=work)))
-        beta = product / previous if conjugate else 0.0
+        beta = product / previous if conjugate and previous > 0.0 else 0.0
         direction *= beta  # np.where(contact, z + beta d, 0)
         direction += z
         direction[outside] = 0.0
@@ -141,7 +174,10 @@ def solve_normal(
         operator.apply_normal(direction, out=step_image)
         step_image -= contact_mean(step_image)
         numerator = float(np.sum(np.multiply(residual_c, direction, out=work)))
-        step = numerator / float(np.sum(np.multiply(step_image, direction, out=step_image)))
+        curvature = float(np.sum(np.multiply(step_image, direction, out=step_image)))
+        # No direction (a contact set of one element, or a preconditioned residual that
+        # vanishes there): nothing to move on the set; re-entries take the full step (M ≈ A⁻¹).
+        step = numerator / curvature if curvature > 0.0 else 1.0
         change = np.multiply(direction, step, out=work)  # max(where(contact, p − step d, 0), 0)
         np.subtract(pressure, change, out=pressure)
         pressure[outside] = 0.0
@@ -151,11 +187,13 @@ def solve_normal(
         np.logical_and(overlap, np.less(gap, 0.0, out=negative), out=overlap)
         conjugate = not np.any(overlap)
         if not conjugate:
-            # Re-entry along the gap; never below zero (a step of round-off size and the
-            # wrong sign near convergence would otherwise leave a negative pressure, whose
-            # friction bound then has no meaning).
-            pressure[overlap] = np.maximum(pressure[overlap] - step * gap[overlap], 0.0)
+            # Re-entry along the preconditioned violation (module docstring); never below
+            # zero (a step of round-off size and the wrong sign near convergence would
+            # otherwise leave a negative pressure, whose friction bound has no meaning).
+            violation = _violation(gap, contact, mask, work)
+            entry = preconditioner.normal(violation, out=z)[overlap]
+            pressure[overlap] = np.maximum(pressure[overlap] - step * entry, 0.0)
         pressure *= target / pressure.sum()
     return NormalSolution(
-        pressure, approach, iterations, residual, residual <= tol, converged_image
+        pressure, approach, iterations, residual, residual <= tol, converged_image, stalled
     )

@@ -8,7 +8,9 @@ case — an exception, a solve that does not converge, a stop request — comes 
 :class:`CaseOutcome` with a status, so one bad case never stops the study (statuses:
 :mod:`engine.study.outcome`). Around the kind's run the runner keeps the run time of an
 interrupted case (``<output>.checkpoints/<case_id>.json``, summed over resumed runs), removes
-the checkpoint of a case that ended, and injects the failures of ``[testing] fail_cases``.
+the checkpoint of a case that ended, injects the failures of ``[testing] fail_cases`` and
+gives a line contact's datasets their units per unit length
+(:meth:`engine.schema.DatasetRecord.per_unit_length`).
 """
 
 from __future__ import annotations
@@ -118,6 +120,10 @@ class CaseRunner:
                 traceback=traceback_module.format_exc(),
             )
         outcome.runtime_s = previous.get("runtime_s", 0.0) + time.perf_counter() - start
+        if self.config.punch.is_line:  # per unit length (engine.schema.contact_units)
+            outcome.datasets = {
+                path: record.per_unit_length(True) for path, record in outcome.datasets.items()
+            }
         if outcome.status == INTERRUPTED:
             self._save_progress(case, {"runtime_s": outcome.runtime_s})
         else:

@@ -179,7 +179,9 @@ class BorderCheckedSolver:
 
     def solve_load(self, load, state=None, wear=None, guess=None):
         result = self._solver.solve_load(load, state, wear=wear, guess=guess)
-        return self._checked(result, f"P = {load:g} N")
+        from engine.schema import contact_units
+
+        return self._checked(result, f"P = {load:g} {contact_units('N', self.grid.is_line)}")
 
     def solve_approach(self, approach, state=None, wear=None):
         result = self._solver.solve_approach(approach, state, wear=wear)

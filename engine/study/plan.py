@@ -82,6 +82,7 @@ class Case:
     cost_scale: float = 1.0  # size of the case relative to the study's first values
     mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
     alpha: float | None = None  # energy wear law (mm³/J), its own parameter; wear1 = wear2 = 0
+    line: bool = False  # a line contact: loads, energies, areas, volumes per unit length
 
     def parameters(self) -> dict[str, float | int | str]:
         """Case attributes and the parameter columns of its summary row."""
@@ -122,6 +123,11 @@ class Plan:
     @property
     def case_ids(self) -> tuple[str, ...]:
         return tuple(case.case_id for case in self.cases)
+
+    @property
+    def line(self) -> bool:
+        """A line contact's plan (results per unit length, :attr:`Case.line`)."""
+        return any(case.line for case in self.cases)
 
     def by_id(self, case_id: str) -> Case:
         for case in self.cases:
@@ -226,7 +232,8 @@ def make_plan(config: StudyConfig) -> Plan:
                 raise _setting_collision(config.source, case_id, first_settings, settings)
             seen[case_id] = (combo, settings)
             *friction, alpha = combo
-            cases.append(Case(index, case_id, *friction, settings, scale, mesh, alpha))
+            line = config.punch.is_line
+            cases.append(Case(index, case_id, *friction, settings, scale, mesh, alpha, line))
             index += 1
     unknown = set(config.testing.fail_cases) - set(seen)
     if unknown:

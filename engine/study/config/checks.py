@@ -3,8 +3,6 @@ mean pressure over the contact modulus, friction and wear coefficients, solver t
 
 from __future__ import annotations
 
-import math
-
 from .sections import StudyConfigError, contact_modulus
 
 MAX_TOLERANCE = 1e-2
@@ -12,9 +10,10 @@ MAX_TOLERANCE = 1e-2
 # compliance 1/E* is so large or small that a case fails slowly (E_A = 1e-300 took 100 s per
 # case before failing) or the displacements vanish in float64 round-off of the approach.
 MODULUS_RANGE = (1e-3, 1e12)  # MPa
-# The half-space model is linear elastic, i.e. small strains: the mean pressure P/(π a²) of
-# the flat punch must stay below 10 % of the contact modulus E* (strain ~ p0/E*), and above
-# 1e-12 of it (displacements below float64 resolution of the approach).
+# The half-space model is linear elastic, i.e. small strains: the mean pressure p0 over the
+# profile's nominal contact (P/(π a0²), or P/(2 a0) for a line contact) must stay below 10 %
+# of the contact modulus E* (strain ~ p0/E*), and above 1e-12 of it (displacements below
+# float64 resolution of the approach).
 MAX_PRESSURE_OVER_MODULUS = 0.1
 MIN_PRESSURE_OVER_MODULUS = 1e-12
 # Friction coefficients of real contacts lie below ~2 (clean metals in vacuum up to ~5); far
@@ -81,6 +80,9 @@ def bound(key: str) -> dict:
     return {"maximum": maximum, "why": why}
 
 
+_MEAN_PRESSURE = {False: "p0 = P/(π a0²)", True: "p0 = P/(2 a0), P per unit length"}
+
+
 def check_physical_ranges(source, material, punch, loading, sweep) -> None:
     """Moduli, load (as mean pressure over contact modulus), friction and wear coefficients
     inside what the model represents (see the constants above for the ranges and why)."""
@@ -96,18 +98,20 @@ def check_physical_ranges(source, material, punch, loading, sweep) -> None:
                 "10^6 × steel; outside, the compliance leaves float64's useful range)",
             )
     modulus = contact_modulus(material)
-    mean_pressure = loading.load / (math.pi * punch.radius**2)
+    profile = punch.profile()
+    a0 = profile.contact_length(loading.load, modulus)
+    mean_pressure = profile.mean_pressure(loading.load, a0)
     ratio = mean_pressure / modulus
     if not MIN_PRESSURE_OVER_MODULUS <= ratio <= MAX_PRESSURE_OVER_MODULUS:
         raise StudyConfigError(
             source,
             "loading.load",
             loading.load,
-            f"mean pressure P/(π a²) = {mean_pressure:.3g} MPa (a = [punch] radius = "
-            f"{punch.radius:g} mm) is {ratio:.3g} × the contact "
-            f"modulus E* = {modulus:.3g} MPa; the linear-elastic half-space needs "
-            f"{MIN_PRESSURE_OVER_MODULUS:g} ≤ p0/E* ≤ {MAX_PRESSURE_OVER_MODULUS:g} "
-            "(small strains)",
+            f"mean pressure p0 = {mean_pressure:.3g} MPa over the nominal contact of the "
+            f"{punch.shape} (a0 = {a0:.3g} mm; {_MEAN_PRESSURE[profile.is_line]}) is "
+            f"{ratio:.3g} × the contact modulus E* = {modulus:.3g} MPa; the linear-elastic "
+            f"half-space needs {MIN_PRESSURE_OVER_MODULUS:g} ≤ p0/E* ≤ "
+            f"{MAX_PRESSURE_OVER_MODULUS:g} (small strains)",
         )
     for key in ("mu1", "mu2"):
         for value in getattr(sweep, key, None) or ():

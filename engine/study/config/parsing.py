@@ -331,7 +331,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     study = _parse_study_info(section("study"))
     material = _parse_material(section("material"))
     punch = _parse_punch(section("punch"))
-    loading = _parse_loading(section("loading"))
+    loading = _parse_loading(section("loading"), punch.load_unit)
     wear = _parse_wear(section("wear"), loading)
     mesh = _parse_mesh(section("mesh"), punch, material, loading)
     subsurface = _parse_subsurface(section("subsurface"))
@@ -481,16 +481,17 @@ def _line_shapes() -> str:
     return " or ".join(f'"{name}"' for name, profile in PROFILES.items() if profile.is_line)
 
 
-def _parse_loading(s: Section) -> LoadingConfig:
+def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
     """``[loading]``: ``kind`` names a loading kind of :data:`engine.study.kinds.KINDS`,
-    which reads the rest of the section after ``load`` (N) and ``steps``."""
+    which reads the rest of the section after ``load`` (``load_unit``: N, a line contact's
+    N/mm) and ``steps``."""
     from engine.study.kinds import KINDS
 
     kind = s.string("kind")
     if kind not in KINDS:
         names = [f'"{name}"' for name in KINDS]
         raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
-    load = s.number("load", minimum=0.0, strict=True, unit="N")
+    load = s.number("load", minimum=0.0, strict=True, unit=load_unit)
     steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
     return KINDS[kind].parse(s, load, steps)
 

@@ -96,6 +96,11 @@ class PunchConfig:
         """A plane-strain line contact (a cylinder or a rounded pad on a flat)."""
         return PROFILES[self.shape].is_line
 
+    @property
+    def load_unit(self) -> str:
+        """Unit of the load and the tangential force: N (a line contact's: N/mm)."""
+        return PROFILES[self.shape].load_unit
+
     def profile(self) -> Profile:
         """The :mod:`engine.geometry` profile of this punch (:data:`PROFILES`)."""
         return profile_for(self.shape, self.radius, self.edge_radius)

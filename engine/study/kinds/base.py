@@ -163,7 +163,7 @@ class LoadingKind:
     def describe(self, config: StudyConfig, value: Callable[..., str]) -> str:
         """One line on the loading; ``value(name, first, unit)`` gives a ``[loading]`` key's
         value or, when swept, its range over the plan."""
-        return f"{self.name}, P = {value('load', config.loading.load, 'N')}"
+        return f"{self.name}, P = {value('load', config.loading.load, config.punch.load_unit)}"
 
 
 class CycledKind(LoadingKind):

@@ -29,7 +29,8 @@ class CyclicKind(CycledKind):
 
     def describe(self, config, value):
         cycles = f"{value('cycles', config.loading.cycles, '', ',')} cycles"
-        return f"cyclic, P = {value('load', config.loading.load, 'N')}, {cycles}"
+        load = value("load", config.loading.load, config.punch.load_unit)
+        return f"cyclic, P = {load}, {cycles}"
 
     def save_state(self, state, path):
         from engine.study.checkpoint import save_cyclic_state

@@ -9,8 +9,8 @@ Datasets of a completed fretting case, besides those of a cyclic case:
   the increment of the largest |Q|), ``history/evaluations`` (increment solves per cycle)
   (``engine.schema.FRETTING_HISTORY``);
 - ``fields/cycle_NNNNNNN/loop``: the fretting loop of every recorded cycle, shape
-  (4·steps + 1, 4), columns delta_x, delta_y (mm), Q_x, Q_y (N) (attribute ``columns`` =
-  "delta_x, delta_y, Q_x, Q_y", ``units`` = "mm, mm, N, N");
+  (4·steps + 1, 4), columns delta_x, delta_y (mm), Q_x, Q_y (N; a line contact's N/mm)
+  (attribute ``columns`` = "delta_x, delta_y, Q_x, Q_y", ``units`` = "mm, mm, N, N");
 - ``fields/cycle_NNNNNNN/vm_cycle``: (σ_VM max over the cycle's increments in the x–z plane
   (MPa), its x, y, z (mm)) (``engine.schema.FRETTING_RECORDS``).
 
@@ -81,13 +81,13 @@ class FrettingKind(CycledKind):
                 "amplitude" if not given else given[-1],
                 shown,
                 'kind = "fretting" needs exactly one of amplitude (mm, displacement control) '
-                "and force_amplitude (N, force control)",
+                "and force_amplitude (N, a line contact's N/mm; force control)",
             )
-        unit = "mm" if given[0] == "amplitude" else "N"
+        unit = "mm" if given[0] == "amplitude" else ""  # a force's bound is 0: no unit
         limit = bound("loading.amplitude") if given[0] == "amplitude" else {}
         value = s.number(given[0], minimum=0.0, strict=True, unit=unit, **limit)
         if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
-            raise s.error(given[0], value, "must be below the friction bound μP (N)")
+            raise s.error(given[0], value, "must be below the friction bound μP (the load's unit)")
         direction = s.number("direction", 0.0, unit="degrees")
         if not -360.0 <= direction <= 360.0:
             raise s.error("direction", direction, "must lie in [-360, 360] degrees")
@@ -102,19 +102,19 @@ class FrettingKind(CycledKind):
         return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
 
     def check_case(self, case, config):
-        check_force_bound(case, settings(config))
+        check_force_bound(case, settings(config), config.punch.load_unit)
 
     def describe(self, config, value):
-        loading = config.loading
+        loading, unit = config.loading, config.punch.load_unit
         cycles = f"{value('cycles', loading.cycles, '', ',')} cycles"
         control = (
             f"displacement control, amplitude {value('amplitude', loading.amplitude, 'mm')}"
             if loading.amplitude is not None
             else "force control, force_amplitude "
-            + value("force_amplitude", loading.force_amplitude, "N")
+            + value("force_amplitude", loading.force_amplitude, unit)
         )
         return (
-            f"fretting, P = {value('load', loading.load, 'N')} held, {control} along "
+            f"fretting, P = {value('load', loading.load, unit)} held, {control} along "
             f"{value('direction', loading.direction or 0.0, '')}° from x, {cycles}"
         )
 
@@ -150,7 +150,7 @@ class FrettingKind(CycledKind):
         solver, grid, material = context.solver(case, config)
         stress, depths = context.subsurface(grid, material, config, angle_deg)
         fretting = settings(config)
-        check_force_bound(case, fretting)
+        check_force_bound(case, fretting, config.punch.load_unit)
         tracker = outcome.peak_tracker(stress, config.contact_length, angle)
         fatigue = fatigue_analysis(config, stress, grid, angle)
 
@@ -295,18 +295,20 @@ def settings(config):
     )
 
 
-def check_force_bound(case, fretting) -> None:
+def check_force_bound(case, fretting, unit: str = "N") -> None:
     """Force control needs Q* below the largest force the friction ellipse can carry along d,
-    h(d)·P with h(d) = √((μ1 d₁)² + (μ2 d₂)²) (d in the tribological axes)."""
+    h(d)·P with h(d) = √((μ1 d₁)² + (μ2 d₂)²) (d in the tribological axes); ``unit``: the
+    load's (N, a line contact's N/mm)."""
     if fretting.force_amplitude is None:
         return
     angle = math.radians(fretting.direction - case.beta)
     bound = math.hypot(case.mu1 * math.cos(angle), case.mu2 * math.sin(angle)) * fretting.load
     if not fretting.force_amplitude < bound:
         raise ValueError(
-            f"[loading] force_amplitude = {fretting.force_amplitude:g} N is not below the "
-            f"friction bound {bound:g} N along direction {fretting.direction:g}° (μ = "
-            f"{case.mu1:g}/{case.mu2:g}, P = {fretting.load:g} N): the punch would slide away"
+            f"[loading] force_amplitude = {fretting.force_amplitude:g} {unit} is not below the "
+            f"friction bound {bound:g} {unit} along direction {fretting.direction:g}° (μ = "
+            f"{case.mu1:g}/{case.mu2:g}, P = {fretting.load:g} {unit}): the punch would slide "
+            "away"
         )
 
 
