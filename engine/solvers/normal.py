@@ -77,13 +77,13 @@ def _scaled_start(operator, candidate, target, initial, image):
 
 
 class _ContactMean:
-    """Means over the contact set into one work buffer: the values the boolean gather
-    ``values[contact]`` makes, summed the same way (``np.add.reduce`` of the contiguous
-    gathered values, then divided by their number: what ``ndarray.mean`` computes)."""
+    """Means over the contact set, its number of elements counted once per iteration
+    (``update``): the gathered values ``values[contact]`` summed as ``ndarray.mean`` sums
+    them (``np.add.reduce`` of the contiguous gathered values), then divided by their number
+    (without ``mean``'s own checks and calls, which cost more than the sum at 128²)."""
 
     def __init__(self, contact: np.ndarray):
         self._contact = contact.reshape(-1)  # a view: follows the contact array
-        self._buffer = np.empty(contact.size)
         self._count = 0
 
     def update(self) -> None:
@@ -91,9 +91,7 @@ class _ContactMean:
         self._count = int(np.count_nonzero(self._contact))
 
     def __call__(self, values: np.ndarray) -> float:
-        gathered = self._buffer[: self._count]
-        np.compress(self._contact, values.reshape(-1), out=gathered)
-        return float(np.add.reduce(gathered)) / self._count
+        return float(np.add.reduce(values.reshape(-1)[self._contact])) / self._count
 
 
 def _violation(gap, contact, mask, out) -> np.ndarray:
