@@ -94,19 +94,21 @@ class _ContactMean:
         return float(np.add.reduce(values.reshape(-1)[self._contact])) / self._count
 
 
-def _violation(gap, contact, mask, out) -> np.ndarray:
+def _violation(gap, contact, off_candidates, out) -> np.ndarray:
     """The gap violation (mm) into ``out`` (an array of the grid's shape): the gap in
-    contact, the negative gap (an overlap) elsewhere on the candidate elements, 0 off them."""
+    contact, the negative gap (an overlap) elsewhere on the candidate elements, 0 off them
+    (``off_candidates``: None to leave those entries as they come)."""
     violation = np.minimum(gap, 0.0, out=out)  # np.where(contact, gap, min(gap, 0))
     np.copyto(violation, gap, where=contact)
-    violation[~mask] = 0.0
+    if off_candidates is not None:
+        violation[off_candidates] = 0.0
     return violation
 
 
 def _violation_rms(gap, contact, mask, count, work) -> float:
     """RMS over the candidate elements of the gap violation (mm); ``work``: an array of the
     grid's shape, overwritten."""
-    violation = _violation(gap, contact, mask, work)
+    violation = _violation(gap, contact, None, work)  # summed over the candidates only
     return math.sqrt(np.sum(np.square(violation, out=violation)[mask]) / count)
 
 
@@ -188,7 +190,7 @@ def solve_normal(
             # Re-entry along the preconditioned violation (module docstring); never below
             # zero (a step of round-off size and the wrong sign near convergence would
             # otherwise leave a negative pressure, whose friction bound has no meaning).
-            violation = _violation(gap, contact, mask, work)
+            violation = _violation(gap, contact, ~mask, work)
             entry = preconditioner.normal(violation, out=z)[overlap]
             pressure[overlap] = np.maximum(pressure[overlap] - step * entry, 0.0)
         pressure *= target / pressure.sum()
