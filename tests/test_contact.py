@@ -4,6 +4,8 @@ Tiers: equilibrium and symmetry hold to round-off or solver tolerance; compariso
 analytic solutions hold to the discretisation error at the stated resolution.
 """
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -144,6 +146,10 @@ def test_frictionless_slip_is_computed_when_read_with_the_same_bits(material):
     assert np.array_equal(second.state.displacement_x, u_second[0])
     assert np.array_equal(first.state.displacement_y, u_first[1])
     assert np.abs(slip_x).max() > 0.0  # K ≠ 0: the pressure does slide the surfaces
+    # A result not read yet travels pickled (to another rank) with its values.
+    copied = pickle.loads(pickle.dumps(solver.solve_load(LOAD, first.state)))
+    assert np.array_equal(copied.slip_x, slip_x)
+    assert np.array_equal(copied.state.displacement_x, u_second[0])
 
 
 def _rotate_scalar(field):

@@ -64,6 +64,10 @@ class Deferred(Generic[Values]):
             self._compute = None
         return self._values
 
+    def __reduce__(self):
+        """Pickled as its values (computed first: the computation holds an operator)."""
+        return Deferred.known, (self.get(),)
+
 
 def _component(deferred: str, index: int, doc: str) -> property:
     """A read-only attribute: component ``index`` of the ``Deferred`` named ``deferred``."""
