@@ -229,7 +229,8 @@ class ContactSolver:
             start = np.array([zeros, zeros, normal.pressure])
             label = " after the preconditioned CG stalled"
             return solve_projected_gradient(problem, load, None, start_from, start, label)
-        operator, pressure = self.operator, normal.pressure.copy()  # the result's may change
+        # A copy: a caller may change the result's pressure before the slip is first read.
+        operator, pressure = self.operator, normal.pressure.copy()
         return CoupledSolution(
             pressure=normal.pressure,
             traction_x=zeros,
