@@ -1,20 +1,29 @@
-"""The McColl, Ding & Leen (2004) line-contact study and its convergence check, into the docs.
+"""The McColl, Ding & Leen (2004) line-contact study at two loads, into the docs.
 
-Runs ``studies/mccoll_2004_convergence.toml`` (the bundled ``studies/mccoll_2004.toml`` case
-on 128, 256 and 512 elements, each with the bundled wear per cycle jump, half and a quarter
-of it; the results file is resumed when it exists) with ``mpiexec -n RANKS python -m
-engine``, reads the wear fields recorded at 1,000, 5,000, 10,000 and 18,000 cycles and
-writes two blocks of docs/explanation/results.md, each headed by the date, machine and load:
+Runs, with ``mpiexec -n RANKS python -m engine`` (a results file is resumed when it exists):
 
-- ``mccoll-2004``: the flat's scar depth, width (where its wear exceeds 1 % of the depth) and
-  worn area, and the cylinder's wear depth, of the bundled settings (256 elements, 0.004),
-  with the energy-law cross-check: under gross slip the worn area of the flat equals
-  k/μ × the dissipated energy (Archard's k p s = (k/μ) q s, q = μp on every slipping point).
-- ``mccoll-2004-convergence``: per case the solver's work and accuracy (simulated cycles,
-  median cycle jump, operator applications per simulated cycle, the largest relative
-  residual of any increment, CPU time) and the element-scale ripple of the worn profile at
-  18,000 cycles; then the relative change of the scar numbers with the mesh (128 and 512
-  against 256 elements) and with half and a quarter of the wear per cycle jump.
+- ``studies/mccoll_2004_convergence.toml``: the bundled ``studies/mccoll_2004.toml`` case
+  (P = 185 N/mm) on 128, 256 and 512 elements over ±1 mm, each with the bundled wear per
+  cycle jump, half and a quarter of it;
+- ``studies/mccoll_2004_test_load_convergence.toml``: the bundled
+  ``studies/mccoll_2004_test_load.toml`` case (P = 18.5 N/mm, the paper's 185 N over a 10 mm
+  long contact) on 128, 256 and 512 elements over ±0.5 mm;
+
+reads the wear fields recorded at 1,000, 5,000, 10,000 and 18,000 cycles and writes these
+blocks of docs/explanation/results.md, each headed by the date, machine and load:
+
+- ``mccoll-2004`` and ``mccoll-2004-test-load``: the flat's scar depth, width (where its wear
+  exceeds 1 % of the depth) and worn area, and the cylinder's wear depth, of each bundled
+  study's settings (256 elements, max_wear_fraction 0.004), with the energy-law cross-check:
+  under gross slip the worn area of the flat equals k/μ × the dissipated energy (Archard's
+  k p s = (k/μ) q s, q = μp on every slipping point).
+- ``mccoll-2004-measured``: both loads' numbers beside the scar measured at 18,000 cycles
+  (``MEASURED``), with the ratio computed / measured.
+- ``mccoll-2004-convergence`` and ``mccoll-2004-test-load-convergence``: per case the
+  solver's work and accuracy (simulated cycles, median cycle jump, operator applications per
+  simulated cycle, the largest relative residual of any increment, CPU time) and the
+  element-scale ripple of the worn profile at 18,000 cycles; then the relative change of the
+  scar numbers with the mesh and the wear per cycle jump against the bundled settings.
 
     python scripts/mccoll_results.py            # 2 ranks
     python scripts/mccoll_results.py --ranks 1 --fresh
@@ -23,9 +32,12 @@ writes two blocks of docs/explanation/results.md, each headed by the date, machi
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import subprocess
 import sys
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import h5py
@@ -39,31 +51,73 @@ from engine.analysis.markdown import markdown_table, measured_on, replace_block 
 from engine.grid import Grid  # noqa: E402
 from engine.solvers.scar import scar_measures  # noqa: E402
 
-STUDY = REPO / "studies" / "mccoll_2004_convergence.toml"
-RESULTS = REPO / "results" / "mccoll_2004_convergence.h5"
 DOCUMENT = REPO / "docs" / "explanation" / "results.md"
 CYCLES = (1000, 5000, 10000, 18000)
-BUNDLED = (256, 0.004)  # elements, max_wear_fraction of studies/mccoll_2004.toml
+BUNDLED = (256, 0.004)  # elements, max_wear_fraction of both bundled studies
 PAD_RATIO = 1.0  # k_pad / k_flat: both 2.75e-8 1/MPa
 WEAR_COEFFICIENT = 2.75e-8  # 1/MPa
 FRICTION = 0.9
-HALF_WIDTH = 1.0  # mm
+#: The flat's scar at 18,000 cycles read off the profile of the paper's Fig. 11a as digitised
+#: in the LevelSetWear repository (figures/fig16_fretting_mccoll/measured_mccoll2004.csv):
+#: depth (mm), width (mm, where the trace leaves the unworn line) and worn area (mm²/mm).
+MEASURED = {"scar_depth": 2.9e-3, "scar_width": 0.60, "scar_area": 1.0e-3}
+MEASURED_CYCLES = 18000
+
+
+@dataclass(frozen=True)
+class Load:
+    """One load of the test: its convergence study (whose case with the ``BUNDLED`` settings
+    is the bundled study's), the half-width of its mesh (mm) and its blocks."""
+
+    load: float  # N/mm
+    bundled_study: str
+    study: str
+    half_width: float
+    block: str
+
+    @property
+    def study_path(self) -> Path:
+        return REPO / "studies" / f"{self.study}.toml"
+
+    @property
+    def results(self) -> Path:
+        return REPO / "results" / f"{self.study}.h5"
+
+
+LOADS = (
+    Load(18.5, "mccoll_2004_test_load", "mccoll_2004_test_load_convergence", 0.5,
+         "mccoll-2004-test-load"),
+    Load(185.0, "mccoll_2004", "mccoll_2004_convergence", 1.0, "mccoll-2004"),
+)  # fmt: skip
 RIPPLE_WINDOW = 9  # elements of the local cubic fit that the ripple is measured against
 
 
-def run_study(ranks: int, fresh: bool) -> float:
-    """Run (or resume) the convergence study; returns the wall time (s) of the command."""
+def completed_cases(results: Path) -> int:
+    """How many cases of a results file are complete (0 without the file)."""
+    if not results.exists():
+        return 0
+    with h5py.File(results, "r") as file:
+        return sum(group.attrs["status"] == "completed" for group in file["cases"].values())
+
+
+def run_study(load: Load, ranks: int, fresh: bool) -> float | None:
+    """Run (or resume) a load's study; returns the wall time (s) of the command, or None when
+    the results file already held every case complete (nothing was computed, so no time)."""
     import time
 
+    study = load.study_path
+    sweep = tomllib.loads(study.read_text())["sweep"]
+    cases = math.prod(len(values) for values in sweep.values())
+    already_complete = not fresh and completed_cases(load.results) == cases
     mpiexec = Path(sys.executable).parent / "mpiexec"
-    command = [str(mpiexec), "-n", str(ranks), sys.executable, "-m", "engine", str(STUDY)]
+    command = [str(mpiexec), "-n", str(ranks), sys.executable, "-m", "engine", str(study)]
     command += ["--no-progress-bar", "--progress-interval", "60"] + (["--fresh"] if fresh else [])
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     start = time.perf_counter()
     completed = subprocess.run(command, cwd=REPO, env=env)
     if completed.returncode not in (0, 1):  # 1: a case failed, reported in the table
         raise SystemExit(f"the study stopped with exit code {completed.returncode}")
-    return time.perf_counter() - start
+    return None if already_complete else time.perf_counter() - start
 
 
 def element_ripple(wear: np.ndarray) -> float:
@@ -91,7 +145,7 @@ def solver_measures(group) -> dict:
     }
 
 
-def case_measures(results: Path) -> dict[tuple[int, float], dict]:
+def case_measures(results: Path, half_width: float) -> dict[tuple[int, float], dict]:
     """Per case (elements, wear fraction): the scar measures at each recorded cycle, the
     cumulated dissipated energy (N·mm/mm), the solver's measures (``solver_measures``) and
     the case's CPU time (s)."""
@@ -103,7 +157,7 @@ def case_measures(results: Path) -> dict[tuple[int, float], dict]:
             if group.attrs["status"] != "completed":
                 measures[(n, fraction)] = {"failed": str(group.attrs["message"])}
                 continue
-            grid = Grid.line(n, HALF_WIDTH)
+            grid = Grid.line(n, half_width)
             by_cycle = {
                 cycle: scar_measures(
                     grid, group[f"fields/cycle_{cycle:07d}/wear"][...], PAD_RATIO
@@ -195,30 +249,89 @@ def convergence_table(measures: dict) -> str:
     return markdown_table(header, rows)
 
 
+def measured_table(bundled: dict[float, dict]) -> str:
+    """Per load (N/mm) the bundled settings' scar at each recorded cycle, the measured scar,
+    and at the measured cycle count the ratio computed / measured of each load."""
+    names = ("scar_depth", "scar_width", "scar_area")
+    header = (
+        "source", "cycles", "scar depth (µm)", "scar width (mm)", "worn area (mm²/mm)",
+        "cylinder wear depth (µm)",
+    )  # fmt: skip
+
+    def row(source: str, cycle: int, values: dict) -> tuple:
+        return (
+            source,
+            f"{cycle:,}",
+            f"{values['scar_depth'] * 1e3:.2f}",
+            f"{values['scar_width']:.3f}",
+            f"{values['scar_area']:.2e}",
+            f"{values['pad_wear_depth'] * 1e3:.2f}",
+        )
+
+    rows = []
+    for load, case in bundled.items():
+        rows += [row(f"computed, {load:g} N/mm", c, v) for c, v in case["cycles"].items()]
+    rows.append(
+        (
+            "measured (Fig. 11a, digitised)",
+            f"{MEASURED_CYCLES:,}",
+            f"{MEASURED['scar_depth'] * 1e3:.1f}",
+            f"{MEASURED['scar_width']:.2f}",
+            f"{MEASURED['scar_area']:.1e}",
+            "not in the source",
+        )
+    )
+    for load, case in bundled.items():
+        values = case["cycles"][MEASURED_CYCLES]
+        ratios = [f"{values[name] / MEASURED[name]:.2f}" for name in names]
+        rows.append((f"computed / measured, {load:g} N/mm", f"{MEASURED_CYCLES:,}", *ratios, "–"))
+    return markdown_table(header, rows)
+
+
+def write_blocks(load: Load, measures: dict, timing: str) -> None:
+    """The bundled settings' table and the convergence tables of one load."""
+    bundled = measures[BUNDLED]
+    note = (
+        f"`python scripts/mccoll_results.py`: P = {load.load:g} N/mm, 256 elements over "
+        f"±{load.half_width:g} mm, max_wear_fraction 0.004 (studies/{load.bundled_study}.toml), "
+        f"{bundled['simulated']} simulated cycles, {bundled['cpu_s']:.1f} s of CPU{timing}"
+    )
+    replace_block(DOCUMENT, load.block, measured_on(note) + "\n" + results_table(bundled))
+    note = (
+        f"`python scripts/mccoll_results.py`{timing}; every increment to the relative "
+        "residual 1e-6 ([solver] tol), the changes against 256 elements, 0.004"
+    )
+    block = "\n".join((measured_on(note), solver_table(measures), "", convergence_table(measures)))
+    replace_block(DOCUMENT, f"{load.block}-convergence", block)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ranks", type=int, default=2)
     parser.add_argument("--fresh", action="store_true", help="recompute the study")
     parser.add_argument("--no-run", action="store_true", help="only read existing results")
     args = parser.parse_args()
-    wall = None if args.no_run else run_study(args.ranks, args.fresh)
-    measures = case_measures(RESULTS)
-    bundled = measures[BUNDLED]
-    count = len(measures)
-    timing = f"; the study ({count} cases) took {wall:.0f} s on {args.ranks} ranks" if wall else ""
+    bundled = {}
+    for load in LOADS:
+        wall = None if args.no_run else run_study(load, args.ranks, args.fresh)
+        measures = case_measures(load.results, load.half_width)
+        count = len(measures)
+        timing = (
+            f"; the study {load.study} ({count} cases) took {wall:.0f} s on {args.ranks} ranks"
+            if wall is not None
+            else f"; read from the complete results/{load.study}.h5 (CPU times of its run)"
+        )
+        write_blocks(load, measures, timing)
+        bundled[load.load] = measures[BUNDLED]
     note = (
-        f"`python scripts/mccoll_results.py`: 256 elements, max_wear_fraction 0.004 "
-        f"(studies/mccoll_2004.toml), {bundled['simulated']} simulated cycles, "
-        f"{bundled['cpu_s']:.1f} s of CPU{timing}"
+        "`python scripts/mccoll_results.py`: the bundled settings of both loads (tables "
+        f"above) beside the flat's scar measured at {MEASURED_CYCLES:,} cycles"
     )
-    replace_block(DOCUMENT, "mccoll-2004", measured_on(note) + "\n" + results_table(bundled))
-    note = (
-        f"`python scripts/mccoll_results.py`{timing}; every increment to the relative "
-        "residual 1e-6 ([solver] tol), the changes against 256 elements, 0.004"
+    replace_block(
+        DOCUMENT, "mccoll-2004-measured", measured_on(note) + "\n" + measured_table(bundled)
     )
-    block = "\n".join((measured_on(note), solver_table(measures), "", convergence_table(measures)))
-    replace_block(DOCUMENT, "mccoll-2004-convergence", block)
-    print(f"{DOCUMENT}: wrote the blocks mccoll-2004 and mccoll-2004-convergence")
+    blocks = ", ".join(f"{load.block}, {load.block}-convergence" for load in LOADS)
+    print(f"{DOCUMENT}: wrote the blocks {blocks}, mccoll-2004-measured")
 
 
 if __name__ == "__main__":

@@ -245,6 +245,12 @@ def attach_grid_scales(group: h5py.Group, datasets: dict[str, h5py.Dataset]) -> 
         attach_scales(field, (x, y))
 
 
+def _scaled(path: str) -> bool:
+    """Whether :func:`attach_grid_scales` may use the dataset at ``path`` (a case's grid or a
+    surface field)."""
+    return path in ("grid/x", "grid/y") or path.startswith(SURFACE_FIELD_GROUPS)
+
+
 _SCALE_ATTRIBUTES = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME")
 
 
@@ -462,10 +468,12 @@ class ResultsWriter:
         calls, in about a third of the time."""
         datasets, parents = {}, {}
         packed = [path for path, item in record["datasets"].items() if item.get("packed")]
-        unpacked = unpack(group, record["image"], packed) if packed else {}
+        # of the copies, only the grid and the surface fields are opened (for their scales)
+        unpacked = unpack(group, record["image"], packed, opened=_scaled) if packed else {}
         for path, item in record["datasets"].items():
             if item.get("packed"):  # copied with its attributes from the computing rank's image
-                datasets[path] = unpacked[path]
+                if path in unpacked:
+                    datasets[path] = unpacked[path]
                 continue
             new = not item.get("written")
             if new:  # a DatasetID: no high-level wrapper per dataset
@@ -572,7 +580,7 @@ class SingleWriter(ResultsWriter):
             return
         record = case_record(outcome)
         try:
-            ensure_space(self.path, _record_bytes(record), remaining_cases=self._remaining())
+            ensure_space(self.path, _record_bytes(record), remaining_cases=self._remaining)
             self._write_record(outcome, record)
         except Exception as error:
             if not is_no_space(error):

@@ -89,9 +89,11 @@ def pack(outcome: CaseOutcome, limit: int = PACK_LIMIT) -> CaseOutcome:
     return PackedOutcome(**{**values, "datasets": packed}, image=data)
 
 
-def unpack(group: h5py.Group, image: bytes, paths: list[str]) -> dict[str, h5d.DatasetID]:
+def unpack(
+    group: h5py.Group, image: bytes, paths: list[str], opened=lambda path: True
+) -> dict[str, h5d.DatasetID]:
     """Copy the groups and datasets of ``image`` into ``group`` (which holds none of them);
-    returns path -> opened dataset for ``paths``."""
+    returns path -> opened dataset for those of ``paths`` that ``opened(path)`` selects."""
     access = h5p.create(h5p.FILE_ACCESS)
     access.set_fapl_core(backing_store=False)
     access.set_file_image(image)
@@ -101,7 +103,7 @@ def unpack(group: h5py.Group, image: bytes, paths: list[str]) -> dict[str, h5d.D
             h5o.copy(source, name.encode(), group.id, name.encode())
     finally:
         source.close()
-    return {path: h5d.open(group.id, path.encode()) for path in paths}
+    return {path: h5d.open(group.id, path.encode()) for path in paths if opened(path)}
 
 
 def _core_name() -> str:

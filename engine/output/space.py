@@ -99,12 +99,14 @@ def planned_bytes(layout: dict, case_ids) -> int:
     return total
 
 
-def ensure_space(path: Path, needed: int, *, remaining_cases: int = 1) -> None:
+def ensure_space(path: Path, needed: int, *, remaining_cases=1) -> None:
     """Raise :class:`OutputFull` unless ``needed`` bytes (twice, plus a margin) fit on the
-    file system of ``path``; the message names what the ``remaining_cases`` need."""
+    file system of ``path``; the message names what the ``remaining_cases`` need (a count,
+    or a callable returning it: counted only when the space is short)."""
     free = free_bytes(path)
     if free < 2 * needed + MARGIN:
-        raise OutputFull(path, needed * max(remaining_cases, 1), free)
+        remaining = remaining_cases() if callable(remaining_cases) else remaining_cases
+        raise OutputFull(path, needed * max(remaining, 1), free)
 
 
 def check_space(path: Path, needed: int, *, smallest_case: int = 0) -> None:

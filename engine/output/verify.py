@@ -104,9 +104,9 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
     return check
 
 
-def _checked(cases: h5py.Group, name: str) -> CaseCheck:
+def _checked(cases: h5py.Group, name: str, *, each_dataset: bool = True) -> CaseCheck:
     try:
-        return verify_case(cases[name])
+        return verify_case(cases[name], each_dataset=each_dataset)
     except Exception as error:  # noqa: BLE001 - the group itself cannot be opened
         return CaseCheck(name, "", problem=f"unreadable ({_short(error)})")
 
@@ -124,17 +124,18 @@ def _stored_row(cases: h5py.Group, name: str) -> tuple[int, dict] | None:
 
 def check_after_run(path: Path, written: set[str], *, others: bool = True) -> list[CaseCheck]:
     """The bad cases of a results file a run has just closed: every case group and status
-    readable, and the cases ``written`` by the run read back in full with their checksums
-    (the others were verified when the run began). In-process: the file is this run's own.
-    ``others=False``: the cases ``written`` only (a rank checking its share of them)."""
+    readable, and the cases ``written`` by the run read back in full and compared with their
+    case checksums (the others were verified when the run began). In-process: the file is
+    this run's own. ``others=False``: the cases ``written`` only (a rank checking its share
+    of them)."""
     bad = []
     try:
         with h5py.File(path, "r") as file:
             check_root(dict(file.attrs))
             cases = file[CASES_GROUP]
             for name in cases:
-                if name in written:
-                    check = _checked(cases, name)
+                if name in written:  # the case checksum proves the bytes of every dataset
+                    check = _checked(cases, name, each_dataset=False)
                 elif others:
                     check = _status_only(cases, name)
                 else:

@@ -25,9 +25,11 @@ event (set by a signal handler) and probes for a ``stop`` message from rank 0.
 Protocol (pickled tuples; one tag per direction so messages stay in order):
 worker → 0: ``("ready", None)``, ``("result", outcome)``, ``("returned", case)`` (stop arrived
 before the case started); 0 → worker: ``("task", case)``, ``("stop", None)``, ``("exit", None)``.
+A worker computes its tasks in the order they came; rank 0 keeps one task (more for short
+cases, see :class:`_Dispatcher`) with each worker and sends ``exit`` once it holds none.
 
 Stopping (SIGTERM/SIGUSR1 on any rank — also on a worker alone, which then interrupts its
-case or returns the next one — or an interrupted case anywhere): rank 0 hands out no more cases,
+case and returns those it holds — or an interrupted case anywhere): rank 0 hands out no more cases,
 sends ``stop`` to the busy workers, waits for their (interrupted) outcomes, and tells every
 worker to exit. An exception escaping ``run_case`` propagates to the caller; the entry point
 aborts the communicator so no rank is left waiting (see ``engine.cli``).
@@ -35,6 +37,7 @@ aborts the communicator so no rank is left waiting (see ``engine.cli``).
 
 from __future__ import annotations
 
+import math
 import queue
 import threading
 import time
@@ -92,6 +95,9 @@ class CaseQueue:
 
 
 _WAIT = object()  # _Dispatcher._next_case: none now, but the open queue may get one
+SHORT_CASE_S = 1.0  # s: a worker whose last case ran shorter gets its next ones ahead
+AHEAD_S = 0.1  # s of short cases a worker holds beyond its running one (at least one)
+MOST_AHEAD = 8  # cases a worker holds at most
 
 
 class _LocalWorker(threading.Thread):
@@ -229,48 +235,73 @@ class Scheduler:
     # ------------------------------------------------------------------ ranks > 0
     def _work(self) -> SchedulerReport:
         report = SchedulerReport(self.rank, self.size)
-        message: tuple[str, Any] = ("ready", None)
-        while True:
-            # Not a blocking send: a result too large to go eagerly waits for rank 0 to take
-            # it, and MPICH would spin meanwhile (a core taken from the ranks with work).
-            request = self.comm.isend(message, dest=0, tag=TAG_TO_MASTER)
-            kind, case = self._receive_instruction()
-            request.wait()  # done: rank 0 answers a message after receiving it
-            if kind == "exit":
-                break
+        self._tasks: deque = deque()  # cases received, not yet started (in order)
+        # Not blocking sends: a result too large to go eagerly waits for rank 0 to take it,
+        # and MPICH would spin meanwhile (a core taken from the ranks with work); the next
+        # case (sent ahead, see _Dispatcher) is computed in the meantime.
+        sends = [self.comm.isend(("ready", None), dest=0, tag=TAG_TO_MASTER)]
+        while self._receive_instructions(wait=not self._tasks):
+            case = self._tasks.popleft()
             if self.stop_event.is_set():
                 message = ("returned", case)
-                continue
-            outcome = self.run_case(case, self._should_stop)
-            outcome.rank = self.rank
-            message = ("result", outcome)
+            else:
+                outcome = self.run_case(case, self._should_stop)
+                outcome.rank = self.rank
+                message = ("result", outcome)
+            sends = [request for request in sends if not request.Test()]
+            sends.append(self.comm.isend(message, dest=0, tag=TAG_TO_MASTER))
+        _wait_patiently(sends)
         report.stopped = self.stop_event.is_set()
         return report
 
-    def _receive_instruction(self) -> tuple[str, Any]:
-        """Wait (Iprobe + sleep, never a busy blocking receive) for a task or exit from rank 0."""
+    def _receive_instructions(self, *, wait: bool) -> bool:
+        """Take every instruction that has arrived: tasks join ``_tasks``, a stop sets the
+        stop event. ``wait``: first wait (Iprobe + sleep, never a busy blocking receive) for
+        one. False when rank 0 says exit (it does so only when this rank holds no case)."""
         delay = 0.0005
         while True:
             if self.comm.Iprobe(source=0, tag=TAG_TO_WORKER):
                 kind, payload = self.comm.recv(source=0, tag=TAG_TO_WORKER)
-                if kind == "stop":  # arrived after our case had finished: remember, go on
+                if kind == "exit":
+                    return False
+                if kind == "stop":
                     self.stop_event.set()
-                    continue
-                return kind, payload
+                else:
+                    self._tasks.append(payload)
+                wait = not self._tasks
+                delay = 0.0005
+                continue
+            if not wait:
+                return True
             self.watch.check(busy_or_alive={0})
             time.sleep(delay)
             delay = min(2 * delay, self.poll_interval)
 
     def _should_stop(self) -> bool:
-        """Called by the solver between cycles: local signal, or a stop message from rank 0."""
-        if self.stop_event.is_set():
-            return True
-        if self.comm.Iprobe(source=0, tag=TAG_TO_WORKER):
-            kind, _ = self.comm.recv(source=0, tag=TAG_TO_WORKER)
-            if kind != "stop":  # cannot happen: tasks are only sent in reply to a request
-                raise RuntimeError(f"rank {self.rank}: unexpected {kind!r} during a case")
-            self.stop_event.set()
+        """Called by the solver between cycles: local signal, or a stop message from rank 0
+        (a task sent ahead meanwhile is kept for later)."""
+        if not self.stop_event.is_set() and not self._receive_instructions(wait=False):
+            raise RuntimeError(f"rank {self.rank}: told to exit during a case")
         return self.stop_event.is_set()
+
+
+def cases_to_hold(runtime_s: float | None) -> int:
+    """How many cases a worker should hold (running and waiting) when its last case ran
+    ``runtime_s`` (None: unknown): one for a long or unknown case; for a short one enough to
+    cover :data:`AHEAD_S` beyond the running case, at most :data:`MOST_AHEAD`."""
+    if runtime_s is None or not runtime_s < SHORT_CASE_S:
+        return 1
+    return min(MOST_AHEAD, 1 + math.ceil(AHEAD_S / max(float(runtime_s), 1e-6)))
+
+
+def _wait_patiently(requests: list) -> None:
+    """Wait for ``requests`` (sends) to complete, sleeping between looks (no spinning)."""
+    delay = 0.0005
+    while requests:
+        requests = [request for request in requests if not request.Test()]
+        if requests:
+            time.sleep(delay)
+            delay = min(2 * delay, 0.01)
 
 
 class _Dispatcher:
@@ -279,7 +310,19 @@ class _Dispatcher:
     before handing out the next case, then delivers outcomes to ``on_outcome`` (writing may
     take a while: the rank that computed a case already has its next one). With an open
     :class:`CaseQueue`, a rank asking while it is empty waits in ``parked`` (rank 0's own
-    thread in ``local_parked``) until a case is put or the queue closes."""
+    thread in ``local_parked``) until a case is put or the queue closes.
+
+    Short cases (the worker's last one ran less than :data:`SHORT_CASE_S`) go out ahead
+    (:func:`cases_to_hold`): such a worker holds its running case and the next ones, so it
+    starts the next at once instead of waiting for rank 0's answer, which may come only after
+    rank 0 has written other cases or computed one of its own. Long cases go out one at a
+    time, so no case waits behind a long one while another rank is free.
+
+    Rank 0 computes only what its writing leaves time for: its computing thread gets its next
+    case when no worker's message is waiting. With many short cases the single writer is
+    rank 0's main load; a case computed there would delay the answers to every worker, and
+    the results sent ahead would pile up unwritten at the end of the run.
+    """
 
     def __init__(self, scheduler: Scheduler, cases, on_outcome, on_poll) -> None:
         self.scheduler, self.comm, self.rank = scheduler, scheduler.comm, scheduler.rank
@@ -287,9 +330,11 @@ class _Dispatcher:
         self.on_outcome, self.on_poll = on_outcome, on_poll
         self.report = SchedulerReport(scheduler.rank, scheduler.size)
         self.pending = cases
-        self.busy: dict[int, Any] = {}
+        self.busy: dict[int, deque] = {}  # rank -> its cases handed out, oldest first
+        self.holds: dict[int, int] = {}  # worker -> cases it should hold (default 1)
         self.parked: deque[int] = deque()  # workers waiting for the open queue
         self.local_parked = False
+        self.local_hungry = False  # rank 0's thread is free; fed once no worker waits
         self.workers_alive = set(range(1, scheduler.size))
         self.stop_sent: set[int] = set()
         self.local = _LocalWorker(scheduler.run_case, self.stop_event.is_set, self.rank)
@@ -298,9 +343,10 @@ class _Dispatcher:
     def run(self) -> SchedulerReport:
         from mpi4py import MPI
 
+        self.status = MPI.Status()
+        self.any_source = MPI.ANY_SOURCE
         self.local.start()
         self._feed_local()
-        status = MPI.Status()
         while self.local_alive or self.rank in self.busy or self.workers_alive:
             if self.on_poll is not None:
                 self.on_poll()
@@ -308,7 +354,10 @@ class _Dispatcher:
                 self._send_stops()
             self._feed_parked()
             progressed = self._service_local()
-            progressed = self._service_workers(MPI.ANY_SOURCE, status) or progressed
+            progressed = self._service_workers() or progressed
+            if self.local_hungry and not self._worker_waiting():
+                self.local_hungry = False
+                self._feed_local()
             if not progressed:
                 self._idle()
         self.local.join()
@@ -327,11 +376,9 @@ class _Dispatcher:
 
     def _feed_parked(self) -> None:
         """Hand the cases put since the waiting ranks asked (or exit once none will come)."""
-        while self.parked:
-            case = self._next_case()
-            if case is _WAIT:
-                break
-            self._send_next(self.parked.popleft(), case)
+        for source in [source for source in self.parked if self._next_case_ready()]:
+            self.parked.remove(source)
+            self._top_up(source)
         if self.local_parked and self._next_case_ready():
             self.local_parked = False
             self._feed_local()
@@ -342,25 +389,39 @@ class _Dispatcher:
     def _next_case_ready(self) -> bool:
         return self.stop_event.is_set() or bool(self.pending.cases) or not self.pending.open
 
-    def _send_next(self, source: int, case) -> None:
-        """Send worker ``source`` its next case, or exit when ``case`` is None."""
-        if case is None:
-            self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
-            self.workers_alive.discard(source)
-        else:
-            self.busy[source] = case
+    def _top_up(self, source: int) -> None:
+        """Send worker ``source`` cases until it holds as many as it should (one, or two
+        for short cases); exit once it holds none and none will come; park it while it
+        holds none and the open queue is empty."""
+        held = self.busy.get(source, ())
+        while len(held) < self.holds.get(source, 1):
+            case = self._next_case()
+            if case is None or case is _WAIT:
+                if not held and case is None:
+                    self.comm.send(("exit", None), dest=source, tag=TAG_TO_WORKER)
+                    self.workers_alive.discard(source)
+                elif not held:
+                    self.parked.append(source)
+                return
+            held = self.busy.setdefault(source, deque())
+            held.append(case)
             self.comm.send(("task", case), dest=source, tag=TAG_TO_WORKER)
 
     def _settle(self, rank: int, kind: str, payload: Any) -> bool:
         """Bookkeeping of a message (cheap, before the next case is handed out); True when
         it carries an outcome to deliver."""
-        case = self.busy.pop(rank)
+        held = self.busy[rank]
+        case = held.popleft()  # a rank computes its cases in the order it received them
+        if not held:
+            del self.busy[rank]
         if kind == "returned":  # the worker was stopped (its own signal): the job stops
             self.pending.cases.appendleft(case)
             self.stop_event.set()
             return False
         if payload.status == INTERRUPTED:
             self.stop_event.set()
+        if rank != self.rank:
+            self.holds[rank] = cases_to_hold(getattr(payload, "runtime_s", None))
         return True
 
     def _deliver(self, rank: int, payload: Any) -> None:
@@ -377,12 +438,13 @@ class _Dispatcher:
             self.local.inbox.put(None)
             self.local_alive = False
         else:
-            self.busy[self.rank] = case
+            self.busy[self.rank] = deque([case])
             self.local.inbox.put(case)
 
     def _service_local(self, timeout: float | None = None) -> bool:
         """Collect rank 0's own outcome if there is one (waiting up to ``timeout``), give the
-        computing thread its next case at once, then deliver the outcome."""
+        computing thread its next case at once unless a worker's message waits (then later,
+        see ``local_hungry``), then deliver the outcome."""
         try:
             if timeout is None:
                 kind, payload = self.local.outbox.get_nowait()
@@ -394,36 +456,44 @@ class _Dispatcher:
             error, text = payload
             raise RuntimeError(f"rank {self.rank}: run_case raised\n{text}") from error
         has_outcome = self._settle(self.rank, kind, payload)
-        self._feed_local()
+        if self._worker_waiting() and not self.stop_event.is_set():
+            self.local_hungry = True
+        else:
+            self._feed_local()
         if has_outcome:
             self._deliver(self.rank, payload)
         return True
+
+    def _worker_waiting(self) -> bool:
+        """A worker's message waits to be answered."""
+        return bool(self.workers_alive) and self.comm.Iprobe(
+            source=self.any_source, tag=TAG_TO_MASTER
+        )
 
     def _send_stops(self) -> None:
         for rank in [r for r in self.busy if r != self.rank and r not in self.stop_sent]:
             self.comm.send(("stop", None), dest=rank, tag=TAG_TO_WORKER)
             self.stop_sent.add(rank)
+        if self.local_hungry:  # a stop: the computing thread is told to end
+            self.local_hungry = False
+            self._feed_local()
 
-    def _service_workers(self, any_source: int, status) -> bool:
+    def _service_workers(self) -> bool:
         """Answer every waiting worker message: settle it, send the worker its next case (or
         exit), then deliver its outcome; True when there was one."""
         progressed = False
+        status = self.status
         while self.workers_alive and self.comm.Iprobe(
-            source=any_source, tag=TAG_TO_MASTER, status=status
+            source=self.any_source, tag=TAG_TO_MASTER, status=status
         ):
             progressed = True
             source = status.Get_source()
             kind, payload = self.comm.recv(source=source, tag=TAG_TO_MASTER)
             has_outcome = kind in ("result", "returned") and self._settle(source, kind, payload)
-            self.stop_sent.discard(source)
-            case = self._next_case()
-            if case is _WAIT:
-                self.parked.append(source)
-            else:
-                self._send_next(source, case)
+            self._top_up(source)
             if has_outcome:
                 self._deliver(source, payload)
-            self._service_local()  # rank 0's own computing is never starved by the workers
+            self._service_local()  # rank 0's own outcomes are delivered as they come
         return progressed
 
     def _idle(self) -> None:
