@@ -4,6 +4,8 @@ Tiers: equilibrium and symmetry hold to round-off or solver tolerance; compariso
 analytic solutions hold to the discretisation error at the stated resolution.
 """
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -118,6 +120,36 @@ def test_slip_is_outward_for_soft_half_space(frictionless_64):
     radial_slip = (result.slip_x * X + result.slip_y * Y)[slip]
     assert np.all(radial_traction > 0)
     assert np.all(radial_slip <= 0)
+
+
+def test_frictionless_slip_is_computed_when_read_with_the_same_bits(material):
+    """A frictionless solve does not compute the tangential displacement of its pressure
+    (A_xz p, A_yz p on a coupled material): the slip and the state's displacement are made
+    on their first read (the next increment's slip reference reads the state's), from the
+    same operations as an eager computation (exact)."""
+    grid = Grid.square(24, 1.05 * RADIUS)
+    solver = ContactSolver(grid, material, FlatPunch(RADIUS), FrictionLaw(0.0, 0.0))
+    operator = solver.operator
+    first = solver.solve_load(0.5 * LOAD)
+    assert set(operator._spectra) == {"zz"}  # no coupling spectra built by the solve
+    second = solver.solve_load(LOAD, first.state)  # reads the first's displacement
+    # Reported: the applications of the CG and the one the displacement takes when read.
+    assert second.report.matvecs == second.report.iterations + 1
+    applications = operator.applications
+    slip_x, slip_y = second.slip_x, second.slip_y  # u_t(second) − u_t(first)
+    assert operator.applications == applications + 1
+    u_first = operator.coupling_to_tangential(first.pressure)
+    u_second = operator.coupling_to_tangential(second.pressure)
+    contact = second.pressure > 0.0
+    assert np.array_equal(slip_x, np.where(contact, u_second[0] - u_first[0], 0.0))
+    assert np.array_equal(slip_y, np.where(contact, u_second[1] - u_first[1], 0.0))
+    assert np.array_equal(second.state.displacement_x, u_second[0])
+    assert np.array_equal(first.state.displacement_y, u_first[1])
+    assert np.abs(slip_x).max() > 0.0  # K ≠ 0: the pressure does slide the surfaces
+    # A result not read yet travels pickled (to another rank) with its values.
+    copied = pickle.loads(pickle.dumps(solver.solve_load(LOAD, first.state)))
+    assert np.array_equal(copied.slip_x, slip_x)
+    assert np.array_equal(copied.state.displacement_x, u_second[0])
 
 
 def _rotate_scalar(field):

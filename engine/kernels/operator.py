@@ -42,9 +42,9 @@ _BLOCKS = {
     (2, 2): ("zz", 1.0),
 }
 
-#: Kernel spectra built together (one transform): the normal one and the coupling ones
-#: (every case on a coupled material needs them: the slip of a frictionless case is the
-#: tangential displacement of its pressure), then the tangential block.
+#: Kernel spectra built together, each group on its first use: the normal one, the
+#: coupling ones (frictional cases on a coupled material, and the slip reported for a
+#: frictionless one: the tangential displacement of its pressure), the tangential block.
 _SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
 
 #: Kernels whose values on the periodic cell the spectral preconditioner folds.
@@ -61,15 +61,17 @@ class HalfSpaceOperator:
     ``apply_normal(p_n) -> u_n`` for the frictionless case (A_zz only).
 
     Memory: a kernel's spectrum (the half spectrum of the real, wrapped kernel on the padded
-    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) values, real or imaginary, 1/(4 n_x n_y) folded in)
-    is kept; the kernel itself is written from its quadrant (``kernel_quadrants``) straight
-    into the padded transforms' buffer (its first n_x rows; the others mirror them) and not
-    kept. A_zz is built with the operator, and on a coupled
-    material (K ≠ 0) A_zx and A_zy too (every case needs them: the slip of a frictionless
-    case is the tangential displacement its pressure produces); the tangential block the
-    first time a product needs it (frictional cases). ``influence``: kernels given whole
-    instead (default: the 3-D half-space kernels of ``grid`` and ``material``, evaluated as
-    needed; ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
+    ``(2n_x, 2n_y)`` grid: 2n_x (n_y + 1) values, 1/(4 n_x n_y) folded in) is kept: real
+    values for an even kernel, complex ones 0 + ik for an odd one (A_zx, A_zy: twice the
+    memory, one complex product instead of three passes); the kernel itself is written
+    from its quadrant (``kernel_quadrants``) straight into the padded transforms' buffer
+    (its first n_x rows; the others mirror them) and not kept. A_zz is built with the
+    operator; A_zx and A_zy the first time a product needs them (a frictional case on a
+    coupled material, K ≠ 0, or the slip of a frictionless one when it is read: the
+    tangential displacement its pressure produces); the tangential block likewise
+    (frictional cases). ``influence``: kernels given whole instead (default: the 3-D
+    half-space kernels of ``grid`` and ``material``, evaluated as needed;
+    ``engine.kernels.line`` passes the plane-strain kernels of a line grid). The FFT
     buffers (``PaddedTransforms``) are shared by the plans of every batch size and by the
     kernel spectra, grown to the largest batch asked.
     """
@@ -105,8 +107,7 @@ class HalfSpaceOperator:
         self.applications = 0
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
-        # Built now, with the operator: A_zz, and on a coupled material A_zx and A_zy.
-        self._build_spectra(("zz", "zx", "zy") if material.coupling != 0.0 else ("zz",))
+        self._build_spectra(("zz",))  # the others on first use (_stored)
 
     @property
     def influence(self) -> SurfaceInfluence:
@@ -144,11 +145,11 @@ class HalfSpaceOperator:
         """The spectrum of kernel ``key`` on the padded grid, 1/(4 n_x n_y) folded in
         (complex, (2n_x, n_y + 1)), built on first use with the others of its group
         (``_SPECTRUM_GROUPS``). Kept as its real part (kernels even in both directions) or its
-        imaginary part (odd in one): the other part is zero up to rounding."""
+        imaginary part (odd in one, stored as 0 + ik): the other part is zero up to rounding."""
         values, kind = self._stored(key)
         if kind == "real":
             return values.astype(complex)
-        return 1j * values if kind == "imaginary" else values.copy()
+        return 1j * values.imag if kind == "imaginary" else values.copy()
 
     def _stored(self, key: str) -> tuple[np.ndarray, str]:
         if key not in self._spectra:
@@ -184,8 +185,10 @@ class HalfSpaceOperator:
             spectrum = transform.forward_mirrored(parity_x)
             if parity_x * parity_y > 0:  # even circulant: a real spectrum
                 self._spectra[key] = (spectrum.real * self._scale, "real")
-            else:  # odd along one axis: an imaginary spectrum
-                self._spectra[key] = (spectrum.imag * self._scale, "imaginary")
+            else:  # odd along one axis: an imaginary spectrum, kept as 0 + ik
+                values = np.zeros(spectrum.shape, complex)
+                np.multiply(spectrum.imag, self._scale, out=values.imag)
+                self._spectra[key] = (values, "imaginary")
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -222,17 +225,19 @@ class HalfSpaceOperator:
     ) -> np.ndarray:
         """``out`` ← ``sign`` · (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
         ``spectrum``. A real kernel spectrum k multiplies the real and imaginary parts:
-        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one ik then turns the
-        product by ±i: (ak + ibk)(±i) = ∓bk ± iak, exactly (the other factor of each part of
-        numpy's complex product is an exact 0 or ±1)."""
+        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one, kept as 0 + ik, in one
+        complex product: (a + ib)(0 + ik) = (a·0 − bk) + i(ak + b·0) = −bk + iak, exactly
+        (the same values as turning ak + ibk by i; a zero may differ in sign, which no sum
+        with a nonzero keeps)."""
         values, kind = self._stored(key)
-        if kind == "complex":
-            np.multiply(spectrum, values, out=out)
-        else:
+        if kind == "imaginary" and sign < 0:  # turned by −i instead (numpy's complex
+            multiply_by_real(spectrum, values.imag, out)  # negation is slow): bk − iak
+            return np.multiply(out, 1j * sign, out=out)
+        if kind == "real":
             multiply_by_real(spectrum, values, out)
-        if kind == "imaginary":
-            np.multiply(out, 1j * sign, out=out)
-        elif sign < 0:
+        else:
+            np.multiply(spectrum, values, out=out)
+        if sign < 0:
             np.negative(out, out=out)
         return out
 
@@ -325,6 +330,7 @@ class HalfSpaceOperator:
                 for (a, b), (key, sign) in _BLOCKS.items():
                     values, kind = self._stored(key)
                     factor = {"real": 1.0, "imaginary": 1j, "complex": 1.0}[kind] * sign
+                    values = values.imag if kind == "imaginary" else values
                     np.multiply(values[part], factor, out=symbol[..., a, b])
                 hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
                 largest = max(largest, float(np.linalg.eigvalsh(hermitian).max()))

@@ -42,6 +42,7 @@ from .increment import (
     STICK,
     ContactState,
     CoupledSolution,
+    Deferred,
     IncrementProblem,
     IncrementResult,
     SolveReport,
@@ -204,11 +205,16 @@ class ContactSolver:
             solution = solve_projected_gradient(problem, load, None, state)
         else:
             solution = solve_alternating(problem, load, state, guess)
-        return self._result(problem, solution, self.operator.applications - start)
+        matvecs = self.operator.applications - start
+        if isinstance(solution.displacement, Deferred) and self.material.coupling != 0.0:
+            matvecs += 1  # its tangential displacement's, made when first read
+        return self._result(problem, solution, matvecs)
 
     def _frictionless(self, problem: IncrementProblem, load, start_from) -> CoupledSolution:
         """Frictionless load control: the normal problem alone, from ``start_from``; the
-        projected gradient finishes it should the CG stall."""
+        projected gradient finishes it should the CG stall. The tangential displacement of
+        its pressure (A_xz p, A_yz p), which the CG does not need, is computed when first
+        read (the slip, the next increment's reference)."""
         normal = solve_normal(
             self.operator,
             self.candidate,
@@ -223,11 +229,13 @@ class ContactSolver:
             start = np.array([zeros, zeros, normal.pressure])
             label = " after the preconditioned CG stalled"
             return solve_projected_gradient(problem, load, None, start_from, start, label)
+        # A copy: a caller may change the result's pressure before the slip is first read.
+        operator, pressure = self.operator, normal.pressure.copy()
         return CoupledSolution(
             pressure=normal.pressure,
             traction_x=zeros,
             traction_y=zeros.copy(),
-            displacement=self.operator.coupling_to_tangential(normal.pressure),
+            displacement=Deferred(lambda: operator.coupling_to_tangential(pressure)),
             approach=normal.approach,
             iterations=normal.iterations,
             residual=normal.residual,
@@ -244,8 +252,7 @@ class ContactSolver:
             pressure=zeros,
             traction_x=zeros.copy(),
             traction_y=zeros.copy(),
-            slip_x=zeros.copy(),
-            slip_y=zeros.copy(),
+            _slip=Deferred.known((zeros.copy(), zeros.copy())),
             status=np.zeros(self.grid.shape, dtype=np.int8),
             approach=new_state.approach,
             load=0.0,
@@ -270,31 +277,35 @@ class ContactSolver:
         return status
 
     def _result(self, problem, solution: CoupledSolution, matvecs: int) -> IncrementResult:
-        """The reported increment: slip Δs = u_t − u_t^ref in contact, status, load and the
-        solve's report (converged against the solver's tolerance, the method's message)."""
+        """The reported increment: slip Δs = u_t − u_t^ref in contact (computed when first
+        read if the displacement is deferred), status, load and the solve's report
+        (converged against the solver's tolerance, the method's message)."""
         pressure = solution.pressure
         in_contact = pressure > 0.0
-        displacement, reference = solution.displacement, problem.slip_reference
-        slip_x = np.where(in_contact, displacement[0] - reference[0], 0.0)
-        slip_y = np.where(in_contact, displacement[1] - reference[1], 0.0)
+        displacement = solution.displacement
+        if not isinstance(displacement, Deferred):
+            displacement = Deferred.known(displacement)
+        reference = problem.slip_reference
+
+        def slip():
+            u, u_ref = displacement.get(), reference
+            return (
+                np.where(in_contact, u[0] - u_ref[0], 0.0),
+                np.where(in_contact, u[1] - u_ref[1], 0.0),
+            )
+
         report = SolveReport.judge(
             solution.method, solution.iterations, matvecs, solution.residual, self.tol
         )
         approach = float(solution.approach)
-        new_state = ContactState(
-            pressure,
-            solution.traction_x,
-            solution.traction_y,
-            displacement[0],
-            displacement[1],
-            approach,
+        new_state = ContactState.deferred(
+            pressure, solution.traction_x, solution.traction_y, displacement, approach
         )
         return IncrementResult(
             pressure=pressure,
             traction_x=solution.traction_x,
             traction_y=solution.traction_y,
-            slip_x=slip_x,
-            slip_y=slip_y,
+            _slip=Deferred(slip) if not displacement.done else Deferred.known(slip()),
             status=self._status(pressure, solution.traction_x, solution.traction_y),
             approach=approach,
             load=float(pressure.sum() * self.grid.element_area),

@@ -13,12 +13,18 @@ u = A x, x = (q_x, q_y, p), is
 ``ContactSolver._problem``); every method (normal CG, alternation, projected gradient) and
 the reported slip read it from there. A rigid tangential displacement of the punch would
 enter here and nowhere else.
+
+A frictionless solve does not need the tangential displacement of its pressure (A_xz p,
+A_yz p: zero on an uncoupled material) nor the slip it makes: both are ``Deferred``,
+computed on their first read (the reported slip, the next increment's slip reference, a
+checkpoint) by the same operations as an eager computation, so with the same bits.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Generic, TypeVar
 
 import numpy as np
 
@@ -28,18 +34,87 @@ from .friction import FrictionLaw
 
 NO_CONTACT, STICK, SLIP = 0, 1, 2  # status codes of an element
 
+Values = TypeVar("Values")
 
-@dataclass
+
+class Deferred(Generic[Values]):
+    """Values computed on their first read (``get``) and kept; ``Deferred.known``: values
+    at hand. The computation is dropped once done (what it held is released)."""
+
+    __slots__ = ("_compute", "_values")
+
+    def __init__(self, compute: Callable[[], Values]):
+        self._compute: Callable[[], Values] | None = compute
+        self._values: Values | None = None
+
+    @classmethod
+    def known(cls, values: Values) -> Deferred[Values]:
+        deferred = cls(None)
+        deferred._values = values
+        return deferred
+
+    @property
+    def done(self) -> bool:
+        """Whether the values exist (given, or computed by a read)."""
+        return self._compute is None
+
+    def get(self) -> Values:
+        if self._compute is not None:
+            self._values = self._compute()
+            self._compute = None
+        return self._values
+
+    def __reduce__(self):
+        """Pickled as its values (computed first: the computation holds an operator)."""
+        return Deferred.known, (self.get(),)
+
+
+def _component(deferred: str, index: int, doc: str) -> property:
+    """A read-only attribute: component ``index`` of the ``Deferred`` named ``deferred``."""
+    return property(lambda self: getattr(self, deferred).get()[index], doc=doc)
+
+
 class ContactState:
     """Converged tractions of an increment (MPa), the relative tangential surface
-    displacement they produce (mm) and the approach (mm); the start of the next increment."""
+    displacement they produce (mm) and the approach (mm); the start of the next increment.
 
-    pressure: np.ndarray
-    traction_x: np.ndarray
-    traction_y: np.ndarray
-    displacement_x: np.ndarray
-    displacement_y: np.ndarray
-    approach: float = 0.0
+    ``ContactState.deferred``: the displacement computed on its first read (that of a
+    frictionless solve's pressure, which the solve does not need)."""
+
+    def __init__(
+        self,
+        pressure: np.ndarray,
+        traction_x: np.ndarray,
+        traction_y: np.ndarray,
+        displacement_x: np.ndarray,
+        displacement_y: np.ndarray,
+        approach: float = 0.0,
+    ):
+        self.pressure = pressure
+        self.traction_x = traction_x
+        self.traction_y = traction_y
+        self._displacement = Deferred.known((displacement_x, displacement_y))
+        self.approach = approach
+
+    @classmethod
+    def deferred(
+        cls,
+        pressure: np.ndarray,
+        traction_x: np.ndarray,
+        traction_y: np.ndarray,
+        displacement: Deferred,
+        approach: float,
+    ) -> ContactState:
+        """A state whose displacement ``displacement.get()`` (u_x, u_y) is read when needed."""
+        state = cls(pressure, traction_x, traction_y, None, None, approach)
+        state._displacement = displacement
+        return state
+
+    displacement_x = _component("_displacement", 0, "u_x (mm), made on the first read")
+    displacement_y = _component("_displacement", 1, "u_y (mm), made on the first read")
+
+    def __repr__(self) -> str:
+        return f"ContactState(approach={self.approach!r}, shape={np.shape(self.pressure)})"
 
     @classmethod
     def unloaded(cls, grid: Grid) -> ContactState:
@@ -71,9 +146,11 @@ class ContactState:
 class SolveReport:
     """How an increment's solve went (the solver's account, in the manner of
     ``scipy.optimize.OptimizeResult``): ``method`` that finished it, ``iterations``,
-    operator applications ``matvecs``, ``residual`` (relative natural residual, see
-    ``engine.solvers.projected_gradient``), ``converged`` (residual ≤ tol) and a ``message``
-    that begins with the method. Built once, by :meth:`judge` or :meth:`unloaded`."""
+    operator applications ``matvecs`` (a frictionless one's on a coupled material include
+    the one its tangential displacement takes, made when that is first read), ``residual``
+    (relative natural residual, see ``engine.solvers.projected_gradient``), ``converged``
+    (residual ≤ tol) and a ``message`` that begins with the method. Built once, by
+    :meth:`judge` or :meth:`unloaded`."""
 
     method: str
     iterations: int
@@ -112,13 +189,15 @@ class IncrementResult:
     pressure: np.ndarray
     traction_x: np.ndarray
     traction_y: np.ndarray
-    slip_x: np.ndarray
-    slip_y: np.ndarray
+    _slip: Deferred = field(repr=False)  # (slip_x, slip_y), computed on the first read
     status: np.ndarray
     approach: float
     load: float
     report: SolveReport
     state: ContactState = field(repr=False)
+
+    slip_x = _component("_slip", 0, "Δs_x (mm), made on the first read")
+    slip_y = _component("_slip", 1, "Δs_y (mm), made on the first read")
 
     def stick_area(self, element_area: float) -> float:
         return float(np.count_nonzero(self.status == STICK) * element_area)
@@ -176,14 +255,14 @@ class IncrementProblem:
 class CoupledSolution:
     """What a method found for the increment: ``pressure``, ``traction_x``, ``traction_y``
     (MPa); ``displacement`` (2, n_x, n_y): the tangential displacements u_t = (A x)_t (mm)
-    of these tractions; ``approach`` δ (mm); ``iterations``; ``residual`` (relative natural
-    residual); ``method``: the name of the method that finished the increment (it begins
-    the message)."""
+    of these tractions, or a ``Deferred`` of them (a frictionless solve's); ``approach``
+    δ (mm); ``iterations``; ``residual`` (relative natural residual); ``method``: the name
+    of the method that finished the increment (it begins the message)."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
     traction_y: np.ndarray
-    displacement: np.ndarray
+    displacement: np.ndarray | Deferred
     approach: float
     iterations: int
     residual: float

@@ -76,19 +76,39 @@ def _scaled_start(operator, candidate, target, initial, image):
     return pressure, known
 
 
-def _violation(gap, contact, mask, out) -> np.ndarray:
+class _ContactMean:
+    """Means over the contact set, its number of elements counted once per iteration
+    (``update``): the gathered values ``values[contact]`` summed as ``ndarray.mean`` sums
+    them (``np.add.reduce`` of the contiguous gathered values), then divided by their number
+    (without ``mean``'s own checks and calls, which cost more than the sum at 128²)."""
+
+    def __init__(self, contact: np.ndarray):
+        self._contact = contact.reshape(-1)  # a view: follows the contact array
+        self._count = 0
+
+    def update(self) -> None:
+        """After the contact array changed: its number of elements."""
+        self._count = int(np.count_nonzero(self._contact))
+
+    def __call__(self, values: np.ndarray) -> float:
+        return float(np.add.reduce(values.reshape(-1)[self._contact])) / self._count
+
+
+def _violation(gap, contact, off_candidates, out) -> np.ndarray:
     """The gap violation (mm) into ``out`` (an array of the grid's shape): the gap in
-    contact, the negative gap (an overlap) elsewhere on the candidate elements, 0 off them."""
+    contact, the negative gap (an overlap) elsewhere on the candidate elements, 0 off them
+    (``off_candidates``: None to leave those entries as they come)."""
     violation = np.minimum(gap, 0.0, out=out)  # np.where(contact, gap, min(gap, 0))
     np.copyto(violation, gap, where=contact)
-    violation[~mask] = 0.0
+    if off_candidates is not None:
+        violation[off_candidates] = 0.0
     return violation
 
 
 def _violation_rms(gap, contact, mask, count, work) -> float:
     """RMS over the candidate elements of the gap violation (mm); ``work``: an array of the
     grid's shape, overwritten."""
-    violation = _violation(gap, contact, mask, work)
+    violation = _violation(gap, contact, None, work)  # summed over the candidates only
     return math.sqrt(np.sum(np.square(violation, out=violation)[mask]) / count)
 
 
@@ -115,7 +135,8 @@ def solve_normal(
     # Work arrays, reused by every iteration (fresh pages at each iteration cost more than
     # the arithmetic on small grids).
     gap, residual_c, work, pressure_image, step_image, z = (np.empty(grid.shape) for _ in range(6))
-    contact, outside = np.empty(grid.shape, bool), np.empty(grid.shape, bool)
+    contact, outside, overlap, negative = (np.empty(grid.shape, bool) for _ in range(4))
+    contact_mean = _ContactMean(contact)
     previous = 1.0
     conjugate = False
     residual, approach, iterations, converged_image = math.inf, 0.0, 0, None
@@ -126,7 +147,8 @@ def solve_normal(
         np.add(raw, offset, out=gap)
         np.logical_and(mask, np.greater(pressure, 0.0, out=contact), out=contact)
         np.logical_not(contact, out=outside)
-        approach = float(gap[contact].mean())
+        contact_mean.update()
+        approach = contact_mean(gap)
         gap -= approach
         residual = _violation_rms(gap, contact, mask, count, work) / abs(approach)
         if residual <= tol:
@@ -141,7 +163,7 @@ def solve_normal(
         np.copyto(residual_c, gap)  # np.where(contact, gap, 0)
         residual_c[outside] = 0.0
         preconditioner.normal(residual_c, out=z)  # np.where(contact, M r, 0)
-        z -= z[contact].mean()
+        z -= contact_mean(z)
         z[outside] = 0.0
         product = float(np.sum(np.multiply(residual_c, z, out=work)))
         beta = product / previous if conjugate and previous > 0.0 else 0.0
@@ -150,7 +172,7 @@ def solve_normal(
         direction[outside] = 0.0
         previous = product
         operator.apply_normal(direction, out=step_image)
-        step_image -= step_image[contact].mean()
+        step_image -= contact_mean(step_image)
         numerator = float(np.sum(np.multiply(residual_c, direction, out=work)))
         curvature = float(np.sum(np.multiply(step_image, direction, out=step_image)))
         # No direction (a contact set of one element, or a preconditioned residual that
@@ -160,13 +182,15 @@ def solve_normal(
         np.subtract(pressure, change, out=pressure)
         pressure[outside] = 0.0
         np.maximum(pressure, 0.0, out=pressure)
-        overlap = mask & (pressure <= 0.0) & (gap < 0.0)
+        np.less_equal(pressure, 0.0, out=overlap)  # mask & (pressure <= 0) & (gap < 0)
+        np.logical_and(overlap, mask, out=overlap)
+        np.logical_and(overlap, np.less(gap, 0.0, out=negative), out=overlap)
         conjugate = not np.any(overlap)
         if not conjugate:
             # Re-entry along the preconditioned violation (module docstring); never below
             # zero (a step of round-off size and the wrong sign near convergence would
             # otherwise leave a negative pressure, whose friction bound has no meaning).
-            violation = _violation(gap, contact, mask, work)
+            violation = _violation(gap, contact, ~mask, work)
             entry = preconditioner.normal(violation, out=z)[overlap]
             pressure[overlap] = np.maximum(pressure[overlap] - step * entry, 0.0)
         pressure *= target / pressure.sum()

@@ -8,10 +8,11 @@ kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
     memory ≈ 80 MB + n² · (600 + 145 · layers + cycled) bytes
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The 600 B per element are the contact solver: the kernel spectra it needs (real or imaginary
-halves, 8 B per padded frequency, ~16 B per element each, three frictionless and six
-frictional), one pair of padded FFT buffers (~48 B per element and field, up to three fields)
-and the solver's work arrays; the layer term the x–z plane's subsurface kernel spectra (six
+The 600 B per element are the contact solver: the kernel spectra it needs (the real half of
+an even kernel's, 8 B per padded frequency, ~16 B per element; complex values of the two
+odd ones, ~32 B per element; one to three frictionless and six frictional), one pair of
+padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
+arrays; the layer term the x–z plane's subsurface kernel spectra (six
 components and three loads per layer on the folded line lattice); the cycled term the
 histories, records and the warm start, which keeps the pressure and both tractions of every
 increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
