@@ -8,6 +8,7 @@ schema (units and descriptions), so the objects cannot drift from what is stored
 
 from __future__ import annotations
 
+import pickle
 from pathlib import Path
 
 import h5py
@@ -154,6 +155,8 @@ def test_units_and_descriptions_asked_for_after_the_block_are_those_stored(cycli
                 assert variable.units == field_dataset(name).units
                 assert np.array_equal(variable.coords["x"][1], case.grid["x"].values)
         von_mises = plane["von_mises"]
+        copied = pickle.loads(pickle.dumps(von_mises))  # a copy holds no link to the file
+        assert (copied.units, copied.description) == (von_mises.units, von_mises.description)
         assert von_mises.units == PLANE["von_mises"].units == "MPa"
         assert von_mises.description == case.planes["final"]["von_mises"].description != ""
 

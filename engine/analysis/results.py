@@ -76,6 +76,7 @@ class Variable:
         The stored values.
     units : str
         UDUNITS string ("1": dimensionless; a loop's "mm, mm, N, N" names one unit per column).
+        Read from the file, as ``description`` and ``attrs``, when first asked for.
     description : str
         What the values are (the schema's description, with the instant they belong to).
     dims : tuple of str
@@ -105,6 +106,16 @@ class Variable:
     def __repr__(self) -> str:
         sizes = ", ".join(f"{dim}: {size}" for dim, size in zip(self.dims, self.shape, strict=True))
         return f"<Variable {self.name!r} ({sizes}) [{self.units}]: {self.description}>"
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The state with ``units``, ``description`` and ``attrs`` read (copies and pickles
+        hold no link to the file)."""
+        return {
+            **self.__dict__,
+            **{
+                f"_stored_{name}": getattr(self, name) for name in ("units", "description", "attrs")
+            },
+        }
 
     def _attrs(self) -> dict[str, Any]:
         return {"units": self.units, "description": self.description, **self.attrs}
