@@ -55,3 +55,19 @@ def test_a_whole_run_imports_neither_scipy_nor_pandas(tmp_path):
     )
     assert run.stdout.strip().splitlines()[-1] == "0 []", run.stdout + run.stderr
     assert (tmp_path / "t.csv").read_text().count("\n") == 3  # header and two cases
+
+
+def test_the_reports_closed_forms_import_scipy_only_when_a_root_is_searched():
+    """The fretting report and its analytic references (Mindlin, Hertz, the axisymmetric
+    punches) load without SciPy (its import was 0.4 s of a 0.7 s report); SciPy comes in only
+    with the bounded searches that need it (Hertz's axis peak, a rounded punch's radius)."""
+    code = (
+        "import sys\n"
+        "import engine.analysis.fretting_report, engine.analysis.report\n"
+        "import engine.reference.mindlin, engine.reference.hertz, engine.reference.axisymmetric\n"
+        "print(sorted(m for m in ('scipy', 'pandas', 'matplotlib') if m in sys.modules))\n"
+        "engine.reference.hertz.axis_von_mises_peak(0.3)\n"
+        "print('scipy' in sys.modules)\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split() == ["[]", "True"], run.stdout

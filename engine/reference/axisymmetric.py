@@ -26,7 +26,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 __all__ = ["AxisymmetricContact", "rounded_punch_contact", "sphere_contact"]
 
@@ -97,6 +96,8 @@ class AxisymmetricContact:
         """a such that P(a) = ``load`` (Brent's root bracketing), mm."""
         lower = self.flat_radius * (1.0 + 1e-12) if self.flat_radius > 0 else 1e-9
         upper = min(self.outer_radius * (1.0 - 1e-9), 1e3 * max(self.flat_radius, 1.0))
+        from scipy.optimize import brentq  # here: SciPy's import costs 0.4 s
+
         return brentq(lambda a: self.load(a) - load, lower, upper, xtol=1e-14, rtol=1e-13)
 
     def pressure(self, r: float, a: float) -> float:
