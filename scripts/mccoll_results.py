@@ -178,52 +178,60 @@ def case_measures(results: Path, half_width: float) -> dict[tuple[int, float], d
     return measures
 
 
-def results_table(case: dict) -> str:
-    header = (
-        "cycles", "scar_depth (µm)", "scar_width (mm)", "scar_area (mm²/mm)",
-        "pad_wear_depth (µm)", "k/μ × dissipated energy (mm²/mm)",
-    )  # fmt: skip
+def column_table(columns, items, failed=None) -> str:
+    """A markdown table of ``columns`` ((header, format of an item), …) over ``items``;
+    ``failed(item)``: the row of an item that has no values (None: every item has them)."""
+    header = tuple(name for name, _ in columns)
     rows = []
-    for cycle, values in case["cycles"].items():
-        energy_area = WEAR_COEFFICIENT / FRICTION * values["energy"]
-        rows.append(
-            (
-                f"{cycle:,}",
-                f"{values['scar_depth'] * 1e3:.3f}",
-                f"{values['scar_width']:.3f}",
-                f"{values['scar_area']:.4e}",
-                f"{values['pad_wear_depth'] * 1e3:.3f}",
-                f"{energy_area:.4e}",
-            )
-        )
+    for item in items:
+        row = failed(item) if failed is not None else None
+        rows.append(row or tuple(f(item) for _, f in columns))
     return markdown_table(header, rows)
+
+
+# A recorded cycle of a case: (cycle, its scar measures and dissipated energy).
+RESULT_COLUMNS = (
+    ("cycles", lambda item: f"{item[0]:,}"),
+    ("scar_depth (µm)", lambda item: f"{item[1]['scar_depth'] * 1e3:.3f}"),
+    ("scar_width (mm)", lambda item: f"{item[1]['scar_width']:.3f}"),
+    ("scar_area (mm²/mm)", lambda item: f"{item[1]['scar_area']:.4e}"),
+    ("pad_wear_depth (µm)", lambda item: f"{item[1]['pad_wear_depth'] * 1e3:.3f}"),
+    (
+        "k/μ × dissipated energy (mm²/mm)",
+        lambda item: f"{WEAR_COEFFICIENT / FRICTION * item[1]['energy']:.4e}",
+    ),
+)
+
+# A case of the convergence study: ((elements, max_wear_fraction), how it ran).
+SOLVER_COLUMNS = (
+    ("elements", lambda item: item[0][0]),
+    ("max_wear_fraction", lambda item: f"{item[0][1]:g}"),
+    ("simulated cycles", lambda item: f"{item[1]['simulated']:,}"),
+    ("median jump", lambda item: f"{item[1]['median_jump']:g}"),
+    (
+        "operator applications per cycle (mean / max)",
+        lambda item: f"{item[1]['matvecs_mean']:.0f} / {item[1]['matvecs_max']:.0f}",
+    ),
+    ("largest residual", lambda item: f"{item[1]['residual']:.1e}"),
+    ("CPU (s)", lambda item: f"{item[1]['cpu_s']:.1f}"),
+    ("ripple at 18,000 cycles (nm)", lambda item: f"{item[1]['ripple'] * 1e6:.1f}"),
+)
+
+
+def results_table(case: dict) -> str:
+    return column_table(RESULT_COLUMNS, case["cycles"].items())
 
 
 def solver_table(measures: dict) -> str:
     """Per case: how it ran (or the message of a failed case)."""
-    header = (
-        "elements", "max_wear_fraction", "simulated cycles", "median jump",
-        "operator applications per cycle (mean / max)", "largest residual", "CPU (s)",
-        "ripple at 18,000 cycles (nm)",
-    )  # fmt: skip
-    rows = []
-    for (n, fraction), case in sorted(measures.items()):
+
+    def failed(item):
+        (n, fraction), case = item
         if "failed" in case:
-            rows.append((n, f"{fraction:g}", f"failed: {case['failed']}", "", "", "", "", ""))
-            continue
-        rows.append(
-            (
-                n,
-                f"{fraction:g}",
-                f"{case['simulated']:,}",
-                f"{case['median_jump']:g}",
-                f"{case['matvecs_mean']:.0f} / {case['matvecs_max']:.0f}",
-                f"{case['residual']:.1e}",
-                f"{case['cpu_s']:.1f}",
-                f"{case['ripple'] * 1e6:.1f}",
-            )
-        )
-    return markdown_table(header, rows)
+            return (n, f"{fraction:g}", f"failed: {case['failed']}", "", "", "", "", "")
+        return None
+
+    return column_table(SOLVER_COLUMNS, sorted(measures.items()), failed)
 
 
 def convergence_table(measures: dict) -> str:
