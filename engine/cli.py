@@ -43,6 +43,7 @@ import shlex
 import signal
 import sys
 import threading
+import time
 import traceback
 from pathlib import Path
 
@@ -51,6 +52,7 @@ from engine import __version__
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
 EXIT_DAMAGED, EXIT_OUTPUT_FULL = 4, 5
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
+_QUIET_EXIT_DELAY = 2.0  # s: ranks other than 0 wait this long before exiting on a bad launch
 
 
 _USAGE = """\
@@ -222,10 +224,12 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
     comm = MPI.COMM_WORLD
     from engine.interpreter import launcher_mismatch
 
-    mismatch = launcher_mismatch(comm.Get_size())  # an mpiexec of another MPI
+    mismatch = launcher_mismatch(comm.Get_size())  # another MPI's mpiexec, srun without PMI
     if mismatch is not None:
         if mismatch:
             print(mismatch, file=sys.stderr, flush=True)
+        else:  # let the task numbered 0 say why: `srun --kill-on-bad-exit` ends the step
+            time.sleep(_QUIET_EXIT_DELAY)  # as soon as one task exits non-zero
         return EXIT_BAD_INPUT
     rank = comm.Get_rank()
     quiet = contextlib.redirect_stdout(open(os.devnull, "w")) if rank else contextlib.nullcontext()

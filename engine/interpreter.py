@@ -3,12 +3,16 @@
 ``python -m engine`` checks, before anything else is imported, that the interpreter it runs
 in has the engine's dependencies (:data:`REQUIRED`; a run needs all of them, ``plot`` and
 ``report`` those of :data:`OUTPUT_REQUIRED`), and, once MPI is up, that the launcher is the
-one mpi4py was built for (:func:`launcher_mismatch`). The usual causes:
+one mpi4py was built for and connected the ranks (:func:`launcher_mismatch`). The usual
+causes:
 
 - a Python other than the environment's: the system ``python`` or ``python3``, or the
   system's ``mpiexec`` (Debian's ``mpich`` package) starting the system Python;
 - an ``mpiexec`` of another MPI than mpi4py's: each rank then starts alone (a world of one
-  rank), and every rank would run the whole study.
+  rank), and every rank would run the whole study;
+- ``srun`` without the PMI plug-in the MPI needs (``--mpi=pmi2`` for MPICH and Intel MPI,
+  ``--mpi=pmix`` for Open MPI; a cluster's default is often ``none``): the same, every task a
+  world of its own.
 
 The error names the interpreter, what is missing and the command to use,
 ``.venv/bin/mpiexec -n 2 .venv/bin/python -m engine …`` (the environment's own launcher and
@@ -29,6 +33,7 @@ __all__ = [
     "OUTPUT_REQUIRED",
     "missing_modules",
     "environment_error",
+    "launched_sizes",
     "launcher_mismatch",
     "announced_rank",
     "check_interpreter",
@@ -47,9 +52,15 @@ REQUIRED = {
 }
 OUTPUT_REQUIRED = ("numpy", "h5py", "pandas", "matplotlib")  # plot, report: no MPI
 _OUTPUT_COMMANDS = ("plot", "report")
-# world size a launcher gives each rank it starts: MPICH's Hydra and srun (PMI), Open MPI.
-# Not SLURM_NTASKS: a serial run inside a many-task allocation is legitimate.
+# world size a launcher gives each rank it starts: MPICH's Hydra and srun's PMI plug-ins,
+# Open MPI's mpirun.
 _LAUNCHER_SIZE = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE")
+# tasks of the srun step this process belongs to, whatever the step's --mpi plug-in (none
+# included). SLURM_NTASKS counts only inside a step (SLURM_STEP_ID set): in the batch
+# script or an salloc shell it is the allocation's, and a serial run, or an mpiexec of fewer
+# ranks, is legitimate there.
+_SLURM_STEP_SIZE = "SLURM_STEP_NUM_TASKS"
+_SLURM_STEP_MARK = ("SLURM_STEP_ID", "SLURM_STEPID")
 
 
 def missing_modules(names: Sequence[str]) -> list[str]:
@@ -120,22 +131,55 @@ def announced_rank(environ: Mapping[str, str] = os.environ) -> int:
     return 0
 
 
+def launched_sizes(environ: Mapping[str, str] = os.environ) -> dict[str, int]:
+    """The number of ranks each launcher variable of ``environ`` announces, by name: the MPI
+    launchers' (``PMI_SIZE``, ``OMPI_COMM_WORLD_SIZE``) and, inside an srun step, SLURM's
+    (``SLURM_STEP_NUM_TASKS``, else ``SLURM_NTASKS``)."""
+    names = list(_LAUNCHER_SIZE)
+    if _SLURM_STEP_SIZE in environ:
+        names.append(_SLURM_STEP_SIZE)
+    elif any(name in environ for name in _SLURM_STEP_MARK):
+        names.append("SLURM_NTASKS")
+    return {name: int(environ[name]) for name in names if environ.get(name, "").isdigit()}
+
+
 def launcher_mismatch(world_size: int, environ: Mapping[str, str] = os.environ) -> str | None:
-    """The error when the launcher started more ranks than MPI sees in its world, i.e. an
-    ``mpiexec`` of another MPI than mpi4py's (each rank alone); None when they agree. Only the
-    rank the launcher numbers 0 gets the text; the others get "" (exit quietly)."""
-    announced = {name: environ.get(name, "") for name in _LAUNCHER_SIZE}
-    sizes = {name: int(value) for name, value in announced.items() if value.isdigit()}
-    if world_size != 1 or not sizes or max(sizes.values()) <= 1:
+    """The error when the launcher started more ranks than MPI sees in its world
+    (``world_size``); None when they agree.
+
+    Two causes: an ``mpiexec`` of another MPI than mpi4py's, and an ``srun`` without the PMI
+    plug-in of mpi4py's MPI (``--mpi=pmi2`` or ``pmix``). Either way each rank would run the
+    whole study alone, so the run must stop before it touches the output. Only the rank the
+    launcher numbers 0 gets the text; the others get "" (exit quietly)."""
+    sizes = launched_sizes(environ)
+    if not sizes or max(sizes.values()) <= world_size:
         return None
-    name, size = max(sizes.items(), key=lambda item: item[1])
     if announced_rank(environ) != 0:
         return ""
+    name, size = max(sizes.items(), key=lambda item: item[1])
+    seen = f"MPI sees a world of {world_size}" + (" in each" if world_size == 1 else "")
+    if name.startswith("SLURM_") and "PMI_SIZE" not in sizes:
+        return (
+            f"error: srun started {size} tasks ({name}={size}) but {seen}: srun did not connect "
+            "them through the PMI plug-in mpi4py's MPI needs, so every task would run the "
+            "whole study alone. Launch with `srun --mpi=pmi2` (MPICH, Intel MPI) or "
+            "`srun --mpi=pmix` (Open MPI); `srun --mpi=list` shows this cluster's plug-ins "
+            "(slurm/run_study.sbatch passes one: SRUN_MPI=… overrides it). How to check a "
+            "launch: docs/how-to/slurm.md."
+        )
+    if name.startswith("SLURM_") or any(key in environ for key in _SLURM_STEP_MARK):
+        return (
+            f"error: srun started {size} tasks (PMI_SIZE={sizes.get('PMI_SIZE')}) but {seen}: "
+            f"mpi4py ({sys.executable}) uses another MPI than the one srun's PMI plug-in serves "
+            "(e.g. the `mpich` wheel from PyPI instead of the cluster's MPI), so every task "
+            "would run the whole study alone. Build mpi4py against the cluster's MPI, or pass "
+            "the plug-in its MPI needs (`srun --mpi=list`): docs/how-to/slurm.md."
+        )
     return (
-        f"error: the launcher started {size} ranks ({name}={size}) but MPI sees a world of 1 "
-        f"in each: this `mpiexec` belongs to another MPI than the one mpi4py uses "
-        f"({sys.executable}), so every rank would run the whole study alone. Use the "
-        f"environment's own launcher: {usage_command(sys.argv[1:])}."
+        f"error: the launcher started {size} ranks ({name}={size}) but {seen}: this `mpiexec` "
+        f"belongs to another MPI than the one mpi4py uses ({sys.executable}), so every rank "
+        f"would run the whole study alone. Use the environment's own launcher: "
+        f"{usage_command(sys.argv[1:])}."
     )
 
 

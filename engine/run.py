@@ -592,7 +592,8 @@ def _check_results(comm, config, writer, todo, outcome: dict[str, Any]) -> dict[
 
 
 def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
-    """The start line on stdout, and a warning on stderr when ranks would stay idle."""
+    """The start line on stdout, the cases that continue from a checkpoint, and a warning on
+    stderr when ranks would stay idle."""
     from engine.output.progress import plural
 
     print(
@@ -601,9 +602,24 @@ def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> No
         + suffix,
         flush=True,
     )
+    resumed = [
+        case.case_id
+        for case in todo
+        if (config.study.checkpoint_dir / f"{case.case_id}.npz").exists()
+    ]
+    if resumed:  # a requeued or resubmitted run: which cases are not started over
+        shown = ", ".join(resumed[:_NAMED_CASES]) + (" …" if len(resumed) > _NAMED_CASES else "")
+        print(
+            f"{plural(len(resumed), 'case')} continue from their checkpoints "
+            f"({config.study.checkpoint_dir}): {shown}",
+            flush=True,
+        )
     warning = idle_ranks_warning(len(todo), ranks)
     if warning:
         print(warning, file=sys.stderr, flush=True)
+
+
+_NAMED_CASES = 8  # case ids named in a line; the rest are counted
 
 
 def idle_ranks_warning(cases: int, ranks: int) -> str | None:

@@ -4,7 +4,7 @@
 # access to PyPI and the Debian mirrors.
 # From a fresh clone: creates .venv, installs the package with its test tools from PyPI
 # (the `mpich` wheel provides mpiexec), lints, runs the serial tests, then the MPI tests,
-# which run for real under `mpiexec -n 2`.
+# which run for real under `mpiexec -n 2`, then slurm/run_study.sbatch under a real SLURM.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -m venv .venv
@@ -12,7 +12,7 @@ python3 -m venv .venv
 .venv/bin/python -m pip install --quiet -e '.[test]'
 .venv/bin/ruff check engine tests benchmarks scripts
 .venv/bin/ruff format --check engine tests benchmarks scripts
-.venv/bin/python -m pytest tests --ignore=tests/mpi -q
+.venv/bin/python -m pytest tests --ignore=tests/mpi --ignore=tests/slurm -q
 # MPI tests: each test launches `mpiexec -n 2 python -m engine ...` (real ranks, real files,
 # real signals), and the collective tests run the test module itself on two ranks.
 .venv/bin/python -m pytest tests/mpi -q
@@ -22,3 +22,21 @@ python3 -m venv .venv
 # ranks, so the whole MPI suite runs through the mpio writer, plus tests/mpi/test_mpio.py.
 bash scripts/build_parallel_h5py.sh
 ENGINE_MPIEXEC=mpiexec.mpich .venv-mpio/bin/python -m pytest tests/mpi -q
+# SLURM phase: slurm/run_study.sbatch under a real single-node SLURM (slurm-wlm, munge) that
+# tests/slurm starts as root in a temporary directory of its own (configuration, MUNGE key and
+# socket, state, logs; free ports) and stops by PIDs at the end; the jobs run the engine from
+# .venv-mpio (mpi4py on Debian's MPICH, which `srun --mpi=pmi2` connects). About 2 minutes.
+# Without root the tests are skipped and say why. (On a machine run by systemd, installing
+# munge also starts the system's munged; the tests do not use it.)
+if [[ $(id -u) -eq 0 ]]; then
+    missing=()
+    for package in slurm-wlm munge; do
+        dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+    done
+    if ((${#missing[@]})); then
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+            -o DPkg::Lock::Timeout=600 "${missing[@]}" >/dev/null
+    fi
+fi
+.venv/bin/python -m pytest tests/slurm -q -rs

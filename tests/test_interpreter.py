@@ -91,6 +91,39 @@ def test_a_launcher_of_another_mpi_is_recognised():
     assert launcher_mismatch(1, {"PMI_SIZE": "1"}) is None
 
 
+def test_srun_without_the_pmi_plugin_is_recognised():
+    """srun at MpiDefault=none: every task of the step a world of 1, no PMI variables."""
+    step = {"SLURM_STEP_NUM_TASKS": "2", "SLURM_NTASKS": "2", "SLURM_STEP_ID": "0"}
+    text = launcher_mismatch(1, {**step, "SLURM_PROCID": "0"})
+    assert text.startswith("error: srun started 2 tasks (SLURM_STEP_NUM_TASKS=2) but MPI sees")
+    assert "`srun --mpi=pmi2` (MPICH, Intel MPI)" in text and "`srun --mpi=pmix`" in text
+    assert "\n" not in text  # one line
+    assert launcher_mismatch(1, {**step, "SLURM_PROCID": "1"}) == ""  # task 1: quiet
+    assert launcher_mismatch(2, {**step, "SLURM_PROCID": "0"}) is None  # connected
+    # a world smaller than the step, not only a world of 1
+    assert launcher_mismatch(2, {"SLURM_STEP_NUM_TASKS": "4", "SLURM_STEP_ID": "0"})
+    # SLURM_NTASKS counts inside a step only (older SLURMs without SLURM_STEP_NUM_TASKS)
+    assert launcher_mismatch(1, {"SLURM_NTASKS": "2", "SLURM_STEPID": "0"}).startswith(
+        "error: srun started 2 tasks (SLURM_NTASKS=2)"
+    )
+
+
+def test_a_serial_run_in_a_batch_script_or_salloc_shell_is_allowed():
+    """The batch shell and an salloc shell hold the allocation's SLURM_NTASKS but are no
+    step: a serial run there, or an mpiexec of fewer ranks, is legitimate."""
+    batch = {"SLURM_NTASKS": "32", "SLURM_PROCID": "0", "SLURM_JOB_ID": "7"}
+    assert launcher_mismatch(1, batch) is None
+    assert launcher_mismatch(2, {**batch, "PMI_SIZE": "2", "PMI_RANK": "0"}) is None
+
+
+def test_srun_with_a_plugin_of_another_mpi_is_recognised():
+    """srun --mpi=pmi2 set PMI_SIZE, but mpi4py's MPI did not take it up."""
+    env = {"SLURM_STEP_NUM_TASKS": "2", "SLURM_STEP_ID": "0", "PMI_SIZE": "2", "PMI_RANK": "0"}
+    text = launcher_mismatch(1, env)
+    assert text.startswith("error: srun started 2 tasks (PMI_SIZE=2) but MPI sees a world of 1")
+    assert "mpi4py" in text and "another MPI" in text
+
+
 def test_the_readme_writes_every_command_with_the_environments_programs():
     """One form throughout: the environment's own programs (``.venv/bin/…``)."""
     readme = " ".join((REPO / "README.md").read_text().split())  # line breaks as spaces

@@ -1,0 +1,267 @@
+"""``slurm/run_study.sbatch`` under a real SLURM: a private single-node cluster
+(:mod:`tests.slurm.cluster`: munged, slurmctld and slurmd of Debian's slurm-wlm, started for
+this module and stopped at its end), real ``sbatch``, ``srun --mpi=pmi2`` on two tasks, real
+signals delivered by SLURM.
+
+The jobs run the engine with an mpi4py built against Debian's MPICH (``.venv-mpio`` of
+``scripts/build_parallel_h5py.sh``; ``ENGINE_PYTHON`` selects another), which is what srun's
+PMI-2 plug-in can connect. Skipped, with the reason, without root, without slurm-wlm and
+munge, or without that Python. ``scripts/test.sh`` runs this module in its SLURM phase.
+
+Every job is submitted from a directory outside the repository, with the script's path, and
+its options as sbatch flags, as a user would. The pre-timeout signal is sent by hand with
+``scancel --batch --signal=USR1``: the signal and the route (slurmctld → slurmd → the batch
+shell) of ``--signal=B:USR1@300`` at its time. ``SLURM_TEST_UPDATE_DOCS=1`` writes the
+transcript of the requeue test into docs/how-to/slurm.md.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+from engine.study.examples import study_toml
+from tests.slurm.cluster import Cluster, unavailable
+
+REPO = Path(__file__).resolve().parents[2]
+SCRIPT = REPO / "slurm" / "run_study.sbatch"
+PYTHON = Path(os.environ.get("ENGINE_PYTHON") or REPO / ".venv-mpio" / "bin" / "python")
+DOC = REPO / "docs" / "how-to" / "slurm.md"
+JOB_TIMEOUT = 300.0  # s: a job of the small study takes ~20 s here, a requeued one ~35 s
+CASES = 6
+
+
+def _python_unavailable() -> str | None:
+    """Why PYTHON cannot run the engine under srun --mpi=pmi2 (None: it can)."""
+    if not PYTHON.exists():
+        return (
+            f"no {PYTHON}: an mpi4py built against Debian's MPICH is needed "
+            "(bash scripts/build_parallel_h5py.sh builds .venv-mpio)"
+        )
+    check = (
+        "import mpi4py; mpi4py.rc.initialize = False; from mpi4py import MPI; "
+        "print(MPI.Get_library_version().splitlines()[0])"
+    )
+    result = subprocess.run([PYTHON, "-c", check], capture_output=True, text=True)
+    if result.returncode != 0 or "MPICH" not in result.stdout:
+        return f"{PYTHON} has no mpi4py on an MPICH library: {result.stdout or result.stderr}"
+    return None
+
+
+REASON = unavailable() or _python_unavailable()
+pytestmark = [pytest.mark.slurm, pytest.mark.skipif(REASON is not None, reason=str(REASON))]
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    cluster = Cluster()
+    cluster.start()
+    try:
+        yield cluster
+    finally:
+        cluster.stop()
+
+
+class Job:
+    """One submission of the script in its own working directory ``directory``."""
+
+    def __init__(self, cluster: Cluster, directory: Path, *options: str, **variables: str):
+        self.cluster, self.directory = cluster, directory
+        directory.mkdir(parents=True, exist_ok=True)
+        (directory / "study.toml").write_text(small_study())
+        self.command = [
+            "sbatch", "--parsable", "--ntasks=2", "--time=10", "--job-name=slurm-test",
+            *options, str(SCRIPT), "study.toml",
+        ]  # fmt: skip
+        env = cluster.environment(PYTHON=str(PYTHON), **variables)
+        result = cluster.run(*self.command, cwd=directory, env=env)
+        self.id = int(result.stdout.strip().split(";")[0])
+        self.log = directory / f"slurm-slurm-test-{self.id}.out"
+
+    def text(self) -> str:
+        return self.log.read_text() if self.log.exists() else ""
+
+    def wait_for(self, pattern: str, timeout: float = JOB_TIMEOUT) -> None:
+        """Until the job's log holds a line matching ``pattern``."""
+        deadline = time.monotonic() + timeout
+        while not re.search(pattern, self.text(), re.M):
+            fields = self.cluster.job(self.id)
+            if fields["JobState"] not in ("PENDING", "RUNNING", "CONFIGURING"):
+                raise AssertionError(f"job ended {fields['JobState']}:\n{self.text()}")
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"no {pattern!r} in the log after {timeout:g} s:\n{self.text()}")
+            time.sleep(0.2)
+
+    def finish(self, timeout: float = JOB_TIMEOUT) -> dict[str, str]:
+        return self.cluster.wait_until_finished(self.id, timeout)
+
+    @property
+    def results(self) -> Path:
+        return self.directory / "results" / "small.h5"
+
+
+def small_study() -> str:
+    """Six cyclic cases (P = 750 N, n = 32, 10⁵ cycles with coarse cycle jumps): 2–5 s each
+    here, so a signal after the first finished case finds the other rank inside one."""
+    return study_toml(
+        "small",
+        "results/small.h5",
+        {
+            "mesh": {"n": 32},
+            "loading": {
+                "steps": 4,
+                "cycles": 100000,
+                "record": [1000, 100000],
+                "max_wear_fraction": 0.02,
+            },
+            "subsurface": {"layers": 8},
+            "sweep": {"mu1": [0.1, 0.2, 0.4], "wear1": [1.33e-7], "beta": [0.0, 90.0]},
+        },
+    )
+
+
+def statuses(path: Path) -> list[str]:
+    with h5py.File(path, "r") as file:
+        return [str(group.attrs["status"]) for group in file["cases"].values()]
+
+
+def compare(first: Path, second: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "compare_results.py"), str(first), str(second)],
+        capture_output=True,
+        text=True,
+    )
+
+
+@pytest.fixture(scope="module")
+def reference(cluster, tmp_path_factory):
+    """The study uninterrupted: one job on 2 ranks, submitted from outside the repository."""
+    job = Job(cluster, tmp_path_factory.mktemp("reference"))
+    fields = job.finish()
+    return job, fields
+
+
+def test_a_study_completes_on_two_ranks(reference):
+    job, fields = reference
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "COMPLETED", "0:0", "0",
+    ), log  # fmt: skip
+    assert "srun --mpi=pmi2 (for MPICH" in log
+    assert f"{CASES} cases, 0 already complete, {CASES} to run on 2 ranks" in log
+    assert statuses(job.results) == ["completed"] * CASES
+    with h5py.File(job.results, "r") as file:
+        ranks = {int(group.attrs["rank"]) for group in file["cases"].values()}
+    assert ranks == {0, 1}, "both tasks are ranks of one MPI world, and both computed"
+
+
+def test_scancel_stops_without_requeue(cluster, tmp_path):
+    job = Job(cluster, tmp_path)
+    job.wait_for(r"^\[1/")  # a case finished, the other rank is inside one
+    cluster.run("scancel", str(job.id))
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["Restarts"]) == ("CANCELLED", "0"), log
+    assert "TERM without a pre-timeout signal" in log
+    assert "study incomplete, resubmit to resume: sbatch " in log
+    assert "requeued" not in log
+    done = statuses(job.results)  # readable, resumable
+    assert 1 <= done.count("completed") < CASES, log
+    time.sleep(7)  # longer than the requeue delay (cred_expire=5): still not requeued
+    assert cluster.job(job.id)["JobState"] == "CANCELLED"
+
+
+def test_a_pre_timeout_signal_requeues_and_the_result_equals_an_uninterrupted_run(
+    cluster, reference, tmp_path
+):
+    job = Job(cluster, tmp_path)
+    job.wait_for(r"^\[1/")
+    signalled = time.monotonic()
+    cluster.run("scancel", "--batch", "--signal=USR1", str(job.id))
+    fields = job.finish()
+    elapsed = time.monotonic() - signalled
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "COMPLETED", "0:0", "1",
+    ), log  # fmt: skip
+    assert "pre-timeout signal (USR1)" in log
+    assert f"requeued: the study continues in a new run of job {job.id}" in log
+    assert "(restart 1 of at most 20)" in log
+    assert re.search(r"^\d+ cases? continues? from their checkpoints", log, re.M), log
+    states = [
+        record["JobState"] for record in cluster.completions() if record["JobId"] == str(job.id)
+    ]
+    assert states == ["REQUEUED", "COMPLETED"], states
+    reference_job, _ = reference
+    for suffix in (".h5", ".csv"):
+        same = compare(reference_job.results.with_suffix(suffix), job.results.with_suffix(suffix))
+        assert same.returncode == 0, same.stdout + same.stderr
+    print(f"signal to the end of the requeued run: {elapsed:.1f} s")
+    if os.environ.get("SLURM_TEST_UPDATE_DOCS") == "1":
+        write_transcript(cluster, job, fields)
+
+
+def test_a_refused_requeue_ends_failed_with_exit_code_3(cluster, tmp_path):
+    job = Job(cluster, tmp_path, "--no-requeue")
+    job.wait_for(r"^\[1/")
+    cluster.run("scancel", "--batch", "--signal=USR1", str(job.id))
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "FAILED", "3:0", "0",
+    ), log  # fmt: skip
+    assert "requeue refused" in log
+    assert "study incomplete, resubmit to resume" in log
+    assert 1 <= statuses(job.results).count("completed") < CASES
+
+
+def test_a_launch_without_the_pmi_plugin_is_refused_and_not_requeued(cluster, tmp_path):
+    job = Job(cluster, tmp_path, SRUN_MPI="none")
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "FAILED", "2:0", "0",
+    ), log  # fmt: skip
+    errors = [line for line in log.splitlines() if line.startswith("error: srun started 2 tasks")]
+    assert len(errors) == 1, log
+    assert "--mpi=pmi2" in errors[0] and "SLURM_STEP_NUM_TASKS=2" in errors[0]
+    assert not job.results.exists(), "refused before the output was touched"
+    assert "not requeued" in log
+    time.sleep(7)  # longer than the requeue delay: no second run
+    assert cluster.job(job.id)["Restarts"] == "0"
+    assert len([r for r in cluster.completions() if r["JobId"] == str(job.id)]) == 1
+
+
+def write_transcript(cluster: Cluster, job: Job, fields: dict[str, str]) -> None:
+    """The requeue test's own commands and log, as the transcript block of the how-to."""
+    from engine.analysis.markdown import measured_on, replace_block
+
+    def shown(text: str) -> str:
+        return text.replace(str(job.directory), "~/runs").replace(str(REPO), "~/fretting-engine")
+
+    command = ["sbatch", *job.command[2:]]
+    lines = [
+        f"$ cd ~/runs && {shown(' '.join(command))}",
+        f"Submitted batch job {job.id}",
+        f"$ scancel --batch --signal=USR1 {job.id}    # what --signal=B:USR1@300 sends",
+        f"$ cat slurm-slurm-test-{job.id}.out",
+        *shown(job.text()).rstrip("\n").splitlines(),
+        f"$ scontrol show job {job.id} | grep -o -E '(JobState|Restarts|ExitCode)=[^ ]+'",
+        *(f"{key}={fields[key]}" for key in ("JobState", "Restarts", "ExitCode")),
+    ]
+    note = (
+        "written by the SLURM phase of `scripts/test.sh` "
+        "(`SLURM_TEST_UPDATE_DOCS=1 … pytest tests/slurm`): a private single-node "
+        "slurm-wlm 22.05, 2 tasks, Debian's MPICH, AuthInfo=cred_expire=5; "
+        "paths shortened to ~/runs and ~/fretting-engine"
+    )
+    replace_block(
+        DOC, "slurm-transcript", measured_on(note) + "\n```\n" + "\n".join(lines) + "\n```\n"
+    )
