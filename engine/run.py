@@ -602,24 +602,30 @@ def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> No
         + suffix,
         flush=True,
     )
-    resumed = [
-        case.case_id
-        for case in todo
-        if (config.study.checkpoint_dir / f"{case.case_id}.npz").exists()
-    ]
+    resumed = resumed_cases_line(config.study.checkpoint_dir, [case.case_id for case in todo])
     if resumed:  # a requeued or resubmitted run: which cases are not started over
-        shown = ", ".join(resumed[:_NAMED_CASES]) + (" …" if len(resumed) > _NAMED_CASES else "")
-        print(
-            f"{plural(len(resumed), 'case')} continue from their checkpoints "
-            f"({config.study.checkpoint_dir}): {shown}",
-            flush=True,
-        )
+        print(resumed, flush=True)
     warning = idle_ranks_warning(len(todo), ranks)
     if warning:
         print(warning, file=sys.stderr, flush=True)
 
 
 _NAMED_CASES = 8  # case ids named in a line; the rest are counted
+
+
+def resumed_cases_line(checkpoint_dir: Path, case_ids: Sequence[str]) -> str | None:
+    """The line naming the cases of ``case_ids`` (to run now) that continue from a saved
+    state, ``<checkpoint_dir>/<case_id>.npz``; None when every one starts from the beginning."""
+    from engine.output.progress import plural
+
+    resumed = [case_id for case_id in case_ids if (checkpoint_dir / f"{case_id}.npz").exists()]
+    if not resumed:
+        return None
+    shown = ", ".join(resumed[:_NAMED_CASES]) + (" …" if len(resumed) > _NAMED_CASES else "")
+    verb = (
+        "continues from its checkpoint" if len(resumed) == 1 else "continue from their checkpoints"
+    )
+    return f"{plural(len(resumed), 'case')} {verb} ({checkpoint_dir}): {shown}"
 
 
 def idle_ranks_warning(cases: int, ranks: int) -> str | None:

@@ -22,6 +22,7 @@ import engine
 from engine.cli import build_parser
 from engine.output.progress import ProgressReporter, format_duration, plural
 from engine.run import idle_ranks_warning as _idle_ranks_warning
+from engine.run import resumed_cases_line
 from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -69,6 +70,23 @@ def test_idle_ranks_warning():
     assert _idle_ranks_warning(cases=0, ranks=4) is None  # nothing to run: said elsewhere
     text = _idle_ranks_warning(cases=1, ranks=4)
     assert text.startswith("warning: 4 ranks for 1 case to run: 3 ranks will stay idle")
+
+
+def test_a_resumed_run_names_the_cases_that_continue_from_their_checkpoints(tmp_path):
+    """A requeued or resubmitted run says which cases are not started over."""
+    ids = [f"c{index}" for index in range(12)]
+    assert resumed_cases_line(tmp_path, ids) is None  # none saved: no line
+    (tmp_path / "c3.npz").touch()
+    (tmp_path / "c3.json").touch()  # the time spent, not a state
+    assert resumed_cases_line(tmp_path, ids) == (
+        f"1 case continues from its checkpoint ({tmp_path}): c3"
+    )
+    for index in range(10):
+        (tmp_path / f"c{index}.npz").touch()
+    assert resumed_cases_line(tmp_path, ids) == (
+        f"10 cases continue from their checkpoints ({tmp_path}): c0, c1, c2, c3, c4, c5, c6, c7 …"
+    )
+    assert resumed_cases_line(tmp_path, ["c11"]) is None  # only the cases to run now
 
 
 # ----------------------------------------------------------------------------- progress

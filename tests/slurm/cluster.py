@@ -38,6 +38,7 @@ PARTITION = "test"
 NODE_CPUS = 2
 START_TIMEOUT = 60.0  # s: slurmctld and slurmd up, the node idle (about 3 s here)
 FINAL_STATES = ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY")
+CRED_EXPIRE = 5  # s: the job credential's lifetime, the requeue delay (SLURM's minimum)
 STOP_TIMEOUT = 20.0  # s: a daemon's exit after SIGTERM, before SIGKILL
 
 
@@ -103,7 +104,7 @@ SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket={self.socket},cred_expire=5
+AuthInfo=socket={self.socket},cred_expire={CRED_EXPIRE}
 StateSaveLocation={root}/state
 SlurmdSpoolDir={root}/spool
 SlurmctldPidFile={root}/run/slurmctld.pid

@@ -17,8 +17,10 @@ transcript of the requeue test into docs/how-to/slurm.md.
 
 from __future__ import annotations
 
+import datetime
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -28,7 +30,7 @@ import h5py
 import pytest
 
 from engine.study.examples import study_toml
-from tests.slurm.cluster import Cluster, unavailable
+from tests.slurm.cluster import CRED_EXPIRE, Cluster, unavailable
 
 REPO = Path(__file__).resolve().parents[2]
 SCRIPT = REPO / "slurm" / "run_study.sbatch"
@@ -62,11 +64,12 @@ pytestmark = [pytest.mark.slurm, pytest.mark.skipif(REASON is not None, reason=s
 @pytest.fixture(scope="module")
 def cluster():
     cluster = Cluster()
-    cluster.start()
+    cluster.start()  # on failure: stops what it started, keeps its logs and says where
     try:
         yield cluster
     finally:
         cluster.stop()
+        shutil.rmtree(cluster.root, ignore_errors=True)
 
 
 class Job:
@@ -194,16 +197,56 @@ def test_a_pre_timeout_signal_requeues_and_the_result_equals_an_uninterrupted_ru
     assert "pre-timeout signal (USR1)" in log
     assert f"requeued: the study continues in a new run of job {job.id}" in log
     assert "(restart 1 of at most 20)" in log
-    assert re.search(r"^\d+ cases? continues? from their checkpoints", log, re.M), log
+    assert re.search(r"^\d+ cases? continues? from (its|their) checkpoints?", log, re.M), log
     runs = [record for record in cluster.completions() if record["JobId"] == str(job.id)]
     assert len(runs) == 2 and runs[-1]["JobState"] == "COMPLETED", runs  # two runs, one id
     reference_job, _ = reference
     for suffix in (".h5", ".csv"):
         same = compare(reference_job.results.with_suffix(suffix), job.results.with_suffix(suffix))
         assert same.returncode == 0, same.stdout + same.stderr
-    print(f"signal to the end of the requeued run: {elapsed:.1f} s")
+    delay = requeue_delay(log)
+    # SLURM holds a requeued job for the credential's lifetime; the log's stamps are whole
+    # seconds and the "requeued" line follows scontrol's return: 2 s of slack
+    assert delay >= CRED_EXPIRE - 2, log
+    print(f"requeue delay {delay:.0f} s; signal to the end of the requeued run {elapsed:.1f} s")
     if os.environ.get("SLURM_TEST_UPDATE_DOCS") == "1":
-        write_transcript(cluster, job, fields)
+        write_transcript(job, fields, delay)
+
+
+def requeue_delay(log: str) -> float:
+    """Seconds from the script's "requeued" line to the first line of the next run."""
+    stamps = {}
+    for line in log.splitlines():
+        stamp, _, text = line.partition(" ")
+        if text.startswith("requeued:"):
+            stamps["requeued"] = datetime.datetime.fromisoformat(stamp)
+        elif text.startswith("job ") and "(restart 1 " in text:
+            stamps["restarted"] = datetime.datetime.fromisoformat(stamp)
+    return (stamps["restarted"] - stamps["requeued"]).total_seconds()
+
+
+def test_a_chained_job_continues_the_study(cluster, reference, tmp_path):
+    """CHAIN=1: the pre-timeout signal submits a dependent job with the same resources."""
+    job = Job(cluster, tmp_path, CHAIN="1")
+    job.wait_for(r"^\[1/")
+    cluster.run("scancel", "--batch", "--signal=USR1", str(job.id))
+    first = job.finish()
+    log = job.text()
+    assert (first["JobState"], first["ExitCode"], first["Restarts"]) == (
+        "COMPLETED", "0:0", "0",
+    ), log  # fmt: skip
+    successor = int(re.search(r"chained: job (\d+) continues the study", log).group(1))
+    fields = cluster.wait_until_finished(successor, JOB_TIMEOUT)
+    assert (fields["JobState"], fields["ExitCode"], fields["NumTasks"]) == ("COMPLETED", "0:0", "2")
+    assert fields["TimeLimit"] == first["TimeLimit"] and fields["JobName"] == "slurm-test"
+    chained = (tmp_path / f"slurm-slurm-test-{successor}.out").read_text()
+    assert "(restart 1 of at most 20)" in chained
+    assert re.search(r"^\d+ cases? continues? from (its|their) checkpoints?", chained, re.M), (
+        chained
+    )
+    reference_job, _ = reference
+    same = compare(reference_job.results, job.results)
+    assert same.returncode == 0, same.stdout + same.stderr
 
 
 def test_a_refused_requeue_ends_failed_with_exit_code_3(cluster, tmp_path):
@@ -237,7 +280,7 @@ def test_a_launch_without_the_pmi_plugin_is_refused_and_not_requeued(cluster, tm
     assert len([r for r in cluster.completions() if r["JobId"] == str(job.id)]) == 1
 
 
-def write_transcript(cluster: Cluster, job: Job, fields: dict[str, str]) -> None:
+def write_transcript(job: Job, fields: dict[str, str], delay: float) -> None:
     """The requeue test's own commands and log, as the transcript block of the how-to."""
     from engine.analysis.markdown import measured_on, replace_block
 
@@ -255,11 +298,10 @@ def write_transcript(cluster: Cluster, job: Job, fields: dict[str, str]) -> None
         *(f"{key}={fields[key]}" for key in ("JobState", "Restarts", "ExitCode")),
     ]
     note = (
-        "written by the SLURM phase of `scripts/test.sh` "
-        "(`SLURM_TEST_UPDATE_DOCS=1 … pytest tests/slurm`): a private single-node "
-        "slurm-wlm 22.05, 2 tasks, Debian's MPICH, AuthInfo=cred_expire=5; "
-        "paths shortened to ~/runs and ~/fretting-engine"
+        "written by `SLURM_TEST_UPDATE_DOCS=1 pytest tests/slurm` (the SLURM phase of "
+        "scripts/test.sh): a private single-node slurm-wlm 22.05, 2 tasks, Debian's MPICH "
+        f"4.0.2, AuthInfo=cred_expire={CRED_EXPIRE}: requeue delay {delay:.0f} s; paths "
+        "shortened to ~/runs and ~/fretting-engine"
     )
-    replace_block(
-        DOC, "slurm-transcript", measured_on(note) + "\n```\n" + "\n".join(lines) + "\n```\n"
-    )
+    block = measured_on(note) + "\n```\n" + "\n".join(lines) + "\n```\n"
+    replace_block(DOC, "slurm-transcript", block)
