@@ -80,11 +80,13 @@ class Job:
 
     def __init__(
         self, cluster: Cluster, directory: Path, *options: str, cycles=1e5, mu1=MU1, beta=BETA,
-        **variables: str,
+        study: str | None = None, **variables: str,
     ):  # fmt: skip
+        """``study``: the study file's text (default: :func:`small_study` of ``cycles``,
+        ``mu1``, ``beta``); ``variables``: the script's variables."""
         self.cluster, self.directory = cluster, directory
         directory.mkdir(parents=True, exist_ok=True)
-        (directory / "study.toml").write_text(small_study(int(cycles), mu1, beta))
+        (directory / "study.toml").write_text(study or small_study(int(cycles), mu1, beta))
         self.command = [
             "sbatch", "--parsable", "--ntasks=2", "--time=10", "--job-name=slurm-test",
             *options, str(SCRIPT), "study.toml",
@@ -272,6 +274,28 @@ def test_a_refused_requeue_ends_failed_with_exit_code_3(cluster, tmp_path):
     assert "study incomplete, resubmit to resume" in log
     if job.results.exists():  # absent when the signal came during start-up (a timer's luck)
         assert statuses(job.results).count("completed") < len(mu1) * len(beta)
+
+
+@pytest.mark.parametrize(
+    ("testing", "code"),
+    [({"fail_cases": ["mu0.2_w0_b0"]}, 1), ({"fail_cases": "not a list"}, 2)],
+    ids=["a failed case", "bad input"],
+)
+def test_exit_codes_1_and_2_end_the_job_without_requeue(cluster, tmp_path, testing, code):
+    """Two static cases on a coarse mesh (seconds): one forced to fail, or a bad study."""
+    study = study_toml(
+        "tiny",
+        "results/tiny.h5",
+        {"mesh": {"n": 8}, "loading": {"kind": "static"}, "sweep": {"mu1": [0.1, 0.2]}},
+        testing=testing,
+    )
+    job = Job(cluster, tmp_path, study=study)
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "FAILED", f"{code}:0", "0",
+    ), log  # fmt: skip
+    assert "not requeued" in log and "requeued:" not in log
 
 
 def test_a_launch_without_the_pmi_plugin_is_refused_and_not_requeued(cluster, tmp_path):
