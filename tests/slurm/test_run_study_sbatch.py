@@ -276,6 +276,20 @@ def test_a_refused_requeue_ends_failed_with_exit_code_3(cluster, tmp_path):
         assert statuses(job.results).count("completed") < len(mu1) * len(beta)
 
 
+def test_the_restart_bound_ends_the_chain_failed_with_exit_code_3(cluster, tmp_path):
+    """MAX_RESTARTS bounds requeues and chained jobs: at the bound the job is not requeued."""
+    job = Job(cluster, tmp_path, MAX_RESTARTS="0")
+    job.wait_for(r"^\[1/")
+    cluster.run("scancel", "--batch", "--signal=USR1", str(job.id))
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "FAILED", "3:0", "0",
+    ), log  # fmt: skip
+    assert "MAX_RESTARTS=0 restarts reached" in log
+    assert "study incomplete, resubmit to resume" in log
+
+
 @pytest.mark.parametrize(
     ("testing", "code"),
     [({"fail_cases": ["mu0.2_w0_b0"]}, 1), ({"fail_cases": "not a list"}, 2)],
