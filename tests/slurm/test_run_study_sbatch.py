@@ -80,16 +80,18 @@ class Job:
 
     def __init__(
         self, cluster: Cluster, directory: Path, *options: str, cycles=1e5, mu1=MU1, beta=BETA,
-        study: str | None = None, **variables: str,
+        study: str | None = None, relative: bool = False, **variables: str,
     ):  # fmt: skip
         """``study``: the study file's text (default: :func:`small_study` of ``cycles``,
-        ``mu1``, ``beta``); ``variables``: the script's variables."""
+        ``mu1``, ``beta``); ``relative``: give sbatch the script's path relative to the
+        working directory (``../../…``); ``variables``: the script's variables."""
         self.cluster, self.directory = cluster, directory
         directory.mkdir(parents=True, exist_ok=True)
         (directory / "study.toml").write_text(study or small_study(int(cycles), mu1, beta))
+        script = os.path.relpath(SCRIPT, directory) if relative else str(SCRIPT)
         self.command = [
             "sbatch", "--parsable", "--ntasks=2", "--time=10", "--job-name=slurm-test",
-            *options, str(SCRIPT), "study.toml",
+            *options, script, "study.toml",
         ]  # fmt: skip
         env = cluster.environment(PYTHON=str(PYTHON), **variables)
         result = cluster.run(*self.command, cwd=directory, env=env)
@@ -303,13 +305,14 @@ def test_exit_codes_1_and_2_end_the_job_without_requeue(cluster, tmp_path, testi
         {"mesh": {"n": 8}, "loading": {"kind": "static"}, "sweep": {"mu1": [0.1, 0.2]}},
         testing=testing,
     )
-    job = Job(cluster, tmp_path, study=study)
+    job = Job(cluster, tmp_path, study=study, relative=True)  # the repository found from it
     fields = job.finish()
     log = job.text()
     assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
         "FAILED", f"{code}:0", "0",
     ), log  # fmt: skip
     assert "not requeued" in log and "requeued:" not in log
+    assert f"engine {REPO}, " in log
 
 
 def test_a_launch_without_the_pmi_plugin_is_refused_and_not_requeued(cluster, tmp_path):
