@@ -235,6 +235,23 @@ def requeue_delay(log: str) -> float:
     return (stamps["restarted"] - stamps["requeued"]).total_seconds()
 
 
+def test_a_requeue_by_slurm_itself_is_not_taken_for_a_cancel(cluster, tmp_path):
+    """`scontrol requeue JOBID` from outside (an operator; preemption does the same): SLURM
+    sends TERM and requeues the job; the script says so and the next run resumes."""
+    job = Job(cluster, tmp_path)
+    job.wait_for(r"^\[1/")
+    cluster.run("scontrol", "requeue", str(job.id))
+    fields = job.finish()
+    log = job.text()
+    assert (fields["JobState"], fields["ExitCode"], fields["Restarts"]) == (
+        "COMPLETED", "0:0", "1",
+    ), log  # fmt: skip
+    assert "TERM: SLURM is requeueing this job" in log
+    assert "TERM without a pre-timeout signal" not in log and "resubmit" not in log
+    assert re.search(r"^\d+ cases? continues? from (its|their) checkpoints?", log, re.M), log
+    assert statuses(job.results) == ["completed"] * CASES
+
+
 def test_a_chained_job_continues_the_study(cluster, reference, tmp_path):
     """CHAIN=1: the pre-timeout signal submits a dependent job with the same resources."""
     job = Job(cluster, tmp_path, CHAIN="1")
