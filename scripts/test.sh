@@ -25,7 +25,7 @@ ENGINE_MPIEXEC=mpiexec.mpich .venv-mpio/bin/python -m pytest tests/mpi -q
 # SLURM phase: slurm/run_study.sbatch under a real single-node SLURM (slurm-wlm, munge) that
 # tests/slurm starts as root in a temporary directory of its own (configuration, MUNGE key and
 # socket, state, logs; free ports) and stops by PIDs at the end; the jobs run the engine from
-# .venv-mpio (mpi4py on Debian's MPICH, which `srun --mpi=pmi2` connects). About 3 minutes.
+# .venv-mpio (mpi4py on Debian's MPICH, which `srun --mpi=pmi2` connects). About 4 minutes.
 # Without root the tests are skipped and say why. (On a machine run by systemd, installing
 # munge also starts the system's munged; the tests do not use it.)
 if [[ $(id -u) -eq 0 ]]; then

@@ -38,7 +38,7 @@ REPO = Path(__file__).resolve().parents[2]
 SCRIPT = REPO / "slurm" / "run_study.sbatch"
 PYTHON = Path(os.environ.get("ENGINE_PYTHON") or REPO / ".venv-mpio" / "bin" / "python")
 DOC = REPO / "docs" / "how-to" / "slurm.md"
-JOB_TIMEOUT = 300.0  # s: a job of the small study takes ~20 s here, a requeued one ~35 s
+JOB_TIMEOUT = 300.0  # s: a job of the small study takes 15–30 s here at load 15, requeued ~40 s
 MU1, BETA = [0.1, 0.2, 0.4], [0.0, 90.0]
 CASES = len(MU1) * len(BETA)
 
