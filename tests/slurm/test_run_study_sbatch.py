@@ -93,7 +93,8 @@ class Job:
             "sbatch", "--parsable", "--ntasks=2", "--time=10", "--job-name=slurm-test",
             *options, script, "study.toml",
         ]  # fmt: skip
-        env = cluster.environment(PYTHON=str(PYTHON), **variables)
+        self.variables = {"PYTHON": str(PYTHON), **variables}  # exported to the job
+        env = cluster.environment(**self.variables)
         result = cluster.run(*self.command, cwd=directory, env=env)
         self.id = int(result.stdout.strip().split(";")[0])
         self.log = directory / f"slurm-slurm-test-{self.id}.out"
@@ -220,7 +221,8 @@ def test_a_pre_timeout_signal_requeues_and_the_result_equals_an_uninterrupted_ru
     assert delay >= CRED_EXPIRE - 2, log
     print(f"requeue delay {delay:.0f} s; signal to the end of the requeued run {elapsed:.1f} s")
     if os.environ.get("SLURM_TEST_UPDATE_DOCS") == "1":
-        write_transcript(job, fields, delay)
+        between = [f"$ scancel --batch --signal=USR1 {job.id}    # what --signal=B:USR1@300 sends"]
+        write_transcript("slurm-transcript", job, fields, between, f": requeue delay {delay:.0f} s")
 
 
 def requeue_delay(log: str) -> float:
@@ -347,20 +349,26 @@ def test_a_launch_without_the_pmi_plugin_is_refused_and_not_requeued(cluster, tm
     time.sleep(7)  # longer than the requeue delay: no second run
     assert cluster.job(job.id)["Restarts"] == "0"
     assert len([r for r in cluster.completions() if r["JobId"] == str(job.id)]) == 1
+    if os.environ.get("SLURM_TEST_UPDATE_DOCS") == "1":
+        write_transcript("slurm-refused-launch", job, cluster.job(job.id), [])
 
 
-def write_transcript(job: Job, fields: dict[str, str], delay: float) -> None:
-    """The requeue test's own commands and log, as the transcript block of the how-to."""
+def write_transcript(
+    block: str, job: Job, fields: dict[str, str], between: list[str], measured: str = ""
+) -> None:
+    """The test's own commands and job log as the generated block ``block`` of the how-to:
+    the submission, the commands ``between`` (typed while it ran), the log, the job's end."""
     from engine.analysis.markdown import measured_on, replace_block
 
     def shown(text: str) -> str:
         return text.replace(str(job.directory), "~/runs").replace(str(REPO), "~/fretting-engine")
 
-    command = ["sbatch", *job.command[2:]]
+    variables = [f"{name}={value}" for name, value in job.variables.items()]
+    command = [*variables, "sbatch", *job.command[2:]]  # sbatch exports the environment
     lines = [
         f"$ cd ~/runs && {shown(' '.join(command))}",
         f"Submitted batch job {job.id}",
-        f"$ scancel --batch --signal=USR1 {job.id}    # what --signal=B:USR1@300 sends",
+        *between,
         f"$ cat slurm-slurm-test-{job.id}.out",
         *shown(job.text()).rstrip("\n").splitlines(),
         f"$ scontrol show job {job.id} | grep -o -E '(JobState|Restarts|ExitCode)=[^ ]+'",
@@ -369,8 +377,8 @@ def write_transcript(job: Job, fields: dict[str, str], delay: float) -> None:
     note = (
         "written by `SLURM_TEST_UPDATE_DOCS=1 pytest tests/slurm` (the SLURM phase of "
         "scripts/test.sh): a private single-node slurm-wlm 22.05, 2 tasks, Debian's MPICH "
-        f"4.0.2, AuthInfo=cred_expire={CRED_EXPIRE}: requeue delay {delay:.0f} s; paths "
-        "shortened to ~/runs and ~/fretting-engine"
+        f"4.0.2, AuthInfo=cred_expire={CRED_EXPIRE}{measured}; paths shortened to ~/runs and "
+        "~/fretting-engine"
     )
-    block = measured_on(note) + "\n```\n" + "\n".join(lines) + "\n```\n"
-    replace_block(DOC, "slurm-transcript", block)
+    text = measured_on(note) + "\n```\n" + "\n".join(lines) + "\n```\n"
+    replace_block(DOC, block, text)
