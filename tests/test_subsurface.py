@@ -207,6 +207,71 @@ def test_line_through_the_axis_folds_the_grid(shape, axis):
     assert 0 < line.cache_bytes <= 0.5 * lattice.cache_bytes * (1 + 1 / min(shape))
 
 
+@pytest.mark.parametrize("axis", [0, 1])
+def test_line_streams_its_rows_in_blocks(monkeypatch, axis):
+    # Streaming: the rows folded across the line are transformed and summed block by block
+    # (ROW_BLOCK), and only the kernel spectra under the cache limit are kept. With blocks of
+    # two rows (an odd grid across: the middle row ends the last block) the line is the
+    # one-block sum up to the order of the sum over the rows (rounding: 1e-13 of the largest
+    # value), and bit for bit the same whatever the cache keeps (all, part, nothing) and
+    # on the second call, which reads the kept spectra.
+    import engine.kernels.lattice as lattice
+
+    grid = Grid(9, 11, 0.7, 0.45) if axis == 0 else Grid(11, 9, 0.45, 0.7)
+    rng = np.random.default_rng(5)
+    tractions = {load: rng.uniform(-3, 3, grid.shape) for load in LOADS}
+    depths = np.array([0.004, 0.05, 0.3])
+    angle = axis * math.pi / 2
+
+    def plane(limit):
+        stress = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=limit)
+        first = stress.plane(**tractions, angle=angle)
+        second = stress.plane(**tractions, angle=angle)
+        for c in COMPONENTS:
+            np.testing.assert_array_equal(first.components[c], second.components[c])
+        return stress, first
+
+    whole = plane(None)[1]  # 6 rows across: one block
+    monkeypatch.setattr(lattice, "ROW_BLOCK", 2)
+    streamed = {}
+    for limit in (None, 0, 40_000):
+        stress, streamed[limit] = plane(limit)
+        assert stress.kernel_cache_bytes <= (limit if limit is not None else math.inf)
+        (line,) = stress._lattices.values()
+        assert len(line._blocks) == 3
+    assert 0 < stress.kernel_cache_bytes < plane(None)[0].kernel_cache_bytes
+    for c in COMPONENTS:
+        scale = np.abs(whole.components[c]).max()
+        np.testing.assert_allclose(
+            streamed[None].components[c], whole.components[c], rtol=0, atol=1e-13 * scale
+        )
+        for limit in (0, 40_000):
+            np.testing.assert_array_equal(
+                streamed[limit].components[c], streamed[None].components[c]
+            )
+
+
+def test_prepared_plane_keeps_what_the_limit_allows():
+    # The set-up of a plane (prepare_plane) builds the kernel spectra its cache keeps and no
+    # more; a plane evaluated afterwards equals that of a fresh evaluator bit for bit.
+    grid = Grid.square(12, 0.6)
+    depths = np.array([0.01, 0.1, 0.2, 0.4])
+    pressure = _sneddon(grid, 10.0, 0.4)
+    fresh = SubsurfaceStress(grid, NU, depths).plane(pressure, 0.2 * pressure)
+    unlimited = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=None)
+    unlimited.prepare_plane()
+    limit = unlimited.kernel_cache_bytes // 3
+    limited = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=limit)
+    limited.prepare_plane()
+    assert 0 < limited.kernel_cache_bytes <= limit
+    for stress in (unlimited, limited):
+        kept = stress.kernel_cache_bytes
+        field = stress.plane(pressure, 0.2 * pressure)
+        assert stress.kernel_cache_bytes == kept
+        for c in COMPONENTS:
+            np.testing.assert_array_equal(field.components[c], fresh.components[c])
+
+
 def test_block_margin_extends_the_lattice(small_case):
     # Field points beyond the grid edge, exact DC-FFT values again (1e-10).
     grid, tractions, stress = small_case

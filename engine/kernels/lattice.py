@@ -21,7 +21,7 @@ from ..grid import Grid
 from .fft import RealFFTPair, next_fast_length, plan, pyfftw, wrap_kernel
 from .stress import COMPONENTS, LOADS, element_stress, kernel_parity
 
-__all__ = ["LatticeConvolution", "LineConvolution", "line_axis"]
+__all__ = ["LatticeConvolution", "LineConvolution", "ROW_BLOCK", "line_axis"]
 
 
 def _symmetric_about_zero(coordinates: np.ndarray, step: float) -> bool:
@@ -171,6 +171,13 @@ class LatticeConvolution(_DepthLayers):
         return result
 
 
+ROW_BLOCK = 64
+"""Rows folded across the line that a ``LineConvolution`` transforms and sums together: the
+sum over the rows runs block by block, in this fixed order, so a line's values depend on the
+grid only, never on how many kernel spectra are kept (grids of up to 128 rows across the
+line are one block)."""
+
+
 class LineConvolution(_DepthLayers):
     """Eq. (16) on a line of field points through the middle of a grid that is symmetric
     about it: t = (t_0 + iΔx, 0), i < m (``axis`` = 0, the x–z plane), or t = (0, t_0 + jΔy)
@@ -184,16 +191,34 @@ class LineConvolution(_DepthLayers):
     products are summed over the rows, and one 1-D inverse FFT per component gives the line.
     Exact like the 2-D lattice (no periodic images), with half its kernel memory (rows ·
     (N/2 + 1) complex values per spectrum, rows = ceil(n_across / 2)) and 1-D inverse FFTs.
+
+    Streaming. The rows are taken in blocks of ``ROW_BLOCK``: per block, the folded traction
+    spectra, then per layer the kernel spectra of the block's rows and their products,
+    summed into the line spectra of every layer (``n_z · 6 · (N/2 + 1)`` complex values);
+    so no field of the whole grid is held per layer, and the memory of a call is the line's
+    plus one block's. Kernel spectra are kept between calls up to ``cache_limit`` bytes
+    (None: all of them; 0: none, every call computes them again); the values do not depend
+    on it, since every block is computed and summed the same way whether kept or not.
     """
 
     def __init__(
-        self, grid: Grid, poisson_ratio: float, axis: int, start, count, threads, effort, cache
+        self,
+        grid: Grid,
+        poisson_ratio: float,
+        axis: int,
+        start,
+        count,
+        threads,
+        effort,
+        cache,
+        cache_limit: int | None = None,
     ):
         self.grid = grid
         self.poisson_ratio = poisson_ratio
         self.axis = axis
         self.counts = (count, 1) if axis == 0 else (1, count)
         self.cache = cache
+        self.cache_limit = None if cache_limit is None else int(cache_limit)
         origin = (start, 0.0) if axis == 0 else (0.0, start)
         if line_axis(grid, origin, self.counts) != axis:
             raise ValueError("a line convolution needs a grid symmetric about the line")
@@ -212,13 +237,13 @@ class LineConvolution(_DepthLayers):
         if self._middle is not None:
             across_offsets = np.append(across_offsets, 0.0)
         rows = across_offsets.size
+        block = min(rows, ROW_BLOCK)
+        self._blocks = [slice(first, min(first + block, rows)) for first in range(0, rows, block)]
         self._negative = n - 1  # offsets −(n − 1) … count − 1 along the line, circulant order
         along_offsets = start - along[0] + steps[0] * np.arange(-(n - 1), count)
-        self._offsets = (
-            (along_offsets, across_offsets) if axis == 0 else (across_offsets, along_offsets)
-        )
-        self._rows = pyfftw.empty_aligned((rows, self.padded), "float64")
-        self._row_spectra = pyfftw.empty_aligned((rows, self.padded // 2 + 1), "complex128")
+        self._along_offsets, self._across_offsets = along_offsets, across_offsets
+        self._rows = pyfftw.empty_aligned((block, self.padded), "float64")
+        self._row_spectra = pyfftw.empty_aligned((block, self.padded // 2 + 1), "complex128")
         self._forward = plan(self._rows, self._row_spectra, (1,), threads=threads, effort=effort)
         self._line_spectra = pyfftw.empty_aligned(
             (len(COMPONENTS), self.padded // 2 + 1), "complex128"
@@ -233,72 +258,102 @@ class LineConvolution(_DepthLayers):
             effort=effort,
         )
         self._parity_axis = 1 - axis
-        self._kernels: dict[tuple[int, str], dict[str, np.ndarray]] = {}
+        self._kernels: dict[tuple[int, str, int], dict[str, np.ndarray]] = {}
+        self._cache_bytes = 0
 
     @property
     def cache_bytes(self) -> int:
-        return sum(a.nbytes for spectra in self._kernels.values() for a in spectra.values())
+        return self._cache_bytes
 
     def _transform(self, rows: np.ndarray) -> np.ndarray:
-        """Forward FFT along the line of ``rows`` (rows, length <= N), already in padded order."""
+        """Forward FFT along the line of ``rows`` (at most one block of rows, length <= N,
+        already in padded order): (rows, N/2 + 1)."""
         self._rows[...] = 0.0
-        self._rows[:, : rows.shape[1]] = rows
+        self._rows[: rows.shape[0], : rows.shape[1]] = rows
         self._forward.execute()
-        return self._row_spectra.copy()
+        return self._row_spectra[: rows.shape[0]].copy()
 
-    def _fold(self, values: np.ndarray, parity: int) -> np.ndarray:
-        """τ(upper) + parity · τ(lower) per row, as (rows, n along the line)."""
+    def _fold(self, values: np.ndarray, parity: int, block: slice) -> np.ndarray:
+        """τ(upper) + parity · τ(lower) for the rows of ``block``, as (rows, n along the line)."""
         rows = values.T if self.axis == 0 else values  # (across, along)
-        folded = rows[self._upper] + parity * rows[self._lower]
-        if self._middle is not None:
+        upper = self._upper[block]
+        folded = rows[upper] + parity * rows[self._lower[block]]
+        if self._middle is not None and block.stop > self._upper.size:
             middle = rows[self._middle] if parity > 0 else np.zeros_like(rows[self._middle])
             folded = np.vstack([folded, middle])
         return folded
 
-    def traction_spectra(self, tractions: dict[str, np.ndarray]) -> dict:
-        """Spectra of the folded tractions: (load, parity across the line) -> (rows, N/2 + 1)."""
+    def traction_spectra(self, tractions: dict[str, np.ndarray], block: slice) -> dict:
+        """Spectra of the folded tractions of the rows of ``block``: (load, parity across the
+        line) -> (rows, N/2 + 1)."""
         return {
-            (load, parity): self._transform(self._fold(values, parity))
+            (load, parity): self._transform(self._fold(values, parity, block))
             for load, values in tractions.items()
             for parity in (1, -1)
         }
 
-    def kernel_spectra(self, layer: int, depth: float, load: str) -> dict[str, np.ndarray]:
-        """Spectra along the line of the element coefficients at one depth, per component."""
-        key = (layer, load)
+    def kernel_spectra(self, layer: int, depth: float, load: str, index: int = 0) -> dict:
+        """Spectra along the line of the element coefficients at one depth, for the rows of
+        block ``index``, per component: (rows, N/2 + 1)."""
+        key = (layer, load, index)
         if key in self._kernels:
             return self._kernels[key]
         grid = self.grid
-        coefficients = element_stress(
-            *self._offsets, depth, grid.dx, grid.dy, self.poisson_ratio, load
-        )
+        across = self._across_offsets[self._blocks[index]]
+        offsets = (self._along_offsets, across) if self.axis == 0 else (across, self._along_offsets)
+        coefficients = element_stress(*offsets, depth, grid.dx, grid.dy, self.poisson_ratio, load)
         spectra = {}
         for component in COMPONENTS:
-            rows = coefficients[component]
+            rows = coefficients.pop(component)
             rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
             shape, negative = (rows.shape[0], self.padded), (0, self._negative)
             spectra[component] = self._transform(wrap_kernel(rows, shape, negative))
-        if self.cache:
+        size = sum(spectrum.nbytes for spectrum in spectra.values())
+        limit = self.cache_limit
+        if self.cache and (limit is None or self._cache_bytes + size <= limit):
             self._kernels[key] = spectra
+            self._cache_bytes += size
         return spectra
 
-    def layer(self, layer: int, depth: float, tractions: dict) -> dict:
-        """Stresses on the line at one depth: dict component -> (m_x, m_y), MPa.
+    def prepare(self, depths: np.ndarray, loads=LOADS) -> None:
+        """Compute the kernel spectra that the cache keeps (in the order ``evaluate`` asks
+        for them), so that later calls find them; nothing beyond ``cache_limit``."""
+        if not self.cache:
+            return
+        for index in range(len(self._blocks)):
+            for layer, depth in enumerate(depths):
+                for load in loads:
+                    if (layer, load, index) not in self._kernels:
+                        before = self._cache_bytes
+                        self.kernel_spectra(layer, float(depth), load, index)
+                        if self._cache_bytes == before:
+                            return  # full: the rest is computed when asked for
 
-        ``tractions``: folded traction spectra from ``traction_spectra``.
-        """
-        loads = sorted({load for load, _ in tractions}, key=LOADS.index)
-        kernels = {load: self.kernel_spectra(layer, depth, load) for load in loads}
-        spectra = self._line_spectra
-        spectra[...] = 0.0
-        for index, component in enumerate(COMPONENTS):
-            for load in loads:
-                parity = kernel_parity(load, component)[self._parity_axis]
-                traction = tractions[(load, parity)]
-                spectra[index] += np.einsum("rk,rk->k", kernels[load][component], traction)
-        self._inverse.execute()
+    def evaluate(self, depths: np.ndarray, tractions: dict[str, np.ndarray]) -> dict:
+        """All layers: dict component -> (m_x, m_y, n_z), MPa; the rows block by block
+        (class docstring), each block's products summed into the line spectra of every layer."""
+        loads = sorted(tractions, key=LOADS.index)
+        width = self.padded // 2 + 1
+        sums = np.zeros((depths.size, len(COMPONENTS), width), dtype=complex)
+        for index, block in enumerate(self._blocks if loads else ()):
+            traction = self.traction_spectra({load: tractions[load] for load in loads}, block)
+            for k, depth in enumerate(depths):
+                kernels = {
+                    load: self.kernel_spectra(k, float(depth), load, index) for load in loads
+                }
+                for c, component in enumerate(COMPONENTS):
+                    for load in loads:
+                        parity = kernel_parity(load, component)[self._parity_axis]
+                        product = np.einsum(
+                            "rk,rk->k", kernels[load][component], traction[(load, parity)]
+                        )
+                        sums[k, c] += product
         count = max(self.counts)
-        return {
-            component: (self._scale * self._lines[index, :count]).reshape(self.counts)
-            for index, component in enumerate(COMPONENTS)
-        }
+        out = {c: np.empty((*self.counts, depths.size)) for c in COMPONENTS}
+        for k in range(depths.size):
+            self._line_spectra[...] = sums[k]
+            self._inverse.execute()
+            for c, component in enumerate(COMPONENTS):
+                line = self._scale * self._lines[c, :count]
+                out[component][:, :, k] = line.reshape(self.counts)
+        return out

@@ -48,6 +48,11 @@ from ..kernels.lattice import LatticeConvolution, LineConvolution, line_axis
 from ..kernels.stress import COMPONENTS, LOADS
 from ..validation import require_poisson, require_positive
 
+DEFAULT_KERNEL_CACHE_LIMIT = 64 * 2**20
+"""Bytes of subsurface kernel spectra a ``SubsurfaceStress`` keeps for its planes through the
+axis (64 MiB: every layer of the x–z plane at 128² with 16 layers and three loads, 38 MB;
+beyond it the kernels are computed at each call instead of held, module docstring)."""
+
 # --- depth layers ------------------------------------------------------------------------------
 
 
@@ -222,6 +227,12 @@ class PlaneStresses:
     def _plane(self, pressure, traction_x, traction_y, angle, half_length, bulk_stress):
         raise NotImplementedError
 
+    def prepare_plane(self, angle: float = 0.0) -> None:
+        """Build what ``plane`` at ``angle`` (rad) keeps between calls (its kernels), so that
+        it counts as set-up: here by one evaluation of unit tractions."""
+        ones = np.ones(self.grid.shape)
+        self.plane(ones, ones, None if self.grid.is_line else ones, angle=float(angle))
+
 
 class SubsurfaceStress(PlaneStresses):
     """Subsurface stress fields of surface tractions on ``grid`` (Eq. 16 by DC-FFT).
@@ -233,6 +244,9 @@ class SubsurfaceStress(PlaneStresses):
     depths : evaluation depths (mm, all > 0), e.g. from ``depth_layers``.
     threads : FFTW threads.
     cache_kernels : keep kernel spectra between calls (memory: see the module docstring).
+    kernel_cache_limit : bytes of kernel spectra the x–z and y–z planes keep between calls
+        (default ``DEFAULT_KERNEL_CACHE_LIMIT``; None: no limit); the rest are computed at
+        each call, block by block, with the same values (``LineConvolution``).
     planner_effort : FFTW planner flag, ``"FFTW_ESTIMATE"`` (default: bit-reproducible across
         processes, see ``engine.kernels.fft``) or ``"FFTW_MEASURE"``.
     """
@@ -245,6 +259,7 @@ class SubsurfaceStress(PlaneStresses):
         threads: int = 1,
         *,
         cache_kernels: bool = True,
+        kernel_cache_limit: int | None = DEFAULT_KERNEL_CACHE_LIMIT,
         planner_effort: str = DEFAULT_EFFORT,
     ):
         self.grid = grid
@@ -255,6 +270,7 @@ class SubsurfaceStress(PlaneStresses):
         self.depths = depths
         self.threads = int(threads)
         self.cache_kernels = bool(cache_kernels)
+        self.kernel_cache_limit = None if kernel_cache_limit is None else int(kernel_cache_limit)
         self.planner_effort = planner_effort
         self._lattices: dict[tuple, LatticeConvolution | LineConvolution] = {}
 
@@ -274,7 +290,10 @@ class SubsurfaceStress(PlaneStresses):
             axis = line_axis(grid, origin, counts)
             if axis is not None:
                 line = (axis, origin[axis], counts[axis])
-                self._lattices[key] = LineConvolution(grid, nu, *line, *options)
+                limit = self.kernel_cache_limit
+                if limit is not None:  # what the lattices built before left of it
+                    limit = max(limit - self.kernel_cache_bytes, 0)
+                self._lattices[key] = LineConvolution(grid, nu, *line, *options, limit)
             else:
                 self._lattices[key] = LatticeConvolution(grid, nu, origin, counts, *options)
         return self._lattices[key]
@@ -354,6 +373,21 @@ class SubsurfaceStress(PlaneStresses):
         """
         if bulk_stress is not None:
             raise ValueError("a bulk stress applies to line contacts only")
+        s, fractional, half_counts, lattice = self._plane_lattice(angle, half_length)
+        on_lattice = lattice.evaluate(
+            self.depths, self._tractions(pressure, traction_x, traction_y)
+        )
+        indices = [f + h for f, h in zip(fractional, half_counts, strict=True)]
+        components = {c: _bilinear(on_lattice[c], *indices) for c in COMPONENTS}
+        cos, sin = math.cos(angle), math.sin(angle)
+        S, Z = np.meshgrid(s, self.depths, indexing="ij")
+        return StressField.from_components(
+            S * cos, S * sin, Z, components, s=S, angle=float(angle), depths=self.depths.copy()
+        )
+
+    def _plane_lattice(self, angle: float, half_length):
+        """The samples s (mm) of the plane at ``angle``, their fractional lattice indices
+        about the axis, the lattice's half counts and its convolution (``_plane``)."""
         grid = self.grid
         cos, sin = math.cos(angle), math.sin(angle)
         step = 1.0 / max(abs(cos) / grid.dx, abs(sin) / grid.dy)
@@ -371,16 +405,17 @@ class SubsurfaceStress(PlaneStresses):
         half_counts = [int(math.ceil(np.max(np.abs(f)))) for f in fractional]
         origin = (-half_counts[0] * grid.dx, -half_counts[1] * grid.dy)
         counts = (2 * half_counts[0] + 1, 2 * half_counts[1] + 1)
-        lattice = self._lattice(origin, counts)
-        on_lattice = lattice.evaluate(
-            self.depths, self._tractions(pressure, traction_x, traction_y)
-        )
-        indices = [f + h for f, h in zip(fractional, half_counts, strict=True)]
-        components = {c: _bilinear(on_lattice[c], *indices) for c in COMPONENTS}
-        S, Z = np.meshgrid(s, self.depths, indexing="ij")
-        return StressField.from_components(
-            S * cos, S * sin, Z, components, s=S, angle=float(angle), depths=self.depths.copy()
-        )
+        return s, fractional, half_counts, self._lattice(origin, counts)
+
+    def prepare_plane(self, angle: float = 0.0) -> None:
+        """Build the plane's lattice and the kernel spectra its cache keeps: those of a
+        line through the axis up to ``kernel_cache_limit``, all of any other lattice."""
+        lattice = self._plane_lattice(angle, None)[3]
+        if isinstance(lattice, LineConvolution):
+            lattice.prepare(self.depths)
+        else:
+            ones = np.ones(self.grid.shape)
+            self.plane(ones, ones, ones, angle=angle)
 
 
 def _snap(values: np.ndarray) -> np.ndarray:

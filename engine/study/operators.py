@@ -101,8 +101,7 @@ class OperatorCache:
                 threads,
                 planner_effort=planner_effort,
             )
-        ones = np.ones(grid.shape)
-        self._stresses[key].plane(ones, ones, None if grid.is_line else ones, angle=float(angle))
+        self._stresses[key].prepare_plane(float(angle))
         self._planes.add((key, float(angle)))
         self.setup_s += time.perf_counter() - start
         return self._stresses[key]
