@@ -85,7 +85,8 @@ def data_checksum(data) -> str:
             text = item.encode() if isinstance(item, str) else bytes(item)
             digest.update(text + b"\0")
     else:
-        digest.update(np.ascontiguousarray(array).tobytes())
+        bytes_ = np.ascontiguousarray(array).reshape(-1).view(np.uint8)
+        digest.update(bytes_)  # the array's own buffer: no copy of its bytes
     return digest.hexdigest()
 
 

@@ -24,7 +24,10 @@ the grid across the line (``LineConvolution``: pairs of mirror rows, 1-D transfo
 line) and store ``ceil(n/2) · (N/2 + 1) · 16`` bytes per spectrum, 0.13 MB at 128², half the
 2-D lattice's; a plane then costs six 1-D inverse FFTs per layer (7 ms for 16 layers and three
 loads at 128², against 20 ms for the 2-D lattice). Measured at 128² with 16 layers and three
-loads: 38 MB for the x–z plane (77 MB before the fold). ``kernel_cache_bytes`` reports the
+loads: 38 MB for the x–z plane (77 MB before the fold). The line streams its rows in blocks
+(``ROW_BLOCK``) and keeps kernel spectra only up to ``kernel_cache_limit`` (64 MiB by
+default), computing the others at each call with the same values: a plane costs the line's
+memory plus one block's, not a field of the grid per layer. ``kernel_cache_bytes`` reports the
 current size; ``cache_kernels=False`` recomputes the kernels at every call (about 0.1 s for
 16 layers and three loads on the x–z plane at 128²).
 

@@ -5,20 +5,25 @@ Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -
 512 with 4 to 32 subsurface layers (2026-11-25, after the influence operator stopped keeping
 kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
 
-    memory ≈ 80 MB + n² · (600 + 145 · layers + cycled) bytes
+    memory ≈ 80 MB + n² · (600 + cycled) + plane bytes
+    plane  = min(145 · n² · layers, 64 MiB) + 60 kB · n
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
 The 600 B per element are the contact solver: the kernel spectra it needs (the real half of
 an even kernel's, 8 B per padded frequency, ~16 B per element; complex values of the two
 odd ones, ~32 B per element; one to three frictionless and six frictional), one pair of
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
-arrays; the layer term the x–z plane's subsurface kernel spectra (six
-components and three loads per layer on the folded line lattice); the cycled term the
+arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
+components and three loads per layer on the folded line lattice, up to the evaluator's
+``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB) and one block of rows streamed through it
+(``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner functions, coefficients and
+their spectra, ~60 kB per element along the line); the cycled term the
 histories, records and the warm start, which keeps the pressure and both tractions of every
 increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
 has 2·steps increments when cyclic, 4·steps when fretting). The fit errs high by 1–7 % on the
-measured points, e.g. n = 256 static with 32 layers 423 MB estimated, 404 MB measured; n = 512
-static with 16 layers 845 MB, 818 MB measured.
+measured points (static, μ = 0.3, 2026-11-28, after the plane streamed its rows): n = 128
+with 16 layers 136 MB estimated, 129 MB measured; n = 256 with 32 layers 202 MB, 196 MB;
+n = 512 with 16 layers 335 MB, 331 MB.
 
 A ``[fatigue]`` section adds, per increment of a simulated cycle, 48 B per element and
 330 B per point of the stress plane (``FATIGUE_BYTES_PER_*``: the arrays it keeps and its
@@ -36,6 +41,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from engine.solvers.subsurface import DEFAULT_KERNEL_CACHE_LIMIT
+
 from .config import StudyConfig, StudyConfigError
 from .plan import Plan
 
@@ -43,7 +50,8 @@ __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_mem
 
 BASE_BYTES = 80e6
 BYTES_PER_ELEMENT = 600.0
-BYTES_PER_ELEMENT_AND_LAYER = 145.0
+BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, up to the cache limit
+STREAM_BYTES_PER_COLUMN = 60e3  # one block of the plane's rows, per element along the line
 BYTES_PER_ELEMENT_CYCLED = 600.0
 BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 B
 # [fatigue], per increment of the evaluated cycle: its tractions twice (the recorder and the
@@ -58,10 +66,12 @@ def case_memory_bytes(n: int, layers: int, increments: int = 0, fatigue: bool = 
     """Estimated peak memory (bytes) of one case on an n × n mesh with ``layers`` layers and
     ``increments`` load increments per simulated cycle (0: a static case); ``fatigue``: with
     a ``[fatigue]`` section (module docstring)."""
-    per_element = BYTES_PER_ELEMENT + BYTES_PER_ELEMENT_AND_LAYER * layers
+    per_element = BYTES_PER_ELEMENT
     if increments:
         per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
-    memory = BASE_BYTES + float(n) ** 2 * per_element
+    kept = min(BYTES_PER_ELEMENT_AND_LAYER * float(n) ** 2 * layers, DEFAULT_KERNEL_CACHE_LIMIT)
+    plane = kept + STREAM_BYTES_PER_COLUMN * n
+    memory = BASE_BYTES + float(n) ** 2 * per_element + plane
     if fatigue:
         plane = (n + 1) * layers  # points of the stress plane
         per_increment = FATIGUE_BYTES_PER_ELEMENT * n**2 + FATIGUE_BYTES_PER_POINT * plane
