@@ -5,11 +5,11 @@ Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -
 512 with 4 to 32 subsurface layers (2026-11-25, after the influence operator stopped keeping
 kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
 
-    memory ≈ 80 MB + n² · (600 + cycled) + plane bytes
+    memory ≈ 80 MB + n² · (830 + cycled) + plane bytes
     plane  = min(145 · n² · layers, 64 MiB) + 60 kB · n
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The 600 B per element are the contact solver: the kernel spectra it needs (the real half of
+The 830 B per element are the contact solver: the kernel spectra it needs (the real half of
 an even kernel's, 8 B per padded frequency, ~16 B per element; complex values of the two
 odd ones, ~32 B per element; one to three frictionless and six frictional), one pair of
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
@@ -20,10 +20,12 @@ components and three loads per layer on the folded line lattice, up to the evalu
 their spectra, ~60 kB per element along the line); the cycled term the
 histories, records and the warm start, which keeps the pressure and both tractions of every
 increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
-has 2·steps increments when cyclic, 4·steps when fretting). The fit errs high by 1–7 % on the
-measured points (static, μ = 0.3, 2026-11-28, after the plane streamed its rows): n = 128
-with 16 layers 136 MB estimated, 129 MB measured; n = 256 with 32 layers 202 MB, 196 MB;
-n = 512 with 16 layers 335 MB, 331 MB.
+has 2·steps increments when cyclic, 4·steps when fretting). The solver's cost per element grows
+with n (a frictional solve: 700 B at 512², 825 B at 2048², where it peaks at 3.46 GB,
+``benchmarks/bench_memory.py``), so the one figure taken from the largest grid errs high on
+the small ones, by 8–19 % on the measured points (static, μ = 0.3, 2026-11-28, after the
+plane streamed its rows): n = 128 with 16 layers 139 MB estimated, 129 MB measured; n = 256
+with 32 layers 217 MB, 196 MB; n = 512 with 16 layers 395 MB, 331 MB.
 
 A ``[fatigue]`` section adds, per increment of a simulated cycle, 48 B per element and
 330 B per point of the stress plane (``FATIGUE_BYTES_PER_*``: the arrays it keeps and its
@@ -49,7 +51,7 @@ from .plan import Plan
 __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_memory"]
 
 BASE_BYTES = 80e6
-BYTES_PER_ELEMENT = 600.0
+BYTES_PER_ELEMENT = 830.0
 BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, up to the cache limit
 STREAM_BYTES_PER_COLUMN = 60e3  # one block of the plane's rows, per element along the line
 BYTES_PER_ELEMENT_CYCLED = 600.0
