@@ -41,7 +41,8 @@ def line_axis(grid: Grid, origin: tuple[float, float], counts: tuple[int, int]) 
 
 
 class _DepthLayers:
-    """What both convolutions share: every depth layer from the same traction spectra."""
+    """Every depth layer from the same traction spectra, transformed once per call (the 2-D
+    lattice; a line streams its rows instead, ``LineConvolution``)."""
 
     counts: tuple[int, int]
 
@@ -178,7 +179,7 @@ grid only, never on how many kernel spectra are kept (grids of up to 128 rows ac
 line are one block)."""
 
 
-class LineConvolution(_DepthLayers):
+class LineConvolution:
     """Eq. (16) on a line of field points through the middle of a grid that is symmetric
     about it: t = (t_0 + iΔx, 0), i < m (``axis`` = 0, the x–z plane), or t = (0, t_0 + jΔy)
     (``axis`` = 1, the y–z plane).
