@@ -507,9 +507,7 @@ def print_ratios(rows: dict, sizes, frictional: bool) -> None:
 def print_imports(budget: dict) -> None:
     largest = ", ".join(f"{name} {seconds:.3f}" for name, seconds in budget["largest"])
     heavy = ", ".join(budget["heavy"]) or "none"
-    print(
-        f"CLI imports (python -X importtime): {budget['total_s']:.3f} s in all; largest {largest}"
-    )
+    print(f"CLI imports (python -X importtime, wall): {budget['total_s']:.3f} s; largest {largest}")
     print(f"  of {', '.join(HEAVY_IMPORTS)} imported: {heavy}")
 
 
@@ -558,10 +556,10 @@ def write_doc_table(rows: dict, args, budget: dict | None, loads: tuple[float, f
     if budget is not None:
         largest = ", ".join(f"{name} {seconds:.2f} s" for name, seconds in budget["largest"][:4])
         heavy = ", ".join(budget["heavy"]) or "none"
-        text += (
-            f"\n\nImports of `python -m engine` (`-X importtime`, at {args.sizes[0]}²): "
-            f"{budget['total_s']:.2f} s in all (largest: {largest}); of pandas, SciPy and "
-            f"matplotlib imported: {heavy}."
+        text = text.rstrip("\n") + (
+            f"\n\nImports of `python -m engine` at {args.sizes[0]}² (`-X importtime`, wall "
+            f"times, which the load inflates): {budget['total_s']:.2f} s in all (largest: "
+            f"{largest}); of pandas, SciPy and matplotlib imported: {heavy}."
         )
     document = REPO / "docs" / "explanation" / "memory-and-setup.md"
     replace_block(document, block, text)
