@@ -267,6 +267,8 @@ def _prepare_on_root(
 
     config = _configure(study, options)
     plan = make_plan(config)
+    if config.calibrate is not None:  # engine.calibration: its own searches and outputs
+        return _prepare_calibration(config, plan, options, locks)
     check_feasible(config, plan)
     check_memory(config, ranks_on_node, plan=plan)
     if config.search is not None:  # searches create their cases as they go: single writer
@@ -301,6 +303,19 @@ def _prepare_on_root(
     _check_space(output, plan, layout, existing)
     layout = layout if strategy == "mpio" else None
     return _Prepared(config, plan, strategy, layout, _for_searches(config, existing))
+
+
+def _prepare_calibration(config, plan, options: _RunOptions, locks: list):
+    """A ``[calibrate]`` study: the output path checked and locked (engine.calibration
+    keeps its contact solutions beside it and resumes from them)."""
+    from engine.output.lock import OutputLock, check_output_path
+
+    if not options.dry_run:
+        check_output_path(config.study.output)
+        lock = OutputLock(config.study.output)
+        lock.acquire()
+        locks.append(lock)
+    return _Prepared(config, plan, "calibrate", None, None)
 
 
 def _for_searches(config, existing):
@@ -423,6 +438,10 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
             return _stopped_at_start_up(comm, StudyRun("interrupted"))
         config, plan = prepared.config, prepared.plan
         run = StudyRun("planned", config.study.output, config.study.name, cases=len(plan))
+        if prepared.strategy == "calibrate":
+            from engine.calibration.run import calibrate
+
+            return calibrate(comm, config, run, options, stop_event)
         if options.dry_run:
             if rank == 0:
                 print_plan(prepared, options, comm.Get_size())

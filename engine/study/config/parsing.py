@@ -107,6 +107,7 @@ class StudyConfig:
     wear: WearConfig = WearConfig()
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
     fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
+    calibrate: Any = None  # the [calibrate] section (engine.calibration.CalibrateSpec) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -155,7 +156,12 @@ class StudyConfig:
             return self
         case = _parse_tables(substituted(self.tables, settings), self.source)
         return dataclasses.replace(
-            case, study=self.study, sweep=self.sweep, tables=self.tables, search=self.search
+            case,
+            study=self.study,
+            sweep=self.sweep,
+            tables=self.tables,
+            search=self.search,
+            calibrate=self.calibrate,
         )
 
     def resolved(self) -> dict[str, dict[str, Any]]:
@@ -177,6 +183,10 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "calibrate":
+                if self.calibrate is not None:
+                    out["calibrate"] = self.calibrate.resolved()
                 continue
             if field.name == "fatigue":
                 if self.fatigue is not None:
@@ -249,9 +259,19 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     except tomllib.TOMLDecodeError as error:
         raise toml_error(source, text, error) from None
     search_table = data.pop("search", None)
+    calibrate_table = data.pop("calibrate", None)
+    relative_to = ""
+    if calibrate_table is not None and isinstance(search_table, dict):  # the tests' bracket
+        search_table = dict(search_table)
+        relative_to = search_table.pop("relative_to", "")
     axes, tables = split_sweep(source, data)
     first = {key: axis.values[0][i] for axis in axes for i, key in enumerate(axis.keys)}
     search = _search_spec(source, search_table, tables, tuple(first))
+    calibrate = None
+    if calibrate_table is not None:  # engine.calibration: its own section and tests file
+        from engine.calibration.spec import parse_calibrate
+
+        calibrate = parse_calibrate(source, calibrate_table, search, relative_to, tuple(first))
     if search is not None:  # the base study at the bracket's low end
         first[search.parameter] = search.low
     swept = set(first)
@@ -276,7 +296,9 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     if search is not None:
         _check_search_end(source, search, tables, first)
     sweep = dataclasses.replace(config.sweep, axes=axes)
-    return dataclasses.replace(config, sweep=sweep, tables=tables, search=search)
+    return dataclasses.replace(
+        config, sweep=sweep, tables=tables, search=search, calibrate=calibrate
+    )
 
 
 def _search_spec(source: str, table: Any, tables: dict[str, Any], swept: tuple[str, ...]):

@@ -1,0 +1,283 @@
+"""Run a calibration: the searches of the tests inside the outer fit, then the predictions.
+
+``run_calibration(config, comm=...)`` (called by :func:`engine.run.run_study` for a study
+with a ``[calibrate]`` section; every rank calls it):
+
+1. evaluation 0, 1, 2 … of the fit (:mod:`engine.calibration.fit`): the threshold search of
+   every calibration test at the values tried (:class:`~engine.calibration.search.
+   TestSearches`), residuals r = predicted/measured − 1;
+2. the final evaluation: every test searched at the fitted values (the calibration tests
+   again, the others predicted);
+3. rank 0 writes the table (:mod:`engine.calibration.output`): ``NAME_calibration.csv`` and
+   the group ``/calibration`` of the results file.
+
+The contact solutions are kept in ``<output>.contact/`` as they are computed (one file each,
+written atomically): a run that is stopped (or killed) resumes from them and repeats the
+uninterrupted run exactly — the same fitted values, bit for bit, with any number of ranks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from engine.study.plan import Case, make_plan, setting_names
+from engine.study.plan import _format as format_value
+from engine.study.search import SearchSpec, SearchStatus
+
+from .fit import FitFailed, FitResult, fit_values
+from .search import ContactStore, Stopped, TestSearches
+
+__all__ = ["CalibrationProblem", "CalibrationResult", "run_calibration", "contact_dir"]
+
+#: Fits after which a run counts as completed (an "at-bound" fit is printed as a warning).
+FIT_OK = ("converged", "at-bound", "predict-only")
+
+
+def contact_dir(output: Path) -> Path:
+    """``<output>.contact/``: the kept contact solutions of a calibration."""
+    return output.with_name(f"{output.name}.contact")
+
+
+@dataclass
+class CalibrationProblem:
+    """The study's tests as cases: the plan's one combination ``base`` with a test's
+    settings, the fitted values and the searched parameter's value."""
+
+    config: Any
+    base: Case
+    _configs: dict = field(default_factory=dict)
+
+    @property
+    def spec(self):
+        return self.config.calibrate
+
+    @property
+    def search(self) -> SearchSpec:
+        return self.config.search
+
+    @property
+    def parameter(self) -> str:
+        return self.search.parameter
+
+    @property
+    def column(self) -> str:
+        return self.search.column
+
+    def contact_values(self, values: dict[str, float]) -> tuple[tuple[str, float], ...]:
+        """The fitted values that change the contact solution (all but ``fatigue.*``)."""
+        return tuple((k, float(v)) for k, v in values.items() if not k.startswith("fatigue."))
+
+    def test_settings(self, test) -> dict[str, float]:
+        return dict(test.settings)
+
+    def case(self, test, x: float, values: dict[str, float]):
+        """(case, configuration) of ``test`` at parameter value ``x`` and fitted ``values``."""
+        own = self.test_settings(test)
+        mu = own.pop("mu1", None)
+        settings = (*self.base.settings, *own.items(), *values.items(), (self.parameter, x))
+        names = setting_names((self.parameter,))
+        case = dataclasses.replace(
+            self.base,
+            case_id=f"{test.id}_{names[self.parameter]}{format_value(x)}",
+            settings=tuple(settings),
+        )
+        if mu is not None:
+            case = dataclasses.replace(case, mu1=mu, mu2=mu)
+        key = tuple(settings)
+        if key not in self._configs:
+            self._configs[key] = self.config.for_case(settings)
+        return case, self._configs[key]
+
+    def scale(self, test) -> float:
+        """The bracket's unit for ``test``: μP with ``relative_to = "mu_load"``, else 1."""
+        if self.spec.relative_to != "mu_load":
+            return 1.0
+        own = self.test_settings(test)
+        mu = own.get("mu1", self.base.mu1)
+        load = own.get("loading.load", self.config.loading.load)
+        return float(mu) * float(load)
+
+    def search_spec(self, test) -> SearchSpec:
+        scale = self.scale(test)
+        return dataclasses.replace(self.search, low=self.search.low * scale,
+                                   high=self.search.high * scale)  # fmt: skip
+
+
+@dataclass
+class CalibrationResult:
+    """What a calibration ends with: one row per test, the fit, the evaluations."""
+
+    rows: list[dict[str, Any]]
+    fit: FitResult
+    evaluations: list[dict[str, Any]]
+    solves: int
+    wall_time_s: float
+
+
+def _row(problem: CalibrationProblem, test, result) -> dict[str, Any]:
+    row: dict[str, Any] = {"id": test.id}
+    row.update(test.settings)
+    predicted = result.threshold if result.status == SearchStatus.CONVERGED else math.nan
+    row.update(
+        measured=test.measured,
+        predicted=predicted,
+        error=predicted / test.measured - 1.0,
+        role=problem.spec.role(test.id),
+        lower=result.lower,
+        upper=result.upper,
+        steps=result.steps,
+        status=result.status,
+        message=result.message,
+    )
+    return row
+
+
+def _residual(problem, test, result) -> float:
+    """predicted/measured − 1; a threshold outside the bracket counts as the bracket's end
+    it lies beyond (the error is at least that); a failed search fails the fit."""
+    if result.status == SearchStatus.CONVERGED:
+        return result.threshold / test.measured - 1.0
+    if result.status == SearchStatus.NOT_BRACKETED:
+        spec = problem.search_spec(test)
+        above = float(result.lower_value) - float(spec.target) > 0.0
+        end = spec.low if above else spec.high
+        return end / test.measured - 1.0
+    raise FitFailed(f"test {test.id}: search {result.status}: {result.message}")
+
+
+def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> CalibrationResult:
+    """Fit, predict and write (module docstring); raises :class:`Stopped` on a stop (the
+    contact store keeps what was solved)."""
+    from engine.study.operators import OperatorCache
+    from engine.study.outcome import CaseContext
+
+    from .output import write_calibration
+
+    start = time.perf_counter()
+    spec = config.calibrate
+    plan = make_plan(config)
+    if len(plan) != 1:
+        from engine.study.config.sections import StudyConfigError
+
+        raise StudyConfigError(
+            config.source, "sweep", len(plan),
+            "a calibration takes one combination of the [sweep] (the tests set what differs)",
+        )  # fmt: skip
+    problem = CalibrationProblem(config, plan.cases[0])
+    output = Path(config.study.output)
+    store = ContactStore(contact_dir(output))
+    rank = comm.Get_rank()
+    if fresh and rank == 0:
+        import shutil
+
+        shutil.rmtree(store.directory, ignore_errors=True)
+        for path in (output, calibration_csv_path(config.study.summary_path)):
+            path.unlink(missing_ok=True)
+    comm.Barrier()
+    store.load_index()
+    context = CaseContext(OperatorCache(), config.study.checkpoint_dir)
+    should_stop = None if stop_event is None else stop_event.is_set
+    searches = TestSearches(problem, store, comm, context, should_stop)
+    calibration = [test for test in spec.tests if test.id in spec.calibrate_on]
+    log: list[dict[str, Any]] = []
+
+    def residuals(values: dict[str, float]) -> np.ndarray:
+        number = len(log)
+        results = searches.run(calibration, values, number)
+        found = np.array([_residual(problem, t, results[t.id]) for t in calibration])
+        entry: dict[str, Any] = {"evaluation": number, **values}
+        entry.update({f"predicted_{t.id}": results[t.id].threshold for t in calibration})
+        entry["sum_squares"] = float(np.sum(found**2))
+        log.append(entry)
+        if rank == 0:
+            shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+            print(f"fit evaluation {number}: {shown}: Σ r² = {entry['sum_squares']:.4g}",
+                  flush=True)  # fmt: skip
+        return found
+
+    fit = fit_values(
+        residuals, spec.fit, spec.low, spec.high,
+        rtol=spec.fit_rtol, max_evaluations=spec.max_evaluations,
+    )  # fmt: skip
+    results = searches.run(list(spec.tests), fit.values, len(log))
+    rows = [_row(problem, test, results[test.id]) for test in spec.tests]
+    outcome = CalibrationResult(rows, fit, log, searches.solves, time.perf_counter() - start)
+    if rank == 0:
+        write_calibration(config, outcome, store)
+    comm.Barrier()
+    return outcome
+
+
+def calibration_csv_path(summary_path) -> Path:
+    """``NAME_calibration.csv`` beside the summary ``NAME.csv``."""
+    summary_path = Path(summary_path)
+    return summary_path.with_name(f"{summary_path.stem}_calibration.csv")
+
+
+def describe(outcome: CalibrationResult) -> str:
+    """The closing lines: the fit and the errors of the predicted tests."""
+    fit = outcome.fit
+    values = ", ".join(f"{k} = {v:.6g}" for k, v in fit.values.items()) or "nothing fitted"
+    errors = [abs(r["error"]) for r in outcome.rows if r["role"] == "predict"]
+    errors = [e for e in errors if math.isfinite(e)]
+    text = f"fit {fit.status}: {values} ({fit.evaluations} evaluations"
+    text += f"; {fit.message})" if fit.message and fit.status != "converged" else ")"
+    if errors:
+        text += (
+            f"\npredicted tests: median |error| {100 * float(np.median(errors)):.1f} %, "
+            f"largest {100 * max(errors):.1f} % ({len(errors)} tests)"
+        )
+    return text + f"\n{outcome.solves} contact solutions computed this run"
+
+
+def _print(text: str) -> None:
+    print(text, file=sys.stdout, flush=True)
+
+
+def calibrate(comm, config, run, options, stop_event):
+    """The :class:`~engine.run.StudyRun` of a calibration (:func:`engine.run.run_study`):
+    ``"completed"`` when every test's final search converged, ``"failed"`` otherwise (the
+    fit's or a search's status says why), ``"interrupted"`` on a stop (rerun to resume),
+    ``"planned"`` for a dry run."""
+    rank = comm.Get_rank()
+    spec = config.calibrate
+    if options.dry_run:
+        if rank == 0:
+            _print(
+                f"calibration {config.study.name!r}: {len(spec.tests)} tests "
+                f"({len(spec.calibrate_on)} calibrate, "
+                f"{len(spec.tests) - len(spec.calibrate_on)} predict), fit "
+                f"{', '.join(spec.fit) or 'nothing'}; {config.search.parameter} searched until "
+                f"{config.search.column} reaches {config.search.target!r}"
+            )
+        return run
+    try:
+        outcome = run_calibration(config, comm=comm, stop_event=stop_event, fresh=options.fresh)
+    except Stopped:
+        message = "stopped: the contact solutions so far are kept; rerun to resume"
+        if rank == 0:
+            print(message, file=sys.stderr, flush=True)
+        return dataclasses.replace(run, status="interrupted", message=message)
+    if rank == 0:
+        _print(describe(outcome))
+    converged = sum(row["status"] == SearchStatus.CONVERGED for row in outcome.rows)
+    ok = converged == len(outcome.rows) and outcome.fit.status in FIT_OK
+    return dataclasses.replace(
+        run,
+        status="completed" if ok else "failed",
+        cases=len(outcome.rows),
+        completed=converged,
+        failed=len(outcome.rows) - converged,
+        wall_time_s=outcome.wall_time_s,
+        message=""
+        if ok
+        else f"fit {outcome.fit.status}; {converged}/{len(outcome.rows)} searches converged",
+    )

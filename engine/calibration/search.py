@@ -1,0 +1,260 @@
+"""Every test's threshold search for given values of the fitted keys, across the ranks.
+
+For values v of the fitted keys, every test is one threshold search
+(:class:`engine.study.search.Search`, the same method and stopping rule as a ``[search]``
+study) along the searched parameter x. The searches advance together in rounds: each round
+takes the x every unfinished search waits for, solves the contact of those not solved yet
+(:func:`~engine.calibration.contact.solve_cycle`; rank r solves the r-th of every ``size``),
+reads the threshold column from every kept contact solution with the values v
+(:func:`~engine.calibration.contact.criterion_value`, shared the same way) and gives every
+search its value. Every rank holds every search and receives every value, so every rank ends
+with the same thresholds, bit for bit, whatever the number of ranks.
+
+Contact solutions are kept in a :class:`ContactStore` keyed by (test, x, the fitted keys that
+change the contact). A fatigue constant or the critical distance does not change the contact:
+a fit over them solves the contact only at values of x not solved before, and an evaluation
+starts each search from the tightest bracket among the x solved in *earlier* evaluations
+(read again with the new values, no contact solve), so as the fit converges its searches need
+fewer and fewer new solutions. Only solutions of earlier evaluations seed a bracket: what an
+evaluation does depends on the evaluations before it alone, so a run resumed from the store
+repeats the uninterrupted run exactly.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from engine.study.search import Search, SearchSpec, SearchStatus
+
+from .contact import ContactCycle, criterion_value, cycle_arrays, cycle_from_arrays, solve_cycle
+
+__all__ = ["ContactStore", "StoreEntry", "TestSearches", "Stopped"]
+
+
+class Stopped(Exception):
+    """A stop was requested (every rank agreed): the run ends, the store keeps its work."""
+
+
+@dataclass(frozen=True)
+class StoreEntry:
+    """One kept contact solution: its number (creation order), test, x, the contact-changing
+    fitted values, the evaluation that created it, and its file."""
+
+    number: int
+    test: str
+    x: float
+    contact: tuple[tuple[str, float], ...]
+    evaluation: int
+    path: Path
+    converged: bool = True
+
+
+@dataclass
+class ContactStore:
+    """Contact solutions on disk (``directory/NNNNNN.npz``, each written atomically) and an
+    in-memory copy of those this rank has read or solved."""
+
+    directory: Path
+    entries: dict[tuple, StoreEntry] = field(default_factory=dict)
+    cycles: dict[int, ContactCycle] = field(default_factory=dict)
+
+    @staticmethod
+    def key(test: str, x: float, contact) -> tuple:
+        return (test, float(x), tuple(contact))
+
+    def load_index(self) -> None:
+        """Read the entries already on disk (a resumed run)."""
+        if not self.directory.is_dir():
+            return
+        for path in sorted(self.directory.glob("*.npz")):
+            with np.load(path, allow_pickle=False) as data:
+                names = [str(n) for n in data["contact_names"]]
+                values = [float(v) for v in data["contact_values"]]
+                entry = StoreEntry(
+                    int(data["number"]),
+                    str(data["test"]),
+                    float(data["x"]),
+                    tuple(zip(names, values, strict=True)),
+                    int(data["evaluation"]),
+                    path,
+                    bool(int(data["converged"][0])),
+                )
+            self.entries[self.key(entry.test, entry.x, entry.contact)] = entry
+
+    def get(self, test: str, x: float, contact) -> StoreEntry | None:
+        return self.entries.get(self.key(test, x, contact))
+
+    def path_for(self, number: int) -> Path:
+        return self.directory / f"{number:06d}.npz"
+
+    def save(self, entry: StoreEntry, cycle: ContactCycle) -> None:
+        self.directory.mkdir(parents=True, exist_ok=True)
+        arrays = cycle_arrays(cycle)
+        names, values = zip(*entry.contact, strict=True) if entry.contact else ((), ())
+        arrays.update(
+            number=np.array(entry.number),
+            test=np.array(entry.test),
+            x=np.array(entry.x),
+            evaluation=np.array(entry.evaluation),
+            contact_names=np.array(list(names), dtype=str),
+            contact_values=np.array(list(values), dtype=float),
+        )
+        temporary = entry.path.with_name(f".{entry.path.name}.tmp.npz")
+        np.savez(temporary, **arrays)
+        os.replace(temporary, entry.path)
+        self.cycles[entry.number] = cycle
+
+    def add(self, entry: StoreEntry) -> None:
+        self.entries[self.key(entry.test, entry.x, entry.contact)] = entry
+
+    def cycle(self, entry: StoreEntry) -> ContactCycle:
+        if entry.number not in self.cycles:
+            with np.load(entry.path, allow_pickle=False) as data:
+                self.cycles[entry.number] = cycle_from_arrays(data)
+        return self.cycles[entry.number]
+
+
+@dataclass
+class TestSearches:
+    """The threshold searches of the tests for one evaluation (given fitted values).
+
+    ``problem`` gives, per test and x, the case and configuration (``problem.case(test, x,
+    values)``), and the contact-changing part of the fitted values; ``comm`` the ranks.
+    """
+
+    __test__ = False
+
+    problem: Any
+    store: ContactStore
+    comm: Any
+    context: Any
+    should_stop: Any = None
+    solves: int = 0  # contact solves of this run, all ranks
+
+    def run(self, tests, values: dict[str, float], evaluation: int) -> dict[str, Any]:
+        """Search every test of ``tests`` at the fitted ``values``; returns per test id the
+        :class:`~engine.study.search.SearchResult` (threshold in the parameter's units)."""
+        problem = self.problem
+        contact = problem.contact_values(values)
+        searches = {}
+        for test in tests:
+            spec = problem.search_spec(test)
+            spec = self._seeded(test, spec, values, contact, evaluation)
+            searches[test.id] = Search(spec)
+        while True:
+            self._check_stop()
+            wanted = [(test, x) for test in tests for x in searches[test.id].pending()]
+            if not wanted:
+                break
+            found = self._values(wanted, values, contact, evaluation)
+            for (test, x), value in zip(wanted, found, strict=True):
+                searches[test.id].record(x, value)
+        return {test.id: searches[test.id].result for test in tests}
+
+    # ------------------------------------------------------------------ internals
+    def _check_stop(self) -> None:
+        from mpi4py import MPI
+
+        stop = bool(self.should_stop is not None and self.should_stop())
+        if self.comm.allreduce(stop, op=MPI.LOR):
+            raise Stopped()
+
+    def _seeded(self, test, spec: SearchSpec, values, contact, evaluation) -> SearchSpec:
+        """The bracket of ``spec`` narrowed to the tightest pair of x solved in earlier
+        evaluations on either side of the target (read with ``values``); ``spec`` unchanged
+        without such a pair."""
+        known = sorted(
+            entry.x
+            for entry in self.store.entries.values()
+            if entry.test == test.id
+            and entry.contact == tuple(contact)
+            and entry.evaluation < evaluation
+            and spec.low <= entry.x <= spec.high
+            and entry.converged
+        )
+        if len(known) < 2:
+            return spec
+        found = self._values([(test, x) for x in known], values, contact, evaluation)
+        side = [None if not _usable(v) else (float(v) - float(spec.target) > 0.0) for v in found]
+        for k in range(len(known) - 1):
+            if side[k] is not None and side[k + 1] is not None and side[k] != side[k + 1]:
+                return dataclasses.replace(spec, low=known[k], high=known[k + 1])
+        return spec
+
+    def _values(self, wanted, values, contact, evaluation) -> list[Any]:
+        """The column at every (test, x) of ``wanted``: missing contact solutions are solved
+        first (shared over the ranks), then the criteria are read (shared too)."""
+        rank, size = self.comm.Get_rank(), self.comm.Get_size()
+        missing, seen = [], set()
+        for test, x in wanted:
+            key = ContactStore.key(test.id, x, contact)
+            if self.store.get(test.id, x, contact) is None and key not in seen:
+                seen.add(key)
+                missing.append((test, x))
+        number = len(self.store.entries)
+        entries = [
+            StoreEntry(number + k, test.id, float(x), tuple(contact), evaluation,
+                       self.store.path_for(number + k))
+            for k, (test, x) in enumerate(missing)
+        ]  # fmt: skip
+        solved = []
+        for k in range(rank, len(missing), size):
+            test, x = missing[k]
+            case, config = self.problem.case(test, x, values)
+            try:
+                cycle = solve_cycle(self.context, case, config, self.should_stop)
+            except InterruptedError:
+                cycle = None
+            except Exception as error:  # noqa: BLE001 - a failed solve fails its search
+                cycle = ContactCycle((), False, f"{type(error).__name__}: {error}")
+            if cycle is not None:
+                entry = dataclasses.replace(entries[k], converged=cycle.converged)
+                self.store.save(entry, cycle)
+                solved.append((k, cycle.converged))
+        everyone = self.comm.allgather(solved)
+        done = {k: converged for share in everyone for k, converged in share}
+        if len(done) < len(missing):  # a rank was stopped inside a solve
+            for k, converged in done.items():
+                self.store.add(dataclasses.replace(entries[k], converged=converged))
+            raise Stopped()
+        for k in range(len(missing)):
+            self.store.add(dataclasses.replace(entries[k], converged=done[k]))
+        self.solves += len(missing)
+        mine = {}
+        for k in range(rank, len(wanted), size):
+            test, x = wanted[k]
+            mine[k] = self._value(test, x, values, contact)
+        found: dict[int, Any] = {}
+        for share in self.comm.allgather(mine):
+            found.update(share)
+        return [found[k] for k in range(len(wanted))]
+
+    def _value(self, test, x, values, contact):
+        from engine.study.search import StepFailure
+
+        entry = self.store.get(test.id, x, contact)
+        cycle = self.store.cycle(entry)
+        if not cycle.converged or not cycle.increments:
+            return StepFailure(
+                f"the contact at {self.problem.parameter} = {x!r} did not converge"
+                + (f": {cycle.message}" if cycle.message else "")
+            )
+        case, config = self.problem.case(test, x, values)
+        return criterion_value(self.context, case, config, cycle, self.problem.column)
+
+
+def _usable(value: Any) -> bool:
+    try:
+        return math.isfinite(float(value))
+    except (TypeError, ValueError):
+        return False
+
+
+CONVERGED = SearchStatus.CONVERGED
