@@ -10,7 +10,9 @@ The public API:
 - :func:`open_results` opens a results file as objects: the study, the summary, each
   case's histories, fields and stress planes with units (``.to_xarray()`` with xarray);
 - :func:`load_summary` reads a study's summary table as a pandas DataFrame;
-- :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section.
+- :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section;
+- :func:`load_calibration` reads the calibration table of a study with a ``[calibrate]``
+  section (measured and predicted thresholds, the fitted values).
 
 ``import engine`` stays light: NumPy, h5py, mpi4py and pandas load when a function needs them.
 """
@@ -32,6 +34,7 @@ __all__ = [
     "open_results",
     "load_summary",
     "load_thresholds",
+    "load_calibration",
 ]
 
 
@@ -111,5 +114,33 @@ def load_thresholds(path):
     >>> frame.plot(x="loading.load", y="threshold")                      # doctest: +SKIP
     """
     from engine.output.thresholds import load_thresholds as load
+
+    return load(path)
+
+
+def load_calibration(path):
+    """The calibration table of a study with a ``[calibrate]`` section, as a
+    :class:`pandas.DataFrame` (:func:`engine.calibration.output.load_calibration`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) or ``NAME_calibration.csv``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per test: its id and keys, ``measured``, ``predicted`` (the searched
+        parameter's units), ``error`` (predicted/measured − 1), ``role`` (``calibrate`` or
+        ``predict``), the final bracket, ``steps``, ``status``; ``frame.attrs["fitted"]`` the
+        fitted values, ``frame.attrs["units"]`` the units, ``frame.attrs["fit_status"]`` how
+        the fit ended.
+
+    Examples
+    --------
+    >>> frame = engine.load_calibration("results/fouvry_crack_nucleation.h5")  # doctest: +SKIP
+    >>> frame.attrs["fitted"]["fatigue.length"]                                # doctest: +SKIP
+    """
+    from engine.calibration.output import load_calibration as load
 
     return load(path)

@@ -199,8 +199,15 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     if missing_file(args.results):
         return 2
+    from engine.calibration.report import calibration_figures, has_calibration
+
     from .threshold_figures import has_thresholds, threshold_figures
 
+    if args.case is None and has_calibration(args.results):  # a [calibrate] study
+        out = args.out or args.results.with_name(f"{args.results.stem}_figures")
+        for number, path in enumerate(calibration_figures(args.results, out), start=1):
+            print(f"plot: [{number}] {path}", flush=True)
+        return 0
     if args.case is None and has_thresholds(args.results):  # a [search] study: its boundaries
         out = args.out or args.results.with_name(f"{args.results.stem}_figures")
         for number, path in enumerate(threshold_figures(args.results, out), start=1):
