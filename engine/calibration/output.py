@@ -91,7 +91,11 @@ def _columns(rows) -> list[str]:
 def _fitted_units(config, fitted) -> dict[str, str]:
     from engine.output.summary import column_unit
 
-    return {key: column_unit(key, config.punch.is_line) for key in fitted}
+    line = config.punch.is_line
+    return {
+        key: column_unit(config.search.column if key == "search.target" else key, line)
+        for key in fitted
+    }
 
 
 def _array(values: list[Any]) -> np.ndarray:

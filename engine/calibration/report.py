@@ -66,7 +66,11 @@ def calibration_report(path: str | Path) -> str:
     message = frame.attrs.get("fit_message", "")
     if message and status != "converged":
         lines.append(f"Fit: {message}.")
-    lines += ["", "| id | measured | predicted | error | role | status |", "|---|---|---|---|---|---|"]
+    lines += [
+        "",
+        "| id | measured | predicted | error | role | status |",
+        "|---|---|---|---|---|---|",
+    ]
     for row in frame.itertuples(index=False):
         predicted = "" if math.isnan(row.predicted) else f"{row.predicted:.4g}"
         error = "" if math.isnan(row.error) else f"{100 * row.error:+.1f} %"

@@ -34,6 +34,7 @@ from engine.study.search import SearchSpec, SearchStatus
 
 from .fit import FitFailed, FitResult, fit_values
 from .search import ContactStore, Stopped, TestSearches
+from .spec import TARGET_KEY
 
 __all__ = ["CalibrationProblem", "CalibrationResult", "run_calibration", "contact_dir"]
 
@@ -72,8 +73,13 @@ class CalibrationProblem:
         return self.search.column
 
     def contact_values(self, values: dict[str, float]) -> tuple[tuple[str, float], ...]:
-        """The fitted values that change the contact solution (all but ``fatigue.*``)."""
-        return tuple((k, float(v)) for k, v in values.items() if not k.startswith("fatigue."))
+        """The fitted values that change the contact solution (all but ``fatigue.*`` and
+        the search's target)."""
+        return tuple(
+            (k, float(v))
+            for k, v in values.items()
+            if not k.startswith("fatigue.") and k != TARGET_KEY
+        )
 
     def test_settings(self, test) -> dict[str, float]:
         return dict(test.settings)
@@ -82,7 +88,8 @@ class CalibrationProblem:
         """(case, configuration) of ``test`` at parameter value ``x`` and fitted ``values``."""
         own = self.test_settings(test)
         mu = own.pop("mu1", None)
-        settings = (*self.base.settings, *own.items(), *values.items(), (self.parameter, x))
+        study_values = {k: v for k, v in values.items() if k != TARGET_KEY}
+        settings = (*self.base.settings, *own.items(), *study_values.items(), (self.parameter, x))
         names = setting_names((self.parameter,))
         case = dataclasses.replace(
             self.base,
@@ -105,10 +112,14 @@ class CalibrationProblem:
         load = own.get("loading.load", self.config.loading.load)
         return float(mu) * float(load)
 
-    def search_spec(self, test) -> SearchSpec:
+    def search_spec(self, test, values: dict[str, float]) -> SearchSpec:
+        """The search of ``test``: its bracket (``relative_to``), the target (fitted or the
+        ``[search]`` one)."""
         scale = self.scale(test)
-        return dataclasses.replace(self.search, low=self.search.low * scale,
-                                   high=self.search.high * scale)  # fmt: skip
+        target = values.get(TARGET_KEY, self.search.target)
+        return dataclasses.replace(
+            self.search, low=self.search.low * scale, high=self.search.high * scale, target=target
+        )
 
 
 @dataclass
@@ -140,13 +151,13 @@ def _row(problem: CalibrationProblem, test, result) -> dict[str, Any]:
     return row
 
 
-def _residual(problem, test, result) -> float:
+def _residual(problem, test, result, values) -> float:
     """predicted/measured − 1; a threshold outside the bracket counts as the bracket's end
     it lies beyond (the error is at least that); a failed search fails the fit."""
     if result.status == SearchStatus.CONVERGED:
         return result.threshold / test.measured - 1.0
     if result.status == SearchStatus.NOT_BRACKETED:
-        spec = problem.search_spec(test)
+        spec = problem.search_spec(test, values)
         above = float(result.lower_value) - float(spec.target) > 0.0
         end = spec.low if above else spec.high
         return end / test.measured - 1.0
@@ -192,7 +203,7 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
     def residuals(values: dict[str, float]) -> np.ndarray:
         number = len(log)
         results = searches.run(calibration, values, number)
-        found = np.array([_residual(problem, t, results[t.id]) for t in calibration])
+        found = np.array([_residual(problem, t, results[t.id], values) for t in calibration])
         entry: dict[str, Any] = {"evaluation": number, **values}
         entry.update({f"predicted_{t.id}": results[t.id].threshold for t in calibration})
         entry["sum_squares"] = float(np.sum(found**2))

@@ -143,11 +143,9 @@ class TestSearches:
         :class:`~engine.study.search.SearchResult` (threshold in the parameter's units)."""
         problem = self.problem
         contact = problem.contact_values(values)
-        searches = {}
-        for test in tests:
-            spec = problem.search_spec(test)
-            spec = self._seeded(test, spec, values, contact, evaluation)
-            searches[test.id] = Search(spec)
+        specs = {test.id: problem.search_spec(test, values) for test in tests}
+        specs.update(self._seeded(tests, specs, values, contact, evaluation))
+        searches = {test.id: Search(specs[test.id]) for test in tests}
         while True:
             self._check_stop()
             wanted = [(test, x) for test in tests for x in searches[test.id].pending()]
@@ -166,27 +164,62 @@ class TestSearches:
         if self.comm.allreduce(stop, op=MPI.LOR):
             raise Stopped()
 
-    def _seeded(self, test, spec: SearchSpec, values, contact, evaluation) -> SearchSpec:
-        """The bracket of ``spec`` narrowed to the tightest pair of x solved in earlier
-        evaluations on either side of the target (read with ``values``); ``spec`` unchanged
-        without such a pair."""
-        known = sorted(
-            entry.x
-            for entry in self.store.entries.values()
-            if entry.test == test.id
-            and entry.contact == tuple(contact)
-            and entry.evaluation < evaluation
-            and spec.low <= entry.x <= spec.high
-            and entry.converged
-        )
-        if len(known) < 2:
-            return spec
-        found = self._values([(test, x) for x in known], values, contact, evaluation)
-        side = [None if not _usable(v) else (float(v) - float(spec.target) > 0.0) for v in found]
-        for k in range(len(known) - 1):
-            if side[k] is not None and side[k + 1] is not None and side[k] != side[k + 1]:
-                return dataclasses.replace(spec, low=known[k], high=known[k + 1])
-        return spec
+    def _seeded(self, tests, specs, values, contact, evaluation) -> dict[str, SearchSpec]:
+        """Per test, its bracket narrowed to the tightest pair of neighbouring x solved in
+        earlier evaluations on either side of the target (read with ``values``; found by
+        bisection over the sorted x, the column taken monotone in the bracket as the search
+        does); tests without such a pair keep their bracket."""
+        known = {}
+        for test in tests:
+            spec = specs[test.id]
+            xs = sorted(
+                entry.x
+                for entry in self.store.entries.values()
+                if entry.test == test.id
+                and entry.contact == tuple(contact)
+                and entry.evaluation < evaluation
+                and entry.converged
+                and spec.low <= entry.x <= spec.high
+            )
+            if len(xs) >= 2:
+                known[test.id] = xs
+        by_id = {test.id: test for test in tests}
+        side: dict[str, dict[int, bool | None]] = {test_id: {} for test_id in known}
+        ranges = {test_id: [0, len(xs) - 1] for test_id, xs in known.items()}
+        while True:
+            wanted = []  # (test id, index) whose side is needed now
+            for test_id, (low, high) in ranges.items():
+                for index in (low, high) if low not in side[test_id] else ((low + high) // 2,):
+                    if index not in side[test_id]:
+                        wanted.append((test_id, index))
+            if not wanted:
+                break
+            found = self._values(
+                [(by_id[t], known[t][i]) for t, i in wanted], values, contact, evaluation
+            )
+            for (test_id, index), value in zip(wanted, found, strict=True):
+                target = float(specs[test_id].target)
+                side[test_id][index] = None if not _usable(value) else float(value) > target
+            for test_id in list(ranges):
+                low, high = ranges[test_id]
+                seen = side[test_id]
+                if seen.get(low) is None or seen.get(high) is None or seen[low] == seen[high]:
+                    del ranges[test_id]  # unusable or not bracketed: keep the bracket
+                    continue
+                if high - low == 1:
+                    xs = known[test_id]
+                    specs[test_id] = dataclasses.replace(specs[test_id], low=xs[low], high=xs[high])
+                    del ranges[test_id]
+                    continue
+                middle = (low + high) // 2
+                if middle in seen:
+                    if seen[middle] is None:
+                        del ranges[test_id]
+                    elif seen[middle] == seen[low]:
+                        ranges[test_id] = [middle, high]
+                    else:
+                        ranges[test_id] = [low, middle]
+        return specs
 
     def _values(self, wanted, values, contact, evaluation) -> list[Any]:
         """The column at every (test, x) of ``wanted``: missing contact solutions are solved

@@ -9,7 +9,9 @@ A calibration study has a ``[search]`` section (the quantity measured at the thr
   measured threshold (in the searched parameter's units);
 - ``id``, ``measured`` — the names of the id and measured columns;
 - ``fit`` — the study keys to fit (sweepable keys, e.g. ``fatigue.length``) with ``low`` and
-  ``high`` lists of the same length; an empty ``fit`` only predicts;
+  ``high`` lists of the same length; an empty ``fit`` only predicts. ``"search.target"``
+  fits the column's value at the threshold itself (e.g. the SWT parameter at the fatigue
+  limit, σ_d²/E in MPa, when σ_d is not known);
 - ``calibrate_on`` — the ids of the tests the fit uses; every other test is predicted;
 - ``fit_rtol`` [1e-3] — the fit's relative tolerance on each fitted value;
 - ``max_evaluations`` [40] — evaluations of the objective (each a threshold search per
@@ -40,6 +42,7 @@ __all__ = [
     "parse_calibrate",
     "read_tests",
     "RELATIVE_TO",
+    "TARGET_KEY",
     "test_keys",
 ]
 
@@ -49,6 +52,8 @@ CALIBRATE_KEYS = (
     "tests", "id", "measured", "fit", "low", "high", "calibrate_on", "fit_rtol",
     "max_evaluations",
 )  # fmt: skip
+#: The fitted key that stands for the search's target (the column's value at the threshold).
+TARGET_KEY = "search.target"
 #: Keys a test may set besides the dotted sweepable keys: the friction coefficient.
 EXTRA_TEST_KEYS = {"mu1": "1"}
 
@@ -255,6 +260,10 @@ def parse_calibrate(
     if not isinstance(fit, list) or not all(isinstance(key, str) for key in fit):
         raise error("fit", fit, "must be a list of dotted study keys")
     for key in fit:
+        if key == TARGET_KEY:
+            if search.categorical:
+                raise error("fit", key, "the search's target is a text: nothing to fit")
+            continue
         if key not in SWEEPABLE or key in _INTEGER_KEYS:
             raise error("fit", key, "not a continuous sweepable key")
         if key == search.parameter:
