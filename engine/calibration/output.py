@@ -161,7 +161,10 @@ def write_calibration(config, outcome, store) -> tuple[Path, Path]:
         if outcome.evaluations:
             _write_table(evaluations, outcome.evaluations, {}, {})
         contact = group.create_group("contact", track_order=True)
-        entries = sorted(store.entries.values(), key=lambda entry: entry.number)
+        order = {test.id: number for number, test in enumerate(config.calibrate.tests)}
+        entries = sorted(
+            store.entries.values(), key=lambda e: (e.evaluation, order.get(e.test, -1), e.x)
+        )
         table = [
             {"test": e.test, "x": e.x, "evaluation": e.evaluation, "converged": int(e.converged)}
             for e in entries

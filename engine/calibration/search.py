@@ -23,8 +23,10 @@ repeats the uninterrupted run exactly.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -37,6 +39,8 @@ from .contact import ContactCycle, criterion_value, cycle_arrays, cycle_from_arr
 
 __all__ = ["ContactStore", "StoreEntry", "TestSearches", "Stopped"]
 
+_STORED = re.compile(r"^[0-9a-f]{24}\.npz$")
+
 
 class Stopped(Exception):
     """A stop was requested (every rank agreed): the run ends, the store keeps its work."""
@@ -44,10 +48,9 @@ class Stopped(Exception):
 
 @dataclass(frozen=True)
 class StoreEntry:
-    """One kept contact solution: its number (creation order), test, x, the contact-changing
-    fitted values, the evaluation that created it, and its file."""
+    """One kept contact solution: its test, x, the contact-changing fitted values, the
+    evaluation that created it, and its file (named by a digest of the first three)."""
 
-    number: int
     test: str
     x: float
     contact: tuple[tuple[str, float], ...]
@@ -58,12 +61,14 @@ class StoreEntry:
 
 @dataclass
 class ContactStore:
-    """Contact solutions on disk (``directory/NNNNNN.npz``, each written atomically) and an
-    in-memory copy of those this rank has read or solved."""
+    """Contact solutions on disk (``directory/<digest>.npz``, each written atomically; the
+    digest of test, x and the contact-changing values, so that a file's name never depends
+    on the order in which it was solved) and an in-memory copy of those this rank has read
+    or solved."""
 
     directory: Path
     entries: dict[tuple, StoreEntry] = field(default_factory=dict)
-    cycles: dict[int, ContactCycle] = field(default_factory=dict)
+    cycles: dict[tuple, ContactCycle] = field(default_factory=dict)
 
     @staticmethod
     def key(test: str, x: float, contact) -> tuple:
@@ -74,11 +79,12 @@ class ContactStore:
         if not self.directory.is_dir():
             return
         for path in sorted(self.directory.glob("*.npz")):
+            if not _STORED.match(path.name):  # a temporary file a kill left behind
+                continue
             with np.load(path, allow_pickle=False) as data:
                 names = [str(n) for n in data["contact_names"]]
                 values = [float(v) for v in data["contact_values"]]
                 entry = StoreEntry(
-                    int(data["number"]),
                     str(data["test"]),
                     float(data["x"]),
                     tuple(zip(names, values, strict=True)),
@@ -91,15 +97,15 @@ class ContactStore:
     def get(self, test: str, x: float, contact) -> StoreEntry | None:
         return self.entries.get(self.key(test, x, contact))
 
-    def path_for(self, number: int) -> Path:
-        return self.directory / f"{number:06d}.npz"
+    def path_for(self, test: str, x: float, contact) -> Path:
+        text = repr(self.key(test, x, contact)).encode("utf-8")
+        return self.directory / f"{hashlib.sha256(text).hexdigest()[:24]}.npz"
 
     def save(self, entry: StoreEntry, cycle: ContactCycle) -> None:
         self.directory.mkdir(parents=True, exist_ok=True)
         arrays = cycle_arrays(cycle)
         names, values = zip(*entry.contact, strict=True) if entry.contact else ((), ())
         arrays.update(
-            number=np.array(entry.number),
             test=np.array(entry.test),
             x=np.array(entry.x),
             evaluation=np.array(entry.evaluation),
@@ -109,16 +115,17 @@ class ContactStore:
         temporary = entry.path.with_name(f".{entry.path.name}.tmp.npz")
         np.savez(temporary, **arrays)
         os.replace(temporary, entry.path)
-        self.cycles[entry.number] = cycle
+        self.cycles[self.key(entry.test, entry.x, entry.contact)] = cycle
 
     def add(self, entry: StoreEntry) -> None:
         self.entries[self.key(entry.test, entry.x, entry.contact)] = entry
 
     def cycle(self, entry: StoreEntry) -> ContactCycle:
-        if entry.number not in self.cycles:
+        key = self.key(entry.test, entry.x, entry.contact)
+        if key not in self.cycles:
             with np.load(entry.path, allow_pickle=False) as data:
-                self.cycles[entry.number] = cycle_from_arrays(data)
-        return self.cycles[entry.number]
+                self.cycles[key] = cycle_from_arrays(data)
+        return self.cycles[key]
 
 
 @dataclass
@@ -231,11 +238,10 @@ class TestSearches:
             if self.store.get(test.id, x, contact) is None and key not in seen:
                 seen.add(key)
                 missing.append((test, x))
-        number = len(self.store.entries)
         entries = [
-            StoreEntry(number + k, test.id, float(x), tuple(contact), evaluation,
-                       self.store.path_for(number + k))
-            for k, (test, x) in enumerate(missing)
+            StoreEntry(test.id, float(x), tuple(contact), evaluation,
+                       self.store.path_for(test.id, x, contact))
+            for test, x in missing
         ]  # fmt: skip
         solved = []
         for k in range(rank, len(missing), size):
