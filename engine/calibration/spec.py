@@ -111,6 +111,7 @@ class CalibrateSpec:
     fit_rtol: float = 1e-3
     max_evaluations: int = 40
     keys: tuple[str, ...] = field(default=())  # the tests' setting columns, file order
+    tests_file: str = ""  # ``tests`` as given (relative to the study file)
 
     def role(self, test_id: str) -> str:
         """``"calibrate"`` for a test the fit uses, ``"predict"`` otherwise."""
@@ -119,7 +120,7 @@ class CalibrateSpec:
     def resolved(self) -> dict[str, Any]:
         """The section as TOML-able data (stored with the results)."""
         return {
-            "tests": str(self.tests_path),
+            "tests": self.tests_file or str(self.tests_path),
             "id": self.id_column,
             "measured": self.measured_column,
             "fit": list(self.fit),
@@ -334,6 +335,7 @@ def parse_calibrate(
         fit_rtol=float(fit_rtol),
         max_evaluations=evaluations,
         keys=keys,
+        tests_file=table["tests"],
     )
 
 
