@@ -120,7 +120,7 @@ def load_thresholds(path):
 
 def load_calibration(path):
     """The calibration table of a study with a ``[calibrate]`` section, as a
-    :class:`pandas.DataFrame` (:func:`engine.calibration.output.load_calibration`).
+    :class:`pandas.DataFrame` (:func:`engine.output.calibration.load_calibration`).
 
     Parameters
     ----------
@@ -141,6 +141,6 @@ def load_calibration(path):
     >>> frame = engine.load_calibration("results/fouvry_crack_nucleation.h5")  # doctest: +SKIP
     >>> frame.attrs["fitted"]["fatigue.length"]                                # doctest: +SKIP
     """
-    from engine.calibration.output import load_calibration as load
+    from engine.output.calibration import load_calibration as load
 
     return load(path)

@@ -16,7 +16,6 @@ cycle without wear, force control; ~0.1 s a contact solve.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +23,7 @@ import pytest
 from scipy.optimize import brentq
 
 import engine
-from engine.calibration.spec import CalibrationInputError
+from engine.study.calibrate import CalibrationInputError
 from engine.study.examples import study_toml
 
 STUDY = {
@@ -134,7 +133,7 @@ def test_a_calibration_on_synthetic_tests_recovers_the_critical_distance(tmp_pat
     assert csv.attrs["units"]["measured"] == "N/mm" == frame.attrs["units"]["predicted"]
     assert np.array_equal(csv["predicted"].to_numpy(), frame["predicted"].to_numpy())
     # the report and the figure
-    from engine.calibration.report import calibration_figures, calibration_report
+    from engine.analysis.calibration_report import calibration_figures, calibration_report
 
     report = calibration_report(tmp_path / "fit" / "out" / "calibrate.h5")
     assert "fatigue.length = " in report and "Predicted tests (1): median |error|" in report
@@ -156,8 +155,8 @@ CLOSED = {
 def closed_form_run(tmp_path_factory):
     """Two tests at R = 6 mm, P = 185 N/mm, ℓ = 0.02 mm: without bulk stress, and with
     σ_B = ±100 MPa in phase with Q; 128 elements over ±1.25 a, 8 increments a quarter."""
-    from engine.reference import line_contact
     from engine.material import MaterialPair
+    from engine.reference import line_contact
 
     pair = MaterialPair(200e3, 0.3, 200e3, 0.3)
     a = line_contact.hertz_line_half_width(185.0, 6.0, pair.contact_modulus)
@@ -175,6 +174,8 @@ def _closed_form_threshold(study: Path, bulk: float, a: float) -> float:
     """Q* (N/mm) at which Crossland at ℓ (point method) of McEwen's field reaches 1, on the
     engine's plane points (the same x, z), by Brent's root on Q*/(μP)."""
     from engine import fatigue
+    from engine.calibration.contact import solve_cycle
+    from engine.calibration.run import CalibrationProblem
     from engine.fatigue.fields import plane_history
     from engine.fatigue.history import Elasticity, StressHistory
     from engine.reference import line_contact, mcewen
@@ -183,8 +184,6 @@ def _closed_form_threshold(study: Path, bulk: float, a: float) -> float:
     from engine.study.operators import OperatorCache
     from engine.study.outcome import CaseContext
     from engine.study.plan import make_plan
-    from engine.calibration.contact import solve_cycle
-    from engine.calibration.run import CalibrationProblem
 
     config = load_study(study)
     problem = CalibrationProblem(config, make_plan(config).cases[0])
@@ -208,7 +207,9 @@ def _closed_form_threshold(study: Path, bulk: float, a: float) -> float:
         def field(x, z):
             fields = [mcewen.line_contact_stress(x, z, cycle.tractions(ratio * f, u), nu)
                       for f, u in zip(forces, unloading, strict=True)]  # fmt: skip
-            stacked = {k: np.stack([getattr(f, k) for f in fields]) for k in ("xx", "yy", "zz", "xz")}
+            stacked = {
+                k: np.stack([getattr(f, k) for f in fields]) for k in ("xx", "yy", "zz", "xz")
+            }
             return StressHistory.from_components(stacked, x, z)
 
         (result,) = fatigue.assess(field(points.x, points.z), criteria, method="point",

@@ -199,8 +199,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     if missing_file(args.results):
         return 2
-    from engine.calibration.report import calibration_figures, has_calibration
-
+    from .calibration_report import calibration_figures, has_calibration
     from .threshold_figures import has_thresholds, threshold_figures
 
     if args.case is None and has_calibration(args.results):  # a [calibrate] study

@@ -435,7 +435,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     if missing_file(args.results):
         return 2
-    from engine.calibration.report import calibration_report, has_calibration
+    from .calibration_report import calibration_report, has_calibration
 
     for path in args.results:
         if has_calibration(path) and args.update is None:  # a [calibrate] study

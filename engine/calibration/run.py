@@ -28,13 +28,13 @@ from typing import Any
 
 import numpy as np
 
+from engine.study.calibrate import TARGET_KEY
 from engine.study.plan import Case, make_plan, setting_names
 from engine.study.plan import _format as format_value
 from engine.study.search import SearchSpec, SearchStatus
 
 from .fit import FitFailed, FitResult, fit_values
 from .search import ContactStore, Stopped, TestSearches
-from .spec import TARGET_KEY
 
 __all__ = ["CalibrationProblem", "CalibrationResult", "run_calibration", "contact_dir"]
 
@@ -167,10 +167,9 @@ def _residual(problem, test, result, values) -> float:
 def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> CalibrationResult:
     """Fit, predict and write (module docstring); raises :class:`Stopped` on a stop (the
     contact store keeps what was solved)."""
+    from engine.output.calibration import calibration_csv_path, write_calibration
     from engine.study.operators import OperatorCache
     from engine.study.outcome import CaseContext
-
-    from .output import write_calibration
 
     start = time.perf_counter()
     spec = config.calibrate
@@ -225,12 +224,6 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
         write_calibration(config, outcome, store)
     comm.Barrier()
     return outcome
-
-
-def calibration_csv_path(summary_path) -> Path:
-    """``NAME_calibration.csv`` beside the summary ``NAME.csv``."""
-    summary_path = Path(summary_path)
-    return summary_path.with_name(f"{summary_path.stem}_calibration.csv")
 
 
 def describe(outcome: CalibrationResult) -> str:

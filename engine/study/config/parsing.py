@@ -269,7 +269,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     search = _search_spec(source, search_table, tables, tuple(first))
     calibrate = None
     if calibrate_table is not None:  # engine.calibration: its own section and tests file
-        from engine.calibration.spec import parse_calibrate
+        from ..calibrate import parse_calibrate
 
         calibrate = parse_calibrate(source, calibrate_table, search, relative_to, tuple(first))
     if search is not None:  # the base study at the bracket's low end

@@ -16,7 +16,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from .output import CALIBRATION_GROUP, load_calibration
+from engine.output.calibration import CALIBRATION_GROUP, load_calibration
 
 __all__ = [
     "has_calibration",

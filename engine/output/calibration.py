@@ -44,7 +44,13 @@ import numpy as np
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["write_calibration", "load_calibration", "CALIBRATION_GROUP", "TABLE_COLUMNS"]
+__all__ = [
+    "calibration_csv_path",
+    "write_calibration",
+    "load_calibration",
+    "CALIBRATION_GROUP",
+    "TABLE_COLUMNS",
+]
 
 CALIBRATION_GROUP = "calibration"
 TABLE_COLUMNS = ("measured", "predicted", "error", "role", "lower", "upper", "steps", "status",
@@ -127,11 +133,15 @@ def _write_table(group: h5py.Group, rows, units, descriptions) -> None:
         dataset.attrs["description"] = descriptions.get(name, name)
 
 
+def calibration_csv_path(summary_path) -> Path:
+    """``NAME_calibration.csv`` beside the summary ``NAME.csv``."""
+    summary_path = Path(summary_path)
+    return summary_path.with_name(f"{summary_path.stem}_calibration.csv")
+
+
 def write_calibration(config, outcome, store) -> tuple[Path, Path]:
     """Write the results file (the group ``/calibration``) and ``NAME_calibration.csv``,
     each to a temporary file renamed into place; returns both paths."""
-    from .run import calibration_csv_path
-
     rows, fit = outcome.rows, outcome.fit
     units = _units(config, rows)
     output = Path(config.study.output)

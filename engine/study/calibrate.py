@@ -297,8 +297,12 @@ def parse_calibrate(
     ):
         raise error("fit_rtol", fit_rtol, "must be a number in (0, 0.5)")
     evaluations = table.get("max_evaluations", 40)
-    if isinstance(evaluations, bool) or not isinstance(evaluations, int) or evaluations < 3:
-        raise error("max_evaluations", evaluations, "must be an integer ≥ 3")
+    if (
+        isinstance(evaluations, bool)
+        or not isinstance(evaluations, int)
+        or not 3 <= evaluations <= 10_000
+    ):
+        raise error("max_evaluations", evaluations, "must be an integer in [3, 10000]")
     calibrate_on = table.get("calibrate_on", [])
     if not isinstance(calibrate_on, list) or not all(isinstance(i, str) for i in calibrate_on):
         raise error("calibrate_on", calibrate_on, "must be a list of test ids (text)")
