@@ -144,12 +144,14 @@ class TestSearches:
     context: Any
     should_stop: Any = None
     solves: int = 0  # contact solves of this run, all ranks
+    _read: dict = field(default_factory=dict)
 
     def run(self, tests, values: dict[str, float], evaluation: int) -> dict[str, Any]:
         """Search every test of ``tests`` at the fitted ``values``; returns per test id the
         :class:`~engine.study.search.SearchResult` (threshold in the parameter's units)."""
         problem = self.problem
         contact = problem.contact_values(values)
+        self._read = {}  # (test id, x) -> the column at ``values``: read once per evaluation
         specs = {test.id: problem.search_spec(test, values) for test in tests}
         specs.update(self._seeded(tests, specs, values, contact, evaluation))
         searches = {test.id: Search(specs[test.id]) for test in tests}
@@ -266,14 +268,19 @@ class TestSearches:
         for k in range(len(missing)):
             self.store.add(dataclasses.replace(entries[k], converged=done[k]))
         self.solves += len(missing)
+        unread = []  # the (test, x) not read yet at these values, each once
+        for test, x in wanted:
+            if (test.id, x) not in self._read and (test, x) not in unread:
+                unread.append((test, x))
         mine = {}
-        for k in range(rank, len(wanted), size):
-            test, x = wanted[k]
+        for k in range(rank, len(unread), size):
+            test, x = unread[k]
             mine[k] = self._value(test, x, values, contact)
-        found: dict[int, Any] = {}
         for share in self.comm.allgather(mine):
-            found.update(share)
-        return [found[k] for k in range(len(wanted))]
+            for k, value in share.items():
+                test, x = unread[k]
+                self._read[(test.id, x)] = value
+        return [self._read[(test.id, x)] for test, x in wanted]
 
     def _value(self, test, x, values, contact):
         from engine.study.search import StepFailure
