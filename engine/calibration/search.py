@@ -292,8 +292,11 @@ class TestSearches:
                 f"the contact at {self.problem.parameter} = {x!r} did not converge"
                 + (f": {cycle.message}" if cycle.message else "")
             )
-        case, config = self.problem.case(test, x, values)
-        return criterion_value(self.context, case, config, cycle, self.problem.column)
+        try:
+            case, config = self.problem.case(test, x, values)
+            return criterion_value(self.context, case, config, cycle, self.problem.column)
+        except Exception as error:  # noqa: BLE001 - the search ends failed, naming why
+            return StepFailure(f"{type(error).__name__}: {error}")
 
 
 def _usable(value: Any) -> bool:

@@ -40,6 +40,7 @@ __all__ = [
     "CalibrateSpec",
     "TestRow",
     "parse_calibrate",
+    "check_fit_bounds",
     "read_tests",
     "RELATIVE_TO",
     "TARGET_KEY",
@@ -341,6 +342,27 @@ def parse_calibrate(
         keys=keys,
         tests_file=table["tests"],
     )
+
+
+def check_fit_bounds(config) -> None:
+    """The study must be valid at both ends of every fitted key's range (a fitted constant
+    outside the magnitudes the parser accepts is refused here, not in the middle of a fit),
+    naming the key and the end."""
+    spec = config.calibrate
+    if spec is None:
+        return
+    for number, key in enumerate(spec.fit):
+        if key == TARGET_KEY:
+            continue
+        for end, values in (("low", spec.low), ("high", spec.high)):
+            settings = config.at_search_end(((key, values[number]),), "low")
+            try:
+                config.for_case(settings)
+            except StudyConfigError as error:
+                raise CalibrationInputError(
+                    config.source, f"calibrate.{end}", values[number],
+                    f"{key} = {values[number]!r} makes the study invalid: {error.problem}",
+                ) from None  # fmt: skip
 
 
 _INTEGER_KEYS = ("mesh.n", "loading.steps", "loading.cycles", "subsurface.layers", "solver.maxiter")

@@ -296,9 +296,14 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     if search is not None:
         _check_search_end(source, search, tables, first)
     sweep = dataclasses.replace(config.sweep, axes=axes)
-    return dataclasses.replace(
+    config = dataclasses.replace(
         config, sweep=sweep, tables=tables, search=search, calibrate=calibrate
     )
+    if calibrate is not None:
+        from ..calibrate import check_fit_bounds
+
+        check_fit_bounds(config)
+    return config
 
 
 def _search_spec(source: str, table: Any, tables: dict[str, Any], swept: tuple[str, ...]):
