@@ -14,10 +14,12 @@ fretting-fatigue tests:
   life constants, which the study file requires, do not enter the SWT parameter.
 
 and writes the block ``fouvry-calibration`` of docs/how-to/calibration.md (date, machine,
-load, the command): per model the fitted values, the fit's status, its evaluations, the
-contact solutions and the wall time; per test the measured threshold beside each model's
-prediction and error; the median and largest |error| of the predicted tests, whatever they
-are. The figure of the bundled model goes to docs/figures/fouvry_calibration.png.
+load, the command): per model the fitted values, the fit's status, its evaluations and the
+contact solutions it kept; per test the measured threshold beside each model's prediction
+and error (a threshold outside the search's bracket as a bound); the median and largest
+|error| of the predicted tests whose search converged, whatever they are. The figure of the
+bundled model goes to docs/figures/fouvry_calibration.png. (The time of the bundled study:
+``benchmarks/bench_calibration.py``.)
 
     python scripts/fouvry_calibration.py                       # 2 ranks, all four models
     python scripts/fouvry_calibration.py --models crossland-point
@@ -28,7 +30,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import re
 import subprocess
 import sys
 import time
@@ -74,7 +75,8 @@ def variant(name: str, directory: Path) -> Path:
 
 
 def run(study: Path, ranks: int, fresh: bool) -> tuple[float, str]:
-    """(wall time s, stdout) of the study on ``ranks`` ranks."""
+    """(wall time s, stdout) of the study on ``ranks`` ranks (resumed when its kept contact
+    solutions exist, unless ``fresh``)."""
     mpiexec = str(REPO / ".venv" / "bin" / "mpiexec")
     options = ["--no-progress-bar", *(["--fresh"] if fresh else [])]
     command = [mpiexec, "-n", str(ranks), sys.executable, "-m", "engine", str(study), *options]
@@ -94,6 +96,8 @@ def main() -> None:
     parser.add_argument("--no-docs", action="store_true", help="print, do not write the docs")
     args = parser.parse_args()
     sys.path.insert(0, str(REPO))
+    import h5py
+
     import engine
     from engine.analysis.calibration_report import draw_calibration, error_summary
 
@@ -104,11 +108,10 @@ def main() -> None:
     for name in args.models:
         study = variant(name, directory)
         wall, out = run(study, args.ranks, args.fresh)
-        solved = re.search(r"(\d+) contact solutions computed", out)
-        frames[name] = engine.load_calibration(
-            REPO / "results" / f"fouvry_{name.replace('-', '_')}.h5"
-        )
-        runs[name] = (wall, int(solved[1]) if solved else 0)
+        output = REPO / "results" / f"fouvry_{name.replace('-', '_')}.h5"
+        frames[name] = engine.load_calibration(output)
+        with h5py.File(output, "r") as file:
+            runs[name] = (wall, len(file["calibration/contact/x"]))
         median, largest, count = error_summary(frames[name])
         print(f"{name}: {frames[name].attrs['fitted']} ({frames[name].attrs['fit_status']}), "
               f"predicted median |error| {100 * median:.1f} %, largest {100 * largest:.1f} %, "
@@ -125,7 +128,7 @@ def main() -> None:
 
 
 def block(frames, runs, load: float, args) -> str:
-    from engine.analysis.calibration_report import error_summary
+    from engine.analysis.calibration_report import error_summary, outside
     from engine.analysis.markdown import markdown_table, measured_on
 
     note = (
@@ -134,7 +137,7 @@ def block(frames, runs, load: float, args) -> str:
     )
     fits = []
     for name, frame in frames.items():
-        wall, solved = runs[name]
+        _, solved = runs[name]
         units = frame.attrs["fitted_units"]
         values = ", ".join(
             f"{key.split('.')[-1]} = {value:.4g} {units.get(key, '')}".rstrip()
@@ -142,16 +145,25 @@ def block(frames, runs, load: float, args) -> str:
         )
         median, largest, count = error_summary(frame)
         fits.append((name, values, frame.attrs["fit_status"], frame.attrs["fit_evaluations"],
-                     solved, f"{wall:.0f}", _percent(median), _percent(largest)))  # fmt: skip
-    header = ("model", "fitted", "fit", "evaluations", "contact solutions", "wall (s)",
-              "predicted: median abs. error", "largest")  # fmt: skip
+                     solved, f"{count} of {len(frame[frame.role == 'predict'])}",
+                     _percent(median), _percent(largest)))  # fmt: skip
+    header = ("model", "fitted", "fit", "evaluations", "contact solutions",
+              "predicted tests converged", "their median abs. error", "largest")  # fmt: skip
     first = next(iter(frames.values()))
     rows = []
+    bounds = {name: {t: (s, e) for t, s, e in outside(frame)} for name, frame in frames.items()}
     for index, test in enumerate(first["id"]):
-        row = [test, first["role"][index], f"{first['measured'][index]:g}"]
-        for frame in frames.values():
+        measured = first["measured"][index]
+        row = [test, first["role"][index], f"{measured:g}"]
+        for name, frame in frames.items():
             predicted, error = frame["predicted"][index], frame["error"][index]
-            row.append("–" if math.isnan(predicted) else f"{predicted:.0f} ({100 * error:+.0f} %)")
+            if test in bounds[name]:
+                side, end = bounds[name][test]
+                row.append(f"{side} {end:.0f} ({side} {100 * (end / measured - 1):+.0f} %)")
+            elif math.isnan(predicted):
+                row.append(f"– ({frame['status'][index]})")
+            else:
+                row.append(f"{predicted:.0f} ({100 * error:+.0f} %)")
         rows.append(row)
     tests = ("test", "role", "measured Q*_CN (N/mm)", *(f"{name}: predicted" for name in frames))
     return (

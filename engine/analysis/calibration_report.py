@@ -36,6 +36,19 @@ def has_calibration(path: str | Path) -> bool:
         return CALIBRATION_GROUP in file
 
 
+def outside(frame) -> list[tuple[str, str, float]]:
+    """The tests whose threshold lies outside their search's bracket: (id, ``"<"`` or
+    ``">"``, the bracket's end), from the column's values at the ends and the target."""
+    found = []
+    target = frame.attrs.get("target", math.nan)
+    for row in frame.itertuples(index=False):
+        if row.status != "not-bracketed" or math.isnan(row.lower_value):
+            continue
+        below = row.lower_value > target  # the column already past the target at the low end
+        found.append((row.id, "<" if below else ">", row.lower if below else row.upper))
+    return found
+
+
 def error_summary(frame) -> tuple[float, float, int]:
     """(median |error|, largest |error|, count) over the predicted tests whose search
     converged (NaN, NaN, 0 without any)."""
@@ -71,9 +84,16 @@ def calibration_report(path: str | Path) -> str:
         "| id | measured | predicted | error | role | status |",
         "|---|---|---|---|---|---|",
     ]
+    bounds = {test: (side, end) for test, side, end in outside(frame)}
     for row in frame.itertuples(index=False):
         predicted = "" if math.isnan(row.predicted) else f"{row.predicted:.4g}"
         error = "" if math.isnan(row.error) else f"{100 * row.error:+.1f} %"
+        if row.id in bounds:
+            side, end = bounds[row.id]
+            predicted, error = (
+                f"{side} {end:.4g}",
+                f"{side} {100 * (end / row.measured - 1):+.1f} %",
+            )
         lines.append(
             f"| {row.id} | {row.measured:.4g} | {predicted} | {error} | {row.role} | {row.status} |"
         )
@@ -86,6 +106,12 @@ def calibration_report(path: str | Path) -> str:
         )
     else:
         lines.append("No predicted test with a converged search.")
+    for test, side, end in outside(frame):
+        relation = "below" if side == "<" else "above"
+        lines.append(
+            f"{test}: the threshold lies {relation} the search's bracket ({side} {end:.4g} "
+            f"{unit}); not counted above."
+        )
     return "\n".join(lines)
 
 

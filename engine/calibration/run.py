@@ -144,11 +144,20 @@ def _row(problem: CalibrationProblem, test, result) -> dict[str, Any]:
         role=problem.spec.role(test.id),
         lower=result.lower,
         upper=result.upper,
+        lower_value=_number(result.lower_value),
+        upper_value=_number(result.upper_value),
         steps=result.steps,
         status=result.status,
         message=result.message,
     )
     return row
+
+
+def _number(value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
 
 
 def _residual(problem, test, result, values) -> float:

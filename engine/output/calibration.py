@@ -10,8 +10,10 @@ measured   the searched parameter's     the measured threshold (tests file)
 predicted  the searched parameter's     the engine's threshold at the fitted values
 error      1                            predicted / measured − 1
 role       –                            ``calibrate`` (used by the fit) or ``predict``
-lower      the searched parameter's     the final bracket of the test's search
-upper      the searched parameter's
+lower      the searched parameter's     the final bracket of the test's search (its
+upper      the searched parameter's     ends when the search was not bracketed)
+lower_v…   the column's                 ``lower_value``, ``upper_value``: the threshold
+                                        column at ``lower`` and ``upper``
 steps      –                            values of the parameter the final search took
 status     –                            how the final search ended (``converged`` …)
 message    –                            why it did not converge
@@ -53,8 +55,8 @@ __all__ = [
 ]
 
 CALIBRATION_GROUP = "calibration"
-TABLE_COLUMNS = ("measured", "predicted", "error", "role", "lower", "upper", "steps", "status",
-                 "message")  # fmt: skip
+TABLE_COLUMNS = ("measured", "predicted", "error", "role", "lower", "upper", "lower_value",
+                 "upper_value", "steps", "status", "message")  # fmt: skip
 _TEXT = ("id", "role", "status", "message")
 _DESCRIPTIONS = {
     "id": "the test's id (tests file)",
@@ -64,6 +66,8 @@ _DESCRIPTIONS = {
     "role": "calibrate: used by the fit; predict: predicted with the fitted values",
     "lower": "final bracket of the test's search, lower end",
     "upper": "final bracket of the test's search, upper end",
+    "lower_value": "the threshold column at lower",
+    "upper_value": "the threshold column at upper",
     "steps": "values of the searched parameter the final search took",
     "status": "how the final search ended",
     "message": "why the search did not converge",
@@ -81,6 +85,9 @@ def _units(config, rows) -> dict[str, str]:
             units[name] = parameter
         elif name in _TEXT or name in ("error", "steps"):
             units[name] = ""
+        elif name in ("lower_value", "upper_value"):
+            unit = column_unit(config.search.column, line)
+            units[name] = "" if unit == "1" else unit
         else:
             unit = column_unit(name, line)
             units[name] = "" if unit == "1" else unit
@@ -162,6 +169,8 @@ def write_calibration(config, outcome, store) -> tuple[Path, Path]:
         group.attrs["fit_message"] = fit.message
         group.attrs["fit_evaluations"] = fit.evaluations
         group.attrs["fit_residual"] = fit.residual
+        group.attrs["column"] = config.search.column
+        group.attrs["target"] = _target(config, fit)
         group.attrs["calibrate"] = json.dumps(config.calibrate.resolved())
         group.attrs["search"] = json.dumps(
             {k: getattr(config.search, k) for k in ("parameter", "low", "high", "column",
@@ -191,10 +200,16 @@ def write_calibration(config, outcome, store) -> tuple[Path, Path]:
     return output, csv_path
 
 
+def _target(config, fit) -> float:
+    """The column's value at the threshold: fitted (``search.target``) or the study's."""
+    return float(fit.values.get("search.target", config.search.target))
+
+
 def _write_csv(path: Path, rows, units, fit, config) -> None:
     text = io.StringIO()
     text.write(f"# calibration of {config.study.name}: fit {fit.status}")
     text.write(f" ({fit.message})\n" if fit.message else "\n")
+    text.write(f"# threshold: {config.search.column} = {_target(config, fit)!r}\n")
     for key, value in fit.values.items():
         unit = _fitted_units(config, fit.values)[key]
         text.write(f"# fitted {key} = {value!r}" + (f" [{unit}]" if unit and unit != "1" else "")
@@ -210,13 +225,14 @@ def _write_csv(path: Path, rows, units, fit, config) -> None:
 
 _HEADER_UNIT = re.compile(r"^(?P<name>.*?) \[(?P<unit>[^\]]*)\]$")
 _FITTED = re.compile(r"^# fitted (?P<key>\S+) = (?P<value>\S+)")
+_THRESHOLD = re.compile(r"^# threshold: (?P<column>\S+) = (?P<value>\S+)")
 
 
 def load_calibration(path: str | Path) -> pd.DataFrame:
     """The calibration table of a results file (``.h5``) or of ``NAME_calibration.csv``:
     one row per test; ``frame.attrs["fitted"]`` maps each fitted key to its value,
     ``frame.attrs["units"]`` each column to its unit, ``frame.attrs["fit_status"]`` says how
-    the fit ended.
+    the fit ended, ``frame.attrs["column"]`` and ``["target"]`` define the threshold.
 
     >>> frame = engine.load_calibration("results/fouvry_crack_nucleation.h5")  # doctest: +SKIP
     >>> frame.attrs["fitted"]                                                  # doctest: +SKIP
@@ -227,11 +243,14 @@ def load_calibration(path: str | Path) -> pd.DataFrame:
     path = Path(path)
     if path.suffix.lower() not in (".h5", ".hdf5"):
         lines = path.read_text(encoding="utf-8").splitlines()
-        fitted, status = {}, ""
+        fitted, status, threshold = {}, "", {}
         for line in lines:
             match = _FITTED.match(line)
             if match:
                 fitted[match["key"]] = float(match["value"])
+            elif _THRESHOLD.match(line):
+                found = _THRESHOLD.match(line)
+                threshold = {"column": found["column"], "target": float(found["value"])}
             elif line.startswith("# calibration of") and ": fit " in line:
                 status = line.split(": fit ", 1)[1].split(" ", 1)[0]
         body = "\n".join(line for line in lines if not line.startswith("#"))
@@ -244,7 +263,7 @@ def load_calibration(path: str | Path) -> pd.DataFrame:
             units[name] = unit
         frame.columns = list(units)
         frame["message"] = frame["message"].fillna("")
-        frame.attrs.update(units=units, fitted=fitted, fit_status=status)
+        frame.attrs.update(units=units, fitted=fitted, fit_status=status, **threshold)
         return frame
     with h5py.File(path, "r") as file:
         group = file.get(CALIBRATION_GROUP)
@@ -265,6 +284,8 @@ def load_calibration(path: str | Path) -> pd.DataFrame:
             "fit_status": str(group.attrs["fit_status"]),
             "fit_message": str(group.attrs["fit_message"]),
             "fit_evaluations": int(group.attrs["fit_evaluations"]),
+            "column": str(group.attrs["column"]),
+            "target": float(group.attrs["target"]),
         }
     frame = pd.DataFrame(data)
     frame.attrs.update(attrs)
