@@ -5,7 +5,9 @@
 (measured, predicted, error, role, status) and the median and largest |error| of the
 predicted tests. ``python -m engine plot RESULTS.h5`` draws ``calibration.png``
 (:func:`draw_calibration`): every converged test's predicted threshold against its measured
-one, the 1:1 line with ±10 % and ±20 % bands, calibration tests filled, predicted tests open.
+one, the 1:1 line with ±10 % and ±20 % bands, calibration tests filled, predicted tests open;
+a test whose threshold lies outside its search's bracket as an arrow-head at the bracket's
+end (▼: below it, ▲: above).
 """
 
 from __future__ import annotations
@@ -140,12 +142,20 @@ def draw_calibration(path: str | Path):
         for row in part.itertuples(index=False):
             axes.annotate(str(row.id), (row.measured, row.predicted), fontsize=7,
                           xytext=(3, 3), textcoords="offset points")  # fmt: skip
+    for test, side, end in outside(frame):  # a bound: an arrow-head at the bracket's end
+        row = frame[frame["id"] == test].iloc[0]
+        marker = "v" if side == "<" else "^"
+        axes.scatter([row["measured"]], [end], marker=marker, s=36, facecolors="none",
+                     edgecolors="tab:red", zorder=3)  # fmt: skip
+        axes.annotate(f"{test} ({side})", (row["measured"], end), fontsize=7, xytext=(3, 3),
+                      textcoords="offset points")  # fmt: skip
     suffix = f" ({unit})" if unit else ""
     axes.set(xlim=(0, top), ylim=(0, top), xlabel=f"measured threshold{suffix}",
              ylabel=f"predicted threshold{suffix}", aspect="equal")  # fmt: skip
     fitted = frame.attrs.get("fitted", {})
-    title = ", ".join(f"{k} = {v:.4g}" for k, v in fitted.items()) or "nothing fitted"
-    axes.set_title(f"{title} (fit {frame.attrs.get('fit_status', '')})", fontsize=9)
+    title = ", ".join(f"{k.split('.')[-1]} = {v:.4g}" for k, v in fitted.items())
+    title = title or "nothing fitted"
+    axes.set_title(f"{title}\n(fit {frame.attrs.get('fit_status', '')})", fontsize=9)
     axes.legend(fontsize=8, loc="upper left")
     figure.tight_layout()
     return figure
