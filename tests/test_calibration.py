@@ -106,9 +106,9 @@ def test_a_fitted_key_that_is_not_sweepable_is_refused(tmp_path, capsys):
 def test_a_calibration_on_synthetic_tests_recovers_the_critical_distance(tmp_path):
     """Thresholds predicted by the engine at ℓ0 = 0.02 mm (nothing fitted) become the
     measured values; a fit of ℓ on tests A and B finds ℓ0 again, and predicts C. Each
-    measured and predicted threshold carries the search's error ≤ rtol = 0.2 %: the fitted
-    tests within 2·rtol, C too; ℓ within 2 % (a threshold error of 0.2 % moves ℓ by ~1.3 %
-    here: dQ/Q ≈ 0.15 dℓ/ℓ, measured 0.1 %)."""
+    measured and predicted threshold carries the search's error ≤ rtol = 0.2 %: every test
+    within 2·rtol (measured 4e-5); ℓ within 1 %: here dQ/Q ≈ 0.4 dℓ/ℓ, so 2·rtol on the
+    thresholds allows 1 % on ℓ (measured −0.008 %, 2026-11-28)."""
     truth = write_study(tmp_path / "truth", {"calibrate": {"fit": [], "low": [], "high": []}})
     run = engine.run_study(truth, progress=False)
     assert run.status == "completed", run
@@ -123,7 +123,7 @@ def test_a_calibration_on_synthetic_tests_recovers_the_critical_distance(tmp_pat
     frame = engine.load_calibration(tmp_path / "fit" / "out" / "calibrate.h5")
     assert frame.attrs["fit_status"] == "converged"
     length = frame.attrs["fitted"]["fatigue.length"]
-    assert length == pytest.approx(0.02, rel=0.02)
+    assert length == pytest.approx(0.02, rel=0.01)
     assert (frame["status"] == "converged").all()
     assert np.all(np.abs(frame["error"]) <= 2 * 2e-3), frame[["id", "error"]]
     assert list(frame["role"]) == ["calibrate", "calibrate", "predict"]
@@ -224,9 +224,32 @@ def _closed_form_threshold(study: Path, bulk: float, a: float) -> float:
 def test_the_predicted_threshold_is_the_closed_form_one(closed_form_run, test, bulk):
     """Within 1 %: the engine's point-method value at 128 elements is within 0.5 % of
     McEwen's (tests/test_fatigue_validation.py), and the risk grows about linearly with Q*,
-    so the threshold follows; the search adds ≤ rtol = 1e-4."""
+    so the threshold follows; the search adds ≤ rtol = 1e-4 (measured −0.008 % without and
+    −0.015 % with the bulk stress, 2026-11-28)."""
     frame, study, a = closed_form_run
     row = frame.set_index("id").loc[test]
     assert row["status"] == "converged"
     expected = _closed_form_threshold(study, bulk, a)
     assert row["predicted"] == pytest.approx(expected, rel=0.01)
+
+
+def test_kept_solutions_of_a_changed_test_or_study_are_not_reused(tmp_path):
+    """A test edited in the tests file (same id, another radius) or a study whose contact
+    changes (another mesh) solves again: the resumed run gives what a fresh run gives."""
+    predict = {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}}
+    study = write_study(tmp_path / "a", predict, tests="test,punch.radius,Q\nA,6,40\n")
+    assert engine.run_study(study, progress=False).status == "completed"
+    edited = "test,punch.radius,Q\nA,10,40\n"
+    (tmp_path / "a" / "tests.csv").write_text(edited)
+    assert engine.run_study(study, progress=False).status == "completed"
+    fresh = write_study(tmp_path / "b", predict, tests=edited)
+    assert engine.run_study(fresh, progress=False).status == "completed"
+    resumed, expected = (
+        engine.load_calibration(path / "out" / "calibrate.h5")
+        for path in (tmp_path / "a", tmp_path / "b")
+    )
+    assert resumed["predicted"][0] == expected["predicted"][0]
+    coarser = write_study(tmp_path / "a", predict, {"mesh": {"n": 40}}, tests=edited)
+    assert engine.run_study(coarser, progress=False).status == "completed"
+    coarse = engine.load_calibration(tmp_path / "a" / "out" / "calibrate.h5")
+    assert coarse["predicted"][0] != expected["predicted"][0]  # solved again on 40 elements

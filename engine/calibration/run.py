@@ -19,6 +19,8 @@ uninterrupted run exactly — the same fitted values, bit for bit, with any numb
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
 import sys
 import time
@@ -55,6 +57,8 @@ class CalibrationProblem:
     config: Any
     base: Case
     _configs: dict = field(default_factory=dict)
+    _names: dict = field(default_factory=dict)
+    _setup: str | None = None
 
     @property
     def spec(self):
@@ -80,6 +84,22 @@ class CalibrationProblem:
             for k, v in values.items()
             if not k.startswith("fatigue.") and k != TARGET_KEY
         )
+
+    def store_name(self, test) -> str:
+        """``id@digest`` of a test's kept contact solutions: the digest covers every section
+        of the study that sets the contact (all but ``[study]``, ``[subsurface]``,
+        ``[fatigue]``, ``[search]``, ``[calibrate]``) and the test's own keys, so that a
+        solution kept by a study since changed (or a test of the file since edited) is
+        never taken for this one."""
+        if test.id not in self._names:
+            if self._setup is None:
+                skipped = {"study", "subsurface", "fatigue", "search", "calibrate"}
+                sections = {k: v for k, v in self.config.resolved().items() if k not in skipped}
+                self._setup = json.dumps(sections, sort_keys=True, default=str)
+            text = self._setup + repr(test.settings)
+            digest = hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]
+            self._names[test.id] = f"{test.id}@{digest}"
+        return self._names[test.id]
 
     def test_settings(self, test) -> dict[str, float]:
         return dict(test.settings)
@@ -230,7 +250,7 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
     rows = [_row(problem, test, results[test.id]) for test in spec.tests]
     outcome = CalibrationResult(rows, fit, log, searches.solves, time.perf_counter() - start)
     if rank == 0:
-        write_calibration(config, outcome, store)
+        write_calibration(config, outcome, store, problem.store_name)
     comm.Barrier()
     return outcome
 
@@ -241,8 +261,11 @@ def describe(outcome: CalibrationResult) -> str:
     values = ", ".join(f"{k} = {v:.6g}" for k, v in fit.values.items()) or "nothing fitted"
     errors = [abs(r["error"]) for r in outcome.rows if r["role"] == "predict"]
     errors = [e for e in errors if math.isfinite(e)]
-    text = f"fit {fit.status}: {values} ({fit.evaluations} evaluations"
-    text += f"; {fit.message})" if fit.message and fit.status != "converged" else ")"
+    if fit.status == "predict-only":
+        text = "nothing fitted: every test predicted"
+    else:
+        text = f"fit {fit.status}: {values} ({fit.evaluations} evaluations"
+        text += f"; {fit.message})" if fit.message and fit.status != "converged" else ")"
     if errors:
         text += (
             f"\npredicted tests: median |error| {100 * float(np.median(errors)):.1f} %, "

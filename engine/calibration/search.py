@@ -48,8 +48,10 @@ class Stopped(Exception):
 
 @dataclass(frozen=True)
 class StoreEntry:
-    """One kept contact solution: its test, x, the contact-changing fitted values, the
-    evaluation that created it, and its file (named by a digest of the first three)."""
+    """One kept contact solution: its test (``id@digest``: the test's id and a digest of
+    everything that sets its contact, :meth:`CalibrationProblem.store_name`), x, the
+    contact-changing fitted values, the evaluation that created it, and its file (named by a
+    digest of the first three)."""
 
     test: str
     x: float
@@ -184,7 +186,7 @@ class TestSearches:
             xs = sorted(
                 entry.x
                 for entry in self.store.entries.values()
-                if entry.test == test.id
+                if entry.test == self.problem.store_name(test)
                 and entry.contact == tuple(contact)
                 and entry.evaluation < evaluation
                 and entry.converged
@@ -235,14 +237,15 @@ class TestSearches:
         first (shared over the ranks), then the criteria are read (shared too)."""
         rank, size = self.comm.Get_rank(), self.comm.Get_size()
         missing, seen = [], set()
+        name = self.problem.store_name
         for test, x in wanted:
-            key = ContactStore.key(test.id, x, contact)
-            if self.store.get(test.id, x, contact) is None and key not in seen:
+            key = ContactStore.key(name(test), x, contact)
+            if self.store.get(name(test), x, contact) is None and key not in seen:
                 seen.add(key)
                 missing.append((test, x))
         entries = [
-            StoreEntry(test.id, float(x), tuple(contact), evaluation,
-                       self.store.path_for(test.id, x, contact))
+            StoreEntry(name(test), float(x), tuple(contact), evaluation,
+                       self.store.path_for(name(test), x, contact))
             for test, x in missing
         ]  # fmt: skip
         solved = []
@@ -285,7 +288,7 @@ class TestSearches:
     def _value(self, test, x, values, contact):
         from engine.study.search import StepFailure
 
-        entry = self.store.get(test.id, x, contact)
+        entry = self.store.get(self.problem.store_name(test), x, contact)
         cycle = self.store.cycle(entry)
         if not cycle.converged or not cycle.increments:
             return StepFailure(

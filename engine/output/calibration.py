@@ -146,9 +146,11 @@ def calibration_csv_path(summary_path) -> Path:
     return summary_path.with_name(f"{summary_path.stem}_calibration.csv")
 
 
-def write_calibration(config, outcome, store) -> tuple[Path, Path]:
+def write_calibration(config, outcome, store, store_name) -> tuple[Path, Path]:
     """Write the results file (the group ``/calibration``) and ``NAME_calibration.csv``,
-    each to a temporary file renamed into place; returns both paths."""
+    each to a temporary file renamed into place; returns both paths. ``store``: the kept
+    contact solutions (``engine.calibration.search.ContactStore``); ``store_name(test)``
+    the name under which this study keeps a test's (solutions of another study left out)."""
     rows, fit = outcome.rows, outcome.fit
     units = _units(config, rows)
     output = Path(config.study.output)
@@ -181,12 +183,20 @@ def write_calibration(config, outcome, store) -> tuple[Path, Path]:
             _write_table(evaluations, outcome.evaluations, {}, {})
         contact = group.create_group("contact", track_order=True)
         order = {test.id: number for number, test in enumerate(config.calibrate.tests)}
+        names = {store_name(test) for test in config.calibrate.tests}
         entries = sorted(
-            store.entries.values(), key=lambda e: (e.evaluation, order.get(e.test, -1), e.x)
+            store.entries.values(),
+            key=lambda e: (e.evaluation, order.get(e.test.split("@")[0], -1), e.x),
         )
         table = [
-            {"test": e.test, "x": e.x, "evaluation": e.evaluation, "converged": int(e.converged)}
+            {
+                "test": e.test.split("@")[0],
+                "x": e.x,
+                "evaluation": e.evaluation,
+                "converged": int(e.converged),
+            }
             for e in entries
+            if e.test in names
         ]
         if table:
             _write_table(contact, table, {"x": units.get("measured", "")}, {
