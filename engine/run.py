@@ -306,9 +306,18 @@ def _prepare_on_root(
 
 
 def _prepare_calibration(config, plan, options: _RunOptions, locks: list):
-    """A ``[calibrate]`` study: the output path checked and locked (engine.calibration
-    keeps its contact solutions beside it and resumes from them)."""
+    """A ``[calibrate]`` study: one combination of the sweep (the tests file says what
+    differs), the output path checked and locked (engine.calibration keeps its contact
+    solutions beside it and resumes from them)."""
     from engine.output.lock import OutputLock, check_output_path
+    from engine.study.config import StudyConfigError
+
+    if len(plan) != 1:
+        raise StudyConfigError(
+            config.source, "sweep", f"{len(plan)} combinations",
+            "a calibration takes one combination of the [sweep] (the tests file sets what "
+            "differs between tests)",
+        )  # fmt: skip
 
     if not options.dry_run:
         check_output_path(config.study.output)

@@ -253,3 +253,11 @@ def test_kept_solutions_of_a_changed_test_or_study_are_not_reused(tmp_path):
     assert engine.run_study(coarser, progress=False).status == "completed"
     coarse = engine.load_calibration(tmp_path / "a" / "out" / "calibrate.h5")
     assert coarse["predicted"][0] != expected["predicted"][0]  # solved again on 40 elements
+
+
+def test_a_calibration_takes_one_combination_of_the_sweep(tmp_path):
+    study = write_study(tmp_path, {"sweep": {"mu1": [0.5, 0.6]}})
+    run = engine.run_study(study, progress=False)
+    assert run.status == "invalid"
+    assert "[sweep] = '2 combinations': a calibration takes one combination" in run.message
+    assert not (tmp_path / "out").exists()

@@ -202,14 +202,7 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
 
     start = time.perf_counter()
     spec = config.calibrate
-    plan = make_plan(config)
-    if len(plan) != 1:
-        from engine.study.config.sections import StudyConfigError
-
-        raise StudyConfigError(
-            config.source, "sweep", len(plan),
-            "a calibration takes one combination of the [sweep] (the tests set what differs)",
-        )  # fmt: skip
+    plan = make_plan(config)  # one combination (engine.run checks it before anything runs)
     problem = CalibrationProblem(config, plan.cases[0])
     output = Path(config.study.output)
     store = ContactStore(contact_dir(output))
