@@ -12,7 +12,8 @@ The public API:
 - :func:`load_summary` reads a study's summary table as a pandas DataFrame;
 - :func:`load_thresholds` reads the thresholds table of a study with a ``[search]`` section;
 - :func:`load_calibration` reads the calibration table of a study with a ``[calibrate]``
-  section (measured and predicted thresholds, the fitted values).
+  section (measured and predicted thresholds, the fitted values);
+- :func:`load_ensemble` gives the statistics over the realisations of a rough-surface study.
 
 ``import engine`` stays light: NumPy, h5py, mpi4py and pandas load when a function needs them.
 """
@@ -35,6 +36,7 @@ __all__ = [
     "load_summary",
     "load_thresholds",
     "load_calibration",
+    "load_ensemble",
 ]
 
 
@@ -142,5 +144,32 @@ def load_calibration(path):
     >>> frame.attrs["fitted"]["fatigue.length"]                                # doctest: +SKIP
     """
     from engine.output.calibration import load_calibration as load
+
+    return load(path)
+
+
+def load_ensemble(path):
+    """Statistics over the realisations of a study sweeping ``surface.seed`` as a
+    :class:`pandas.DataFrame` (:func:`engine.surface.ensemble.load_ensemble`), computed from
+    the summary (the same table as ``NAME_ensemble.csv``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) or its summary ``.csv``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per combination of the other swept keys: ``realisations`` (completed cases)
+        and, for every numeric summary column c, ``c_mean``, ``c_std`` and the 95 %
+        confidence interval of the mean ``c_ci_low``, ``c_ci_high`` (units: the column's).
+
+    Examples
+    --------
+    >>> frame = engine.load_ensemble("results/rough_fretting.h5")         # doctest: +SKIP
+    >>> frame[["loading.amplitude", "real_area_fraction_mean"]]           # doctest: +SKIP
+    """
+    from engine.surface.ensemble import load_ensemble as load
 
     return load(path)

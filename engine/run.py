@@ -513,6 +513,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
     from engine.output.writers import open_writer
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
+    from engine.surface import write_ensemble
 
     rank = comm.Get_rank()
     config, plan = prepared.config, prepared.plan
@@ -569,6 +570,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
         _check_shares(comm, config)
         return None
     _remove_empty_checkpoint_dir(config)
+    write_ensemble(config, writer.rows())  # [surface] sweeping surface.seed: NAME_ensemble.csv
     if writer.closing_note() is not None:
         print(writer.closing_note(), flush=True)
     outcome = _report(config, [row["status"] for row in writer.rows()], report)

@@ -80,6 +80,8 @@ __all__ = [
     "unit_of",
     "parameter_units",
     "SUMMARY_COLUMNS",
+    "SURFACE_COLUMNS",
+    "SURFACE_DATASETS",
     "FRETTING_HISTORY",
     "FRETTING_RECORDS",
     "FATIGUE_CRITERIA",
@@ -274,7 +276,26 @@ CASES_GROUP = "cases"
 GRID_GROUP = "grid"
 
 #: The groups of a case group (``/cases/<case_id>/<section>/...``).
-CASE_SECTIONS = (GRID_GROUP, "history", "fields", "subsurface", "peak_changes", "fatigue")
+CASE_SECTIONS = (
+    GRID_GROUP, "history", "fields", "subsurface", "peak_changes", "fatigue", "surface"
+)  # fmt: skip
+
+#: ``surface/<name>`` of a case of a study with ``[surface]`` (engine.surface.outputs); a
+#: line contact's spectra are in mm^3 (a profile's).
+SURFACE_DATASETS = {
+    "height": DatasetSpec(
+        "mm",
+        "surface heights h on the case's grid, shape (n_x, n_y), asperity tops positive: the "
+        "gap is the profile's gap minus h",
+    ),
+    "wavevector": DatasetSpec("rad/mm", "wavevector q = 2π/λ at the centres of the PSD's annuli"),
+    "psd": DatasetSpec(
+        "mm^4", "radially averaged power spectrum C(q) = |h̃(q)|²/A of h, before wear"
+    ),
+    "psd_worn": DatasetSpec(
+        "mm^4", "radially averaged power spectrum of h − w after the last recorded cycle's wear"
+    ),
+}
 
 
 def case_group_path(section: str, *names: str) -> str:
@@ -504,6 +525,8 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
         if parts[2] in PEAK_CHANGE_FIELDS:
             return field_dataset(parts[2], parts[1])
         return plane_dataset(parts[2])
+    if len(parts) == 2 and parts[0] == "surface":
+        return _known(SURFACE_DATASETS, parts[1], "SURFACE_DATASETS")
     if len(parts) == 3 and parts[0] == "fatigue" and cycle_of_group(parts[1]) is not None:
         for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items():
             specs = fatigue_maps(column, unit, what, angle, life, cycle_of_group(parts[1]))
@@ -554,6 +577,14 @@ SWEPT_KEY_UNITS = {
     "fatigue.k": "1",
     "fatigue.sigma_y": "MPa",
     "fatigue.length": "mm",
+    # [surface] (engine.surface.config)
+    "surface.seed": "1",
+    "surface.hurst": "1",
+    "surface.long_cutoff": "mm",
+    "surface.short_cutoff": "mm",
+    "surface.rms_height": "mm",
+    "surface.rms_slope": "1",
+    "surface.pixel_size": "mm",
 }
 #: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
 #: study uses it) with their units.
@@ -591,6 +622,23 @@ COLUMN_UNITS = {
     # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
+
+#: The summary columns of a study with ``[surface]`` (engine.surface.outputs): unit, meaning.
+SURFACE_COLUMNS = {
+    "real_area_fraction": ("1", "rough surface: real contact area (elements with p > 0) over "
+                           "the nominal π a0² (line contacts: 2 a0)"),
+    "contact_spots": ("1", "rough surface: contact spots (connected components of the contact, "
+                      "elements sharing an edge)"),
+    "largest_spot_area": ("mm^2", "rough surface: area of the largest contact spot"),
+    "real_mean_pressure": ("MPa", "rough surface: mean pressure over the real contact area"),
+    "real_peak_pressure": ("MPa", "rough surface: largest contact pressure"),
+    "rms_height": ("mm", "rough surface: rms height of the surface before wear"),
+    "rms_slope": ("1", "rough surface: rms slope (spectral) of the surface before wear"),
+    "rms_height_worn": ("mm", "rough surface: rms height of h − w after the last recorded "
+                        "cycle's wear (the scar's form included)"),
+    "rms_slope_worn": ("1", "rough surface: rms slope of h − w after the wear"),
+}  # fmt: skip
+COLUMN_UNITS.update({column: unit for column, (unit, _) in SURFACE_COLUMNS.items()})
 
 
 #: A line (plane-strain) contact's unit of each extensive unit of the tables: per mm of
@@ -686,6 +734,8 @@ COLUMN_DESCRIPTIONS = {
     "pad_wear_depth": "largest wear depth of the pad or punch (line contacts with wear; 3-D "
     "punches with `[wear] pad_coefficient`)",
 }
+
+COLUMN_DESCRIPTIONS.update({column: what for column, (_, what) in SURFACE_COLUMNS.items()})
 
 for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
     for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():

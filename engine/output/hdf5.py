@@ -67,6 +67,7 @@ from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, parameter_units
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
+from engine.surface.ensemble import ensemble_path
 
 from .checksum import (
     CASE_CHECKSUM,
@@ -177,6 +178,7 @@ def remove_outputs(output: Path, checkpoint_dir: Path) -> None:
     creating_path(output).unlink(missing_ok=True)
     output.with_suffix(".csv").unlink(missing_ok=True)
     thresholds_path(output.with_suffix(".csv")).unlink(missing_ok=True)  # a [search] study's
+    ensemble_path(output.with_suffix(".csv")).unlink(missing_ok=True)  # a [surface] study's
     if checkpoint_dir.exists():
         shutil.rmtree(checkpoint_dir)
 

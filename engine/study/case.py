@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from engine.schema import DatasetRecord
+from engine.surface import surface_outcome
 
 from .config import StudyConfig
 from .kinds import kind_of
@@ -112,6 +113,7 @@ class CaseRunner:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
             config = self.config_for(case)
             outcome = kind_of(config).run(self.context, case, config, should_stop)
+            outcome = surface_outcome(config, outcome)  # [surface]: its columns and datasets
         except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
             outcome = CaseOutcome(
                 case,

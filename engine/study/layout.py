@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.schema import FIELD_DTYPES, FINAL_FIELDS, RECORDED_FIELDS, case_group_path, cycle_group
+from engine.surface import surface_layout
 
 from .config import StudyConfig
 
@@ -93,6 +94,8 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
             layout[case_group_path("fields", group, name)] = DatasetShape((n_x, n_y), dtype)
         for name, shape in plane.items():
             layout[case_group_path("subsurface", group, name)] = shape
+    for path, (shape, dtype) in surface_layout(config).items():  # [surface]
+        layout[path] = DatasetShape(shape, dtype)
     if config.fatigue is not None:  # the criteria's maps and hot spots of a recorded cycle
         from .fatigue import fatigue_layout
 

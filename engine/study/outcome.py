@@ -229,6 +229,7 @@ class CaseContext:
         from engine.material import MaterialPair
         from engine.solvers.contact import ContactSolver
         from engine.solvers.friction import FrictionLaw
+        from engine.surface import rough_profile
 
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
@@ -236,6 +237,7 @@ class CaseContext:
         punch = cfg.punch.profile()
         grid = punch.grid(cfg.mesh.n, cfg.mesh.half_width)  # square, or a line contact's
         punch.check_grid(grid)
+        punch = rough_profile(punch, cfg.surface, grid)  # [surface]: the gap minus h
         friction = FrictionLaw(case.mu1, case.mu2, math.radians(case.beta))
         operator = self.operators.operator(
             grid,

@@ -49,6 +49,8 @@ Sections and keys (``*`` = required; defaults in brackets):
                   plans in every process, so runs and rank counts give bit-identical results;
                   "measure": timed plans, faster, may differ in the last digits)
 ``[testing]``     fail_cases [[]]: case ids that raise on purpose (fault-injection tests)
+``[surface]``     kind* ("self_affine" | "file") and its keys: roughness added to the
+                  profile's gap (engine.surface.config)
 ``[fatigue]``     criteria*, their constants*, method ["hotspot"], length (mm), amplitude_method
                   ["chord"], plane_step [1], every_cycle [false]: multiaxial fatigue
                   criteria on the fretting cycles (fretting only; engine.study.fatigue)
@@ -108,6 +110,7 @@ class StudyConfig:
     search: Any = None  # the [search] section (engine.study.search.SearchSpec) or None
     fatigue: Any = None  # the [fatigue] section (engine.study.fatigue.FatigueConfig) or None
     calibrate: Any = None  # the [calibrate] section (engine.calibration.CalibrateSpec) or None
+    surface: Any = None  # the [surface] section (engine.surface.SurfaceConfig) or None
     # The parsed TOML tables (swept keys absent; read, never changed) from which for_case()
     # derives a case's configuration, and the dotted keys whose default derives from others.
     tables: dict[str, Any] = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -183,6 +186,13 @@ class StudyConfig:
             if field.name == "search":
                 if self.search is not None:
                     out["search"] = dataclasses.asdict(self.search)
+                continue
+            if field.name == "surface":
+                if self.surface is not None:
+                    resolved = self.surface.resolved()
+                    out["surface"] = {
+                        k: v for k, v in resolved.items() if f"surface.{k}" not in swept
+                    }
                 continue
             if field.name == "calibrate":
                 if self.calibrate is not None:
@@ -366,6 +376,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
     fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
+    surface = _parse_surface(section("surface"), mesh, punch) if "surface" in data else None
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -389,6 +400,7 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
         testing,
         wear=wear,
         fatigue=fatigue,
+        surface=surface,
         derived_defaults=derived,
     )
 
@@ -565,6 +577,13 @@ def _parse_fatigue(s: Section, loading: LoadingConfig):
             '[fatigue] evaluates the increments of fretting cycles: needs kind = "fretting"',
         )
     return config
+
+
+def _parse_surface(s: Section, mesh: MeshConfig, punch: PunchConfig):
+    """The ``[surface]`` section (``engine.surface.config``): roughness on any profile."""
+    from engine.surface.config import parse_surface
+
+    return parse_surface(s, mesh, punch.is_line)
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:

@@ -8,7 +8,7 @@ from typing import Any
 from .sections import MISSING, SWEEPABLE, StudyConfigError, SweepAxis
 
 SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
-SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue")
+SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue", "surface")
 
 
 def axis_error(source: str, axis: SweepAxis, position: int, error: StudyConfigError):

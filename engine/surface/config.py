@@ -1,0 +1,164 @@
+"""The ``[surface]`` section of a study: roughness added to any punch profile.
+
+Keys (``*`` required; units mm unless said):
+
+``kind``*            ``"self_affine"`` (a random Gaussian surface, :mod:`.topography`) or
+                     ``"file"`` (a measured height map, :mod:`.measured`)
+self_affine:
+``seed``             integer ≥ 0 [0]: the realisation (sweep it for statistics)
+``hurst``            Hurst exponent H in (0, 1) [0.8]
+``long_cutoff``*     roll-off wavelength λ_L (mm): the spectrum is flat above it
+``short_cutoff``*    shortest wavelength λ_S (mm): nothing shorter; at least 2 elements
+``rms_height``       rms height h_rms (mm, ≥ 0) — or ``rms_slope`` (1, ≥ 0): exactly one
+file:
+``path``*            ``.npy``, whitespace text (``.txt``, ``.dat``, ``.asc``, ``.csv``), or any
+                     instrument format SurfaceTopography reads (``pip install -e
+                     '.[topography]'``); relative to the working directory
+``pixel_size``*      spacing of the map's samples (mm), the same along x and y
+``units``            unit of the heights: "m", "mm" ["mm"], "um", "nm"
+``detrend``          "none", "mean" or "plane" ["plane"]: what is removed before resampling
+
+Every numeric key is sweepable (``"surface.seed"``, ``"surface.rms_height"`` …). The checks
+that need the mesh (a short cutoff below two elements, a map smaller than the mesh) and the
+file's contents (missing, unreadable, NaN) are made here, while the study is parsed, so a bad
+surface exits with status 2 before anything is written.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+KINDS = ("self_affine", "file")
+HEIGHT_UNITS = {"m": 1e3, "mm": 1.0, "um": 1e-3, "µm": 1e-3, "nm": 1e-6}
+DETREND = ("none", "mean", "plane")
+DEFAULT_HURST = 0.8
+
+__all__ = ["SurfaceConfig", "parse_surface", "KINDS"]
+
+
+@dataclass(frozen=True)
+class SurfaceConfig:
+    """The ``[surface]`` section, validated (module docstring). Unused keys are None."""
+
+    kind: str
+    seed: int | None = None
+    hurst: float | None = None
+    long_cutoff: float | None = None
+    short_cutoff: float | None = None
+    rms_height: float | None = None
+    rms_slope: float | None = None
+    path: str | None = None
+    pixel_size: float | None = None
+    units: str | None = None
+    detrend: str | None = None
+
+    def resolved(self) -> dict:
+        """TOML-able: the keys that apply (None left out)."""
+        return {k: v for k, v in self.__dict__.items() if v is not None}
+
+
+def parse_surface(s, mesh, is_line: bool) -> SurfaceConfig:
+    """Read ``[surface]`` (``s``: an ``engine.study.config.reader.Section``) for a study
+    whose mesh is ``mesh`` (``n``, ``half_width``, mm) and whose contact is a line one or not;
+    raises the reader's ``StudyConfigError`` naming the key and the value."""
+    kind = s.string("kind")
+    if kind not in KINDS:
+        raise s.error("kind", kind, 'must be "self_affine" or "file"')
+    element = 2.0 * mesh.half_width / mesh.n
+    if kind == "self_affine":
+        return _self_affine(s, element, mesh)
+    return _file(s, mesh, is_line)
+
+
+def _self_affine(s, element: float, mesh) -> SurfaceConfig:
+    s.check_known(
+        {"kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"}
+    )
+    seed = s.integer("seed", 0, minimum=0, maximum=2**63 - 1)
+    hurst = s.number("hurst", DEFAULT_HURST, minimum=0.0, strict=True, maximum=1.0)
+    if hurst >= 1.0:
+        raise s.error("hurst", s.table["hurst"], "must lie in (0, 1)")
+    short = s.number("short_cutoff", minimum=0.0, strict=True, unit="mm")
+    if short < 2.0 * element * (1.0 - 1e-12):
+        raise s.error(
+            "short_cutoff",
+            s.table["short_cutoff"],
+            f"must be at least two elements, 2 × {element:.6g} = {2 * element:.6g} mm "
+            f"([mesh] n = {mesh.n}, half_width = {mesh.half_width:.6g} mm)",
+        )
+    long = s.number("long_cutoff", minimum=0.0, strict=True, unit="mm")
+    if long < short:
+        raise s.error("long_cutoff", long, f"must be >= short_cutoff = {short:g} mm")
+    given = [key for key in ("rms_height", "rms_slope") if key in s.table]
+    if len(given) != 1:
+        raise s.error(
+            "rms_height",
+            s.table.get("rms_height", s.table.get("rms_slope")) if given else _missing(),
+            "give exactly one of rms_height (mm) and rms_slope",
+        )
+    key = given[0]
+    value = s.number(key, minimum=0.0, unit="mm" if key == "rms_height" else "1")
+    return SurfaceConfig(
+        kind="self_affine",
+        seed=seed,
+        hurst=hurst,
+        long_cutoff=long,
+        short_cutoff=short,
+        **{key: value},
+    )
+
+
+def _missing():
+    from engine.study.config.sections import MISSING
+
+    return MISSING
+
+
+def _file(s, mesh, is_line: bool) -> SurfaceConfig:
+    from .measured import read_height_map
+
+    s.check_known({"kind", "path", "pixel_size", "units", "detrend"})
+    path = s.string("path")
+    pixel = s.number("pixel_size", minimum=0.0, strict=True, unit="mm")
+    units = s.string("units", "mm")
+    if units not in HEIGHT_UNITS:
+        raise s.error("units", units, "must be " + ", ".join(f'"{u}"' for u in HEIGHT_UNITS))
+    detrend = s.string("detrend", "plane")
+    if detrend not in DETREND:
+        raise s.error("detrend", detrend, 'must be "none", "mean" or "plane"')
+    try:
+        heights = read_height_map(path)
+    except (OSError, ValueError) as error:
+        raise s.error("path", path, f"cannot read the height map: {error}") from None
+    if not Path(path).suffix and not Path(path).exists():  # pragma: no cover - read raised
+        raise s.error("path", path, "file not found")
+    if not bool(math.isfinite(float(heights.sum()))):
+        bad = _first_bad(heights)
+        raise s.error("path", path, f"the height map holds a NaN or inf at row, column {bad}")
+    line_map = heights.ndim == 1 or 1 in heights.shape
+    if is_line != line_map:
+        what = "a profile (one row or column)" if is_line else "a 2-D map"
+        raise s.error(
+            "path",
+            path,
+            f"a {'line' if is_line else '3-D'} contact takes {what}, "
+            f"got an array of shape {heights.shape}",
+        )
+    extent = (heights.size if line_map else min(heights.shape)) * pixel
+    if extent < 2.0 * mesh.half_width * (1.0 - 1e-12):
+        raise s.error(
+            "pixel_size",
+            s.table["pixel_size"],
+            f"the map spans {extent:.6g} mm (shape {heights.shape}), less than the mesh "
+            f"2·half_width = {2 * mesh.half_width:.6g} mm",
+        )
+    return SurfaceConfig(kind="file", path=path, pixel_size=pixel, units=units, detrend=detrend)
+
+
+def _first_bad(heights):
+    import numpy as np
+
+    index = np.argwhere(~np.isfinite(np.atleast_2d(heights)))[0]
+    return f"{int(index[0]) + 1}, {int(index[1]) + 1}"

@@ -1,0 +1,107 @@
+"""Statistics over random realisations: the ensemble table of a study sweeping ``surface.seed``.
+
+For every combination of the other swept keys and parameters (mu1, mu2, wear1, wear2, beta,
+alpha and the dotted keys other than ``surface.seed``), over its completed cases:
+
+- ``realisations``: how many completed (failed cases are left out and not counted);
+- for every numeric summary column c: ``c_mean``, ``c_std`` (sample standard deviation,
+  ddof = 1), ``c_ci_low`` and ``c_ci_high``, the 95 % confidence interval of the mean,
+  mean ± t₀.₉₇₅,ₙ₋₁ s/√n (Student's t; NaN with one realisation).
+
+The table is written as ``NAME_ensemble.csv`` beside the summary ``NAME.csv`` at the end of a
+run (:func:`write_ensemble`) and computed from the summary by :func:`load_ensemble`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+SEED = "surface.seed"
+STATISTICS = ("mean", "std", "ci_low", "ci_high")
+#: Columns that are not statistics of the cases (identity, bookkeeping).
+_SKIPPED = ("case_id", "status", SEED)
+_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+
+__all__ = ["ensemble_path", "ensemble_frame", "write_ensemble", "load_ensemble", "SEED"]
+
+
+def ensemble_path(summary_path: str | Path) -> Path:
+    """``NAME_ensemble.csv`` beside the summary ``NAME.csv``."""
+    summary_path = Path(summary_path)
+    return summary_path.with_name(f"{summary_path.stem}_ensemble.csv")
+
+
+def ensemble_frame(summary):
+    """The ensemble table (module docstring) of a summary DataFrame with a ``surface.seed``
+    column; an empty frame when there is none."""
+    import pandas as pd
+    from scipy import stats
+
+    if SEED not in summary:
+        return pd.DataFrame()
+    done = summary[summary["status"] == "completed"]
+    keys = [
+        c for c in summary.columns
+        if c != SEED and (c in _PARAMETERS or "." in c) and summary[c].notna().any()
+    ]  # fmt: skip
+    numeric = [
+        c for c in summary.columns
+        if c not in _SKIPPED and c not in keys and pd.api.types.is_numeric_dtype(summary[c])
+        and summary[c].notna().any()
+    ]  # fmt: skip
+    rows = []
+    combinations = summary[keys].drop_duplicates() if keys else pd.DataFrame(index=[0])
+    for _, combination in combinations.iterrows():
+        mask = np.ones(len(done), dtype=bool)
+        for key in keys:
+            mask &= (done[key] == combination[key]).to_numpy()
+        group = done[mask]
+        row = {key: combination[key] for key in keys}
+        count = len(group)
+        row["realisations"] = count
+        for column in numeric:
+            values = group[column].astype(float).dropna().to_numpy()
+            mean = float(values.mean()) if len(values) else np.nan
+            std = float(values.std(ddof=1)) if len(values) > 1 else np.nan
+            half = (
+                float(stats.t.ppf(0.975, len(values) - 1)) * std / np.sqrt(len(values))
+                if len(values) > 1
+                else np.nan
+            )
+            row.update(
+                {
+                    f"{column}_mean": mean,
+                    f"{column}_std": std,
+                    f"{column}_ci_low": mean - half,
+                    f"{column}_ci_high": mean + half,
+                }
+            )
+        rows.append(row)
+    return pd.DataFrame.from_records(rows)
+
+
+def write_ensemble(config, rows) -> Path | None:
+    """Write ``NAME_ensemble.csv`` of the summary ``rows`` when the study sweeps
+    ``surface.seed`` (atomically); returns its path, None when there is nothing to write."""
+    if config.surface is None or SEED not in config.sweep.swept_keys:
+        return None
+    import os
+
+    from engine.output.summary import summary_frame
+
+    frame = ensemble_frame(summary_frame(list(rows)))
+    path = ensemble_path(config.study.summary_path)
+    temporary = path.with_name(f".{path.name}.tmp")
+    temporary.write_text(frame.to_csv(index=False), encoding="utf-8")
+    os.replace(temporary, path)
+    return path
+
+
+def load_ensemble(path: str | Path):
+    """The ensemble table of a study (module docstring) as a pandas DataFrame, computed from
+    its summary (``path``: the results ``.h5`` or the summary ``.csv``)."""
+    from engine.output.summary import load_summary
+
+    return ensemble_frame(load_summary(path))
