@@ -34,6 +34,10 @@ KINDS = ("self_affine", "file")
 HEIGHT_UNITS = {"m": 1e3, "mm": 1.0, "um": 1e-3, "µm": 1e-3, "nm": 1e-6}
 DETREND = ("none", "mean", "plane")
 DEFAULT_HURST = 0.8
+SELF_AFFINE_KEYS = (
+    "kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"
+)  # fmt: skip
+FILE_KEYS = ("kind", "path", "pixel_size", "units", "detrend")
 
 __all__ = ["SurfaceConfig", "parse_surface", "KINDS"]
 
@@ -63,6 +67,7 @@ def parse_surface(s, mesh, is_line: bool) -> SurfaceConfig:
     """Read ``[surface]`` (``s``: an ``engine.study.config.reader.Section``) for a study
     whose mesh is ``mesh`` (``n``, ``half_width``, mm) and whose contact is a line one or not;
     raises the reader's ``StudyConfigError`` naming the key and the value."""
+    s.check_known(set(SELF_AFFINE_KEYS) | set(FILE_KEYS))
     kind = s.string("kind")
     if kind not in KINDS:
         raise s.error("kind", kind, 'must be "self_affine" or "file"')
@@ -72,10 +77,15 @@ def parse_surface(s, mesh, is_line: bool) -> SurfaceConfig:
     return _file(s, mesh, is_line)
 
 
+def _only(s, kind: str, keys: tuple[str, ...]) -> None:
+    """Keys of the other kind name themselves."""
+    for key in s.table:
+        if key not in keys:
+            raise s.error(key, s.table[key], f'not a key of kind = "{kind}"')
+
+
 def _self_affine(s, element: float, mesh) -> SurfaceConfig:
-    s.check_known(
-        {"kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"}
-    )
+    _only(s, "self_affine", SELF_AFFINE_KEYS)
     seed = s.integer("seed", 0, minimum=0, maximum=2**63 - 1)
     hurst = s.number("hurst", DEFAULT_HURST, minimum=0.0, strict=True, maximum=1.0)
     if hurst >= 1.0:
@@ -119,7 +129,7 @@ def _missing():
 def _file(s, mesh, is_line: bool) -> SurfaceConfig:
     from .measured import read_height_map
 
-    s.check_known({"kind", "path", "pixel_size", "units", "detrend"})
+    _only(s, "file", FILE_KEYS)
     path = s.string("path")
     pixel = s.number("pixel_size", minimum=0.0, strict=True, unit="mm")
     units = s.string("units", "mm")
