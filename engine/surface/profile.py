@@ -8,7 +8,6 @@ stays inf. The height map of a case is built once per surface and grid (:func:`s
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -50,29 +49,34 @@ def surface_height(surface: SurfaceConfig, grid: Grid) -> np.ndarray:
     return _height(surface, grid)
 
 
-@dataclass(frozen=True)
 class RoughProfile:
-    """``base`` (an :class:`engine.geometry.Profile`) with the height map ``height`` (mm) of
-    ``grid``: gap(grid) = base.gap(grid) − height; everything else is the base profile's."""
+    """``base`` (an :class:`engine.geometry.Profile`) with the height map ``height`` (mm,
+    shape ``grid.shape``) of ``grid``: gap(grid) = base.gap(grid) − height; everything else
+    is the base profile's."""
 
-    base: object
-    surface: SurfaceConfig
-    grid: Grid
+    def __init__(self, base, height: np.ndarray, grid: Grid) -> None:
+        height = np.asarray(height, dtype=float)
+        if height.shape != grid.shape:
+            raise ValueError(f"height has shape {height.shape}, the grid {grid.shape}")
+        self.base, self.height, self.grid = base, height, grid
 
     def __getattr__(self, name: str):
-        if name.startswith("__") or name == "base":  # copies and pickles: not delegated
+        if name.startswith("__") or name in ("base", "height", "grid"):  # copies, pickles
             raise AttributeError(name)
         return getattr(self.base, name)
+
+    def __repr__(self) -> str:
+        return f"RoughProfile({self.base!r}, rms height {np.std(self.height):.3g} mm)"
 
     def gap(self, grid: Grid) -> np.ndarray:
         """g_g − h (mm), shape ``grid.shape``; inf where the base profile has no surface."""
         if grid != self.grid:
             raise ValueError(f"the surface was built for {self.grid}, not {grid}")
-        return self.base.gap(grid) - surface_height(self.surface, grid)
+        return self.base.gap(grid) - self.height
 
 
 def rough_profile(profile, surface: SurfaceConfig | None, grid: Grid):
     """``profile`` itself without a surface, else its :class:`RoughProfile` on ``grid``."""
     if surface is None:
         return profile
-    return RoughProfile(profile, surface, grid)
+    return RoughProfile(profile, surface_height(surface, grid), grid)
