@@ -20,8 +20,8 @@ import numpy as np
 
 SEED = "surface.seed"
 STATISTICS = ("mean", "std", "ci_low", "ci_high")
-#: Columns that are not statistics of the cases (identity, bookkeeping).
-_SKIPPED = ("case_id", "status", SEED)
+#: Columns that are not statistics of the cases (identity, the wall time).
+_SKIPPED = ("case_id", "status", SEED, "runtime_s")  # runtime_s: not reproducible
 _PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
 
 __all__ = ["ensemble_path", "ensemble_frame", "write_ensemble", "load_ensemble", "SEED"]
