@@ -63,6 +63,7 @@ from engine.reference.flat_punch import (  # noqa: E402
     sneddon_pressure,
     von_mises_cylindrical,
 )
+from engine.surface.figures import surface_figures  # noqa: E402
 
 from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
@@ -110,6 +111,7 @@ def varies_normalisation(study: StudyResults) -> bool:
 def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
     """(file name, figure) of every figure of ``study``, drawn one at a time."""
     yield from sweep_figures(study)
+    yield from surface_figures(study)  # [surface]: topography, spots, spectra, ensemble
     if varies_normalisation(study):
         return  # per-case figures: --case ID (plot_study)
     yield from study.kind_hook("figures")(study)  # the loading kind's figures
