@@ -185,14 +185,41 @@ def test_the_real_contact_area_grows_linearly_with_the_load_at_small_loads():
     assert 1.6 <= np.mean(kappas) <= 2.7
 
 
+@pytest.mark.parametrize("mu", [0.0, 0.3])
+def test_the_solver_converges_from_first_touch_to_full_contact(mu):
+    """A rough flat punch (64², λ_S = 4 elements) at mean pressures from 1e-6 to 3 E* h'_rms:
+    one element in contact at the smallest, every element of the face at the largest, and
+    every solve converged to the tolerance."""
+    grid = Grid.square(64, 1.05)
+    height = self_affine(
+        grid.shape, (grid.dx, grid.dy), hurst=0.8, long_cutoff=0.25, short_cutoff=4 * grid.dx,
+        seed=2, rms_slope=0.1,
+    )  # fmt: skip
+    operator = OperatorCache().operator(
+        grid, STEEL, threads=1, planner_effort="FFTW_ESTIMATE", reference_distance=None
+    )
+    profile = RoughProfile(FlatPunch(1.0), height, grid)
+    solver = ContactSolver(grid, STEEL, profile, FrictionLaw(mu, mu), tol=1e-8, operator=operator)
+    face = np.isfinite(FlatPunch(1.0).gap(grid))
+    fractions = []
+    for pressure in (1e-6, 1e-4, 1e-2, 0.1, 1.0, 3.0):  # p̄/(E* h'_rms)
+        load = pressure * STEEL.contact_modulus * 0.1 * np.count_nonzero(face) * grid.dx**2
+        result = solver.solve_load(load)
+        assert result.report.converged and result.report.residual <= 1e-8, result.report.message
+        assert result.pressure.sum() * grid.dx**2 == pytest.approx(load, rel=1e-8)
+        fractions.append(np.count_nonzero(result.pressure > 0) / np.count_nonzero(face))
+    assert fractions[0] == 1 / np.count_nonzero(face) and fractions[-1] == 1.0
+    assert fractions == sorted(fractions)
+
+
 # ------------------------------------------------------------------ studies
 ROUGH = {"kind": "self_affine", "long_cutoff": 0.3, "short_cutoff": 0.08, "rms_height": 2e-4}
 
 
 def _rough_study(tmp_path, name, *layers, **sections):
+    mesh = {"mesh": {"n": 16, "half_width": 0.3}}
     return study_toml(
-        name, str(tmp_path / f"{name}.h5"), SPHERE_ON_STEEL, {"mesh": {"n": 16, "half_width": 0.3}}, *layers,
-        **sections,
+        name, str(tmp_path / f"{name}.h5"), SPHERE_ON_STEEL, mesh, *layers, **sections
     )  # fmt: skip
 
 
