@@ -1,6 +1,6 @@
 """Rough surfaces: the engine beside Tamaas on the same height map, speed and memory.
 
-Three measurements, each in fresh child processes on one core (``OMP_NUM_THREADS=1``):
+Four measurements, each in fresh child processes on one core (``OMP_NUM_THREADS=1``):
 
 ``tamaas``  A rigid flat punch (a0 = 1 mm, grid ±1.05 mm, n²) carrying a self-affine
             roughness (H = 0.8, λ_L = 0.25 mm, λ_S = 8 elements, h'_rms = 0.1) pressed
@@ -16,11 +16,14 @@ Three measurements, each in fresh child processes on one core (``OMP_NUM_THREADS
             steel sphere (R = 12.7 mm, mesh ±2 a_Hertz) smooth and with a self-affine
             roughness (h_rms = 0.3 µm ≈ 0.1 δ_Hertz, λ_L = 0.2 mm, λ_S = 4 elements), in
             alternating rounds; CPU time of the solves, the ratio rough/smooth.
+``loads``   The rough flat punch (λ_S = 4 elements) from first touch to full contact,
+            p̄/(E* h'_rms) = 1e-6 … 3, frictionless and at μ = 0.3: convergence, iterations.
 ``memory``  A 2048² frictionless rough solve of the same sphere (h_rms = 0.3 µm): the child's
             peak resident memory (``VmHWM``) against 2 GB.
 
-    python benchmarks/bench_rough.py                      # all three, small sizes by default
-    python benchmarks/bench_rough.py --tamaas-n 256 --speed-n 512 --memory-n 2048 --update-docs
+    python benchmarks/bench_rough.py                      # all four, small sizes by default
+    python benchmarks/bench_rough.py --tamaas-n 256 --speed-n 512 --loads-n 512 \\
+        --memory-n 2048 --update-docs
 """
 
 from __future__ import annotations
@@ -157,7 +160,41 @@ def child_memory(n: int) -> dict:
     )  # fmt: skip
 
 
+def child_loads(n: int, mu: float) -> dict:
+    """The rough flat punch of ``tamaas`` (λ_S = 4 elements) from first touch to full
+    contact: p̄/(E* h'_rms) = 1e-6 … 3, each load solved from the unloaded state."""
+    from engine.geometry import FlatPunch
+    from engine.grid import Grid
+    from engine.material import MaterialPair
+    from engine.solvers.contact import ContactSolver
+    from engine.solvers.friction import FrictionLaw
+    from engine.surface.profile import RoughProfile
+    from engine.surface.topography import self_affine
+
+    grid = Grid.square(n, PUNCH_HALF_WIDTH)
+    height = self_affine(
+        grid.shape, (grid.dx, grid.dy), hurst=0.8, long_cutoff=0.25, short_cutoff=4 * grid.dx,
+        seed=2, rms_slope=0.1,
+    )  # fmt: skip
+    material = MaterialPair(210e3, 0.3, 210e3, 0.3)
+    profile = RoughProfile(FlatPunch(PUNCH_RADIUS), height, grid)
+    solver = ContactSolver(grid, material, profile, FrictionLaw(mu, mu), tol=1e-8)
+    face = np.count_nonzero(np.isfinite(FlatPunch(PUNCH_RADIUS).gap(grid)))
+    rows = []
+    for pressure in (1e-6, 1e-4, 1e-2, 0.1, 1.0, 3.0):
+        start = time.process_time()
+        result = solver.solve_load(pressure * MODULUS * 0.1 * face * grid.dx**2)
+        rows.append(dict(
+            pressure=pressure, converged=bool(result.report.converged),
+            iterations=int(result.report.iterations), residual=float(result.report.residual),
+            area=int(np.count_nonzero(result.pressure > 0)) / face,
+            cpu_s=time.process_time() - start,
+        ))  # fmt: skip
+    return {"rows": rows}
+
+
 CHILDREN = {
+    "loads": child_loads,
     "engine_punch": child_engine_punch,
     "tamaas_punch": child_tamaas_punch,
     "speed": child_speed,
@@ -243,6 +280,26 @@ def measure_speed(n: int, rounds: int) -> dict:
     return row
 
 
+def measure_loads(n: int) -> dict:
+    row = {"n": n}
+    for mu in (0.0, 0.3):
+        rows = _child("loads", str(n), repr(mu))["rows"]
+        row[mu] = rows
+        for item in rows:
+            print(f"  loads n = {n}, μ = {mu}: {item}", flush=True)
+    converged = all(item["converged"] for mu in (0.0, 0.3) for item in row[mu])
+    row["converged"] = converged
+    row["iterations"] = max(item["iterations"] for mu in (0.0, 0.3) for item in row[mu])
+    row["areas"] = (row[0.0][0]["area"], row[0.0][-1]["area"])
+    print(
+        f"Rough flat punch n = {n}, p̄/(E* h'_rms) from 1e-6 to 3, μ = 0 and 0.3: all "
+        f"converged {converged}, at most {row['iterations']} iterations, contact fraction "
+        f"{row['areas'][0]:.2e} to {row['areas'][1]:.3f}",
+        flush=True,
+    )
+    return row
+
+
 def measure_memory(n: int) -> dict:
     row = _child("memory", str(n)) | {"n": n}
     print(
@@ -254,7 +311,7 @@ def measure_memory(n: int) -> dict:
     return row
 
 
-def write_doc_block(tamaas: dict | None, speed: dict | None, memory: dict | None) -> None:
+def write_doc_block(tamaas, speed, memory, loads=None) -> None:
     from engine.analysis.markdown import markdown_table, measured_on, replace_block
 
     document = REPO / "docs" / "explanation" / "performance.md"
@@ -282,9 +339,23 @@ def write_doc_block(tamaas: dict | None, speed: dict | None, memory: dict | None
             f"{memory['solve_s']:.0f} s",
         ))  # fmt: skip
     note = "`python benchmarks/bench_rough.py --update-docs`, one core per process"
-    text = measured_on(note) + "\n" + markdown_table(("case", "result", "time"), rows)
-    replace_block(document, "bench-rough", text)
-    print(f"{document}: wrote the block bench-rough")
+    if rows:  # the loads have their own block: each block is what one run measured
+        text = measured_on(note) + "\n" + markdown_table(("case", "result", "time"), rows)
+        replace_block(document, "bench-rough", text)
+        print(f"{document}: wrote the block bench-rough")
+    rows = []
+    if loads:
+        cpu = sum(item["cpu_s"] for mu in (0.0, 0.3) for item in loads[mu])
+        rows.append((
+            f"rough flat punch, {loads['n']}², first touch to full contact, μ = 0 and 0.3",
+            f"6 loads each (p̄/(E* h'_rms) = 1e-6 … 3): converged {loads['converged']}, at most "
+            f"{loads['iterations']} iterations, contact fraction {loads['areas'][0]:.1e} to "
+            f"{loads['areas'][1]:.3f}",
+            f"{cpu:.0f} s",
+        ))  # fmt: skip
+        text = measured_on(note) + "\n" + markdown_table(("case", "result", "CPU"), rows)
+        replace_block(document, "bench-rough-loads", text)
+        print(f"{document}: wrote the block bench-rough-loads")
 
 
 def main() -> None:
@@ -294,18 +365,19 @@ def main() -> None:
     parser.add_argument("--speed-n", type=int, default=128)
     parser.add_argument("--memory-n", type=int, default=256)
     parser.add_argument("--rounds", type=int, default=2)
-    parser.add_argument("--only", choices=("tamaas", "speed", "memory"), nargs="+")
+    parser.add_argument("--loads-n", type=int, default=128)
+    parser.add_argument("--only", choices=("tamaas", "speed", "loads", "memory"), nargs="+")
     parser.add_argument("--tamaas-python", default="/tmp/tamaas-venv/bin/python")
     parser.add_argument("--update-docs", action="store_true")
     args, rest = parser.parse_known_args()
     if args.child:
         n, *others = rest
-        converted = [float(v) if args.child == "speed" else v for v in others]
+        converted = [float(v) if args.child in ("speed", "loads") else v for v in others]
         print(json.dumps(CHILDREN[args.child](int(n), *converted)))
         return
     print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
-    parts = args.only or ("tamaas", "speed", "memory")
-    tamaas = speed = memory = None
+    parts = args.only or ("tamaas", "speed", "loads", "memory")
+    tamaas = speed = memory = loads = None
     if "tamaas" in parts:
         if Path(args.tamaas_python).exists():
             tamaas = measure_tamaas(args.tamaas_n, args.tamaas_python)
@@ -313,11 +385,13 @@ def main() -> None:
             print(f"tamaas: skipped ({args.tamaas_python} not found)")
     if "speed" in parts:
         speed = measure_speed(args.speed_n, args.rounds)
+    if "loads" in parts:
+        loads = measure_loads(args.loads_n)
     if "memory" in parts:
         memory = measure_memory(args.memory_n)
     print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
     if args.update_docs:
-        write_doc_block(tamaas, speed, memory)
+        write_doc_block(tamaas, speed, memory, loads)
 
 
 if __name__ == "__main__":
