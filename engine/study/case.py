@@ -113,7 +113,6 @@ class CaseRunner:
                 raise InjectedFailure(f"case {case.case_id} fails on purpose ([testing])")
             config = self.config_for(case)
             outcome = kind_of(config).run(self.context, case, config, should_stop)
-            outcome = surface_outcome(config, outcome)  # [surface]: its columns and datasets
         except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
             outcome = CaseOutcome(
                 case,
@@ -126,6 +125,7 @@ class CaseRunner:
             outcome.datasets = {
                 path: record.per_unit_length(True) for path, record in outcome.datasets.items()
             }
+        outcome = self._with_surface(case, outcome)  # [surface]: its columns and datasets
         if outcome.status == INTERRUPTED:
             self._save_progress(case, {"runtime_s": outcome.runtime_s})
         else:
@@ -137,6 +137,23 @@ class CaseRunner:
         outcome.row["status"] = outcome.status
         outcome.row = _without_negative_zeros(outcome.row)
         return outcome
+
+    def _with_surface(self, case: Case, outcome: CaseOutcome) -> CaseOutcome:
+        """A completed case of a study with ``[surface]`` gets the surface's columns and
+        datasets (engine.surface.outputs; after the line-contact units: a profile's spectrum
+        is in mm^3, no per-unit-length quantity); a failure there fails the case."""
+        if self.config.surface is None or outcome.status != COMPLETED:
+            return outcome
+        try:
+            return surface_outcome(self.config_for(case), outcome)
+        except Exception as error:  # noqa: BLE001 - every failure becomes an outcome
+            return CaseOutcome(
+                case,
+                FAILED,
+                message=f"{type(error).__name__}: {error}",
+                traceback=traceback_module.format_exc(),
+                runtime_s=outcome.runtime_s,
+            )
 
     # ---------------------------------------------------------------- checkpoints
     def _checkpoint_path(self, case: Case) -> Path:
