@@ -150,7 +150,7 @@ def load_calibration(path):
 
 def load_ensemble(path):
     """Statistics over the realisations of a study sweeping ``surface.seed`` as a
-    :class:`pandas.DataFrame` (:func:`engine.surface.ensemble.load_ensemble`), computed from
+    :class:`pandas.DataFrame` (:func:`engine.output.ensemble.load_ensemble`), computed from
     the summary (the same table as ``NAME_ensemble.csv``).
 
     Parameters
@@ -170,6 +170,6 @@ def load_ensemble(path):
     >>> frame = engine.load_ensemble("results/rough_fretting.h5")         # doctest: +SKIP
     >>> frame[["loading.amplitude", "real_area_fraction_mean"]]           # doctest: +SKIP
     """
-    from engine.surface.ensemble import load_ensemble as load
+    from engine.output.ensemble import load_ensemble as load
 
     return load(path)

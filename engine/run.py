@@ -508,12 +508,12 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
 
     Rank 0 returns the fields of the run's :class:`StudyRun` that the computation decides;
     the other ranks return None (rank 0's answer is broadcast)."""
+    from engine.output.ensemble import write_ensemble
     from engine.output.hdf5 import StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
     from engine.output.writers import open_writer
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
-    from engine.surface import write_ensemble
 
     rank = comm.Get_rank()
     config, plan = prepared.config, prepared.plan

@@ -192,6 +192,7 @@ _FATIGUE = {
         "sigma_y": 800.0, "method": "point", "length": 0.02,
     }
 }  # fmt: skip
+DATA = Path(__file__).parent / "data"
 _CONTEXT = {
     "punch.edge_radius": [{"punch": {"shape": "rounded", "edge_radius": 0.1}}],
     "mesh.reference_distance": [_LINE_FRETTING],
@@ -208,7 +209,16 @@ _CONTEXT = {
         {"punch": {"shape": "pad", "radius": 0.5, "edge_radius": 2.0}, "mesh": {"half_width": 1}},
     ],
     "sweep.alpha": [{"wear": {"law": "energy"}, "sweep": {"wear1": None, "alpha": [1e-5]}}],
-}
+    **{
+        f"surface.{name}": [{"surface": {"kind": "self_affine", "long_cutoff": 1.0,
+                                         "short_cutoff": 0.5, "rms_height": 1e-3}}]
+        for name in ("seed", "hurst", "long_cutoff", "short_cutoff", "rms_height")
+    },
+    "surface.rms_slope": [{"surface": {"kind": "self_affine", "long_cutoff": 1.0,
+                                       "short_cutoff": 0.5, "rms_slope": 0.1}}],
+    "surface.pixel_size": [{"surface": {"kind": "file", "path": str(DATA / "flat_map.txt"),
+                                        "pixel_size": 0.5}}],
+}  # fmt: skip
 _NUMERIC = sorted(
     f"{key.section}.{key.name}"
     for key in STUDY_KEYS

@@ -63,11 +63,11 @@ from engine.reference.flat_punch import (  # noqa: E402
     sneddon_pressure,
     von_mises_cylindrical,
 )
-from engine.surface.figures import surface_figures  # noqa: E402
 
 from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
+from .surface_figures import surface_figures  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
 
 __all__ = ["plot_study", "main", "VM_LEVEL_MAX", "von_mises_levels", "study_figures"]

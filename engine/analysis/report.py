@@ -338,7 +338,7 @@ def cyclic_facts(study: StudyResults) -> list[str]:
 
 def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
-    from engine.surface.report import surface_report
+    from .surface_report import surface_report
 
     study = results if isinstance(results, StudyResults) else read_results(results)
     return study.kind_hook("report")(study, cycles) + surface_report(study)  # [surface]

@@ -67,7 +67,6 @@ from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, parameter_units
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
-from engine.surface.ensemble import ensemble_path
 
 from .checksum import (
     CASE_CHECKSUM,
@@ -77,6 +76,7 @@ from .checksum import (
     manifest_entry,
     root_checksum,
 )
+from .ensemble import ensemble_path
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .packed import PackedOutcome, pack, unpack
 from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space

@@ -5,17 +5,19 @@
 - :mod:`.measured` measured height maps read, detrended and resampled to a case's grid;
 - :mod:`.config` the ``[surface]`` section validated into a :class:`SurfaceConfig`;
 - :mod:`.profile` a punch profile with the roughness: gap = g_g − h (:class:`RoughProfile`);
-- :mod:`.outputs` the summary columns and ``surface/*`` datasets of a case;
-- :mod:`.ensemble` statistics over the realisations of a study sweeping ``surface.seed``.
+- :mod:`.outputs` the summary columns and ``surface/*`` datasets of a case.
+
+Beside it: :mod:`engine.output.ensemble` (statistics over the realisations of a study
+sweeping ``surface.seed``), :mod:`engine.analysis.surface_figures` and
+:mod:`engine.analysis.surface_report` (its figures and its table).
 
 The host calls in at four places: the study parser (:func:`parse_surface`), the solver
 builder (:func:`rough_profile`), the case runner (:func:`surface_outcome`) and the layout of
 the collective writer (:func:`surface_layout`); the run writes the ensemble table
-(:func:`write_ensemble`).
+(:func:`engine.output.ensemble.write_ensemble`).
 """
 
 from .config import SurfaceConfig, parse_surface
-from .ensemble import ensemble_frame, load_ensemble, write_ensemble
 from .outputs import surface_layout, surface_outcome
 from .profile import RoughProfile, rough_profile, surface_height
 
@@ -27,7 +29,4 @@ __all__ = [
     "surface_height",
     "surface_outcome",
     "surface_layout",
-    "ensemble_frame",
-    "load_ensemble",
-    "write_ensemble",
 ]

@@ -34,6 +34,8 @@ KINDS = ("self_affine", "file")
 HEIGHT_UNITS = {"m": 1e3, "mm": 1.0, "um": 1e-3, "µm": 1e-3, "nm": 1e-6}
 DETREND = ("none", "mean", "plane")
 DEFAULT_HURST = 0.8
+MAX_SEED = 2**32 - 1
+MAX_SLOPE = 2.0  # rms slope: the half-space (Boussinesq) model assumes small slopes
 SELF_AFFINE_KEYS = (
     "kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"
 )  # fmt: skip
@@ -86,11 +88,15 @@ def _only(s, kind: str, keys: tuple[str, ...]) -> None:
 
 def _self_affine(s, element: float, mesh) -> SurfaceConfig:
     _only(s, "self_affine", SELF_AFFINE_KEYS)
-    seed = s.integer("seed", 0, minimum=0, maximum=2**63 - 1)
+    length = 2.0 * mesh.half_width
+    seed = s.integer("seed", 0, minimum=0, maximum=MAX_SEED, why="a 32-bit seed")
     hurst = s.number("hurst", DEFAULT_HURST, minimum=0.0, strict=True, maximum=1.0)
     if hurst >= 1.0:
         raise s.error("hurst", s.table["hurst"], "must lie in (0, 1)")
-    short = s.number("short_cutoff", minimum=0.0, strict=True, unit="mm")
+    short = s.number(
+        "short_cutoff", minimum=0.0, strict=True, unit="mm", maximum=length,
+        why="the mesh's length 2·half_width",
+    )  # fmt: skip
     if short < 2.0 * element * (1.0 - 1e-12):
         raise s.error(
             "short_cutoff",
@@ -98,18 +104,24 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
             f"must be at least two elements, 2 × {element:.6g} = {2 * element:.6g} mm "
             f"([mesh] n = {mesh.n}, half_width = {mesh.half_width:.6g} mm)",
         )
-    long = s.number("long_cutoff", minimum=0.0, strict=True, unit="mm")
+    long = s.number(
+        "long_cutoff", minimum=0.0, strict=True, unit="mm", maximum=100.0 * length,
+        why="100 × the mesh's length: beyond it the spectrum on the mesh is flat",
+    )  # fmt: skip
     if long < short:
         raise s.error("long_cutoff", long, f"must be >= short_cutoff = {short:g} mm")
     given = [key for key in ("rms_height", "rms_slope") if key in s.table]
     if len(given) != 1:
-        raise s.error(
-            "rms_height",
-            s.table.get("rms_height", s.table.get("rms_slope")) if given else _missing(),
-            "give exactly one of rms_height (mm) and rms_slope",
-        )
+        key = given[-1] if given else "rms_height"
+        problem = "give exactly one of rms_height (mm) and rms_slope"
+        if not given:
+            s.raw(key)  # the reader's "required key is missing", naming rms_height
+        raise s.error(key, s.table[key], problem)
     key = given[0]
-    value = s.number(key, minimum=0.0, unit="mm" if key == "rms_height" else "1")
+    if key == "rms_height":
+        value = s.number(key, minimum=0.0, unit="mm", maximum=length, why="the mesh's length")
+    else:  # the half-space model is one of small slopes
+        value = s.number(key, minimum=0.0, maximum=MAX_SLOPE, why="a small-slope surface")
     return SurfaceConfig(
         kind="self_affine",
         seed=seed,
@@ -120,18 +132,15 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
     )
 
 
-def _missing():
-    from engine.study.config.sections import MISSING
-
-    return MISSING
-
-
 def _file(s, mesh, is_line: bool) -> SurfaceConfig:
     from .measured import read_height_map
 
     _only(s, "file", FILE_KEYS)
     path = s.string("path")
-    pixel = s.number("pixel_size", minimum=0.0, strict=True, unit="mm")
+    pixel = s.number(
+        "pixel_size", minimum=0.0, strict=True, unit="mm", maximum=2.0 * mesh.half_width,
+        why="the mesh's length 2·half_width",
+    )  # fmt: skip
     units = s.string("units", "mm")
     if units not in HEIGHT_UNITS:
         raise s.error("units", units, "must be " + ", ".join(f'"{u}"' for u in HEIGHT_UNITS))

@@ -9,7 +9,8 @@ alpha and the dotted keys other than ``surface.seed``), over its completed cases
   mean ± t₀.₉₇₅,ₙ₋₁ s/√n (Student's t; NaN with one realisation).
 
 The table is written as ``NAME_ensemble.csv`` beside the summary ``NAME.csv`` at the end of a
-run (:func:`write_ensemble`) and computed from the summary by :func:`load_ensemble`.
+run (:func:`write_ensemble`) and computed from the summary by :func:`load_ensemble`; the
+surface itself is :mod:`engine.surface`.
 """
 
 from __future__ import annotations
@@ -89,7 +90,7 @@ def write_ensemble(config, rows) -> Path | None:
         return None
     import os
 
-    from engine.output.summary import summary_frame
+    from .summary import summary_frame
 
     frame = ensemble_frame(summary_frame(list(rows)))
     path = ensemble_path(config.study.summary_path)
@@ -102,6 +103,6 @@ def write_ensemble(config, rows) -> Path | None:
 def load_ensemble(path: str | Path):
     """The ensemble table of a study (module docstring) as a pandas DataFrame, computed from
     its summary (``path``: the results ``.h5`` or the summary ``.csv``)."""
-    from engine.output.summary import load_summary
+    from .summary import load_summary
 
     return ensemble_frame(load_summary(path))

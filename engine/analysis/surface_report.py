@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .ensemble import SEED, ensemble_frame
+from engine.output.ensemble import SEED, ensemble_frame
 
 __all__ = ["surface_report"]
 
@@ -60,14 +60,14 @@ def surface_report(study) -> str:
 
 
 def main(argv=None) -> int:
-    """``python -m engine.surface.report RESULTS.h5 [--update DOC.md]``: print the ensemble
+    """``python -m engine.analysis.surface_report RESULTS.h5 [--update DOC.md]``: print the ensemble
     table, or write it into the block ``<!-- BEGIN report NAME-ensemble -->`` of DOC.md."""
     import argparse
 
-    from engine.analysis.markdown import measured_on, replace_block
-    from engine.analysis.reader import read_results
+    from .markdown import measured_on, replace_block
+    from .reader import read_results
 
-    parser = argparse.ArgumentParser(prog="python -m engine.surface.report")
+    parser = argparse.ArgumentParser(prog="python -m engine.analysis.surface_report")
     parser.add_argument("results")
     parser.add_argument("--update", metavar="DOC.md")
     args = parser.parse_args(argv)
@@ -78,7 +78,7 @@ def main(argv=None) -> int:
     if args.update is None:
         print(text)
         return 0
-    note = f"`python -m engine.surface.report {args.results} --update {args.update}`"
+    note = f"`python -m engine.analysis.surface_report {args.results} --update {args.update}`"
     replace_block(args.update, f"{study.name}-ensemble", measured_on(note) + text, kind="report")
     print(f"{args.update}: wrote the block {study.name}-ensemble")
     return 0

@@ -15,7 +15,7 @@ import h5py
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .ensemble import SEED, ensemble_frame
+from engine.output.ensemble import SEED, ensemble_frame
 
 __all__ = ["surface_figures"]
 
