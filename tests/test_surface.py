@@ -334,3 +334,14 @@ def test_a_bad_surface_exits_2_and_writes_nothing(tmp_path):
     assert done.returncode == 2, done.stderr
     assert "[surface] rms_height = -0.001" in done.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_a_changed_map_changes_the_fingerprint(tmp_path):
+    """A run must not resume on a measured map changed under the same name."""
+    path = tmp_path / "map.npy"
+    np.save(path, np.zeros((64, 64)))
+    surface = {"kind": "file", "path": str(path), "pixel_size": 0.1}
+    text = _rough_study(tmp_path, "map", surface=surface, loading={"kind": "static", "load": 100.0})
+    before = parse_study(text).fingerprint()
+    np.save(path, np.ones((64, 64)) * 1e-4)
+    assert parse_study(text).fingerprint() != before

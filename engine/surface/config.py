@@ -64,6 +64,15 @@ class SurfaceConfig:
         """TOML-able: the keys that apply (None left out)."""
         return {k: v for k, v in self.__dict__.items() if v is not None}
 
+    def identity(self) -> str | None:
+        """SHA-256 of a measured map's file (None for a random surface): part of the study's
+        fingerprint, so that a run does not resume on a map changed under the same name."""
+        if self.kind != "file":
+            return None
+        import hashlib
+
+        return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
+
 
 def parse_surface(s, mesh, is_line: bool) -> SurfaceConfig:
     """Read ``[surface]`` (``s``: an ``engine.study.config.reader.Section``) for a study

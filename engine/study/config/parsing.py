@@ -240,6 +240,8 @@ class StudyConfig:
         resolved["solver"].pop("threads", None)
         if self.sweep.swept_keys:  # which keys vary is part of the study's identity
             resolved["swept_keys"] = sorted(self.sweep.swept_keys)
+        if self.surface is not None and self.surface.identity() is not None:
+            resolved["surface_file_sha256"] = self.surface.identity()  # a measured map's bytes
         return json.dumps(resolved, sort_keys=True)
 
 
