@@ -345,3 +345,19 @@ def test_a_changed_map_changes_the_fingerprint(tmp_path):
     before = parse_study(text).fingerprint()
     np.save(path, np.ones((64, 64)) * 1e-4)
     assert parse_study(text).fingerprint() != before
+
+
+def test_a_rough_case_that_does_not_converge_fails_and_says_why(tmp_path):
+    import h5py
+
+    import engine
+
+    text = _rough_study(
+        tmp_path, "stalled", surface=ROUGH, solver={"maxiter": 2},
+        loading={"kind": "static", "load": 100.0, "steps": 2},
+    )  # fmt: skip
+    run = engine.run_study(text)
+    assert list(run.summary["status"]) == ["failed"]
+    with h5py.File(run.output) as file:
+        message = next(iter(file["cases"].values())).attrs["message"]
+    assert "did not converge" in message and "residual" in message
