@@ -294,7 +294,7 @@ def measure_loads(n: int) -> dict:
     print(
         f"Rough flat punch n = {n}, p̄/(E* h'_rms) from 1e-6 to 3, μ = 0 and 0.3: all "
         f"converged {converged}, at most {row['iterations']} iterations, contact fraction "
-        f"{row['areas'][0]:.2e} to {row['areas'][1]:.3f}",
+        f"{row['areas'][0]:.2e} to {row['areas'][1]:.5f}",
         flush=True,
     )
     return row
@@ -338,7 +338,8 @@ def write_doc_block(tamaas, speed, memory, loads=None) -> None:
             f"peak resident memory {memory['peak_mb']:.0f} MB (limit 2048 MB)",
             f"{memory['solve_s']:.0f} s",
         ))  # fmt: skip
-    note = "`python benchmarks/bench_rough.py --update-docs`, one core per process"
+    command = " ".join(["python benchmarks/bench_rough.py", *sys.argv[1:]])
+    note = f"`{command}`, one core per process"
     if rows:  # the loads have their own block: each block is what one run measured
         text = measured_on(note) + "\n" + markdown_table(("case", "result", "time"), rows)
         replace_block(document, "bench-rough", text)
@@ -350,7 +351,7 @@ def write_doc_block(tamaas, speed, memory, loads=None) -> None:
             f"rough flat punch, {loads['n']}², first touch to full contact, μ = 0 and 0.3",
             f"6 loads each (p̄/(E* h'_rms) = 1e-6 … 3): converged {loads['converged']}, at most "
             f"{loads['iterations']} iterations, contact fraction {loads['areas'][0]:.1e} to "
-            f"{loads['areas'][1]:.3f}",
+            f"{loads['areas'][1]:.5f}",
             f"{cpu:.0f} s",
         ))  # fmt: skip
         text = measured_on(note) + "\n" + markdown_table(("case", "result", "CPU"), rows)
