@@ -102,6 +102,7 @@ def datasets() -> str:
     rows += _dataset_rows("history", schema.FATIGUE_HISTORY)  # [fatigue] every_cycle = true
     for column, described in schema.FATIGUE_CRITERIA.items():
         rows += _dataset_rows(f"fatigue/{cycle}", schema.fatigue_maps(column, *described, "N"))
+    rows += _dataset_rows("surface", schema.SURFACE_DATASETS)  # [surface]
     return markdown_table(("path in the case group", "units", "description"), rows)
 
 
