@@ -361,3 +361,31 @@ def test_a_rough_case_that_does_not_converge_fails_and_says_why(tmp_path):
     with h5py.File(run.output) as file:
         message = next(iter(file["cases"].values())).attrs["message"]
     assert "did not converge" in message and "residual" in message
+
+
+def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
+    import matplotlib.pyplot as plt
+
+    import engine
+    from engine.analysis.reader import read_results
+    from engine.analysis.report import study_report
+    from engine.analysis.surface_figures import surface_figures
+
+    surface = {key: value for key, value in ROUGH.items() if key != "rms_height"}
+    text = _rough_study(
+        tmp_path, "drawn", surface=surface, loading={"kind": "static", "load": 100.0},
+    )  # fmt: skip
+    sweep = '[sweep]\n"surface.seed" = [1, 2]\n"surface.rms_height" = [1e-4, 2e-4]\n'
+    run = engine.run_study(text.replace("[sweep]\n", sweep))
+    assert run.ok, run
+    names = set()
+    for name, figure in surface_figures(read_results(run.output)):
+        names.add(name)
+        plt.close(figure)
+    assert names == {
+        "surface_mu0.3_w0_b0_seed1_rms_height0.0001.png",
+        "surface_mu0.3_w0_b0_seed1_rms_height0.0002.png",
+        "ensemble_surface.rms_height.png",
+    }
+    report = study_report(run.output)
+    assert "| surface.rms_height | realisations |" in report
