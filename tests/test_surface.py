@@ -238,6 +238,7 @@ def test_every_kind_runs_on_a_rough_surface_and_writes_its_columns(tmp_path, cha
     import h5py
 
     import engine
+    from engine.study.layout import case_layout
 
     text = _rough_study(tmp_path, "rough", changes, surface=ROUGH)
     text = text.replace("[sweep]\n", '[sweep]\n"surface.seed" = [1, 2]\n')
@@ -255,6 +256,12 @@ def test_every_kind_runs_on_a_rough_surface_and_writes_its_columns(tmp_path, cha
         assert case["surface/psd"].shape == case["surface/wavevector"].shape
         worn = "psd_worn" in case["surface"]
         assert worn == (changes["loading"]["kind"] != "static")
+        # the collective writer pre-creates exactly these (engine.study.layout)
+        layout = case_layout(parse_study(text).for_case({"surface.seed": 1}))
+        planned = {path: item.shape for path, item in layout.items() if path.startswith("surface/")}
+        assert planned == {
+            f"surface/{name}": case["surface"][name].shape for name in case["surface"]
+        }
     ensemble = engine.load_ensemble(run.output)
     assert list(ensemble["realisations"]) == [2]
     values = summary["real_area_fraction"]
