@@ -6,7 +6,8 @@ the user-facing layer and radians inside the numerical code.
 The public API:
 
 - :func:`run_study` runs (or resumes) a study file, TOML text or configuration, on this process
-  or on the ranks of a communicator, and returns a :class:`StudyRun`;
+  or on the ranks of a communicator, and returns a :class:`StudyRun` (an invalid study raises
+  :class:`StudyError` with the file, the key and the value);
 - :func:`open_results` opens a results file as objects: the study, the summary, each
   case's histories, fields and stress planes with units (``.to_xarray()`` with xarray);
 - :func:`load_summary` reads a study's summary table as a pandas DataFrame;
@@ -25,12 +26,15 @@ import sys as _sys  # noqa: E402
 if _sys.orig_argv[1:3] == ["-m", "engine"]:  # `python -m engine`: stop signals caught first
     from engine import _early_stop  # noqa: F401
 
-from engine.run import RUN_STATUSES, StudyRun, run_study  # noqa: E402 (needs __version__)
+from engine.commands import WrongFileError  # noqa: E402
+from engine.run import RUN_STATUSES, StudyError, StudyRun, run_study  # noqa: E402 (needs __version__)
 
 __all__ = [
     "__version__",
     "RUN_STATUSES",
+    "StudyError",
     "StudyRun",
+    "WrongFileError",
     "run_study",
     "open_results",
     "load_summary",

@@ -309,6 +309,7 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
         dry_run=args.dry_run,
         stop_event=stop_event,
         command_line=command_line,
+        check=False,
     )
     if comm.Get_rank() == 0 and run.status in ("invalid", "output-full"):
         print(f"error: {run.message}", file=sys.stderr, flush=True)

@@ -44,7 +44,7 @@ from typing import Any
 from engine import __version__
 from engine.parallel.waiting import patient_bcast, patient_gather
 
-__all__ = ["StudyRun", "RUN_STATUSES", "run_study"]
+__all__ = ["StudyError", "StudyRun", "RUN_STATUSES", "run_study"]
 
 # What a run can end as (StudyRun.status); the command line maps them to its exit codes.
 RUN_STATUSES = (
@@ -56,6 +56,17 @@ RUN_STATUSES = (
     "damaged",
     "output-full",
 )
+
+
+class StudyError(ValueError):
+    """An invalid study (or an unusable output): what :func:`run_study` raises unless
+    ``check=False``. The message is the line the command line prints (the file, the key and
+    the value: ``demo.toml: [loading] load = -750.0: must be > 0 (N)``); ``run`` is the
+    :class:`StudyRun` with status ``"invalid"``."""
+
+    def __init__(self, run: StudyRun) -> None:
+        super().__init__(run.message)
+        self.run = run
 
 
 @dataclass(frozen=True)
@@ -133,6 +144,7 @@ def run_study(
     dry_run: bool = False,
     stop_event: threading.Event | None = None,
     command_line: str = "",
+    check: bool = True,
 ) -> StudyRun:
     """Run (or resume) a parameter study and write its results file and summary.
 
@@ -166,11 +178,22 @@ def run_study(
         Set it (from another thread or a signal handler) to stop the run cleanly.
     command_line : str
         Stored in the results file (the command line that started the run).
+    check : bool
+        Raise :class:`StudyError` for an invalid study (default); with ``check=False`` it is
+        the returned status ``"invalid"`` with the reason in ``message``.
 
     Returns
     -------
     StudyRun
-        The same on every rank.
+        The same on every rank. Failed, interrupted, damaged and full-disk runs are
+        statuses of it, never exceptions: ``run.ok`` tells whether every case completed.
+
+    Raises
+    ------
+    StudyError
+        (``check=True``) the study is invalid or the output unusable: nothing computed,
+        nothing written; the message names the file, the key and the value. Raised on every
+        rank alike.
     """
     comm = _communicator(comm)
     stop_event = stop_event if stop_event is not None else threading.Event()
@@ -184,7 +207,10 @@ def run_study(
         progress_bar=progress,
         progress_interval=progress_interval,
     )
-    return _run(comm, study, options, command_line, stop_event)
+    run = _run(comm, study, options, command_line, stop_event)
+    if check and run.status == "invalid":
+        raise StudyError(run)
+    return run
 
 
 @dataclass(frozen=True)

@@ -70,15 +70,21 @@ def test_text_or_configuration_in_and_resume(tmp_path, monkeypatch):
     assert first.status == "completed"
     again = engine.run_study(parse_study(TOML), progress=False)
     assert (again.status, again.completed) == ("completed", 2)  # both skipped, still complete
-    refused = engine.run_study(TOML, resume=False, progress=False)
+    with pytest.raises(engine.StudyError, match="fresh=True"):
+        engine.run_study(TOML, resume=False, progress=False)
+    refused = engine.run_study(TOML, resume=False, progress=False, check=False)
     assert refused.status == "invalid" and "fresh=True" in refused.message
     fresh = engine.run_study(TOML, resume=False, fresh=True, output="other.h5", progress=False)
     assert fresh.status == "completed" and Path("other.h5").exists()
 
 
-def test_bad_input_is_a_status_naming_the_key(tmp_path, monkeypatch):
+def test_bad_input_raises_naming_the_key_or_is_a_status(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    run = engine.run_study(TOML.replace("load = 750.0", "load = -750.0"), progress=False)
+    bad = TOML.replace("load = 750.0", "load = -750.0")
+    with pytest.raises(engine.StudyError, match=r"\[loading\] load = -750.0") as raised:
+        engine.run_study(bad, progress=False)
+    assert raised.value.run.status == "invalid"
+    run = engine.run_study(bad, progress=False, check=False)
     assert run.status == "invalid" and not run.ok
     assert "[loading] load = -750.0" in run.message
     assert not Path("api.h5").exists()
@@ -95,6 +101,6 @@ def test_a_dry_run_changes_nothing(tmp_path, monkeypatch, capsys):
 
 
 def test_dir_engine_lists_the_public_api():
-    for name in ("run_study", "StudyRun", "load_summary", "__version__"):
+    for name in ("run_study", "StudyRun", "StudyError", "load_summary", "__version__"):
         assert name in dir(engine) and name in engine.__all__
     assert not hasattr(engine, "__getattr__")  # nothing hidden behind a module __getattr__

@@ -57,7 +57,7 @@ from matplotlib.colors import BoundaryNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-from engine.commands import missing_file, results_parser  # noqa: E402
+from engine.commands import refuse_file, results_parser  # noqa: E402
 from engine.reference.flat_punch import (  # noqa: E402
     flat_punch_stress,
     sneddon_pressure,
@@ -199,7 +199,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
-    if missing_file(args.results):
+    if refuse_file(args.results):
         return 2
     from .calibration_report import calibration_figures, has_calibration
     from .threshold_figures import has_thresholds, threshold_figures

@@ -63,6 +63,7 @@ from typing import Any
 import h5py
 import numpy as np
 
+from engine.commands import RESULTS_FORMAT
 from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, parameter_units
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
@@ -96,7 +97,7 @@ __all__ = [
     "remove_outputs",
 ]
 
-FORMAT = "fretting-engine-results/1"
+FORMAT = RESULTS_FORMAT  # the root attribute "format" (engine.commands tells files apart)
 
 
 class StoppedDuringSetUp(RuntimeError):

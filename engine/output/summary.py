@@ -62,6 +62,7 @@ import numpy as np
 if TYPE_CHECKING:  # pandas is imported where a DataFrame is built (never while computing)
     import pandas as pd
 
+from engine.commands import WrongFileError, wrong_file
 from engine.schema import (
     CASES_GROUP,
     COLUMN_UNITS,
@@ -185,6 +186,14 @@ def load_summary(path: str | Path) -> pd.DataFrame:
         The results file (``.h5``; its ``.csv`` beside it is read when the ``.h5`` is gone)
         or the summary ``.csv`` itself.
 
+    Raises
+    ------
+    FileNotFoundError
+        No such file (nor a ``.csv`` beside a missing ``.h5``).
+    engine.commands.WrongFileError
+        A study file, another program's HDF5 file or another file; the message says what
+        it is and what to pass.
+
     Returns
     -------
     pandas.DataFrame
@@ -198,12 +207,24 @@ def load_summary(path: str | Path) -> pd.DataFrame:
     >>> frame.pivot(index="mu1", columns="beta", values="max_wear_depth")   # doctest: +SKIP
     """
     path = Path(path)
-    if path.suffix.lower() in (".h5", ".hdf5"):
-        if not path.exists() and path.with_suffix(".csv").exists():
+    if path.suffix.lower() in (".h5", ".hdf5") and not path.exists():
+        if path.with_suffix(".csv").exists():
             path = path.with_suffix(".csv")
-        else:
-            return summary_frame(_rows_from_h5(path))
+    check_readable(path)
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        return summary_frame(_rows_from_h5(path))
     import pandas as pd
 
     frame = pd.read_csv(path, dtype={"case_id": str, "status": str})
     return summary_frame(frame.to_dict("records"))
+
+
+def check_readable(path: Path) -> None:
+    """Raise a one-line :class:`FileNotFoundError` when ``path`` is not a file, a
+    :class:`engine.commands.WrongFileError` when it is not a results file or a CSV table of
+    a study (:func:`engine.commands.wrong_file`: what it is and what to pass)."""
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    problem = wrong_file(path, accept_csv=True)
+    if problem is not None:
+        raise WrongFileError(problem)

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
+from engine.commands import WrongFileError
 from engine.schema import CASES_GROUP, THRESHOLDS_GROUP, CaseStatus, threshold_columns
 
 from .summary import column_unit
@@ -201,7 +202,10 @@ def load_thresholds(path: str | Path) -> pd.DataFrame:
     """
     import pandas as pd
 
+    from .summary import check_readable
+
     path = Path(path)
+    check_readable(path)
     if path.suffix.lower() not in (".h5", ".hdf5"):
         frame = pd.read_csv(path, dtype={"case_id": str, "status": str, "message": str})
         units = {}
@@ -216,7 +220,10 @@ def load_thresholds(path: str | Path) -> pd.DataFrame:
     with h5py.File(path, "r") as file:
         group = file.get(THRESHOLDS_GROUP)
         if group is None:
-            raise KeyError(f"{path}: no thresholds table (the study has no [search] section)")
+            raise WrongFileError(
+                f"{path}: no thresholds table (the study has no [search] section; "
+                "engine.load_summary reads its cases)"
+            )
         data, units = {}, {}
         for name in _ordered(group):
             values = group[name][()]

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import h5py
 
-from engine.commands import missing_file, results_parser
+from engine.commands import refuse_file, results_parser
 from engine.schema import CASES_GROUP, CaseStatus
 
 from .checksum import CaseCheck, check_root, verify_case
@@ -216,7 +216,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     path: Path = args.results
-    if missing_file(path):
+    if refuse_file(path):
         return EXIT_BAD_INPUT
     summary = None if args.no_summary else (args.summary or path.with_suffix(".csv"))
     stop = threading.Event()

@@ -1,0 +1,199 @@
+"""What a new user meets first, tried from the outside: a notebook-style script run in a
+fresh interpreter, and the commands on results files run as subprocesses.
+
+- ``engine.run_study`` on an invalid study raises :class:`engine.StudyError` naming the
+  file, the key and the value (a notebook cell that shows nothing is the defect);
+  ``check=False`` turns it into the status ``"invalid"``;
+- ``engine.load_summary`` / ``engine.load_thresholds`` on a missing or wrong file raise one
+  line saying what the file is;
+- ``plot``, ``report`` and ``verify`` on a study file, a CSV, a non-HDF5 file or another
+  program's HDF5 file exit 2 with what the file is and what to pass; ``verify`` gives 4 for
+  a damaged results file only.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import h5py
+import pytest
+
+import engine
+from engine.analysis import figures, report
+from engine.output import verify
+from engine.study.examples import study_toml
+
+TOML = study_toml(
+    "door",
+    "results/door.h5",
+    mesh={"n": 8},
+    subsurface={"layers": 4},
+    loading={"kind": "cyclic", "load": 750.0, "steps": 2, "cycles": 20, "record": [10]},
+    sweep={"mu1": [0.2], "wear1": [1.33e-7]},
+)
+
+
+def _python(script: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(script)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+def _engine(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "engine", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+@pytest.fixture(scope="module")
+def study_folder(tmp_path_factory) -> Path:
+    """A folder with the study file, its results file and summary CSV, a foreign CSV, a
+    binary file, another program's HDF5 file and a text file."""
+    folder = tmp_path_factory.mktemp("door")
+    (folder / "door.toml").write_text(TOML)
+    run = _engine("door.toml", "--no-progress-bar", cwd=folder)
+    assert run.returncode == 0, run.stderr
+    (folder / "other.csv").write_text("a,b\n1,2\n")
+    (folder / "junk.bin").write_bytes(bytes(range(256)) * 8)
+    with h5py.File(folder / "other.h5", "w") as file:
+        file["x"] = [1.0, 2.0]
+    (folder / "notes.txt").write_text("hello\n")
+    return folder
+
+
+@pytest.mark.parametrize(
+    "change, shown",
+    [
+        (lambda t: t.replace("load = 750.0", "load = -750.0"), "[loading] load = -750.0"),
+        (lambda t: t.replace("[mesh]", "[mesh]\nfoo = 3"), "[mesh] foo = 3: unknown key"),
+        (lambda t: t.replace("[mesh]", "[mesh"), "line "),
+    ],
+    ids=["negative-load", "unknown-key", "malformed-toml"],
+)
+def test_run_study_raises_in_a_notebook(tmp_path, change, shown):
+    (tmp_path / "bad.toml").write_text(change(TOML))
+    result = _python(
+        """
+        import engine
+        try:
+            engine.run_study("bad.toml", progress=False)
+        except engine.StudyError as error:
+            print("raised:", error)
+        run = engine.run_study("bad.toml", progress=False, check=False)
+        print("status:", run.status)
+        """,
+        tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    assert f"raised: bad.toml: {shown}" in result.stdout or (
+        "raised: bad.toml:" in result.stdout and shown in result.stdout
+    )
+    assert "status: invalid" in result.stdout
+    assert not (tmp_path / "results").exists()  # nothing written
+
+
+def test_run_study_on_a_missing_file_raises(tmp_path):
+    with pytest.raises(engine.StudyError, match="nothing.toml"):
+        engine.run_study(tmp_path / "nothing.toml", progress=False)
+
+
+def test_the_readme_api_line_names_real_fields(study_folder):
+    """The README's sentence about ``run_study`` names fields a StudyRun has."""
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    line = readme[readme.index("engine.run_study(") :].split("\n\n")[0]
+    named = {word.split(".")[1].strip("`,") for word in line.split() if word.startswith("`run.")}
+    assert named, line
+    result = _python(
+        f"""
+        import engine
+        run = engine.run_study("door.toml", progress=False)
+        for name in {sorted(named)!r}:
+            print(name, "=", repr(getattr(run, name))[:60])
+        """,
+        study_folder,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "status = 'completed'" in result.stdout
+
+
+WRONG_FILES = {
+    "door.toml": "door.toml is a study file; its results: results/door.h5",
+    "results/door.csv": "is the summary table (CSV) of a study; its results file: ",
+    "other.csv": "other.csv is a CSV file but no table of a study",
+    "junk.bin": "junk.bin is not an HDF5 file",
+    "other.h5": "other.h5 is an HDF5 file of another program",
+    "notes.txt": "notes.txt is a text file",
+    "missing.h5": "missing.h5: no such file",
+}
+COMMANDS = {"plot": figures.main, "report": report.main, "verify": verify.main}
+
+
+@pytest.mark.parametrize("command", ["plot", "report", "verify"])
+def test_a_study_file_exits_2_naming_its_results(study_folder, command):
+    """The reproducer, from the outside: no h5py traceback, no "DAMAGED"."""
+    result = _engine(command, "door.toml", cwd=study_folder)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert result.stderr == f"error: {WRONG_FILES['door.toml']}\n"
+
+
+@pytest.mark.parametrize("name", sorted(WRONG_FILES))
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_wrong_files_exit_2_saying_what_they_are(study_folder, command, name, monkeypatch, capsys):
+    monkeypatch.chdir(study_folder)
+    assert COMMANDS[command]([name]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and WRONG_FILES[name] in lines[0], lines  # one line, no traceback
+    if name not in ("missing.h5", "door.toml"):
+        assert "results file" in lines[0]
+
+
+def test_verify_gives_4_for_a_damaged_results_file_only(study_folder, tmp_path):
+    truncated = tmp_path / "truncated.h5"
+    data = (study_folder / "results" / "door.h5").read_bytes()
+    truncated.write_bytes(data[: len(data) // 3])
+    zeroed = tmp_path / "zeroed.h5"
+    zeroed.write_bytes(bytes(len(data)))
+    for path in (truncated, zeroed):
+        result = _engine("verify", path, cwd=tmp_path)
+        assert result.returncode == 4, result.stdout + result.stderr
+        assert "DAMAGED" in result.stdout
+    assert _engine("verify", "results/door.h5", cwd=study_folder).returncode == 0
+
+
+def test_loaders_raise_one_line_on_wrong_files(study_folder):
+    result = _python(
+        """
+        import engine
+        for path in ["missing.h5", "door.toml", "other.h5", "junk.bin"]:
+            for load in (engine.load_summary, engine.load_thresholds):
+                try:
+                    load(path)
+                except (FileNotFoundError, engine.WrongFileError) as error:
+                    print(type(error).__name__, "|", error)
+        try:
+            engine.load_thresholds("results/door.h5")
+        except engine.WrongFileError as error:
+            print("WrongFileError |", error)
+        print(engine.load_summary("results/door.csv").shape[0], "rows")
+        """,
+        study_folder,
+    )
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert lines[:2] == ["FileNotFoundError | missing.h5: no such file"] * 2
+    assert lines[2].startswith("WrongFileError | door.toml is a study file; its results:")
+    assert lines[4].startswith("WrongFileError | other.h5 is an HDF5 file of another program")
+    assert lines[6].startswith("WrongFileError | junk.bin is not an HDF5 file")
+    assert "no thresholds table" in lines[8]
+    assert lines[9] == "1 rows"
