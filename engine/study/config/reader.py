@@ -123,29 +123,48 @@ class Section:
         return tuple(numbers)
 
 
+class TomlSyntaxError(StudyConfigError):
+    """Malformed TOML: the file and the line (``line``, 1-based; None when the parser gave
+    none); ``key`` is the dotted key of a ``key = value`` line, "" for any other line."""
+
+    def __init__(self, source: str, line: int | None, text: str, key: str, problem: str) -> None:
+        self.source, self.key, self.value, self.problem = source, key, MISSING, problem
+        self.line = line
+        where = f"line {line}" if line is not None else "the file"
+        if key:
+            section, _, name = key.partition(".")
+            where += f", [{section}] {name}"
+        elif text.strip():
+            where += f" ({text.strip()[:60]!r})"
+        ValueError.__init__(self, f"{source}: {where}: {problem}")
+
+
 def toml_error(source: str, text: str, error: Exception) -> StudyConfigError:
-    """Malformed TOML, located: the section and key of the offending line when known
-    (``[mesh] n: malformed TOML: Cannot overwrite a value (at line 14, column 4)``)."""
+    """Malformed TOML, located by its line: with the section and key when the line is a
+    ``key = value`` line (``line 14, [mesh] n: malformed TOML: Cannot overwrite a value (at
+    line 14, column 4)``), with the line's text otherwise (a table header: the section
+    above it is not to blame)."""
     message = str(error)
-    line_number = None
-    if "(at line " in message:
+    line_number = getattr(error, "lineno", None)
+    if line_number is None and "(at line " in message:
         try:
             line_number = int(message.split("(at line ")[1].split(",")[0])
         except ValueError:
             line_number = None
-    key = "study"
+    key, offending = "", ""
     if line_number is not None:
         lines = text.splitlines()
+        offending = lines[line_number - 1] if 0 < line_number <= len(lines) else ""
         section = ""
         for line in lines[: line_number - 1]:
             stripped = line.strip()
             if stripped.startswith("[") and "]" in stripped:
                 section = stripped.strip("[]").strip()
-        offending = lines[line_number - 1] if line_number <= len(lines) else ""
         name = offending.split("=")[0].strip() if "=" in offending else ""
-        if section:
-            key = f"{section}.{name}" if name and " " not in name else section
+        is_key_line = name and not offending.lstrip().startswith("[") and " " not in name
+        if section and is_key_line:
+            key = f"{section}.{name}"
     problem = f"malformed TOML: {message}"
     if "Cannot overwrite a value" in message:
         problem += " (the key is given twice)"
-    return StudyConfigError(source, key, MISSING, problem)
+    return TomlSyntaxError(source, line_number, offending, key, problem)
