@@ -885,29 +885,41 @@ def _followers(sweep) -> dict[str, tuple[str, str]]:
     return rules
 
 
+def _wear_columns(plan) -> list[str]:
+    """The wear coefficients the cases' law uses: ``alpha`` (mm³/J) when the cases carry
+    one (the energy law; ``wear1``/``wear2`` then only where not all zero), otherwise
+    ``wear1``, ``wear2`` (1/MPa)."""
+    parameters = [case.parameters() for case in plan]
+    if all(row.get("alpha") is None for row in parameters):
+        return ["wear1", "wear2"]
+    rates = [key for key in ("wear1", "wear2") if any(row.get(key) for row in parameters)]
+    return [*rates, "alpha"]
+
+
 def _print_case_table(plan, todo, states, swept: Sequence[str]) -> None:
-    """One row per case: the friction, wear and β columns, one column per swept dotted key
-    (headed by the key), the dispatch order and the action."""
+    """One row per case: the friction coefficients, the wear coefficients its law uses, β,
+    one column per swept dotted key (headed by the key), the dispatch order and the
+    action."""
     order = {case.case_id: number for number, case in enumerate(todo, start=1)}
+    wear = _wear_columns(plan)
     names = list(swept)
     widths = [
         max(len(name), *(len(f"{case.parameters()[key]:g}") for case in plan))
         for name, key in zip(names, swept, strict=True)
     ]
     extra = "".join(f" {name:>{width}s}" for name, width in zip(names, widths, strict=True))
-    print(
-        f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s} {'wear1':>10s} {'wear2':>10s} {'beta':>6s}"
-        f"{extra}  order  action"
-    )
+    heads = "".join(f" {key:>10s}" for key in wear)
+    print(f"{'case_id':<40s} {'mu1':>6s} {'mu2':>6s}{heads} {'beta':>6s}{extra}  order  action")
     for case in plan:
         number = order.get(case.case_id)
+        parameters = case.parameters()
         settings = "".join(
-            f" {case.parameters()[key]:>{width}g}" for key, width in zip(swept, widths, strict=True)
+            f" {parameters[key]:>{width}g}" for key, width in zip(swept, widths, strict=True)
         )
+        rates = "".join(f" {parameters[key]:10.4g}" for key in wear)
         print(
-            f"{case.case_id:<40s} {case.mu1:6g} {case.mu2:6g} {case.wear1:10.4g} "
-            f"{case.wear2:10.4g} {case.beta:6g}{settings}  {number if number else '-':>5}  "
-            f"{states[case.case_id]}"
+            f"{case.case_id:<40s} {case.mu1:6g} {case.mu2:6g}{rates} {case.beta:6g}{settings}"
+            f"  {number if number else '-':>5}  {states[case.case_id]}"
         )
 
 

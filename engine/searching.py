@@ -73,21 +73,30 @@ class SearchRun:
 
     def run(self, scheduler, writer, progress, on_outcome: Callable[[Any], None], on_poll=None):
         """Hand out the steps until every search has ended (or a stop): each outcome goes to
-        ``on_outcome`` (the writer, the progress display), then to its search, whose next
-        case is created in the file (``writer.add_case``), counted (``progress.add``) and
-        queued. Returns the scheduler's report."""
+        its search, then to ``on_outcome`` (the writer, the progress display, which counts
+        the searches ended: their number is known from the start, the steps are not); the
+        search's next case is then created in the file (``writer.add_case``), counted
+        (``progress.add``) and queued. Returns the scheduler's report."""
         campaign = self.campaign
         queue = CaseQueue(self.todo, open=not campaign.finished)
 
         def handle(outcome) -> None:
-            on_outcome(outcome)
+            created = []
             if outcome.status in (CaseStatus.COMPLETED, CaseStatus.FAILED):
-                for case in campaign.record(outcome.case_id, outcome.row):
-                    writer.add_case(case)
-                    progress.add(case)
-                    queue.put(case)
+                created = campaign.record(outcome.case_id, outcome.row)
+            ended = sum(search.finished for search in campaign.searches)
+            progress.count_searches(ended, len(campaign.searches))  # [k/N] counts searches
+            on_outcome(outcome)
+            for case in created:
+                writer.add_case(case)
+                progress.add(case)
+                queue.put(case)
             if campaign.finished:
                 queue.close()
+
+        progress.count_searches(
+            sum(search.finished for search in campaign.searches), len(campaign.searches)
+        )
 
         return scheduler.run(queue, handle, on_poll=on_poll)
 

@@ -14,6 +14,7 @@ Cattaneo–Mindlin's δ_slip, which depends on the displacement datum d: see its
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -139,6 +140,11 @@ def test_a_search_study_stores_every_step_and_the_thresholds_table(tmp_path):
     result = run(study)
     assert result.returncode == 0, result.stderr
     assert "2 of 2 searches converged" in result.stdout
+    counters = re.findall(r"^\[(\d+)/(\d+)\] ", result.stdout, flags=re.MULTILINE)
+    assert {total for _, total in counters} == {"2"}  # [k/N] counts the two searches
+    assert [int(k) for k, _ in counters] == sorted(int(k) for k, _ in counters)
+    assert counters[-1] == ("2", "2") and len(counters) > 2  # several steps each
+    assert "2/2 searches ended" in result.stderr
     from_h5 = engine.load_thresholds(tmp_path / "loads.h5")
     from_csv = engine.load_thresholds(tmp_path / "loads_thresholds.csv")
     assert list(from_h5.columns) == list(from_csv.columns)

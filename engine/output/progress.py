@@ -138,6 +138,7 @@ class ProgressReporter:
     ) -> None:
         self.total = total
         self.done = done  # finished cases, whatever their status (earlier runs: completed)
+        self._searches: tuple[int, int] | None = None  # (ended, searches) of a [search] study
         self.counts = {CaseStatus.COMPLETED: done, CaseStatus.FAILED: 0, CaseStatus.INTERRUPTED: 0}
         self.ranks = max(1, ranks)
         self.stream = stream or sys.stdout
@@ -191,9 +192,10 @@ class ProgressReporter:
         self._leave_queue(outcome.case_id)
         if outcome.status == CaseStatus.COMPLETED:
             self._measure(outcome.runtime_s, self._costs.get(outcome.case_id, 1.0))
-        width = len(str(self.total))
+        count, total = self._searches or (self.counts[CaseStatus.COMPLETED], self.total)
+        width = len(str(total))
         text = (
-            f"[{self.done:{width}d}/{self.total}] {outcome.case_id:<40s} "
+            f"[{count:{width}d}/{total}] {outcome.case_id:<40s} "
             f"rank {outcome.rank:<3d} {outcome.runtime_s:9.2f} s  {outcome.status}"
         )
         if outcome.status == CaseStatus.FAILED and outcome.message:
@@ -202,6 +204,12 @@ class ProgressReporter:
         if self._bar is not None and status == CaseStatus.COMPLETED:
             self._bar.update(1)  # the bar counts completed cases; the others are in its postfix
         self._show_status(force=True)
+
+    def count_searches(self, ended: int, searches: int) -> None:
+        """A ``[search]`` study: ``ended`` of its ``searches`` have ended. The ``[k/N]`` of
+        each case line and the status lines then count searches (their number is known from
+        the start; the steps each takes are not)."""
+        self._searches = (int(ended), int(searches))
 
     def add(self, case) -> None:
         """A case created while the run goes on (a step of a threshold search): one more to
@@ -283,6 +291,12 @@ class ProgressReporter:
     def counts_text(self) -> str:
         """``"3/9 cases completed, 1 failed, 1 interrupted"`` (zero counts left out)."""
         text = f"{self.counts[CaseStatus.COMPLETED]}/{plural(self.total, 'case')} completed"
+        if self._searches is not None:  # the cases so far; more follow as searches advance
+            ended, searches = self._searches
+            text = (
+                f"{ended}/{plural(searches, 'search', 'searches')} ended, "
+                f"{plural(self.counts[CaseStatus.COMPLETED], 'case')} completed"
+            )
         for status in (CaseStatus.FAILED, CaseStatus.INTERRUPTED):
             if self.counts[status]:
                 text += f", {self.counts[status]} {status}"
