@@ -50,7 +50,10 @@ increments from its starting point (the area of the loop polygon, mJ = N·mm);
 the largest |Q| (status of :mod:`.contact`: an element slips when ||q||_μ ≥ (1 − 10⁻⁹) p);
 ``stick_area`` at that increment; ``matvecs`` (operator applications) and ``residual`` (the
 largest relative residual) of the cycle's increment solves. The "peak" of a cycle (stresses,
-the cyclic history's columns) is the increment of the largest |Q|.
+the cyclic history's columns, the recorded fields) is the increment of the largest |Q|, taken
+on the +Q* half of the loop (signal > 0) whenever that half reaches within ``PEAK_TIE``
+(10⁻⁴, relative) of the largest |Q|: a symmetric loop reaches ±Q* equally up to the solver's
+tolerance (10⁻⁶), and round-off must not decide which end the fields show.
 
 Energy consistency (exact to round-off, tested): per increment, with the trapezoidal rule,
 ½(Q_k + Q_{k−1})·Δδ_k = Σ_e ½(q_k + q_{k−1})·(Δu_k − Δs_k) ΔA, and Σ_e ½(q_k + q_{k−1})·Δu_k ΔA
@@ -81,6 +84,7 @@ from .friction import WearLaw
 DISPLACEMENT, FORCE = "displacement", "force"
 FORCE_TOL = 1e-5  # |Q·d − Q_target| ≤ FORCE_TOL · amplitude (N/N), force control
 MAX_EVALUATIONS = 40  # increment solves per force-controlled increment
+PEAK_TIE = 1e-4  # |Q| within this (relative) of the cycle's largest: the +Q* increment is the peak
 PARTIAL, GROSS = 0, 1
 REGIME_NAMES = ("partial", "gross")
 
@@ -494,6 +498,8 @@ class FrettingAnalysis(CyclicAnalysis):
         rows = [[*rigid, *previous_force]]
         wear_increment, increments, zeros = np.zeros_like(wear), [], np.zeros_like(wear)
         along, evaluations, peak, peak_norm, cycle_vm = [], 0, None, -1.0, None
+        positive, positive_norm, positive_index = None, -1.0, -1
+        peak_bulk_stress = positive_bulk_stress = 0.0
         matvecs, largest_residual = 0, 0.0
         warm_rigid = fretting.rigid_warm if len(fretting.rigid_warm) else None
         previous = self.settings.signal_amplitude
@@ -516,7 +522,10 @@ class FrettingAnalysis(CyclicAnalysis):
             norm = float(np.hypot(*step.force))
             if norm > peak_norm:
                 peak, peak_norm, peak_index = result, norm, index
-                self.peak_bulk_stress = self.settings.bulk_stress(value)
+                peak_bulk_stress = self.settings.bulk_stress(value)
+            if value > 0.0 and norm > positive_norm:  # the +Q* half of the loop
+                positive, positive_norm, positive_index = result, norm, index
+                positive_bulk_stress = self.settings.bulk_stress(value)
             if (recorded or self.probe_every_cycle) and self.increment_probe is not None:
                 self._announce_bulk_stress(self.settings.bulk_stress(value))
                 probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
@@ -526,6 +535,9 @@ class FrettingAnalysis(CyclicAnalysis):
             along.append(float(step.rigid @ self.driver.direction))
             state, rigid = result.state, step.rigid
         fretting.rigid, fretting.rigid_warm = rigid, np.asarray(along)
+        if positive is not None and positive_norm >= (1.0 - PEAK_TIE) * peak_norm:
+            peak, peak_index, peak_bulk_stress = positive, positive_index, positive_bulk_stress
+        self.peak_bulk_stress = peak_bulk_stress
         self._cycle = _FrettingCycle(np.asarray(rows), np.asarray(along), evaluations, peak_index)
         self._cycle.cycle_vm = cycle_vm
         self._cycle.matvecs, self._cycle.residual = matvecs, largest_residual
