@@ -63,10 +63,12 @@ _USAGE = """\
        %(prog)s verify RESULTS.h5 [--summary CSV | --no-summary]"""
 
 _DESCRIPTION = """\
-Run a fretting-wear parameter study (flat, rounded or spherical punch; FFT boundary elements)
-across all MPI ranks and gather the results in one HDF5 file with a CSV summary. Launch it with
+Run a fretting-wear parameter study (FFT boundary elements) across all MPI ranks and gather
+the results in one HDF5 file with a CSV summary. Launch it with
 `.venv/bin/mpiexec -n N .venv/bin/python -m engine STUDY.toml` (or, the environment
 activated, `mpiexec -n N python -m engine STUDY.toml`; `srun python -m engine …` under SLURM).
+
+{vocabulary}
 
 subcommands (serial, no MPI):
   plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
@@ -84,11 +86,24 @@ internal error or a dead rank.
 Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run"""
 
 
+def vocabulary() -> str:
+    """The loading kinds and punch shapes a study file may name, one line each, from their
+    registries (``engine.study.kinds.KINDS``, ``engine.geometry.PROFILES``)."""
+    from engine.geometry import PROFILES
+    from engine.study.kinds import KINDS
+
+    lines = ["[loading] kind:"]
+    lines += [f"  {name:<10s}  {kind.summary}" for name, kind in KINDS.items()]
+    lines.append("[punch] shape:")
+    lines += [f"  {name:<10s}  {profile.description}" for name, profile in PROFILES.items()]
+    return "\n".join(lines)
+
+
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog=prog,
         usage=_USAGE,
-        description=_DESCRIPTION,
+        description=_DESCRIPTION.format(vocabulary=vocabulary()),
         epilog=_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

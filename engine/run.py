@@ -59,10 +59,17 @@ RUN_STATUSES = (
 
 
 class StudyError(ValueError):
-    """An invalid study (or an unusable output): what :func:`run_study` raises unless
-    ``check=False``. The message is the line the command line prints (the file, the key and
-    the value: ``demo.toml: [loading] load = -750.0: must be > 0 (N)``); ``run`` is the
-    :class:`StudyRun` with status ``"invalid"``."""
+    """An invalid study or an unusable output: what :func:`run_study` raises unless
+    ``check=False``.
+
+    The message is the line the command line prints: the file, the key and the value
+    (``demo.toml: [loading] load = -750.0: must be > 0 (N)``).
+
+    Parameters
+    ----------
+    run : StudyRun
+        The run with status ``"invalid"`` (kept as ``error.run``).
+    """
 
     def __init__(self, run: StudyRun) -> None:
         super().__init__(run.message)

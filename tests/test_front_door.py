@@ -204,3 +204,42 @@ def test_loaders_raise_one_line_on_wrong_files(study_folder):
     assert lines[6].startswith("WrongFileError | junk.bin is not an HDF5 file")
     assert "no thresholds table" in lines[8]
     assert lines[9] == "1 rows"
+
+
+def test_help_lists_every_kind_and_shape():
+    """From the registries: a new kind or shape shows up without editing the help."""
+    from engine.geometry import PROFILES
+    from engine.study.kinds import KINDS
+
+    result = _engine("--help", cwd=Path.cwd())
+    assert result.returncode == 0
+    for name, kind in KINDS.items():
+        assert f"  {name:<10s}  {kind.summary}" in result.stdout
+    for name, profile in PROFILES.items():
+        assert profile.description and f"  {name:<10s}  {profile.description}" in result.stdout
+    assert "normal (indentation) fretting" in result.stdout
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/index.md", "docs/tutorials/first-study.md"])
+def test_the_first_pages_say_what_cyclic_means(page):
+    text = " ".join((Path(__file__).resolve().parents[1] / page).read_text().split())
+    assert '`kind = "cyclic"` is **normal (indentation) fretting**' in text
+    assert "**tangential fretting**" in text and '`kind = "fretting"`' in text
+
+
+def test_the_dry_run_shows_the_coefficients_of_the_wear_law(tmp_path):
+    """An energy-law study: its alpha (mm³/J), not wear1 = wear2 = 0."""
+    text = study_toml(
+        "energy",
+        "energy.h5",
+        loading={"kind": "fretting", "amplitude": 0.001},
+        wear={"law": "energy"},
+        sweep={"mu1": [0.5], "wear1": None, "alpha": [5e-6, 1e-5]},
+    )
+    (tmp_path / "energy.toml").write_text(text)
+    result = _engine("energy.toml", "--dry-run", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    header = next(line for line in result.stdout.splitlines() if line.startswith("case_id"))
+    assert header.split()[:5] == ["case_id", "mu1", "mu2", "alpha", "beta"]
+    rows = [line.split() for line in result.stdout.splitlines() if line.startswith("mu0.5")]
+    assert [row[3] for row in rows] == ["5e-06", "1e-05"]

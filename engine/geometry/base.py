@@ -63,6 +63,8 @@ class Profile:
 
     #: ``[punch] shape`` value.
     name: ClassVar[str] = ""
+    #: One line for the help texts (what the shape is).
+    description: ClassVar[str] = ""
     #: ``[punch] edge_radius``: None (not accepted), ">= 0" or "> 0" (required).
     edge_radius_rule: ClassVar[str | None] = None
     #: A plane-strain line contact (grid of one element along y, loads per unit length).

@@ -19,6 +19,7 @@ class CylinderProfile(LineProfile):
     """Cylinder of radius ``radius`` (R, mm), axis along y at x = 0: g = x²/(2R)."""
 
     name = "cylinder"
+    description = "cylinder on a flat, plane strain (line contact)"
     radius: float
 
     def contact_length(self, load: float, contact_modulus: float) -> float:

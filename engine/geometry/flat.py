@@ -20,6 +20,7 @@ class FlatPunch(Profile):
     """Flat-ended cylindrical punch of radius ``radius`` (mm), axis at x = y = 0."""
 
     name = "flat"
+    description = "flat-ended cylindrical punch (the paper's)"
     radius: float
 
     @property

@@ -20,6 +20,7 @@ class RoundedPadProfile(LineProfile):
     ``edge_radius`` (R, mm): g = 0 for |x| ≤ b, (|x| − b)²/(2R) for |x| > b."""
 
     name = "pad"
+    description = "flat pad with rounded edges on a flat, plane strain (line contact)"
     positive = ("flat_half_width", "edge_radius")
     edge_radius_rule = "> 0"
     flat_half_width: float

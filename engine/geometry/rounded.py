@@ -25,6 +25,7 @@ class RoundedPunch(Profile):
     """
 
     name = "rounded"
+    description = "flat punch with a rounded (toroidal) edge"
     non_negative = ("edge_radius",)
     edge_radius_rule = ">= 0"
     radius: float

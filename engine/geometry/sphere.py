@@ -18,6 +18,7 @@ class SphericalPunch(Profile):
     """Sphere of radius ``radius`` (mm), parabolic (Hertz) approximation g = r²/(2R)."""
 
     name = "sphere"
+    description = "sphere (Hertz)"
     covered = "Hertz contact radius"
     radius: float
 

@@ -22,7 +22,7 @@ class CyclicKind(CycledKind):
     """Load cycles with wear (engine.solvers.cyclic.CyclicAnalysis)."""
 
     name = "cyclic"
-    summary = "normal load cycles with wear and cycle jumping"
+    summary = "normal (indentation) fretting: load cycles 0 → P → 0 with wear"
     increments_per_step = 2  # loading and unloading half cycles
     history = (schema.HISTORY,)
     figures = "engine.analysis.figures:cyclic_figures"

@@ -58,7 +58,7 @@ class FrettingKind(CycledKind):
     (engine.solvers.fretting.FrettingAnalysis)."""
 
     name = "fretting"
-    summary = "a held normal load and an oscillating tangential motion, with wear"
+    summary = "tangential fretting: a held load, an oscillating tangential motion, wear"
     keys = CycledKind.keys | FRETTING_KEYS | BULK_STRESS_KEYS
     increments_per_step = 4  # four quarter cycles
     history = (schema.FRETTING_HISTORY, schema.HISTORY)
