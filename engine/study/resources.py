@@ -27,6 +27,17 @@ the small ones, by 8–19 % on the measured points (static, μ = 0.3, 2026-11-28
 plane streamed its rows): n = 128 with 16 layers 139 MB estimated, 129 MB measured; n = 256
 with 32 layers 217 MB, 196 MB; n = 512 with 16 layers 395 MB, 331 MB.
 
+A line contact (plane strain, ``[punch] shape`` cylinder or pad) has n elements, not n²,
+and its memory grows linearly in n::
+
+    memory ≈ 80 MB + n · (1000 + 600 · layers + 48 · increments per simulated cycle) bytes
+
+fitted on fretting cases of a cylinder (``python -m engine``, ``ru_maxrss``, 2026-11-28, the
+2-core machine at load ~12) with n = 1,024 … 16,384, 8 and 32 layers, 16 and 64 increments
+per cycle: n = 16,384 with 32 layers 397 MB measured, 423 MB estimated; with 8 layers 172 MB,
+188 MB; n = 4,096 with 8 layers 103 MB, 107 MB (the fit errs high by 4–9 %). The layer term
+is the line lattice's stress-kernel spectra; a 2,048-element case with 8 layers needs ~93 MB.
+
 A ``[fatigue]`` section adds, per increment of a simulated cycle, 48 B per element and
 330 B per point of the stress plane (``FATIGUE_BYTES_PER_*``: the arrays it keeps and its
 temporaries); measured: a 3-D fretting case at n = 128, 40 layers, 80 increments peaks at
@@ -62,21 +73,35 @@ BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 
 # temporaries (about four histories): 8 B × (11 + 6 + 4 · 6) ≈ 330 B.
 FATIGUE_BYTES_PER_ELEMENT = 48.0
 FATIGUE_BYTES_PER_POINT = 330.0
+# A line contact's n elements (module docstring): the solver and its spectra, the line
+# lattice's stress kernels per layer; the warm start per increment as in 3-D.
+LINE_BYTES_PER_ELEMENT = 1000.0
+LINE_BYTES_PER_ELEMENT_AND_LAYER = 600.0
 
 
-def case_memory_bytes(n: int, layers: int, increments: int = 0, fatigue: bool = False) -> float:
-    """Estimated peak memory (bytes) of one case on an n × n mesh with ``layers`` layers and
-    ``increments`` load increments per simulated cycle (0: a static case); ``fatigue``: with
-    a ``[fatigue]`` section (module docstring)."""
-    per_element = BYTES_PER_ELEMENT
-    if increments:
-        per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
-    kept = min(BYTES_PER_ELEMENT_AND_LAYER * float(n) ** 2 * layers, DEFAULT_KERNEL_CACHE_LIMIT)
-    plane = kept + STREAM_BYTES_PER_COLUMN * n
-    memory = BASE_BYTES + float(n) ** 2 * per_element + plane
+def case_memory_bytes(
+    n: int, layers: int, increments: int = 0, fatigue: bool = False, *, line: bool = False
+) -> float:
+    """Estimated peak memory (bytes) of one case on an n × n mesh (``line``: n elements of a
+    line contact) with ``layers`` layers and ``increments`` load increments per simulated
+    cycle (0: a static case); ``fatigue``: with a ``[fatigue]`` section (module docstring)."""
+    if line:
+        elements = float(n)
+        per_element = LINE_BYTES_PER_ELEMENT + LINE_BYTES_PER_ELEMENT_AND_LAYER * layers
+        memory = BASE_BYTES + elements * (
+            per_element + BYTES_PER_ELEMENT_AND_INCREMENT * increments
+        )
+    else:
+        elements = float(n) ** 2
+        per_element = BYTES_PER_ELEMENT
+        if increments:
+            per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
+        kept = min(BYTES_PER_ELEMENT_AND_LAYER * elements * layers, DEFAULT_KERNEL_CACHE_LIMIT)
+        plane = kept + STREAM_BYTES_PER_COLUMN * n
+        memory = BASE_BYTES + elements * per_element + plane
     if fatigue:
         plane = (n + 1) * layers  # points of the stress plane
-        per_increment = FATIGUE_BYTES_PER_ELEMENT * n**2 + FATIGUE_BYTES_PER_POINT * plane
+        per_increment = FATIGUE_BYTES_PER_ELEMENT * elements + FATIGUE_BYTES_PER_POINT * plane
         memory += increments * per_increment
     return memory
 
@@ -94,8 +119,8 @@ def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, in
         sizes.add((int(n), int(layers), increments(int(steps))))
     if not sizes:
         sizes.add((config.mesh.n, config.subsurface.layers, increments(config.loading.steps)))
-    fatigue = config.fatigue is not None
-    return max(sizes, key=lambda size: case_memory_bytes(*size, fatigue=fatigue))
+    fatigue, line = config.fatigue is not None, config.punch.is_line
+    return max(sizes, key=lambda size: case_memory_bytes(*size, fatigue=fatigue, line=line))
 
 
 def memory_limit_bytes() -> float:
@@ -121,7 +146,9 @@ def check_memory(
     ``ranks_on_node`` times the largest case of ``plan``."""
     limit = memory_limit_bytes() if limit is None else limit
     n, layers, increments = largest_case(config, plan)
-    per_case = case_memory_bytes(n, layers, increments, fatigue=config.fatigue is not None)
+    per_case = case_memory_bytes(
+        n, layers, increments, fatigue=config.fatigue is not None, line=config.punch.is_line
+    )
     needed = per_case * max(1, ranks_on_node)
     if needed > limit:
         ranks = f" × {ranks_on_node} ranks on this node" if ranks_on_node > 1 else ""
