@@ -13,6 +13,7 @@ fresh interpreter, and the commands on results files run as subprocesses.
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import textwrap
@@ -270,3 +271,16 @@ def test_a_2048_element_line_contact_is_not_refused_for_memory(tmp_path):
     assert case_memory_bytes(4096, 8, 16, line=True) - case_memory_bytes(
         2048, 8, 16, line=True
     ) == pytest.approx(case_memory_bytes(2048, 8, 16, line=True) - 80e6)  # linear in n
+
+
+def test_the_readme_summary_prints_wear_with_significant_digits(study_folder):
+    """The README's pandas lines on a real results file: wear in µm with four significant
+    digits, never pandas' six decimals of mm (0.000001)."""
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    start = readme.index("summary = engine.load_summary(")
+    block = readme[start : readme.index("```", start)]
+    block = block.replace("results/demo.h5", "results/door.h5")
+    result = _python("import engine\n" + block, study_folder)
+    assert result.returncode == 0, result.stderr
+    assert "wear_depth_um" in result.stdout
+    assert not re.search(r"\b0\.0000\d", result.stdout), result.stdout
