@@ -284,3 +284,61 @@ def test_the_readme_summary_prints_wear_with_significant_digits(study_folder):
     assert result.returncode == 0, result.stderr
     assert "wear_depth_um" in result.stdout
     assert not re.search(r"\b0\.0000\d", result.stdout), result.stdout
+
+
+def _synthetic_summary(amplitudes, betas=(0.0, 90.0)):
+    """A fretting sweep's summary: δ* over a decade and more (log axis), two β whose rows
+    are equal (isotropic friction: β changes nothing), so their curves coincide."""
+    import pandas as pd
+
+    rows = []
+    for beta in betas:
+        for number, amplitude in enumerate(amplitudes):
+            rows.append(
+                {
+                    "case_id": f"a{number}_b{beta:g}", "status": "completed", "mu1": 0.6,
+                    "mu2": 0.6, "wear1": 1e-8, "wear2": 1e-8, "beta": beta,
+                    "loading.amplitude": amplitude, "max_wear_depth": 1e-6 * (number + 1),
+                    "q_amplitude": min(30.0, 12e3 * amplitude), "slip_regime": "partial",
+                }
+            )  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def test_sweep_axes_are_named_with_readable_log_ticks_and_visible_twins():
+    """The reproducers of the sweep figure: the axis said ``loading.amplitude (mm)``; the
+    log axis labelled its minor ticks, which ran together; the β = 90° curve hid under the
+    β = 0° one without a word."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from engine.analysis.sweep_figures import sweep_figure
+
+    amplitudes = [0.0004, 0.0006, 0.0008, 0.0011, 0.0016, 0.0023, 0.0032, 0.0045, 0.0064]
+    summary = _synthetic_summary(amplitudes)
+    figure = sweep_figure(summary, "loading.amplitude", ["loading.amplitude"], "map")
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    assert "loading.amplitude" not in figure.get_suptitle()
+    assert "displacement amplitude δ*" in figure.get_suptitle()
+    assert "equal to an earlier one" in figure.get_suptitle()
+    for axis in (axis for axis in figure.axes if axis.get_visible()):
+        assert axis.get_xlabel() == "displacement amplitude δ* (mm)"
+        assert axis.get_xscale() == "log"
+        labels = [t for t in axis.get_xticklabels(minor=True) if t.get_text()]
+        assert labels == []  # minor ticks unlabelled
+        shown = sorted(
+            (t.get_window_extent(renderer) for t in axis.get_xticklabels() if t.get_text()),
+            key=lambda box: box.x0,
+        )
+        visible = [
+            box for box in shown if axis.bbox.x0 - 1 <= box.x0 and box.x1 <= axis.bbox.x1 + 1
+        ]
+        assert len(visible) >= 2
+        assert all(left.x1 < right.x0 for left, right in zip(visible, visible[1:]))  # apart
+        first, second = axis.get_lines()[:2]  # β = 0 then β = 90, equal values
+        assert first.get_linestyle() == "-" and second.get_linestyle() == "--"
+        assert second.get_markerfacecolor() == "none"
+    plt.close(figure)

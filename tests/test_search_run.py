@@ -269,8 +269,8 @@ def test_plot_draws_one_boundary_curve_per_friction_with_every_step(tmp_path, sm
     assert all(curves[1].get_ydata() > curves[0].get_ydata())  # with μ
     points = [line for line in axis.get_lines() if line.get_marker() in ("o", "x")]
     assert sum(len(line.get_xdata()) for line in points) == table["steps"].sum()
-    assert figure.axes[0].get_xlabel() == "loading.load (N)"
-    assert figure.axes[0].get_ylabel() == "loading.amplitude (mm)"
+    assert figure.axes[0].get_xlabel() == "normal load P (N)"
+    assert figure.axes[0].get_ylabel() == "displacement amplitude δ* (mm)"
     figures.plt.close(figure)
     assert figures.main([str(path), "--out", str(tmp_path / "figures")]) == 0
     assert (tmp_path / "figures" / "thresholds.png").exists()

@@ -71,7 +71,7 @@ def test_sweep_figure_has_one_line_per_friction_with_the_summary_values(results)
         "stick fraction at peak load",
     }
     axis = axes["approach g_n (µm)"]
-    assert axis.get_xlabel() == "loading.load (N)"
+    assert axis.get_xlabel() == "normal load P (N)"  # the schema's name, never the dotted key
     lines = axis.get_lines()
     assert [line.get_label() for line in lines] == ["mu1 = 0, mu2 = 0", "mu1 = 0.4, mu2 = 0.4"]
     for line, mu in zip(lines, (0.0, 0.4), strict=True):

@@ -27,11 +27,19 @@ import numpy as np
 import pandas as pd
 
 from engine.output.summary import column_unit, load_summary
+from engine.study.config.keys import STUDY_KEYS
 
 from .reader import StudyResults
 from .sweep_report import _completed, _groups
 
-__all__ = ["SWEEP_QUANTITIES", "SweepQuantity", "sweep_figures"]
+__all__ = [
+    "SWEEP_QUANTITIES",
+    "SweepQuantity",
+    "sweep_figures",
+    "key_title",
+    "key_label",
+    "readable_log_axis",
+]
 
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
 
@@ -90,9 +98,46 @@ def _plotted(column: pd.Series, quantity: SweepQuantity) -> np.ndarray:
     return pd.to_numeric(column, errors="coerce").to_numpy(float) * quantity.scale
 
 
-def _key_label(key: str, line: bool = False) -> str:
-    unit = column_unit(key, line)
-    return f"{key} ({unit})" if unit else key
+def key_title(key: str) -> str:
+    """What a swept key is called on figures and in reports: its ``title`` in the study-file
+    schema (engine.study.config.keys; "displacement amplitude δ*" for ``loading.amplitude``),
+    never the dotted key itself."""
+    section, _, name = key.rpartition(".")
+    section = section or "sweep"
+    for study_key in STUDY_KEYS:
+        if (study_key.section, study_key.name) == (section, name):
+            return study_key.title
+    return name.replace("_", " ")
+
+
+def key_label(key: str, line: bool = False) -> str:
+    """``title (unit)`` of a swept key for an axis (``line``: a line contact's units)."""
+    unit = column_unit(key, line).replace("^3", "³").replace("^2", "²")
+    unit = "°" if unit == "degree" else unit
+    title = key_title(key)
+    return f"{title} ({unit})" if unit and unit != "1" else title
+
+
+def readable_log_axis(axis, which: str = "x") -> None:
+    """Major ticks at 1, 2, 5 × 10^k labelled as plain numbers ("0.002", not "2×10⁻³"),
+    minor ticks unlabelled: matplotlib's default labels every minor tick on a short log
+    range, and the labels run together."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    target = axis.xaxis if which == "x" else axis.yaxis
+    target.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    target.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+    target.set_minor_formatter(NullFormatter())
+
+
+def _same_as(groups, drawn: dict[int, np.ndarray], data: np.ndarray, x: np.ndarray) -> int | None:
+    """The index of an earlier group drawn with the same x and values (to 1e-9 relative:
+    round-off), or None."""
+    for number, (earlier_x, earlier) in drawn.items():
+        if earlier_x.shape == x.shape and np.allclose(earlier_x, x, rtol=1e-12, atol=0.0):
+            if np.allclose(earlier, data, rtol=1e-9, atol=0.0, equal_nan=True):
+                return number
+    return None
 
 
 def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, line: bool = False):
@@ -109,19 +154,26 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
     values = rows[key].astype(float)
     logarithmic = bool((values > 0).all() and values.max() >= 10.0 * values.min())
     groups = list(_groups(rows, key, swept))
+    hidden = set()  # groups whose curve lies on an earlier one in some panel
     for axis, quantity in zip(axes.flat, quantities, strict=False):
+        drawn: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         for number, (label, group) in enumerate(groups):
             data = _plotted(group[quantity.column], quantity)
-            axis.plot(
-                group[key].astype(float), data, marker=_MARKERS[number % len(_MARKERS)],
-                ms=5, lw=1.4, color=f"C{number % 10}", label=label or "all cases",
-            )  # fmt: skip
+            x = group[key].astype(float).to_numpy()
+            style = {"marker": _MARKERS[number % len(_MARKERS)], "ms": 5, "lw": 1.4}
+            same = _same_as(groups, drawn, data, x)
+            if same is not None:  # on top of an earlier curve: dashed, hollow, larger
+                hidden.add(number)
+                style.update(ls="--", mfc="none", ms=9, lw=1.2)
+            axis.plot(x, data, color=f"C{number % 10}", label=label or "all cases", **style)
+            drawn[number] = (x, data)
         if quantity.categories:
             axis.set_yticks(range(len(quantity.categories)), quantity.categories)
             axis.set_ylim(-0.5, len(quantity.categories) - 0.5)
         if logarithmic and axis.has_data():
             axis.set_xscale("log")
-        axis.set_xlabel(_key_label(key, line))
+            readable_log_axis(axis, "x")
+        axis.set_xlabel(key_label(key, line))
         axis.set_ylabel(quantity.label(line))
         axis.grid(alpha=0.3, which="both")
     for axis in axes.flat[len(quantities) :]:
@@ -129,7 +181,11 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
     if len(groups) > 1 or groups[0][0]:
         handles, labels = axes.flat[0].get_legend_handles_labels()
         figure.legend(handles, labels, loc="outside right upper", title="other parameters")
-    figure.suptitle(f"{title}: summary against {key} ({len(rows)} completed cases)")
+    name = key_title(key)
+    suptitle = f"{title}: summary against {name} ({len(rows)} completed cases)"
+    if hidden:
+        suptitle += "\ndashed hollow markers: a curve equal to an earlier one, drawn on top of it"
+    figure.suptitle(suptitle)
     return figure
 
 

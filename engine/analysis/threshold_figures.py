@@ -22,6 +22,8 @@ from engine.output.summary import column_unit, load_summary
 from engine.output.thresholds import SEARCH_COLUMNS, load_thresholds
 from engine.schema import THRESHOLDS_GROUP
 
+from .sweep_figures import key_title
+
 __all__ = ["has_thresholds", "threshold_figures", "draw_thresholds", "varying_keys"]
 
 _LISTS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")  # the [sweep] lists, in order
@@ -35,9 +37,12 @@ def has_thresholds(path: str | Path) -> bool:
 
 
 def _label(key: str, units: dict[str, str]) -> str:
-    """ "key (unit)" in the unit the table stored (a line contact's per unit length)."""
+    """ "name (unit)": the key's name in the study-file schema, in the unit the table stored
+    (a line contact's per unit length)."""
     unit = units.get(key) or column_unit(key)
-    return f"{key} ({unit})" if unit else key
+    unit = "°" if unit == "degree" else unit
+    title = key_title(key)
+    return f"{title} ({unit})" if unit and unit != "1" else title
 
 
 def _far_side(values, spec: dict) -> np.ndarray:
@@ -102,7 +107,8 @@ def draw_thresholds(path: str | Path):
     axis.grid(alpha=0.3)
     axis.legend(fontsize=FONT_SIZE)
     axis.set_title(
-        f"{Path(path).stem}: {parameter} at which {spec['column']} reaches {spec['target']!r}"
+        f"{Path(path).stem}: {key_title(parameter)} at which {spec['column']} reaches "
+        f"{spec['target']!r}"
         "\nfilled: target side, open: other side, ×: failed; bars: final bracket"
     )
     return figure

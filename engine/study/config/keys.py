@@ -42,6 +42,9 @@ class StudyKey:
         The unit of the value ("1" dimensionless, "–" none).
     meaning : str
         What the key sets, in one or two sentences (Markdown).
+    label : str
+        A short name for figure axes and tables ("" when the meaning is one already;
+        :attr:`title` gives either).
     """
 
     section: str
@@ -50,6 +53,18 @@ class StudyKey:
     default: str
     unit: str
     meaning: str
+    label: str = ""
+
+    @property
+    def title(self) -> str:
+        """The name figures and tables give the key: ``label``, or the meaning up to its
+        first parenthesis, comma or semicolon ("Young's modulus of the half-space")."""
+        if self.label:
+            return self.label
+        text = self.meaning.replace("`", "")
+        for stop in (" (", ", ", "; "):
+            text = text.split(stop)[0]
+        return text
 
 
 def _read_table() -> tuple[dict[str, str], tuple[StudyKey, ...]]:
