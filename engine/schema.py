@@ -222,7 +222,8 @@ PEAK_HISTORY_DESCRIPTIONS = {
     "vm_deep_max_z": "depth z of vm_deep_max",
     "vm_axis_max": f"maximum {_PLANE_PEAK} on the punch axis r = 0",
     "vm_axis_max_z": "depth z of vm_axis_max",
-    "contact_radius": "area-equivalent contact radius sqrt(A_c/pi), A_c: elements with p > 0",
+    "contact_radius": "area-equivalent contact radius sqrt(A_c/pi), A_c: elements with p > 0 "
+    "(a line contact: the half-width, half the length in contact)",
     "centre_pressure": "contact pressure at the punch axis (elements nearest to r = 0)",
     "peak_region": (
         "where vm_max sits: "
@@ -687,7 +688,9 @@ COLUMN_DESCRIPTIONS = {
     "cycles": "load cycles reached (0 for static cases)",
     "load": "peak normal load P",
     "approach": "rigid approach at peak load of the last simulated cycle",
-    "p0": "mean pressure P/(π a0²), Eq. (19)",
+    "p0": "mean pressure of the nominal contact, not Hertz's peak: P/(π a0²) in 3-D (Eq. "
+    "19; a sphere's Hertz peak is 1.5 p0), P/(2 a0) per unit length for a line contact (a "
+    "cylinder's Hertz peak is (4/π) p0); a0: punch radius, Hertz radius or half-width",
     "max_wear_depth": "largest wear depth after the last cycle (0 for static cases)",
     "wear_volume": "worn volume after the last cycle (0 for static cases)",
     "vm_max": "largest von Mises stress on the stress plane, every layer (the surface layer "
@@ -709,7 +712,8 @@ COLUMN_DESCRIPTIONS = {
     "vm_deep_max_z": "depth z of vm_deep_max",
     "vm_axis_max": "largest von Mises stress on the punch axis r = 0 (cyclic)",
     "vm_axis_max_z": "depth z of vm_axis_max",
-    "contact_radius": "area-equivalent contact radius √(A_c/π) (cyclic)",
+    "contact_radius": "area-equivalent contact radius √(A_c/π) (cyclic; a line contact: its "
+    "half-width)",
     "centre_pressure": "contact pressure at the punch axis (cyclic)",
     "elastic_approach": "elastic approach of the unworn surface",
     "wear_severity": "largest wear depth / elastic approach",

@@ -20,6 +20,7 @@ import textwrap
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 
 import engine
@@ -337,8 +338,101 @@ def test_sweep_axes_are_named_with_readable_log_ticks_and_visible_twins():
             box for box in shown if axis.bbox.x0 - 1 <= box.x0 and box.x1 <= axis.bbox.x1 + 1
         ]
         assert len(visible) >= 2
-        assert all(left.x1 < right.x0 for left, right in zip(visible, visible[1:]))  # apart
+        assert all(left.x1 < right.x0 for left, right in zip(visible, visible[1:], strict=False))
         first, second = axis.get_lines()[:2]  # β = 0 then β = 90, equal values
         assert first.get_linestyle() == "-" and second.get_linestyle() == "--"
         assert second.get_markerfacecolor() == "none"
     plt.close(figure)
+
+
+# ------------------------------------------------------------------ figures of one case
+FIELD_STUDIES = {
+    "sphere": study_toml(
+        "sphere",
+        "sphere.h5",
+        {"material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3}},
+        punch={"shape": "sphere", "radius": 10.0},
+        mesh={"n": 16},
+        subsurface={"depth": 1.5, "layers": 4},
+        loading={"kind": "fretting", "load": 100.0, "steps": 2, "cycles": 4, "record": [4]},
+        sweep={"mu1": [0.5], "wear1": [1e-8], "loading.amplitude": [0.0005, 0.004]},
+    ),
+    "cylinder": study_toml(
+        "cylinder",
+        "cylinder.h5",
+        {"material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3}},
+        punch={"shape": "cylinder", "radius": 6.0},
+        mesh={"n": 48, "half_width": 0.25},
+        subsurface={"depth": 1.5, "layers": 4},
+        loading={"kind": "fretting", "load": 185.0, "steps": 2, "cycles": 4, "record": [4]},
+        sweep={"mu1": [0.6], "wear1": [1e-8], "loading.amplitude": [0.001, 0.004]},
+    ),
+    "flat": study_toml(
+        "flat",
+        "flat.h5",
+        mesh={"n": 16},
+        loading={"kind": "cyclic", "cycles": 20, "record": [20]},
+        sweep={"mu1": [0.1, 0.4], "wear1": [1.33e-7]},
+    ),
+}
+FIELD_FIGURES = {
+    "sphere": {"surface_N4.png", "von_mises_N4.png"},
+    "cylinder": {"surface_N4.png", "von_mises_N4.png"},
+    "flat": {"surface_maps_N20.png", "von_mises_N20.png"},
+}
+
+
+def _white_half(path: Path) -> bool:
+    """Whether the left or the right half of the PNG is (almost) all background."""
+    from matplotlib import image
+
+    pixels = image.imread(path)[..., :3]
+    width = pixels.shape[1]
+    for half in (pixels[:, : width // 2], pixels[:, width // 2 :]):
+        if np.mean(np.all(half > 0.97, axis=-1)) > 0.97:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("shape", sorted(FIELD_STUDIES))
+def test_case_figures_draw_the_fields_of_every_kind_and_geometry(shape, tmp_path, small_text):
+    """``plot --case`` of a fretting sphere (3-D), a fretting cylinder (line contact) and a
+    cyclic flat punch draws the surface fields (maps or profiles; a fretting case's
+    slip/stick state at +Q*) and the σ_VM plane: each file written, non-blank, no half of it
+    empty, no text cut by the edge or too small (the checks of tests/test_figures.py)."""
+    (tmp_path / "study.toml").write_text(FIELD_STUDIES[shape])
+    run = _engine("study.toml", "--no-progress-bar", cwd=tmp_path)
+    assert run.returncode == 0, run.stdout + run.stderr
+    results = tmp_path / f"{shape}.h5"
+    case = engine.load_summary(results).case_id.iloc[-1]  # gross slip for the fretting ones
+    out = tmp_path / "figures"
+    assert figures.main([str(results), "--case", case, "--out", str(out)]) == 0
+    assert not small_text, small_text
+    written = {path.name for path in out.glob("*.png")}
+    assert FIELD_FIGURES[shape] <= written, written
+    for name in FIELD_FIGURES[shape]:
+        path = out / name
+        assert path.stat().st_size > 5_000, name
+        assert not _white_half(path), name
+
+
+def test_the_slip_stick_state_at_plus_q_star_is_drawn(tmp_path):
+    """The state map of a partial-slip sphere: stick inside, slip around (Mindlin), in the
+    map's data; and its title counts them."""
+    import matplotlib.pyplot as plt
+
+    from engine.analysis.case_fields import case_field_figures
+    from engine.analysis.reader import read_results
+
+    (tmp_path / "study.toml").write_text(FIELD_STUDIES["sphere"])
+    assert _engine("study.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
+    study = read_results(tmp_path / "sphere.h5")
+    study = study.for_case(study.cases[0].case_id)  # δ* = 0.5 µm: partial slip
+    drawn = dict(case_field_figures(study))
+    figure = drawn["surface_N4.png"]
+    state_axis = figure.axes[2]
+    states = np.asarray(state_axis.collections[0].get_array()).ravel()
+    assert {1, 2} <= set(states.astype(int).tolist())  # stick and slip both present
+    assert "stick" in state_axis.get_title() and "slip" in state_axis.get_title()
+    for figure in drawn.values():
+        plt.close(figure)

@@ -70,7 +70,14 @@ from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
 from .surface_figures import surface_figures  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
 
-__all__ = ["plot_study", "main", "VM_LEVEL_MAX", "von_mises_levels", "study_figures"]
+__all__ = [
+    "plot_study",
+    "main",
+    "VM_LEVEL_MAX",
+    "von_mises_levels",
+    "study_figures",
+    "von_mises_plane_figure",
+]
 
 DPI = 95
 MIN_FONT_SIZE = 9.0  # points
@@ -350,6 +357,12 @@ def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]
     return np.meshgrid(x, np.unique(z), indexing="ij")
 
 
+def von_mises_plane_figure(study: StudyResults, key, suptitle: str):
+    """σ_VM/p0 on the x–z plane ``key`` (a recorded cycle N or "final") of every case that
+    has it, the peaks marked (the figure of ``von_mises_N<N>.png``)."""
+    return _von_mises_figure(study, key, suptitle)
+
+
 def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = False):
     panels = [case for case in study.cases if key in case.planes]
     count = len(panels) + int(analytic)
@@ -587,12 +600,18 @@ def _surface_maps(study: StudyResults, cycle: int):
     extent = study.grid_x / a, study.grid_y / a
     pressure = [case.fields[cycle]["pressure"] / p0 for case in cases]
     pressure_max = max(float(np.max(p)) for p in pressure) or 1.0
-    columns = _columns_for(len(cases))
-    blocks = -(-len(cases) // columns)
-    figure, axes = plt.subplots(
-        2 * blocks, columns, figsize=(max(4.1 * columns, MIN_FIGURE_WIDTH), 3.15 * 2 * blocks),
-        squeeze=False, layout="constrained",
-    )  # fmt: skip
+    if len(cases) == 1:  # one case: wear beside pressure (stacked, half the page was empty)
+        figure, row = plt.subplots(
+            1, 2, figsize=(MIN_FIGURE_WIDTH + 1.5, 4.6), squeeze=False, layout="constrained"
+        )
+        axes, columns, blocks = row.reshape(2, 1), 1, 1
+    else:
+        columns = _columns_for(len(cases))
+        blocks = -(-len(cases) // columns)
+        figure, axes = plt.subplots(
+            2 * blocks, columns, figsize=(max(4.1 * columns, MIN_FIGURE_WIDTH), 3.15 * 2 * blocks),
+            squeeze=False, layout="constrained",
+        )  # fmt: skip
     for number, case in enumerate(cases):
         block, column = divmod(number, columns)
         wear = case.fields[cycle]["wear"] * 1e3  # µm

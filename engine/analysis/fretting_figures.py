@@ -40,6 +40,7 @@ from engine.reference import mindlin
 from engine.schema import contact_units
 
 from . import fretting as _shared
+from .case_fields import case_field_figures
 from .fatigue import has_fatigue
 from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
 from .figures import MIN_FIGURE_WIDTH
@@ -360,7 +361,7 @@ def _map_figure(study: StudyResults):
     loads = np.array([item.load for item in cases])
     span = np.linspace(0.6 * loads.min(), 1.15 * loads.max(), 100)
     lines = {mu: (boundary(span), span) for mu, boundary in boundaries.items()}
-    title = f"{study.name}: running-condition fretting map ({study.mesh_label})"
+    title = f"{study.name}: running-condition fretting map\n({study.mesh_label})"
     if study.profile.is_line:
         datum = study.config.get("mesh", {}).get("reference_distance")
         figure = draw_fretting_map(
@@ -478,11 +479,13 @@ def _wear_energy_figure(study: StudyResults):
 
 
 def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:
-    """(file name, figure) of every fretting figure of ``study`` (with ``[fatigue]``, the
-    fatigue figures too: ``engine.analysis.fatigue_figures``)."""
+    """(file name, figure) of every fretting figure of ``study`` (for one case, ``--case``,
+    its field figures: ``engine.analysis.case_fields``; with ``[fatigue]``, the fatigue
+    figures too: ``engine.analysis.fatigue_figures``)."""
     return [
         ("fretting_map.png", _map_figure(study)),
         ("fretting_loops.png", _loops_figure(study)),
         ("wear_energy.png", _wear_energy_figure(study)),
+        *case_field_figures(study),
         *fatigue_figures(study),
     ]

@@ -1,0 +1,144 @@
+"""The field figures of one fretting case (``python -m engine plot RESULTS.h5 --case ID``).
+
+A fretting case stores, at every recorded cycle N, its surface fields at the increment of
+the largest |Q| on the +Q* side of the loop (``engine.solvers.fretting``): wear depth,
+pressure, tractions and each element's state (no contact, stick, slip), and the x–z stress
+plane there. For one case these figures show them:
+
+- ``surface_N<N>.png`` — a 3-D contact (punch, sphere): maps over the mesh of the wear depth
+  (µm), p/p0 and the slip/stick state at +Q*; a line contact (cylinder, pad): profiles along
+  x/a of the wear depth, p/p0 and q_x/p0 with the stick zone shaded, and the state;
+- ``von_mises_N<N>.png`` — σ_VM/p0 on the x–z plane at +Q*
+  (:func:`engine.analysis.figures.von_mises_plane_figure`).
+
+The criterion planes of a study with ``[fatigue]`` are drawn by
+:mod:`engine.analysis.fatigue_figures`. Lengths are in units of a (the contact radius or
+half-width at the case's load, ``study.radius``), stresses in units of p0 (``study.p0``).
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.patches import Patch
+
+from .figures import MIN_FIGURE_WIDTH, von_mises_plane_figure
+from .reader import StudyResults
+
+__all__ = ["case_field_figures", "STATE_NAMES"]
+
+# Element states of the contact solver (engine.solvers.increment: NO_CONTACT, STICK, SLIP).
+STATE_NAMES = ("no contact", "stick", "slip")
+_STATE_COLOURS = ("#d9d9d9", "#2166ac", "#d6604d")
+
+
+def case_field_figures(study: StudyResults):
+    """(file name, figure) of the field figures of the one case of ``study`` (nothing for a
+    study of several cases: their figures compare cases; ``--case`` selects one)."""
+    if len(study.cases) != 1:
+        return
+    case = study.cases[0]
+    cycles = case.recorded_cycles
+    if not cycles:
+        return
+    last = cycles[-1]
+    fields = case.fields[last]
+    if study.profile.is_line:
+        yield f"surface_N{last}.png", _line_profiles(study, fields, last)
+    else:
+        yield f"surface_N{last}.png", _surface_maps(study, fields, last)
+    for cycle in cycles:
+        if cycle in case.planes:
+            title = _title(study, f"σ_VM/p0 in the x–z plane at +Q*, N = {cycle:,}")
+            yield f"von_mises_N{cycle}.png", von_mises_plane_figure(study, cycle, title)
+
+
+def _title(study: StudyResults, what: str) -> str:
+    case = study.cases[0]  # the name of a one-case study names the case
+    return f"{study.name}: {what}\n{case.label}, {study.mesh_label}"
+
+
+def _state_map():
+    cmap = ListedColormap(_STATE_COLOURS)
+    return cmap, BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
+
+
+def _surface_maps(study: StudyResults, fields: dict, cycle: int):
+    """Wear depth, p/p0 and the stick/slip state over the mesh, side by side."""
+    a, p0 = study.radius, study.p0
+    x, y = study.grid_x / a, study.grid_y / a
+    figure, axes = plt.subplots(
+        1, 3, figsize=(max(MIN_FIGURE_WIDTH, 13.0), 4.4), layout="constrained", squeeze=False
+    )
+    wear = fields["wear"] * 1e3  # µm
+    panels = (
+        (wear, "viridis", "wear depth (µm)", "wear depth"),
+        (fields["pressure"] / p0, "magma", "p / p0", "pressure at +Q*"),
+    )
+    for axis, (values, cmap, label, title) in zip(axes[0], panels, strict=False):
+        top = float(np.max(values)) or 1.0
+        mesh = axis.pcolormesh(x, y, values.T, cmap=cmap, vmin=0.0, vmax=top, shading="nearest")
+        figure.colorbar(mesh, ax=axis, label=label, shrink=0.85)
+        axis.set_title(title)
+    cmap, norm = _state_map()
+    axis = axes[0, 2]
+    axis.pcolormesh(x, y, fields["status"].T, cmap=cmap, norm=norm, shading="nearest")
+    counts = [int(np.count_nonzero(fields["status"] == code)) for code in range(3)]
+    axis.set_title(f"state at +Q*: {counts[1]} stick, {counts[2]} slip elements")
+    handles = [
+        Patch(color=colour, label=name)
+        for colour, name in zip(_STATE_COLOURS, STATE_NAMES, strict=True)
+    ]
+    axis.legend(
+        handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=9, ncols=3
+    )
+    for axis in axes[0]:
+        axis.set_aspect("equal")
+        axis.set_xlabel("x/a")
+        axis.set_ylabel("y/a")
+    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles, fields at +Q*"))
+    return figure
+
+
+def _line_profiles(study: StudyResults, fields: dict, cycle: int):
+    """Wear depth, p/p0 and q_x/p0 along x/a with the stick zone shaded (a line contact)."""
+    a, p0 = study.radius, study.p0
+    x = study.grid_x / a
+    figure, (wear_axis, stress_axis) = plt.subplots(
+        2, 1, figsize=(MIN_FIGURE_WIDTH, 6.4), sharex=True, layout="constrained"
+    )
+    wear_axis.plot(x, fields["wear"][:, 0] * 1e3, color="C2", lw=1.6)
+    wear_axis.set_ylabel("wear depth (µm)")
+    wear_axis.set_title("wear scar of the flat")
+    stress_axis.plot(x, fields["pressure"][:, 0] / p0, color="C0", lw=1.6, label="p / p0")
+    stress_axis.plot(
+        x, fields["traction_x"][:, 0] / p0, color="C3", lw=1.4, ls="--", label="q_x / p0"
+    )
+    status = fields["status"][:, 0]
+    step = float(x[1] - x[0]) if x.size > 1 else 1.0
+    for code, colour in ((1, _STATE_COLOURS[1]), (2, _STATE_COLOURS[2])):
+        for start, stop in _runs(status == code):
+            stress_axis.axvspan(
+                x[start] - step / 2, x[stop - 1] + step / 2, color=colour, alpha=0.15, lw=0
+            )
+    handles, _ = stress_axis.get_legend_handles_labels()
+    handles += [
+        Patch(color=_STATE_COLOURS[1], alpha=0.3, label="stick"),
+        Patch(color=_STATE_COLOURS[2], alpha=0.3, label="slip"),
+    ]
+    figure.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=9)
+    stress_axis.axhline(0.0, color="k", lw=0.6)
+    stress_axis.set_ylabel("stress / p0")
+    stress_axis.set_title("pressure and shear traction at +Q*; shaded: stick and slip zones")
+    stress_axis.set_xlabel("x/a")
+    for axis in (wear_axis, stress_axis):
+        axis.grid(alpha=0.3)
+    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles"))
+    return figure
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """[start, stop) index ranges where ``mask`` is True."""
+    edges = np.diff(np.concatenate([[0], mask.astype(int), [0]]))
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True))
