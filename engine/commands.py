@@ -134,11 +134,12 @@ def _other_hdf5(path: Path) -> str | None:
         with h5py.File(path, "r") as file:
             found = file.attrs.get("format")
             names = sorted(file)[:4]
+            ours = "cases" in file and "study_name" in file.attrs  # written without a format
     except Exception:  # noqa: BLE001 - unreadable HDF5: a damaged results file
         return None
     if isinstance(found, bytes):
         found = found.decode("utf-8", "replace")
-    if found == RESULTS_FORMAT:
+    if found == RESULTS_FORMAT or (found is None and ours):
         return None
     if found is not None:
         what = f"format {str(found)!r}, not {RESULTS_FORMAT!r}"

@@ -436,3 +436,22 @@ def test_the_slip_stick_state_at_plus_q_star_is_drawn(tmp_path):
     assert "stick" in state_axis.get_title() and "slip" in state_axis.get_title()
     for figure in drawn.values():
         plt.close(figure)
+
+
+def test_a_peak_on_the_domains_edge_is_flagged_in_the_report(tmp_path):
+    """A flat punch on its default 16 × 16 mesh (±1.05 a0): the σ_VM peak of the sharp
+    edge's singularity sits on the plane's outermost column, and the report says so; a
+    plane whose peak lies inside is not flagged (StressPlane.on_edge on a synthetic one)."""
+    from engine.analysis.reader import StressPlane
+
+    (tmp_path / "study.toml").write_text(FIELD_STUDIES["flat"])
+    assert _engine("study.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
+    report = _engine("report", "flat.h5", cwd=tmp_path)
+    assert report.returncode == 0, report.stderr
+    flagged = [line for line in report.stdout.splitlines() if "domain's edge" in line]
+    assert flagged and all("half_width" in line for line in flagged)
+    x, z = np.meshgrid(np.linspace(-1.0, 1.0, 5), np.linspace(0.0, 1.0, 4), indexing="ij")
+    inside = StressPlane(x, z, np.exp(-(x**2) - (z - 0.5) ** 2))
+    assert inside.on_edge() == ""
+    assert StressPlane(x, z, x + 0.1 * z).on_edge() == "side and bottom"
+    assert StressPlane(x, z, -(x**2) + z).on_edge() == "bottom"

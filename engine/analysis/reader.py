@@ -60,6 +60,19 @@ class StressPlane:
         candidates = np.where(self.z >= min_depth, self.von_mises, -np.inf)
         return np.unravel_index(np.argmax(candidates), candidates.shape)
 
+    def on_edge(self, min_depth: float = 0.0) -> str:
+        """Where the largest σ_VM over z >= ``min_depth`` touches the computed domain's
+        boundary: "side" (the plane's outermost column, the mesh's edge), "bottom" (its
+        deepest layer) or "" (inside). A peak there may lie beyond the domain: the real
+        maximum is not known (widen ``[mesh] half_width`` or deepen ``[subsurface] depth``)."""
+        column, layer = self._index(min_depth)
+        places = []
+        if column in (0, self.von_mises.shape[0] - 1):
+            places.append("side")
+        if layer == self.von_mises.shape[1] - 1:
+            places.append("bottom")
+        return " and ".join(places)
+
     def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
         """(σ_VM, s, z) of the largest von Mises stress over the points with z >= min_depth
         (s: along the plane, = x on the x–z plane)."""

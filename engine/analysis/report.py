@@ -69,6 +69,26 @@ def _plane_columns(study: StudyResults, plane: StressPlane | None) -> list[str]:
     return [*_format_peak(study, plane.peak()), *_format_peak(study, plane.subsurface_peak())]
 
 
+def edge_facts(study: StudyResults) -> list[str]:
+    """One warning per case and stress plane whose σ_VM peak (over the plane, or below its
+    surface layer) sits on the edge of the computed domain (:meth:`StressPlane.on_edge`)."""
+    facts = []
+    for case in study.cases:
+        for key, plane in case.planes.items():
+            below = float(plane.depths[1]) if len(plane.depths) > 1 else 0.0
+            for what, depth in (("peak", 0.0), ("peak below the surface layer", below)):
+                edge = plane.on_edge(depth)
+                if edge:
+                    when = "final state" if key == "final" else f"N = {key:,}"
+                    facts.append(
+                        f"**peak on the domain's edge**: {case.label}, {when}: the σ_VM {what} "
+                        f"lies on the {edge} of the computed plane; the maximum may lie beyond "
+                        "it (widen [mesh] half_width or deepen [subsurface] depth)"
+                    )
+                    break
+    return facts
+
+
 def _header(columns: list[str]) -> list[str]:
     return ["| " + " | ".join(columns) + " |", "|" + "|".join("---" for _ in columns) + "|"]
 
@@ -364,6 +384,7 @@ def standard_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     lines += cyclic_table(study, cycles) if study.is_cyclic else static_table(study)
     lines += ["", "Measured:", ""]
     facts = cyclic_facts(study) if study.is_cyclic else static_facts(study)
+    facts += edge_facts(study)
     lines += [f"- {fact}" for fact in facts]
     if study.skipped:
         lines += ["", "Not completed: " + ", ".join(f"{c} ({s})" for c, s in study.skipped)]
