@@ -256,3 +256,24 @@ def test_minimum_ball_converges_on_a_slow_fretting_path():
     chord = 0.5 * np.linalg.norm(path[:, None] - path[None], axis=-1).max(axis=(0, 1))
     assert np.all(ball.radius >= chord * (1 - 1e-12))  # a ball holds its longest chord
     assert np.all(ball.radius <= chord * (1 + 1e-3))  # near a segment: radius ≈ half chord
+
+
+@pytest.mark.parametrize("mean_shear", [40.0, -40.0])
+def test_fatemi_socie_takes_the_larger_value_of_tied_planes(mean_shear):
+    """σ_xx = a sin ωt with a constant σ_xz = c: γ_a = a/(2G) on both ±45° planes (tied,
+    to round-off), σ_n,max = a/2 + c on one, a/2 − c on the other. The criterion takes the
+    larger FS, (a/(2G))(1 + k(a/2 + |c|)/σ_y), whichever sign c has (the mirror image of
+    the history, x → −x), so the choice does not depend on the side or on round-off
+    (1e-12: rounding)."""
+    amplitude = 250.0
+    phase = 2 * np.pi * np.arange(INSTANTS) / INSTANTS
+    xx = amplitude * np.round(np.sin(phase), 15)
+    components = {"xx": xx[:, None], "xz": np.full((INSTANTS, 1), mean_shear)}
+    history = StressHistory.from_components(components, np.zeros(1), 0.0)
+    result = _value("fatemi_socie", history)
+    gamma = amplitude / (2 * STEEL.shear_modulus)
+    larger = gamma * (1 + FS["k"] * (amplitude / 2 + abs(mean_shear)) / FS["sigma_y"])
+    smaller = gamma * (1 + FS["k"] * (amplitude / 2 - abs(mean_shear)) / FS["sigma_y"])
+    assert result.value[0] == pytest.approx(larger, rel=1e-12)
+    assert smaller < 0.95 * larger  # the other plane's value: the choice matters
+    assert result.angle[0] in (45.0, 135.0)
