@@ -455,3 +455,27 @@ def test_a_peak_on_the_domains_edge_is_flagged_in_the_report(tmp_path):
     assert inside.on_edge() == ""
     assert StressPlane(x, z, x + 0.1 * z).on_edge() == "side and bottom"
     assert StressPlane(x, z, -(x**2) + z).on_edge() == "bottom"
+
+
+def test_equal_fretting_loops_stay_visible():
+    """The N = 1 loop under an equal N = 10 loop (a stabilised gross-slip case): the first
+    is a wide pale band, the later a thinner dashed line with markers, and the title says
+    how to read it; loops that differ get no note."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from engine.analysis.fretting_figures import LoopPanel, draw_fretting_loops
+
+    delta = 1e-3 * np.array([4.0, 0.0, -4.0, 0.0, 4.0])  # mm
+    force = np.array([50.0, 10.0, -50.0, -10.0, 50.0])  # N
+    figure = draw_fretting_loops([LoopPanel("gross", {1: (delta, force), 10: (delta, force)})], "t")
+    first, second = figure.axes[0].get_lines()[:2]
+    assert first.get_linewidth() > 2 * second.get_linewidth() and first.get_alpha() < 1.0
+    assert second.get_linestyle() == "--" and second.get_marker() == "o"
+    assert "hidden under a later one" in figure.get_suptitle()
+    plt.close(figure)
+    figure = draw_fretting_loops([LoopPanel("p", {1: (delta, force), 10: (delta, 2 * force)})], "t")
+    assert "hidden" not in figure.get_suptitle()
+    plt.close(figure)

@@ -254,12 +254,17 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str
     """Q–δ loops (δ in µm, Q in ``force_unit``), one panel per case, one colour per
     recorded cycle."""
     figure, axes = _panels(len(panels), 4.6, 3.7)
+    coincide = False
     for axis, panel in zip(axes, panels, strict=True):
+        drawn = []
         for number, (cycle, (delta, force)) in enumerate(sorted(panel.loops.items())):
+            style = _LOOP_STYLES[min(number, len(_LOOP_STYLES) - 1)]
             axis.plot(
-                np.asarray(delta) * MICRONS_PER_MM, force, "-", lw=1.5, color=f"C{number % 10}",
-                marker=".", ms=4, label=f"N = {cycle:,}",
+                np.asarray(delta) * MICRONS_PER_MM, force, color=f"C{number % 10}",
+                label=f"N = {cycle:,}", **style,
             )  # fmt: skip
+            coincide |= any(_same_loop(delta, force, other) for other in drawn)
+            drawn.append((np.asarray(delta), np.asarray(force)))
         if panel.reference is not None:
             delta, force = panel.reference
             axis.plot(
@@ -273,8 +278,35 @@ def draw_fretting_loops(panels: Sequence[LoopPanel], title: str, force_unit: str
         axis.set_title(panel.title)
         axis.grid(alpha=0.3)
     _legend_below(figure, axes)  # loops fill the corners of a gross-slip panel
+    if coincide:
+        title += (
+            "\nlater cycles drawn thinner on top: a loop hidden under a later one is the wide band"
+        )
     figure.suptitle(title)
     return figure
+
+
+# The loops of a panel's recorded cycles, first to last: the first a wide pale band, the later
+# ones thinner, dashed or dotted, with their own markers, so that equal loops stay visible.
+_LOOP_STYLES = (
+    {"ls": "-", "lw": 4.5, "alpha": 0.35},
+    {"ls": "--", "lw": 1.6, "marker": "o", "ms": 3.5, "mfc": "none"},
+    {"ls": ":", "lw": 1.6, "marker": "x", "ms": 4},
+    {"ls": "-.", "lw": 1.2, "marker": "s", "ms": 3},
+)
+
+
+def _same_loop(delta, force, other) -> bool:
+    """Whether the loop (δ, Q) lies on ``other`` to 1 % of its force amplitude (what a reader
+    cannot tell apart at the figure's scale)."""
+    other_delta, other_force = other
+    if other_delta.shape != np.shape(delta):
+        return False
+    scale = max(float(np.max(np.abs(other_force))), 1e-300)
+    return bool(
+        np.allclose(delta, other_delta, rtol=0.0, atol=1e-2 * float(np.ptp(other_delta)) + 1e-300)
+        and np.allclose(force, other_force, rtol=0.0, atol=1e-2 * scale)
+    )
 
 
 def draw_wear_energy(series: Sequence[WearSeries], title: str, line: bool = False):
