@@ -479,3 +479,15 @@ def test_equal_fretting_loops_stay_visible():
     figure = draw_fretting_loops([LoopPanel("p", {1: (delta, force), 10: (delta, 2 * force)})], "t")
     assert "hidden" not in figure.get_suptitle()
     plt.close(figure)
+
+
+def test_reports_name_swept_keys_not_dotted_keys():
+    """The sweep report of a fretting sweep: the key's name from the schema in the headings
+    and the column header, never ``loading.amplitude``."""
+    from engine.analysis.sweep_report import sweep_report
+
+    text = sweep_report(_synthetic_summary([0.001, 0.002, 0.004]), ["loading.amplitude"], "t")
+    assert "loading.amplitude" not in text
+    assert "swept: displacement amplitude δ*." in text
+    assert "#### Against displacement amplitude δ*" in text
+    assert "| displacement amplitude δ* (mm) |" in text

@@ -35,6 +35,7 @@ import numpy as np
 from .fatigue import fatigue_facts, fatigue_table, has_fatigue
 from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
 from .reader import CaseResults, StudyResults
+from .sweep_report import key_title
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
 
@@ -218,7 +219,8 @@ def _fatigue_header(study: StudyResults) -> str:
 def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown table and checks of a fretting study."""
     loading, config = study.config["loading"], study.config
-    swept = f"; swept: {', '.join(study.swept_keys)}" if study.swept_keys else ""
+    names = ", ".join(key_title(key) for key in study.swept_keys)
+    swept = f"; swept: {names}" if study.swept_keys else ""
     law = config.get("wear", {}).get("law", "archard")
     subsurface = config.get("subsurface", {})
     load = _value(study, "load", " " + study.load_unit)

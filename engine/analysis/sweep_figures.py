@@ -27,10 +27,9 @@ import numpy as np
 import pandas as pd
 
 from engine.output.summary import column_unit, load_summary
-from engine.study.config.keys import STUDY_KEYS
 
 from .reader import StudyResults
-from .sweep_report import _completed, _groups
+from .sweep_report import _completed, _groups, key_label, key_title
 
 __all__ = [
     "SWEEP_QUANTITIES",
@@ -96,26 +95,6 @@ def _plotted(column: pd.Series, quantity: SweepQuantity) -> np.ndarray:
         index = {category: number for number, category in enumerate(quantity.categories)}
         return np.array([index.get(value, np.nan) for value in column], dtype=float)
     return pd.to_numeric(column, errors="coerce").to_numpy(float) * quantity.scale
-
-
-def key_title(key: str) -> str:
-    """What a swept key is called on figures and in reports: its ``title`` in the study-file
-    schema (engine.study.config.keys; "displacement amplitude δ*" for ``loading.amplitude``),
-    never the dotted key itself."""
-    section, _, name = key.rpartition(".")
-    section = section or "sweep"
-    for study_key in STUDY_KEYS:
-        if (study_key.section, study_key.name) == (section, name):
-            return study_key.title
-    return name.replace("_", " ")
-
-
-def key_label(key: str, line: bool = False) -> str:
-    """``title (unit)`` of a swept key for an axis (``line``: a line contact's units)."""
-    unit = column_unit(key, line).replace("^3", "³").replace("^2", "²")
-    unit = "°" if unit == "degree" else unit
-    title = key_title(key)
-    return f"{title} ({unit})" if unit and unit != "1" else title
 
 
 def readable_log_axis(axis, which: str = "x") -> None:

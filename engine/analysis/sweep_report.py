@@ -27,6 +27,7 @@ import pandas as pd
 
 from engine.output.summary import column_unit
 from engine.schema import SUMMARY_COLUMNS, CaseStatus, contact_units
+from engine.study.config.keys import STUDY_KEYS
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
@@ -54,6 +55,26 @@ def _groups(summary: pd.DataFrame, key: str, swept: Sequence[str]):
         yield label, rows.sort_values(key)
 
 
+def key_title(key: str) -> str:
+    """What a swept key is called on figures and in reports: its ``title`` in the study-file
+    schema (engine.study.config.keys; "displacement amplitude δ*" for ``loading.amplitude``),
+    never the dotted key itself."""
+    section, _, name = key.rpartition(".")
+    section = section or "sweep"
+    for study_key in STUDY_KEYS:
+        if (study_key.section, study_key.name) == (section, name):
+            return study_key.title
+    return name.replace("_", " ")
+
+
+def key_label(key: str, line: bool = False) -> str:
+    """``title (unit)`` of a swept key for an axis (``line``: a line contact's units)."""
+    unit = column_unit(key, line).replace("^3", "³").replace("^2", "²")
+    unit = "°" if unit == "degree" else unit
+    title = key_title(key)
+    return f"{title} ({unit})" if unit and unit != "1" else title
+
+
 def _header(columns: list[str]) -> list[str]:
     return ["| " + " | ".join(columns) + " |", "|" + "|".join("---" for _ in columns) + "|"]
 
@@ -75,11 +96,11 @@ def key_table(
     """The main columns against the values of the swept ``key`` (``line``: a line contact's
     study, its forces, energies and volumes per unit length)."""
     columns = [c for c in _MAIN_COLUMNS if c in summary]
-    lines = [f"#### Against {key}", ""]
+    lines = [f"#### Against {key_title(key)}", ""]
     for label, rows in _groups(_completed(summary), key, swept):
         if label:
             lines += [f"{label}:", ""]
-        lines += _header([_named(key, line)] + [_named(c, line) for c in columns])
+        lines += _header([key_label(key, line)] + [_named(c, line) for c in columns])
         for _, row in rows.iterrows():
             lines.append("| " + " | ".join(_number(row[c]) for c in [key, *columns]) + " |")
         lines.append("")
@@ -195,7 +216,8 @@ def sweep_report(
     study, its forces, energies and volumes per unit length)."""
     lines = [f"### {title}", ""] if title else []
     done = _completed(summary)
-    lines.append(f"{len(done)} of {len(summary)} cases completed; swept: {', '.join(swept)}.")
+    names = ", ".join(key_title(key) for key in swept)
+    lines.append(f"{len(done)} of {len(summary)} cases completed; swept: {names}.")
     lines.append("")
     if "loading.load" in swept:
         lines += load_table(summary, swept, line)
