@@ -175,7 +175,7 @@ def _study_output(path: Path) -> str | None:
         return None
     output = study.get("output")
     if not isinstance(output, str):
-        return "its [study] output (none given)"
+        return f"the file its [study] output names (none given here): {_PASS}"
     exists = "" if Path(output).is_file() else " (not written yet: run the study first)"
     return f"{output}{exists}"
 
