@@ -367,6 +367,16 @@ FIELD_STUDIES = {
         loading={"kind": "fretting", "load": 185.0, "steps": 2, "cycles": 4, "record": [4]},
         sweep={"mu1": [0.6], "wear1": [1e-8], "loading.amplitude": [0.001, 0.004]},
     ),
+    "pad": study_toml(
+        "pad",
+        "pad.h5",
+        {"material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3}},
+        punch={"shape": "pad", "radius": 0.1, "edge_radius": 3.0},
+        mesh={"n": 48, "half_width": 0.3},
+        subsurface={"depth": 1.5, "layers": 4},
+        loading={"kind": "cyclic", "load": 100.0, "cycles": 20, "record": [20]},
+        sweep={"mu1": [0.3], "wear1": [1e-7]},
+    ),
     "flat": study_toml(
         "flat",
         "flat.h5",
@@ -379,6 +389,7 @@ FIELD_FIGURES = {
     "sphere": {"surface_N4.png", "von_mises_N4.png"},
     "cylinder": {"surface_N4.png", "von_mises_N4.png"},
     "flat": {"surface_maps_N20.png", "von_mises_N20.png"},
+    "pad": {"surface_N20.png", "pressure_profiles.png", "von_mises_N20.png"},
 }
 
 
@@ -396,8 +407,8 @@ def _white_half(path: Path) -> bool:
 
 @pytest.mark.parametrize("shape", sorted(FIELD_STUDIES))
 def test_case_figures_draw_the_fields_of_every_kind_and_geometry(shape, tmp_path, small_text):
-    """``plot --case`` of a fretting sphere (3-D), a fretting cylinder (line contact) and a
-    cyclic flat punch draws the surface fields (maps or profiles; a fretting case's
+    """``plot --case`` of a fretting sphere (3-D), a fretting cylinder and a cyclic pad (line
+    contacts) and a cyclic flat punch draws the surface fields (maps or profiles; a fretting case's
     slip/stick state at +Q*) and the σ_VM plane: each file written, non-blank, no half of it
     empty, no text cut by the edge or too small (the checks of tests/test_figures.py)."""
     (tmp_path / "study.toml").write_text(FIELD_STUDIES[shape])

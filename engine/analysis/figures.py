@@ -60,7 +60,6 @@ from matplotlib.patches import Circle  # noqa: E402
 from engine.commands import refuse_file, results_parser  # noqa: E402
 from engine.reference.flat_punch import (  # noqa: E402
     flat_punch_stress,
-    sneddon_pressure,
     von_mises_cylindrical,
 )
 
@@ -273,12 +272,14 @@ def _central_row(values: np.ndarray, study: StudyResults, axis: str) -> tuple[np
     return values[i, :], float(study.grid_x[i])
 
 
-def _sneddon_curve(study: StudyResults, offset: float) -> tuple[np.ndarray, np.ndarray]:
-    """Sneddon p/p0 (Eq. 17) along a line at distance ``offset`` (mm) from the axis."""
+def _sneddon_curve(study: StudyResults, offset: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The profile's unworn pressure p/p0 along a line at distance ``offset`` (mm) from the
+    axis (a flat punch: Sneddon, Eq. 17), or None when the profile has no closed form."""
     a = study.radius
     s = np.linspace(-1.0, 1.0, 801) * min(a, float(np.max(study.grid_x)))
     r = np.hypot(s, offset)
-    return s / a, sneddon_pressure(r, study.load, a) / study.p0
+    pressure = study.profile.unworn_pressure(r, study.load, a)
+    return None if pressure is None else (s / a, pressure / study.p0)
 
 
 def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns: int = 3):
@@ -486,7 +487,10 @@ def cyclic_figures(study: StudyResults):
     yield "wear_history.png", _wear_history(study)
     yield "pressure_profiles.png", _pressure_profiles(study)
     cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
-    if cycles:
+    if cycles and study.profile.is_line:  # a map of one row of elements shows nothing
+        last = cycles[-1]
+        yield f"surface_N{last}.png", _line_surface(study, last)
+    elif cycles:
         last = cycles[-1]
         yield f"surface_maps_N{last}.png", _surface_maps(study, last)
     for cycle in cycles:
@@ -532,7 +536,8 @@ def _pressure_profiles(study: StudyResults):
     columns = max(len(cycles), 1)
     width = min(4.4, (MAX_WIDTH_PX / DPI - 3.0) / columns)  # room for the legend beside
     figure, axes = plt.subplots(
-        len(directions), columns, figsize=(width * columns + 3.0, 3.6 * len(directions)),
+        len(directions), columns,
+        figsize=(max(width * columns + 3.0, MIN_FIGURE_WIDTH + 1.5), 3.6 * len(directions)),
         squeeze=False, layout="constrained", sharey=True,
     )  # fmt: skip
     styles = case_styles(study.cases)
@@ -548,8 +553,9 @@ def _pressure_profiles(study: StudyResults):
                 style = {**styles[case.case_id], "label": case.label}
                 style["ms"] = style["ms"] * 0.6  # 64 points per curve
                 axis.plot(coordinate / a, pressure / p0, **style)
-            s, curve = _sneddon_curve(study, offset)
-            axis.plot(s, curve, "--", color="0.5", lw=1, label="Sneddon, unworn")
+            unworn = _sneddon_curve(study, offset)
+            if unworn is not None:
+                axis.plot(*unworn, "--", color="0.5", lw=1, label="Sneddon, unworn")
             other = "y" if direction == "x" else "x"
             axis.set_title(f"N = {cycle:,}, along {direction} ({other}/a0 = {offset / a:.3f})")
             axis.set_xlabel(f"{direction}/a0")
@@ -588,6 +594,32 @@ def _columns_for(count: int, max_columns: int = MAX_COLUMNS) -> int:
         range(max_columns - 1, max_columns + 1),
         key=lambda columns: (-(-count // columns) * columns - count, -columns),
     )
+
+
+def _line_surface(study: StudyResults, cycle: int):
+    """A line contact's surface after N = ``cycle``: wear depth (µm) and p/p0 along x/a0,
+    one line per case."""
+    a, p0 = study.radius, study.p0
+    figure, (wear_axis, pressure_axis) = plt.subplots(
+        2, 1, figsize=(MIN_FIGURE_WIDTH + 1.5, 6.4), sharex=True, layout="constrained"
+    )
+    styles = case_styles(study.cases)
+    for case in study.cases:
+        if cycle not in case.fields:
+            continue
+        style = {**styles[case.case_id], "label": case.label}
+        style["ms"] = style["ms"] * 0.6
+        fields = case.fields[cycle]
+        wear_axis.plot(study.grid_x / a, fields["wear"][:, 0] * 1e3, **style)
+        pressure_axis.plot(study.grid_x / a, fields["pressure"][:, 0] / p0, **style)
+    wear_axis.set_ylabel("wear depth (µm)")
+    pressure_axis.set_ylabel("p / p0")
+    pressure_axis.set_xlabel("x/a0")
+    for axis in (wear_axis, pressure_axis):
+        axis.grid(alpha=0.3)
+    _legend_beside(figure, wear_axis, len(study.cases))
+    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles"))
+    return figure
 
 
 def _surface_maps(study: StudyResults, cycle: int):

@@ -119,6 +119,12 @@ class Profile:
 
         return mean_pressure(load, contact_length)
 
+    def unworn_pressure(self, r, load: float, contact_length: float):
+        """The closed-form frictionless pressure (MPa) at distances ``r`` (mm) from the axis of
+        the unworn profile at ``load``, drawn beside the computed profiles, or None where the
+        figures draw none (the default)."""
+        return None
+
     def fretting_reference(self, load: float, material, mu: float, reference_distance):
         """The closed forms of this profile under fretting at ``load`` (N, or N/mm for a line
         contact) with isotropic friction ``mu``

@@ -35,6 +35,12 @@ class FlatPunch(Profile):
         """The grid must cover the whole punch face, and resolve it with a few elements."""
         check_covers(grid, self.radius, "punch radius")
 
+    def unworn_pressure(self, r, load: float, contact_length: float):
+        """Sneddon's pressure P/(2πa√(a² − r²)) (Eq. 17), MPa."""
+        from engine.reference.flat_punch import sneddon_pressure
+
+        return sneddon_pressure(r, load, contact_length)
+
     def gap(self, grid: Grid) -> np.ndarray:
         gap = np.zeros(grid.shape)
         gap[grid.radius() > self.radius] = np.inf
