@@ -90,6 +90,9 @@ class _Progress:
     def add(self, case) -> None:
         pass
 
+    def count_searches(self, ended: int, searches: int) -> None:
+        pass
+
 
 def plain_cases(searches: int, per_search: int = 9) -> list:
     """The comparison without searches: ``per_search`` fixed loads for each combination, all
