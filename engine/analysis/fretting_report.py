@@ -34,8 +34,8 @@ import numpy as np
 
 from .fatigue import fatigue_facts, fatigue_table, has_fatigue
 from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
+from .names import key_title
 from .reader import CaseResults, StudyResults
-from .sweep_report import key_title
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
 

@@ -28,8 +28,9 @@ import pandas as pd
 
 from engine.output.summary import column_unit, load_summary
 
+from .names import key_label, key_title
 from .reader import StudyResults
-from .sweep_report import _completed, _groups, key_label, key_title
+from .sweep_report import _completed, _groups
 
 __all__ = [
     "SWEEP_QUANTITIES",

@@ -27,7 +27,8 @@ import pandas as pd
 
 from engine.output.summary import column_unit
 from engine.schema import SUMMARY_COLUMNS, CaseStatus, contact_units
-from engine.study.config.keys import STUDY_KEYS
+
+from .names import key_label, key_title
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
@@ -53,26 +54,6 @@ def _groups(summary: pd.DataFrame, key: str, swept: Sequence[str]):
         values = values if isinstance(values, tuple) else (values,)
         label = ", ".join(f"{name} = {value:g}" for name, value in zip(others, values, strict=True))
         yield label, rows.sort_values(key)
-
-
-def key_title(key: str) -> str:
-    """What a swept key is called on figures and in reports: its ``title`` in the study-file
-    schema (engine.study.config.keys; "displacement amplitude δ*" for ``loading.amplitude``),
-    never the dotted key itself."""
-    section, _, name = key.rpartition(".")
-    section = section or "sweep"
-    for study_key in STUDY_KEYS:
-        if (study_key.section, study_key.name) == (section, name):
-            return study_key.title
-    return name.replace("_", " ")
-
-
-def key_label(key: str, line: bool = False) -> str:
-    """``title (unit)`` of a swept key for an axis (``line``: a line contact's units)."""
-    unit = column_unit(key, line).replace("^3", "³").replace("^2", "²")
-    unit = "°" if unit == "degree" else unit
-    title = key_title(key)
-    return f"{title} ({unit})" if unit and unit != "1" else title
 
 
 def _header(columns: list[str]) -> list[str]:
