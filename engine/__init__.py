@@ -45,7 +45,7 @@ __all__ = [
 
 
 def open_results(path):
-    """Open a study's results file as objects (:mod:`engine.analysis.results`).
+    """Open a study's results file as objects (:class:`engine.analysis.results.Results`).
 
     Parameters
     ----------
@@ -73,7 +73,7 @@ def open_results(path):
 
 def load_summary(path):
     """Summary of a study as a :class:`pandas.DataFrame`, from the results ``.h5`` file or the
-    ``.csv`` beside it (:func:`engine.output.summary.load_summary`).
+    ``.csv`` beside it (``engine.output.summary.load_summary``).
 
     Parameters
     ----------
@@ -101,7 +101,7 @@ def load_summary(path):
 def load_thresholds(path):
     """Thresholds table of a study with a ``[search]`` section as a :class:`pandas.DataFrame`
     (one row per search), from the results ``.h5`` file or ``NAME_thresholds.csv``; the units
-    in ``frame.attrs["units"]`` (:func:`engine.output.thresholds.load_thresholds`).
+    in ``frame.attrs["units"]`` (``engine.output.thresholds.load_thresholds``).
 
     Parameters
     ----------

@@ -159,7 +159,7 @@ def run_study(
     ----------
     study : str, pathlib.Path or StudyConfig
         A study file, study TOML text (a string holding a newline) or a configuration from
-        :func:`engine.study.config.parse_study`.
+        ``engine.study.config.parse_study``.
     comm : mpi4py communicator, optional
         Ranks that share the study, every one calling ``run_study`` with the same arguments.
         Default: this process alone (``MPI.COMM_SELF``).

@@ -13,6 +13,8 @@ python3 -m venv .venv
 .venv/bin/ruff check engine tests benchmarks scripts
 .venv/bin/ruff format --check engine tests benchmarks scripts
 .venv/bin/python -m pytest tests --ignore=tests/mpi --ignore=tests/slurm -q
+# The manual as one site (tests/test_docs.py builds it too, without writing pages).
+.venv/bin/python -m sphinx -W --keep-going -n -b html docs build/site
 # MPI tests: each test launches `mpiexec -n 2 python -m engine ...` (real ranks, real files,
 # real signals), and the collective tests run the test module itself on two ranks.
 .venv/bin/python -m pytest tests/mpi -q

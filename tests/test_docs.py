@@ -27,7 +27,9 @@ import pytest
 REPO = Path(__file__).resolve().parent.parent
 DOCS = REPO / "docs"
 MARKDOWN = sorted(DOCS.rglob("*.md")) + [
-    path for path in (REPO / "README.md", REPO / "CHANGELOG.md") if path.exists()
+    REPO / name
+    for name in ("README.md", "CHANGELOG.md", "CONTRIBUTING.md", "benchmarks/HISTORY.md")
+    if (REPO / name).exists()
 ]
 TUTORIALS = sorted((DOCS / "tutorials").glob("*.md"))
 FENCE = re.compile(r"^(```+|~~~+)")
@@ -197,16 +199,35 @@ def test_the_table_checker_finds_a_split_table_and_a_short_row():
     assert _cells("| 1 |") == 1
 
 
-# ----------------------------------------------------------------------- the API reference
-def test_the_api_reference_builds_with_warnings_as_errors(tmp_path):
-    """Sphinx with numpydoc over the public API; numpydoc's validation (summary line, every
-    parameter and the return value documented) turns a missing piece into an error."""
+# ------------------------------------------------------------------------------ the site
+def test_the_site_builds_with_warnings_as_errors_and_every_reference_resolved(tmp_path):
+    """The whole manual through Sphinx (MyST for the pages, numpydoc for the API), nitpicky:
+    a link to a page or a heading that does not exist, an unresolved cross-reference in a
+    docstring, or a docstring that fails numpydoc's validation (summary line, every parameter
+    and the return value documented) is an error. The command of docs/conf.py, with the
+    builder that resolves every reference without writing pages."""
     done = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "dummy",
-         str(DOCS / "reference" / "api"), str(tmp_path / "api")],
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-n", "-q", "-b", "dummy",
+         str(DOCS), str(tmp_path / "site")],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_stored_inventories_hold_what_the_manual_links_to():
+    """docs/_inventories: written by scripts/inventories.py, read by the build (no network)."""
+    done = subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "inventories.py"), "--check"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_build_command_is_the_one_the_readme_and_the_test_script_give():
+    command = "python -m sphinx -W --keep-going -n -b html docs build/site"
+    assert command in " ".join((REPO / "README.md").read_text().split())
+    assert command in (REPO / "scripts" / "test.sh").read_text()
+    assert command in (DOCS / "conf.py").read_text()
 
 
 def test_every_public_name_of_engine_is_in_the_api_reference():

@@ -1,6 +1,6 @@
-"""A study's results file as objects: :func:`open_results` → :class:`Results`.
+"""A study's results file as objects: :func:`engine.open_results` → :class:`Results`.
 
-The file's layout is :mod:`engine.schema`'s; every dataset comes back as a :class:`Variable`
+The file's layout is ``engine.schema``'s; every dataset comes back as a :class:`Variable`
 carrying its values, its units and description (the dataset's ``units`` and ``description``
 attributes) and the names and coordinates of its dimensions. Surface fields take their
 coordinates from the dimension scales the writer attached (the case's ``grid/x`` and
@@ -618,7 +618,7 @@ def _plane_group(name: str, group, source: _Source) -> VariableGroup:
 class Results(_Table):
     """A study's results file: the study, its summary and its cases by id.
 
-    Made by :func:`open_results`; a mapping case id → :class:`ResultCase`, in plan order.
+    Made by :func:`engine.open_results`; a mapping case id → :class:`ResultCase`, in plan order.
     Each read opens and closes the file; in a ``with`` block (``with open_results(path) as
     results:``) the reads share one open file.
 

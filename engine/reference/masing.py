@@ -158,7 +158,7 @@ class FrettingReference:
         Q(δ) on 0 ≤ δ ≤ δ_slip where a closed form exists; default: bisection on ``virgin``.
     loop_energy : callable, optional
         The closed-form energy per cycle W(Q*) (mJ, or mJ/mm) of the loop between ±Q* ≤ μP;
-        default: the area of the Masing loop (trapezoidal rule, :data:`ENERGY_POINTS`).
+        default: the area of the Masing loop (trapezoidal rule, ``ENERGY_POINTS`` = 4001 points).
     master_curve : callable, optional
         Fouvry's A against δ*/δ_slip where it is one curve for every load, size and μ (the
         sphere's, ``engine.reference.mindlin.energy_ratio``); None where A depends on more
