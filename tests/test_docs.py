@@ -398,3 +398,51 @@ def test_the_readme_quotes_only_numbers_of_the_measured_tables():
         assert number in cells or f"{number} {unit}" in cells, (
             f"README.md quotes {number} {unit}, which no measured table of docs/ holds"
         )
+
+
+# --------------------------------------------------------------- words for users, figures shown
+PROCESS_WORDS = re.compile(
+    r"\b(?:verified here|measured here|the old advice|(?:bit-identical|identical) to before"
+    r"|per (?:CI|MPI) phase|left open|not done|issues? \d+|sessions?|helpers?|our own"
+    r"|development machine|this machine|while other jobs ran|(?:second|third) round"
+    r"|the previous (?:scheduler|solver|tree|code|version)|before the performance work"
+    r"|work in progress|TODO|wip)\b",
+    re.IGNORECASE,
+)
+
+
+@pytest.mark.parametrize("path", sorted(DOCS.rglob("*.md")), ids=_relative)
+def test_the_manual_speaks_to_users_not_of_its_making(path):
+    """No issue numbers, development history, or notes about the machine a page was written
+    on: the manual describes the engine as it is (CHANGELOG.md holds what changed)."""
+    found = [
+        f"line {number}: {match.group(0)!r}"
+        for number, line in _prose_lines(path.read_text())
+        for match in PROCESS_WORDS.finditer(line)
+    ]
+    assert not found, f"{_relative(path)}: words about the making of the manual:\n" + "\n".join(
+        found
+    )
+
+
+def test_the_process_words_are_found():
+    assert PROCESS_WORDS.search("Verified here (2026-11-23) with MPICH")
+    assert PROCESS_WORDS.search("20 per CI phase")
+    assert PROCESS_WORDS.search("## Left open")
+    assert not PROCESS_WORDS.search("a round-off error on a rounded punch, helpful")
+
+
+def test_every_figure_of_the_manual_is_shown_on_a_page():
+    """A figure under docs/figures that no page shows is stale weight: show it or remove it
+    (and stop the script that draws it from writing it)."""
+    shown = {
+        (path.parent / target.split("#", 1)[0]).resolve()
+        for path in MARKDOWN
+        for _, target in _targets(path.read_text())
+    }
+    unused = sorted(
+        _relative(figure)
+        for figure in (DOCS / "figures").rglob("*.png")
+        if figure.resolve() not in shown
+    )
+    assert not unused, "figures no page shows: " + ", ".join(unused)
