@@ -115,14 +115,14 @@ def _header_title(line: str) -> str:
 
 
 def _header_time(lines: list[str]) -> str:
-    """What the header's ``Time here ...: T with ...`` line says, up to its first comma or
-    parenthesis."""
+    """What the header's ``# Time: …`` line says (written by scripts/study_times.py from a
+    run it timed, with the date, machine and load average), or that it is not measured."""
     for line in lines:
-        if "Time here" in line:
-            text = line.split(":", 1)[1].strip()
-            for mark in (" (", ",", ";"):
-                text = text.split(mark, 1)[0]
-            return text.strip().rstrip(".")
+        if line.startswith("# Time: "):
+            text = line.removeprefix("# Time: ").strip().rstrip(".")
+            if text.startswith("not measured"):
+                return "not measured"
+            return text.replace("`", "").replace("|", "\\|")
     return "–"
 
 
@@ -133,7 +133,7 @@ def bundled_studies() -> str:
         header = [line for line in path.read_text().splitlines() if line.startswith("#")]
         title = _header_title(header[0]) if header else "–"
         rows.append((f"`studies/{path.name}`", title, _header_time(header)))
-    return markdown_table(("file", "what it computes", "time here (from its header)"), rows)
+    return markdown_table(("file", "what it computes", "time (from its header)"), rows)
 
 
 def _help(*command: str) -> str:

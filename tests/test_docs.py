@@ -446,3 +446,22 @@ def test_every_figure_of_the_manual_is_shown_on_a_page():
         if figure.resolve() not in shown
     )
     assert not unused, "figures no page shows: " + ", ".join(unused)
+
+
+def test_every_study_header_gives_a_measured_time_or_says_it_has_none(tmp_path):
+    """The time line of a study header is written by scripts/study_times.py from a run it
+    timed (with date, machine and load average), or says it was not measured."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    try:
+        import study_times
+    finally:
+        sys.path.remove(str(REPO / "scripts"))
+    assert study_times.main(["--check"]) == 0
+    study = tmp_path / "s.toml"
+    study.write_text(f"# A study.\n{study_times.UNMEASURED}\n# Run:  x\n\n[study]\n")
+    line = (
+        "# Time: 4.1 s with `mpiexec -n 2` (measured 2026-11-28 on X (2 cores), load average 0.5)."
+    )
+    assert study_times.MEASURED.match(line)
+    study_times.write_time(study, line)
+    assert study.read_text().splitlines()[:3] == ["# A study.", line, "# Run:  x"]
