@@ -465,3 +465,20 @@ def test_every_study_header_gives_a_measured_time_or_says_it_has_none(tmp_path):
     assert study_times.MEASURED.match(line)
     study_times.write_time(study, line)
     assert study.read_text().splitlines()[:3] == ["# A study.", line, "# Run:  x"]
+
+
+# How-to guides and tutorials answer a user's task: the code's inside is for the architecture
+# page and CONTRIBUTING.md.
+INTERNALS = re.compile(r"tests/\S+\.py|::test_\w+|`_\w+|\._[a-z]\w*|engine/[\w/]+\.py")
+
+
+@pytest.mark.parametrize("path", sorted((DOCS / "how-to").glob("*.md")) + TUTORIALS, ids=_relative)
+def test_how_to_guides_and_tutorials_send_no_reader_into_the_code(path):
+    found = [
+        f"line {number}: {match.group(0)}"
+        for number, line in _prose_lines(path.read_text())
+        for match in INTERNALS.finditer(line)
+    ]
+    assert not found, f"{_relative(path)}: test ids, private names or source paths:\n" + "\n".join(
+        found
+    )
