@@ -7,7 +7,8 @@ Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME 
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
   default, unit and meaning (``engine/study/config/keys.toml``), and ``sweepable-keys``: the
-  dotted keys ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), and
+  dotted keys ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), ``limits``: every
+  range the checks enforce, from the declarations they use, and
   ``bundled-studies``: every study of ``studies/`` with the title and time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
@@ -136,6 +137,66 @@ def bundled_studies() -> str:
     return markdown_table(("file", "what it computes", "time (from its header)"), rows)
 
 
+def _number(value: float) -> str:
+    return f"{value:g}".replace("e+0", "e").replace("e+", "e")
+
+
+def limit_rows() -> list[tuple[str, str, str, str]]:
+    """(dotted key, accepted values, unit, why) of every range the study checks enforce, read
+    from the declarations the checks themselves use: the physical ranges and ``BOUNDS`` of
+    ``engine.study.config.checks`` and the constants' ranges of ``engine.study.fatigue``."""
+    from engine.study import fatigue
+    from engine.study.config import checks
+
+    units = {f"{key.section}.{key.name}": key.unit for key in STUDY_KEYS}
+    low, high = checks.MODULUS_RANGE
+    moduli = "from gels to a rigid punch modelled as 10⁶ × steel"
+    rows = [
+        (key, f"[{_number(low)}, {_number(high)}]", "MPa", moduli)
+        for key in ("material.E_A", "material.E_B")
+    ]
+    rows.append((
+        "loading.load",
+        f"{_number(checks.MIN_PRESSURE_OVER_MODULUS)} ≤ p0/E* ≤ "
+        f"{_number(checks.MAX_PRESSURE_OVER_MODULUS)}",
+        "N (N/mm for line contacts)",
+        "p0 the mean pressure over the nominal contact: the half-space is linear elastic "
+        "(small strains)",
+    ))  # fmt: skip
+    for keys, maximum, why in (
+        (("sweep.mu1", "sweep.mu2"), checks.MAX_FRICTION, "real contacts lie below ~2"),
+        (("sweep.wear1", "sweep.wear2"), checks.MAX_WEAR_COEFFICIENT, "fretting tests: 1e-9 … 1e-6"),
+        (("sweep.alpha",), checks.MAX_ENERGY_WEAR_COEFFICIENT, "fretting tests: 1e-6 … 1e-4"),
+    ):  # fmt: skip
+        rows += [(key, f"[0, {_number(maximum)}]", units[key], why) for key in keys]
+    rows.append((
+        "solver.tol", f"(0, {_number(checks.MAX_TOLERANCE)}]", "1",
+        "a looser solve stops before doing anything meaningful",
+    ))  # fmt: skip
+    for dotted, (maximum, why) in checks.BOUNDS.items():
+        key = dotted.removesuffix(".energy")
+        if key == "loading.bulk_stress":
+            rows.append(("loading.bulk_stress_max, bulk_stress_min",
+                         f"[−{_number(maximum)}, {_number(maximum)}]", "MPa", why))  # fmt: skip
+            continue
+        unit = "mm³/J" if dotted.endswith(".energy") else units[key]
+        if key == "wear.pad_coefficient":
+            unit = "mm³/J (energy law)" if dotted.endswith(".energy") else "1/MPa (Archard)"
+        rows.append((key, f"≤ {_number(maximum)}", unit, why))
+    for name, (low, high, why) in fatigue.CONSTANT_RANGES.items():
+        rows.append((f"fatigue.{name}", f"[{_number(low)}, {_number(high)}]",
+                     units[f"fatigue.{name}"], why))  # fmt: skip
+    rows.append(("fatigue.length", f"(0, {_number(fatigue.MAX_LENGTH)}]", "mm",
+                 "the critical distance"))  # fmt: skip
+    return rows
+
+
+def limits() -> str:
+    """Every range a value of a study file must lie in, with its unit and why."""
+    rows = [(f"`{key}`", accepted, unit, why) for key, accepted, unit, why in limit_rows()]
+    return markdown_table(("key", "accepted", "unit", "why"), rows)
+
+
 def _help(*command: str) -> str:
     """``python -m engine ... --help`` at a fixed width, in a text block."""
     environment = dict(os.environ, COLUMNS="100")
@@ -151,6 +212,7 @@ BLOCKS = {
     (STUDY_FILE, "study-keys"): study_keys,
     (STUDY_FILE, "sweepable-keys"): sweepable_keys,
     (STUDY_FILE, "bundled-studies"): bundled_studies,
+    (STUDY_FILE, "limits"): limits,
     (OUTPUTS, "summary-columns"): summary_columns,
     (OUTPUTS, "datasets"): datasets,
     (CLI, "cli-run"): lambda: _help(),

@@ -482,3 +482,86 @@ def test_how_to_guides_and_tutorials_send_no_reader_into_the_code(path):
     assert not found, f"{_relative(path)}: test ids, private names or source paths:\n" + "\n".join(
         found
     )
+
+
+# ------------------------------------------------------------- the limits of the study file
+def _limit_rows():
+    sys.path.insert(0, str(REPO / "scripts"))
+    try:
+        from reference import limit_rows
+    finally:
+        sys.path.remove(str(REPO / "scripts"))
+    return limit_rows()
+
+
+_WEAR = {"sweep": {"mu1": [0.3], "wear1": [1.33e-7]}}
+_LINE = {
+    "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},
+    "punch": {"shape": "cylinder", "radius": 6.0},
+}
+_SPHERE = {
+    "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},
+    "punch": {"shape": "sphere", "radius": 10.0},
+}
+_FATIGUE = {
+    "criteria": ["crossland", "dang_van", "swt", "fatemi_socie"],
+    "sigma_d": 500.0, "tau_d": 320.0, "sigma_f": 1200.0, "b": -0.09, "eps_f": 0.6,
+    "c": -0.6, "tau_f": 700.0, "gamma_f": 0.9, "b0": -0.09, "c0": -0.6, "k": 0.5,
+    "sigma_y": 900.0, "method": "point", "length": 0.02,
+}  # fmt: skip
+
+
+def _beyond(key: str, accepted: str, unit: str) -> list[dict]:
+    """Study layers with ``key`` just outside the range ``accepted`` the reference states."""
+    section, name = key.split(".", 1)
+    numbers = [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e-?\d+)?", accepted)]
+    high = numbers[-1]
+    fretting = {"loading": {"kind": "fretting", "amplitude": 0.001}}
+    if key == "loading.load":
+        return [_WEAR, {"loading": {"load": 1e9}}]  # p0/E* = 420 on the base flat punch
+    if section == "fatigue":
+        value = numbers[0] - 1.0 if numbers[0] < 0 else high * 2 + 1
+        return [_WEAR, _SPHERE, fretting, {"fatigue": dict(_FATIGUE, **{name: value})}]
+    value = high * 2 + 1
+    integers = {"steps", "cycles", "n", "layers", "maxiter", "threads"}
+    if name in integers:
+        value = int(value)
+    if key.startswith("loading.bulk_stress"):
+        return [_LINE, fretting, {"loading": {"load": 185.0, "bulk_stress_max": value}}]
+    if key == "wear.pad_coefficient":
+        energy = "mm³/J" in unit
+        layers = [_LINE, {"loading": {"load": 185.0}}, {"wear": {"pad_coefficient": value}}]
+        if energy:
+            layers += [{"wear": {"law": "energy"}, "sweep": {"mu1": [0.3], "alpha": [1e-5]}}]
+        return [_WEAR] + layers
+    if key == "mesh.reference_distance":
+        return [_WEAR, _LINE, {"loading": {"load": 185.0}, "mesh": {name: value}}]
+    if key == "punch.edge_radius":
+        return [_WEAR, {"punch": {"shape": "rounded", "radius": 1.0, name: value}}]
+    if key == "loading.amplitude":
+        return [_SPHERE, fretting, {"loading": {name: value}}]
+    if key == "sweep.alpha":
+        return [{"wear": {"law": "energy"}, "sweep": {"mu1": [0.3], "alpha": [value]}}]
+    if key == "sweep.mu2":
+        return [_WEAR, {"sweep": {"mu2": [value]}}]
+    if section == "sweep":
+        return [_WEAR, {"sweep": {name: [value]}}]
+    return [_WEAR, {section: {name: value}}]
+
+
+@pytest.mark.parametrize(
+    "row", _limit_rows(), ids=lambda row: f"{row[0]} {row[2]}".replace(" ", "_")
+)
+def test_every_limit_of_the_reference_is_enforced_and_named(row):
+    """A value just outside each range of the generated limits table is refused by the
+    study checks, with the key in the message: the table states what the code enforces."""
+    from engine.study.config import StudyConfigError, parse_study
+    from engine.study.examples import study_toml
+
+    key, accepted, unit, _ = row
+    first = key.split(",")[0]
+    text = study_toml("limits", "limits.h5", *_beyond(first, accepted, unit))
+    with pytest.raises(StudyConfigError) as error:
+        parse_study(text)
+    section, name = first.split(".", 1)
+    assert f"[{section}] {name}" in str(error.value), str(error.value)
