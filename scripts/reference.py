@@ -141,6 +141,9 @@ def _number(value: float) -> str:
     return f"{value:g}".replace("e+0", "e").replace("e+", "e")
 
 
+FRETTING_WEAR = "fretting tests: 1e-9 … 1e-6"
+
+
 def limit_rows() -> list[tuple[str, str, str, str]]:
     """(dotted key, accepted values, unit, why) of every range the study checks enforce, read
     from the declarations the checks themselves use: the physical ranges and ``BOUNDS`` of
@@ -165,7 +168,7 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
     ))  # fmt: skip
     for keys, maximum, why in (
         (("sweep.mu1", "sweep.mu2"), checks.MAX_FRICTION, "real contacts lie below ~2"),
-        (("sweep.wear1", "sweep.wear2"), checks.MAX_WEAR_COEFFICIENT, "tests: 1e-9 … 1e-6"),
+        (("sweep.wear1", "sweep.wear2"), checks.MAX_WEAR_COEFFICIENT, FRETTING_WEAR),
         (("sweep.alpha",), checks.MAX_ENERGY_WEAR_COEFFICIENT, "fretting tests: 1e-6 … 1e-4"),
     ):  # fmt: skip
         rows += [(key, f"[0, {_number(maximum)}]", units[key], why) for key in keys]
