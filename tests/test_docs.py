@@ -288,31 +288,69 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
         assert units[dotted] == unit, dotted
 
 
-def test_the_constant_defaults_of_the_key_table_are_the_parsers():
-    """Every default written as a plain number or text is the value a study without the key
-    resolves to (a cyclic study: the static defaults differ only where the table says so)."""
+def _default_study(section: str, name: str) -> str:
+    """A valid study in which ``[section] name`` is absent: the kind of study the key belongs
+    to (a line fretting case for the bulk stress, a search for [search], …)."""
+    from engine.study.examples import CYLINDER_ON_STEEL, SPHERE_ON_STEEL, study_toml
+
+    wear = {"sweep": {"mu1": [0.3], "wear1": [1.33e-7]}}
+    fretting = {"loading": {"kind": "fretting", "amplitude": 0.001}}
+    drop = {section: {name: None}}
+    if (section, name) in {("loading", "bulk_stress_max"), ("loading", "bulk_stress_min"),
+                           ("mesh", "reference_distance")}:  # fmt: skip
+        layers = [wear, CYLINDER_ON_STEEL, fretting, {"loading": {"load": 185.0}}]
+    elif section == "search":
+        search = {
+            "parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2,
+            "column": "slip_regime", "target": "gross", "rtol": 1e-3,
+        }  # fmt: skip
+        if name == "rtol":
+            search.update(rtol=None, atol=1e-6)
+        layers = [wear, SPHERE_ON_STEEL, {"loading": {"kind": "fretting"}}, {"search": search}]
+    elif section == "fatigue":
+        fatigue = {"criteria": ["crossland"], "sigma_d": 500.0, "tau_d": 320.0}
+        layers = [wear, SPHERE_ON_STEEL, fretting, {"fatigue": fatigue}]
+    elif section == "loading" and name == "direction":
+        layers = [wear, SPHERE_ON_STEEL, fretting]
+    elif (section, name) == ("sweep", "zip"):
+        layers = [wear, {"loading": {"load": None}, "sweep": {"loading.load": [100.0, 200.0]}}]
+    else:
+        layers = [wear]
+    return study_toml("defaults", "defaults.h5", *layers, drop)
+
+
+def test_every_constant_default_of_the_key_table_is_the_parsers():
+    """Every default the study-file reference writes as a plain number, text or list is the
+    value a study without the key resolves to, each in a study of the kind the key belongs to
+    (the defaults stated in words depend on other keys: they are checked by the tests of the
+    sections that compute them)."""
     import json
-    import tomllib
 
     from engine.study.config import parse_study
     from engine.study.config.keys import STUDY_KEYS
-    from engine.study.examples import study_toml
 
-    text = study_toml("keys", "keys.h5", sweep={"wear1": [1.33e-7]})
-    given = tomllib.loads(text)
-    resolved = parse_study(text).resolved()
-    checked = 0
+    unchecked = []
     for key in STUDY_KEYS:
         try:
             default = json.loads(key.default)
         except json.JSONDecodeError:
             continue  # a default that depends on other keys, stated in words
-        if key.name in given.get(key.section, {}):
-            continue  # set by the study, not defaulted
-        if key.section in resolved and key.name in resolved[key.section]:
-            assert resolved[key.section][key.name] == default, f"[{key.section}] {key.name}"
-            checked += 1
-    assert checked >= 6
+        config = parse_study(_default_study(key.section, key.name))
+        resolved = config.resolved().get(key.section) or {}
+        if (key.section, key.name) == ("sweep", "zip"):
+            value = [list(axis.keys) for axis in config.sweep.axes if len(axis.keys) > 1]
+        elif key.name in resolved:
+            value = resolved[key.name]
+        elif hasattr(getattr(config, key.section, None), key.name):
+            value = getattr(getattr(config, key.section), key.name)
+        else:
+            unchecked.append(f"[{key.section}] {key.name}")
+            continue
+        value = list(value) if isinstance(value, tuple) else value
+        if key.section == "sweep" and key.name == "beta":
+            value = list(value)
+        assert value == default, f"[{key.section}] {key.name}: {value!r}, the table: {default!r}"
+    assert not unchecked, "defaults no study resolves: " + ", ".join(unchecked)
 
 
 # ------------------------------------------------------------ measured numbers carry their run
