@@ -307,9 +307,13 @@ def _default_study(section: str, name: str) -> str:
         if name == "rtol":
             search.update(rtol=None, atol=1e-6)
         layers = [wear, SPHERE_ON_STEEL, {"loading": {"kind": "fretting"}}, {"search": search}]
-    elif section == "fatigue":
-        fatigue = {"criteria": ["crossland"], "sigma_d": 500.0, "tau_d": 320.0}
+    elif section == "fatigue":  # every criterion, so every constant is needed
+        fatigue = dict(_FATIGUE, length=None) if name == "method" else _FATIGUE
         layers = [wear, SPHERE_ON_STEEL, fretting, {"fatigue": fatigue}]
+    elif (section, name) == ("punch", "edge_radius"):
+        layers = [wear, {"punch": {"shape": "rounded", "radius": 1.0, "edge_radius": 0.2}}]
+    elif (section, name) == ("sweep", "alpha"):
+        layers = [{"wear": {"law": "energy"}, "sweep": {"mu1": [0.3], "alpha": [1e-5]}}]
     elif section == "loading" and name == "direction":
         layers = [wear, SPHERE_ON_STEEL, fretting]
     elif (section, name) == ("sweep", "zip"):
@@ -603,3 +607,88 @@ def test_every_limit_of_the_reference_is_enforced_and_named(row):
         parse_study(text)
     section, name = first.split(".", 1)
     assert f"[{section}] {name}" in str(error.value), str(error.value)
+
+
+def test_every_default_stated_in_words_is_what_the_parser_does():
+    """The defaults the study-file reference states in words (they depend on other keys),
+    one assert each, so that every default of the table is tested by one of the two tests."""
+    from engine.study.config import parse_study
+    from engine.study.config.keys import STUDY_KEYS
+    from engine.study.examples import CYLINDER_ON_STEEL, SPHERE_ON_STEEL, study_toml
+    from engine.study.plan import make_plan
+
+    wear = {"sweep": {"mu1": [0.3, 0.5], "wear1": [1.33e-7]}}
+
+    def parsed(*layers, **sections):
+        return parse_study(study_toml("words", "words.h5", wear, *layers, **sections))
+
+    worded = {
+        f"{key.section}.{key.name}"
+        for key in STUDY_KEYS
+        if not key.default.startswith("required") and not _is_json(key.default)
+    }
+    checked = set()
+    # half_width: flat 1.05·radius; rounded 1.05·(radius + edge_radius); sphere 1.5 Hertz radii
+    assert parsed(mesh={"half_width": None}).mesh.half_width == pytest.approx(1.05 * 1.8)
+    rounded = parsed(punch={"shape": "rounded", "radius": 1.0, "edge_radius": 0.2})
+    assert rounded.mesh.half_width == pytest.approx(1.05 * 1.2)
+    sphere = parsed(SPHERE_ON_STEEL, loading={"kind": "static"})
+    assert sphere.mesh.half_width == pytest.approx(1.5 * sphere.contact_length)
+    checked.add("mesh.half_width")
+    # record: [cycles]
+    assert parsed(loading={"record": None, "cycles": 300}).loading.record == (300,)
+    checked.add("loading.record")
+    # amplitude, force_amplitude: one of the two
+    fretting = {"kind": "fretting"}
+    with pytest.raises(Exception, match="amplitude"):
+        parsed(SPHERE_ON_STEEL, loading=fretting)
+    with pytest.raises(Exception, match="amplitude"):
+        parsed(SPHERE_ON_STEEL, loading=dict(fretting, amplitude=1e-3, force_amplitude=1.0))
+    checked |= {"loading.amplitude", "loading.force_amplitude"}
+    # bulk stresses: none; pad_coefficient: none
+    line = parsed(CYLINDER_ON_STEEL, loading=dict(fretting, amplitude=1e-3, load=185.0))
+    assert line.loading.bulk_stress_max is None and line.loading.bulk_stress_min is None
+    assert line.wear.pad_coefficient is None
+    checked |= {"loading.bulk_stress_max", "loading.bulk_stress_min", "wear.pad_coefficient"}
+    # mu2 = mu1, wear2 = wear1 in every case
+    for case in make_plan(parsed()).cases:
+        assert (case.mu2, case.wear2) == (case.mu1, case.wear1)
+    checked |= {"sweep.mu2", "sweep.wear2"}
+    # search.method: bisection for a text column, illinois for a number
+    search = {"parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2, "rtol": 1e-3}
+    for column, target, method in (("slip_regime", "gross", "bisection"),
+                                   ("q_amplitude", 10.0, "illinois")):  # fmt: skip
+        config = parsed(SPHERE_ON_STEEL, loading=fretting,
+                        search=dict(search, column=column, target=target))  # fmt: skip
+        assert config.resolved()["search"]["method"] == method
+    checked.add("search.method")
+    # solver.tol: 1e-8 static, 1e-6 cyclic and fretting
+    assert parsed(loading={"kind": "static"}).solver.tol == 1e-8
+    assert parsed().solver.tol == 1e-6
+    assert parsed(SPHERE_ON_STEEL, loading=dict(fretting, amplitude=1e-3)).solver.tol == 1e-6
+    checked.add("solver.tol")
+    assert worded == checked, f"worded defaults without a check: {sorted(worded - checked)}"
+
+
+def _is_json(text: str) -> bool:
+    import json
+
+    try:
+        json.loads(text)
+    except json.JSONDecodeError:
+        return False
+    return True
+
+
+def test_every_required_key_is_required():
+    """A key the reference marks required (for the kind, shape, law or criterion it names)
+    is refused when missing from a study that needs it, with its name in the message."""
+    from engine.study.config import StudyConfigError, parse_study
+    from engine.study.config.keys import STUDY_KEYS
+
+    required = [key for key in STUDY_KEYS if key.default.startswith("required")]
+    assert len(required) > 30
+    for key in required:
+        with pytest.raises(StudyConfigError) as error:
+            parse_study(_default_study(key.section, key.name))
+        assert f"[{key.section}] {key.name}" in str(error.value), str(error.value)
