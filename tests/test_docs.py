@@ -632,8 +632,11 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
     assert parsed(mesh={"half_width": None}).mesh.half_width == pytest.approx(1.05 * 1.8)
     rounded = parsed(punch={"shape": "rounded", "radius": 1.0, "edge_radius": 0.2})
     assert rounded.mesh.half_width == pytest.approx(1.05 * 1.2)
-    sphere = parsed(SPHERE_ON_STEEL, loading={"kind": "static"})
-    assert sphere.mesh.half_width == pytest.approx(1.5 * sphere.contact_length)
+    for shape in (SPHERE_ON_STEEL, CYLINDER_ON_STEEL, {"punch": {"shape": "pad", "radius": 0.1,
+                                                                "edge_radius": 5.0}}):  # fmt: skip
+        load = 100.0 if shape is SPHERE_ON_STEEL else 185.0
+        contact = parsed(shape, loading={"kind": "static", "load": load}, mesh={"half_width": None})
+        assert contact.mesh.half_width == pytest.approx(1.5 * contact.contact_length)
     checked.add("mesh.half_width")
     # record: [cycles]
     assert parsed(loading={"record": None, "cycles": 300}).loading.record == (300,)
