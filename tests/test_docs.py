@@ -695,3 +695,43 @@ def test_every_required_key_is_required():
         with pytest.raises(StudyConfigError) as error:
             parse_study(_default_study(key.section, key.name))
         assert f"[{key.section}] {key.name}" in str(error.value), str(error.value)
+
+
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r"`", "", heading.strip().lower())
+    text = re.sub(r"[^\w\- ]", "", text)
+    return text.replace(" ", "-")
+
+
+def _anchors(path: Path) -> set[str]:
+    return {
+        _slug(line.lstrip("#"))
+        for _, line in _prose_lines(path.read_text())
+        if re.match(r"^#{1,6} ", line)
+    }
+
+
+@pytest.mark.parametrize("path", MARKDOWN, ids=_relative)
+def test_every_link_to_a_heading_finds_it(path):
+    """Anchors as GitHub renders them (the site's build checks them the same way)."""
+    missing = []
+    for number, target in _targets(path.read_text()):
+        if re.match(r"^[a-z][a-z0-9+.-]*:", target) or "#" not in target:
+            continue
+        name, anchor = target.split("#", 1)
+        page = (path.parent / name).resolve() if name else path
+        if page.suffix == ".md" and page.exists() and anchor not in _anchors(page):
+            missing.append(f"line {number}: {target}")
+    assert not missing, f"{_relative(path)}: links to headings that do not exist:\n" + "\n".join(
+        missing
+    )
+
+
+def test_the_heading_anchors_are_githubs():
+    assert _slug("Convergence (`studies/mesh_convergence.toml`)") == (
+        "convergence-studiesmesh_convergencetoml"
+    )
+    assert _slug("Friction: the orthotropic Coulomb cone rotated by β") == (
+        "friction-the-orthotropic-coulomb-cone-rotated-by-β"
+    )
