@@ -33,7 +33,6 @@ nitpicky = True
 # (and a link to a heading that does not exist is a warning, hence an error).
 myst_heading_anchors = 6
 myst_enable_extensions = ["html_image"]
-suppress_warnings = ["myst.header"]  # pages may start at ## under a # title of their own
 
 # The API reference: numpydoc docstrings. Every public function and class has a summary line,
 # every parameter and the return value documented (numpydoc's validation codes; a failure is
