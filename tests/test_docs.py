@@ -735,3 +735,37 @@ def test_the_heading_anchors_are_githubs():
     assert _slug("Friction: the orthotropic Coulomb cone rotated by β") == (
         "friction-the-orthotropic-coulomb-cone-rotated-by-β"
     )
+
+
+# Paths of the repository and dotted names of the engine that a page quotes in code spans.
+_QUOTED_PATH = re.compile(r"`((?:engine|scripts|benchmarks|tests|studies|slurm)/[\w./-]+)`")
+_QUOTED_NAME = re.compile(r"`(engine(?:\.\w+)+)")
+
+
+def _exists(dotted: str) -> bool:
+    import importlib
+
+    parts = dotted.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            target = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for part in parts[split:]:
+            if not hasattr(target, part):
+                return False
+            target = getattr(target, part)
+        return True
+    return False
+
+
+@pytest.mark.parametrize("path", MARKDOWN, ids=_relative)
+def test_every_path_and_name_a_page_quotes_exists(path):
+    text = path.read_text()
+    missing = [
+        quoted
+        for quoted in _QUOTED_PATH.findall(text)
+        if not (REPO / quoted.split("::")[0]).exists()
+    ]
+    missing += [name for name in _QUOTED_NAME.findall(text) if not _exists(name)]
+    assert not missing, f"{_relative(path)}: quotes what does not exist: " + ", ".join(missing)
