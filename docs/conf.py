@@ -56,21 +56,16 @@ intersphinx_mapping = {
     }.items()
 }
 
-# The pages of the site in the order of the manual's index; index.md itself keeps plain links,
-# readable on GitHub, and the table of contents is added here for the site only.
-TOCTREE = """
+# The pages of the site in the order the manual's index links them; index.md itself keeps
+# plain links, readable on GitHub, and the table of contents is added here for the site only.
+PAGE_LINK = re.compile(
+    r"\]\(((?:tutorials|how-to|reference|explanation)/[\w/.-]+?)(?:\.md|\.rst)\)"
+)
 
-```{toctree}
-:hidden:
-:glob:
 
-tutorials/*
-how-to/*
-reference/*
-reference/api/index
-explanation/*
-```
-"""
+def _toctree(index_text: str) -> str:
+    pages = list(dict.fromkeys(PAGE_LINK.findall(index_text)))
+    return "\n\n```{toctree}\n:hidden:\n\n" + "\n".join(pages) + "\n```\n"
 
 
 # A link from a page to a Markdown file outside docs/ (the README, the changelog, the
@@ -94,7 +89,7 @@ def _read(app, docname, source):
     if page.suffix == ".md":
         source[0] = _outside_links_as_downloads(source[0], page)
     if docname == root_doc:
-        source[0] += TOCTREE
+        source[0] += _toctree(source[0])
 
 
 def setup(app):
