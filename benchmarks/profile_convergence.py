@@ -13,7 +13,7 @@ beside it: its edge values grow without bound.
 With the paper's numbers (P = 750 N, b = 1.8 mm, E_B = 100 E_A = 20 000 GPa) the edge zone is
 far smaller: a − b = 0.0015 b for ρ = 0.1 b (0.0009 b for ρ = 0.05 b), a fifth of the
 element at 256², so the 256² solution of the rounded punch is still that of a flat punch
-(see docs/how-to/sweeps-and-profiles.md).
+(see docs/explanation/profiles.md).
 
 Sphere: R = 10 mm, P = 750 N, paper materials, half width 1.5 a_Hertz, frictionless; contact
 radius (from the contact area), approach, peak pressure and the axis σ_VM maximum (value,
@@ -160,7 +160,7 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256])
     parser.add_argument(
         "--update-docs", action="store_true",
-        help="write both tables into docs/how-to/sweeps-and-profiles.md (profile-convergence)",
+        help="write both tables into docs/explanation/profiles.md (profile-convergence)",
     )  # fmt: skip
     args = parser.parse_args()
     rounded = rounded_table(args.sizes)
@@ -168,7 +168,7 @@ def main():
     if args.update_docs:
         from engine.analysis.markdown import measured_on, replace_block
 
-        document = REPO / "docs" / "how-to" / "sweeps-and-profiles.md"
+        document = REPO / "docs" / "explanation" / "profiles.md"
         note = "`python benchmarks/profile_convergence.py --update-docs`, one core"
         text = f"{measured_on(note)}\nRounded punch against its reference:\n\n{rounded}\n"
         text += f"Sphere against Hertz:\n\n{sphere}"

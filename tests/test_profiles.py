@@ -1,7 +1,7 @@
 """Punch profiles beyond the sharp flat punch (issue 12.2–12.3): sphere vs Hertz, rounded
 punch vs an independent axisymmetric computation (Sneddon's integrals, no grid) and vs the
 flat punch, and the mesh-border check. Each tolerance states its reason; 256² figures come
-from ``benchmarks/profile_convergence.py`` (docs/how-to/sweeps-and-profiles.md)."""
+from ``benchmarks/profile_convergence.py`` (docs/explanation/profiles.md)."""
 
 from __future__ import annotations
 
