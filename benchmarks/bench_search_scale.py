@@ -198,7 +198,7 @@ def main() -> None:
     )
     parser.add_argument(
         "--update-docs", action="store_true",
-        help="write the table into docs/how-to/threshold-search.md (block bench-search-scale)",
+        help="write the table into docs/explanation/searches.md (block bench-search-scale)",
     )  # fmt: skip
     parser.add_argument("--plain", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--child", type=Path, default=None, help=argparse.SUPPRESS)
@@ -260,7 +260,7 @@ def write_docs(rows, args, load: float) -> None:
         f"--update-docs`, synthetic cases of {0.5 * args.case_ms:g}–{1.5 * args.case_ms:g} ms"
     )
     text = measured_on(note) + "\n\n" + markdown_table(header, rows)
-    replace_block(REPO / "docs" / "how-to" / "threshold-search.md", "bench-search-scale", text)
+    replace_block(REPO / "docs" / "explanation" / "searches.md", "bench-search-scale", text)
 
 
 if __name__ == "__main__":
