@@ -126,7 +126,7 @@ def load_thresholds(path):
 
 def load_calibration(path):
     """The calibration table of a study with a ``[calibrate]`` section, as a
-    :class:`pandas.DataFrame` (:func:`engine.output.calibration.load_calibration`).
+    :class:`pandas.DataFrame` (``engine.output.calibration.load_calibration``).
 
     Parameters
     ----------
