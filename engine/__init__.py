@@ -154,7 +154,7 @@ def load_calibration(path):
 
 def load_ensemble(path):
     """Statistics over the realisations of a study sweeping ``surface.seed`` as a
-    :class:`pandas.DataFrame` (:func:`engine.output.ensemble.load_ensemble`), computed from
+    :class:`pandas.DataFrame` (``engine.output.ensemble.load_ensemble``), computed from
     the summary (the same table as ``NAME_ensemble.csv``).
 
     Parameters

@@ -288,6 +288,21 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
         assert units[dotted] == unit, dotted
 
 
+_SELF_AFFINE = {"kind": "self_affine", "long_cutoff": 0.4, "short_cutoff": 0.15, "rms_height": 3e-4}
+_FILE_SURFACE_KEYS = {"path", "pixel_size", "units", "detrend"}
+
+
+def _height_map_surface() -> dict:
+    """A [surface] of kind "file": a flat 16 × 16 height map (.npy) in a folder of its own."""
+    import tempfile
+
+    import numpy as np
+
+    path = Path(tempfile.mkdtemp(prefix="heights")) / "heights.npy"
+    np.save(path, np.zeros((16, 16)))
+    return {"kind": "file", "path": str(path), "pixel_size": 0.1}
+
+
 def _default_study(section: str, name: str) -> str:
     """A valid study in which ``[section] name`` is absent: the kind of study the key belongs
     to (a line fretting case for the bulk stress, a search for [search], …)."""
@@ -316,6 +331,9 @@ def _default_study(section: str, name: str) -> str:
         layers = [{"wear": {"law": "energy"}, "sweep": {"mu1": [0.3], "alpha": [1e-5]}}]
     elif section == "loading" and name == "direction":
         layers = [wear, SPHERE_ON_STEEL, fretting]
+    elif section == "surface":
+        surface = _height_map_surface() if name in _FILE_SURFACE_KEYS else dict(_SELF_AFFINE)
+        layers = [wear, SPHERE_ON_STEEL, {"mesh": {"n": 32}, "surface": surface}]
     elif (section, name) == ("sweep", "zip"):
         layers = [wear, {"loading": {"load": None}, "sweep": {"loading.load": [100.0, 200.0]}}]
     else:
@@ -670,6 +688,11 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
     assert parsed().solver.tol == 1e-6
     assert parsed(SPHERE_ON_STEEL, loading=dict(fretting, amplitude=1e-3)).solver.tol == 1e-6
     checked.add("solver.tol")
+    # rms_height, rms_slope: one of the two (self_affine)
+    surface = {"surface": dict(_SELF_AFFINE, rms_height=None), "mesh": {"n": 32}}
+    with pytest.raises(Exception, match="rms_height"):
+        parsed(SPHERE_ON_STEEL, surface)
+    checked |= {"surface.rms_height", "surface.rms_slope"}
     assert worded == checked, f"worded defaults without a check: {sorted(worded - checked)}"
 
 
