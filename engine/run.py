@@ -544,6 +544,7 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
     from engine.output.ensemble import write_ensemble
     from engine.output.hdf5 import StoppedDuringSetUp
     from engine.output.progress import WorkerProgress
+    from engine.output.space import OutputFull
     from engine.output.writers import open_writer
     from engine.parallel.scheduler import Scheduler
     from engine.study.case import CaseRunner
@@ -587,6 +588,11 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
                 scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
                 _check_shares(comm, config, None)  # nothing written: nothing to read back
         return {"status": "interrupted", "message": str(stopped)}
+    except OutputFull as full:  # the single writer's rank 0 (mpio raises on every rank)
+        if not writer.collective:
+            scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
+            _check_shares(comm, config, None)
+        return {"status": "output-full", "message": str(full)}
     with writer:
         if rank == 0:
             todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
@@ -737,14 +743,19 @@ def _run_with_progress(
 
     def on_outcome(outcome):
         writer.write(outcome)
-        progress.update(outcome)
+        for committed in writer.committed(outcome):  # announced once on disk
+            progress.update(committed)
         if writer.full is not None:  # no space for more cases: stop handing them out
             stop_event.set()
 
     try:
         if searches is not None:
-            return searches.run(scheduler, writer, progress, on_outcome, on_poll=channel.drain)
-        return scheduler.run(todo, on_outcome, on_poll=channel.drain)
+            report = searches.run(scheduler, writer, progress, on_outcome, on_poll=channel.drain)
+        else:
+            report = scheduler.run(todo, on_outcome, on_poll=channel.drain)
+        for committed in writer.commit():
+            progress.update(committed)
+        return report
     finally:
         channel.drain()  # reports that arrived with the last results
         progress.close()

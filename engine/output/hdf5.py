@@ -80,7 +80,17 @@ from .checksum import (
 from .ensemble import ensemble_path
 from .lowlevel import attach_scales, create_dataset, make_scale, set_attribute
 from .packed import PackedOutcome, pack, unpack
-from .space import MARGIN, OutputFull, case_bytes, ensure_space, is_no_space
+from .space import (
+    CLAIM_SLACK,
+    MARGIN,
+    OutputFull,
+    SpareFile,
+    case_bytes,
+    claim,
+    ensure_space,
+    is_no_space,
+    unclaim,
+)
 from .summary import pending_row, write_summary_csv
 from .thresholds import thresholds_path
 
@@ -362,6 +372,7 @@ class ResultsWriter:
         if not exists:
             self._create(plan, metadata)
         self._file = self._open(self.path, "a")
+        claim_for(self._file, PENDING_GROUP_BYTES * len(plan), self.path)
         cases = self._file.require_group(CASES_GROUP)
         completed: set[str] = set()
         stale: list[str] = []
@@ -396,6 +407,7 @@ class ResultsWriter:
         temporary = creating_path(self.path)
         stopped = False
         with self._open(temporary, "w") as file:
+            claim_for(file, PENDING_GROUP_BYTES * len(plan), temporary)
             write_root(file, metadata)
             cases = file.create_group(CASES_GROUP)
             for number, case in enumerate(plan):
@@ -501,6 +513,17 @@ class ResultsWriter:
     def rows(self) -> list[dict[str, Any]]:
         return [self._rows[case_id] for case_id in self._order]
 
+    def committed(self, outcome: CaseOutcome) -> list[CaseOutcome]:
+        """The outcomes whose completion flags are on disk since the last call, after
+        ``write(outcome)``: what the run may announce. Here: ``outcome`` (written whole at
+        once); a strategy that commits flags in batches returns them as they are committed."""
+        return [outcome]
+
+    def commit(self) -> list[CaseOutcome]:
+        """Commit every flag written so far (the scheduling has ended); the outcomes
+        committed since the last call."""
+        return []
+
     def computing(self, run_case):
         """What a rank > 0 runs per case: ``run_case`` itself unless the strategy writes there."""
         return run_case
@@ -527,6 +550,30 @@ class ResultsWriter:
             self.close()
 
 
+SUMMARY_ROW_BYTES = 1024  # bytes a row of the summary CSV takes at most (for the spare file)
+
+
+def file_descriptor(file: h5py.File) -> int | None:
+    """The operating-system descriptor of an open file (HDF5's default driver), or None."""
+    if file.driver != "sec2":
+        return None
+    try:
+        return int(file.id.get_vfd_handle())
+    except Exception:  # noqa: BLE001 - no descriptor to be had: no claims
+        return None
+
+
+PENDING_GROUP_BYTES = 4096  # bytes a pending case group takes in the file (attributes)
+
+
+def claim_for(file: h5py.File, needed: int, path: Path) -> None:
+    """Claim ``needed`` bytes (and the slack) past the end of the open ``file`` before writing
+    them (:func:`engine.output.space.claim`; nothing for a driver without a descriptor)."""
+    descriptor = file_descriptor(file)
+    if descriptor is not None:
+        claim(descriptor, needed + CLAIM_SLACK, path)
+
+
 class SingleWriter(ResultsWriter):
     """Rank 0 is the only writer: it owns the open file; outcomes of other ranks reach it by MPI.
 
@@ -536,7 +583,11 @@ class SingleWriter(ResultsWriter):
 
     def __init__(self, path, summary_path=None, *, drop_stale=False, should_stop=None) -> None:
         super().__init__(path, summary_path, drop_stale=drop_stale, should_stop=should_stop)
-        self._unflagged: list[tuple[h5py.Group, str]] = []  # written, status not yet set
+        self._unflagged: list[tuple[h5py.Group, CaseOutcome]] = []  # status not yet set
+        self._announce: list[CaseOutcome] = []  # flags committed, not yet announced
+        self._descriptor: int | None = None  # the open file's descriptor (space claims)
+        self._broken = False  # a write failed inside HDF5: the open file is unusable
+        self._spare = SpareFile(self.path)
         self._pristine: set[str] = set()  # cases whose pending group nothing has touched yet
         self._cases: h5py.Group | None = None  # the open file's /cases (set by prepare)
         self.flag_spacing = 10.0
@@ -544,60 +595,139 @@ class SingleWriter(ResultsWriter):
         self._commit_cost = 0.0
 
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
-        completed = super().prepare(plan, metadata, fresh=fresh)
+        """:meth:`ResultsWriter.prepare`; a full disk meanwhile raises
+        :class:`engine.output.space.OutputFull` (a new file is not left behind; a resumed
+        one is as its last run left it or, where HDF5 failed half-way, salvaged by the next
+        run)."""
+        try:
+            completed = super().prepare(plan, metadata, fresh=fresh)
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._broken = not isinstance(error, OutputFull)
+            if self._file is not None:
+                self._close_file()
+            creating_path(self.path).unlink(missing_ok=True)
+            if isinstance(error, OutputFull):
+                raise
+            raise OutputFull(self.path, PENDING_GROUP_BYTES * len(plan)) from None
         self._cases = self._file[CASES_GROUP]
+        self._descriptor = file_descriptor(self._file)
+        self._spare.hold(SUMMARY_ROW_BYTES * len(self._order) + CLAIM_SLACK)
         # every case of the plan not completed has a pristine pending group now
         self._pristine = set(plan.case_ids) - completed
         return completed
 
     def close(self) -> None:
+        """Commit the last flags, close the file, write the summary. On a full disk what can
+        still be committed is (the spare blocks are given back for it), the summary is
+        written if it fits; the file is closed whatever happens."""
         if self._file is None:
             return
-        try:
-            self._commit_flags(force=True)
-            self._file.flush()
-        except Exception as error:
-            if not is_no_space(error):
-                raise
-            self._became_full(error, MARGIN)
-        with contextlib.suppress(Exception) if self.full else contextlib.nullcontext():
-            self._file.close()
-        self._file = None
+        if not self._broken:
+            try:
+                self._claim(0)
+                self._commit_flags(force=True)
+                self._file.flush()
+            except Exception as error:
+                if not is_no_space(error):
+                    raise
+                self._became_full(error, MARGIN)
+        self._close_file()
+        if self.full is not None:
+            self._spare.release()  # room for the summary
         try:
             self._write_summary(force=True)
         except OSError as error:  # the next run rewrites the summary from the file
             if not is_no_space(error):
                 raise
             self.full = self.full or OutputFull(self.path, MARGIN)
+        self._spare.release()
+
+    def _close_file(self) -> None:
+        """Close the HDF5 file, then give back the blocks claimed past its end. A file whose
+        library state a failed write broke is closed quietly (HDF5 cannot flush it again;
+        the file on disk is as the last successful flush left it)."""
+        file, self._file = self._file, None
+        if self._broken:
+            with _quiet_unraisable(), contextlib.suppress(Exception):
+                file.close()
+        else:
+            file.close()
+        unclaim(self.path)
 
     def write(self, outcome: CaseOutcome) -> None:
         """Write one case: datasets and attributes now; its ``status`` (the completion flag) at
         the next commit of flags (:meth:`_commit_flags`): flush, statuses, flush.
 
-        A case that does not fit on the file system is not begun; the writer is then ``full``
-        (:class:`engine.output.space.OutputFull`) and writes nothing more: the cases written
-        so far stay complete, the rest is computed by the next run."""
+        The space a case takes is claimed before it is begun
+        (:func:`engine.output.space.claim`); a case that does not fit is not begun, and the
+        writer is then ``full`` (:class:`engine.output.space.OutputFull`) and writes nothing
+        more: the cases committed so far stay complete, the rest is computed by the next
+        run."""
         if self._file is None:
             raise RuntimeError("prepare() the writer before writing")
         if self.full is not None:
             return
         record = case_record(outcome)
+        needed = _record_bytes(record)
         try:
-            ensure_space(self.path, _record_bytes(record), remaining_cases=self._remaining)
+            ensure_space(self.path, needed, remaining_cases=self._remaining)
+            self._claim(2 * needed)
             self._write_record(outcome, record)
         except Exception as error:
             if not is_no_space(error):
                 raise
-            self._became_full(error, _record_bytes(record) * self._remaining())
+            self._became_full(error, needed * max(self._remaining(), 1))
+
+    def committed(self, outcome: CaseOutcome) -> list[CaseOutcome]:
+        """The outcomes whose completion flags reached the file since the last call (after
+        writing ``outcome``): only these are announced, so what the run prints as completed
+        is on disk."""
+        done, self._announce = self._announce, []
+        return done
+
+    def commit(self) -> list[CaseOutcome]:
+        """Commit every written flag now; the outcomes committed since the last call."""
+        if self._file is not None and not self._broken and self.full is None:
+            try:
+                self._claim(0)
+                self._commit_flags(force=True)
+            except Exception as error:
+                if not is_no_space(error):
+                    raise
+                self._became_full(error, MARGIN)
+        done, self._announce = self._announce, []
+        return done
 
     def _remaining(self) -> int:
         return sum(1 for row in self._rows.values() if row.get("status") == CaseStatus.PENDING)
 
+    def _claim(self, needed: int) -> None:
+        """Claim ``needed`` bytes and :data:`engine.output.space.CLAIM_SLACK` past the end of
+        the file before writing them: a write that could not be finished is never begun."""
+        if self._descriptor is not None:
+            claim(self._descriptor, needed + CLAIM_SLACK, self.path)
+
     def _became_full(self, error: BaseException, needed: int) -> None:
-        """Commit what was written before the disk filled (if it can still be flushed)."""
+        """No more cases. An error of HDF5 itself (a write that failed half-way, where no
+        space could be claimed) leaves its open file unusable: nothing more is written to it.
+        Otherwise the written cases are committed, with the spare blocks given back for it;
+        cases whose flags could not be committed are pending again (never announced)."""
         self.full = error if isinstance(error, OutputFull) else OutputFull(self.path, needed)
-        with contextlib.suppress(Exception):  # an HDF5 flush that failed leaves nothing to do
-            self._commit_flags(force=True)
+        if not isinstance(error, OutputFull) and not isinstance(error, _SummaryFull):
+            self._broken = True
+        if not self._broken:
+            self._spare.release()
+            try:
+                self._claim(0)
+                self._commit_flags(force=True)
+            except Exception as failure:  # noqa: BLE001 - a failed flush: the handle is gone
+                if not isinstance(failure, OutputFull):
+                    self._broken = True
+        for _, outcome in self._unflagged:  # never flagged: computed again by the next run
+            self._rows[outcome.case_id] = pending_row(outcome.case.parameters())
+        self._unflagged = []
 
     def _write_record(self, outcome: CaseOutcome, record: dict[str, Any]) -> None:
         cases = self._cases
@@ -610,7 +740,7 @@ class SingleWriter(ResultsWriter):
                 group = self._reset_group(cases, outcome.case)  # a pristine group is reused
         self._store_case(group, record)
         self._rows[outcome.case_id] = dict(outcome.row)
-        self._unflagged.append((group, outcome.status))
+        self._unflagged.append((group, outcome))
         if self._commit_flags():
             self._write_summary()
 
@@ -630,20 +760,44 @@ class SingleWriter(ResultsWriter):
         planned = set(plan.case_ids)
         others = [case_id for case_id in self._order if case_id not in planned]
         self._order = [case_id for case_id in plan.case_ids if case_id in self._rows] + others
-        for index, case_id in enumerate(self._order):
-            group = self._cases.get(case_id)
-            if group is not None and group.attrs.get("index") != index:
-                group.attrs["index"] = index
         self._plan = plan
+        if self._broken:
+            return
+        try:
+            self._claim(0)
+            for index, case_id in enumerate(self._order):
+                group = self._cases.get(case_id)
+                if group is not None and group.attrs.get("index") != index:
+                    group.attrs["index"] = index
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, MARGIN)
 
     def write_thresholds(self, rows: list[dict[str, Any]], spec) -> None:
         """The thresholds table of a ``[search]`` study (:mod:`engine.output.thresholds`),
-        in the file and as ``NAME_thresholds.csv`` beside the summary."""
-        from .thresholds import thresholds_path, write_thresholds
+        in the file and as ``NAME_thresholds.csv`` beside the summary; not on a full disk
+        (the next run writes it)."""
+        from .thresholds import thresholds_path, write_thresholds, write_thresholds_csv
 
+        if self.full is not None:
+            return
         line = self._plan is not None and self._plan.line
-        write_thresholds(self._file, thresholds_path(self.summary_path), rows, spec, line)
-        self._file.flush()
+        try:
+            self._claim(SUMMARY_ROW_BYTES * len(rows))
+            write_thresholds(self._file, None, rows, spec, line)
+            self._file.flush()
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(error, SUMMARY_ROW_BYTES * len(rows))
+            return
+        try:
+            write_thresholds_csv(thresholds_path(self.summary_path), rows, spec, line)
+        except OSError as error:
+            if not is_no_space(error):
+                raise
+            self._became_full(_SummaryFull(self.path, MARGIN), MARGIN)
 
     def _commit_flags(self, force: bool = False) -> bool:
         """Flush the written cases, then set their ``status`` and flush again — the completion
@@ -658,16 +812,42 @@ class SingleWriter(ResultsWriter):
         if not force and now - self._last_commit_end < self.flag_spacing * self._commit_cost:
             return False
         self._file.flush()
-        for group, status in self._unflagged:
-            set_attribute(group, "status", status)
+        for group, outcome in self._unflagged:
+            set_attribute(group, "status", outcome.status)
         self._file.flush()
+        self._announce += [outcome for _, outcome in self._unflagged]
         self._unflagged = []
         self._last_commit_end = time.perf_counter()
         self._commit_cost = self._last_commit_end - now
         return True
 
     def _write_summary(self, force: bool = False) -> None:
-        self._summary.update(self.rows, force=force)
+        try:
+            self._summary.update(self.rows, force=force)
+        except OSError as error:
+            if not is_no_space(error):
+                raise
+            raise _SummaryFull(self.path, MARGIN) from None
+
+
+class _SummaryFull(OutputFull):
+    """The summary CSV did not fit (the HDF5 file is unharmed)."""
+
+
+@contextlib.contextmanager
+def _quiet_unraisable():
+    """h5py reports errors of objects it frees (a file HDF5 can no longer close) through
+    ``sys.unraisablehook``: silence them while a broken file is let go."""
+    import gc
+    import sys
+
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda _: None
+    try:
+        yield
+        gc.collect()
+    finally:
+        sys.unraisablehook = hook
 
 
 class Bystander(ResultsWriter):

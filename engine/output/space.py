@@ -12,13 +12,29 @@ Two guards:
 Before anything runs, :func:`check_space` compares the free space with the data the cases
 still to run will write (the datasets known from the plan; a lower bound), so a rerun on a
 still-full disk says so at once and changes nothing.
+
+Space claimed before it is written (the model: SQLite and PostgreSQL never let the database
+see a half-done write). Another process can fill the disk between the check and the write,
+and an HDF5 library that meets "no space left" in the middle of a flush leaves its open file
+in a state it cannot flush or close again. So the writer claims the blocks first:
+:func:`claim` allocates them beyond the end of the results file without changing its size
+(``fallocate`` with ``FALLOC_FL_KEEP_SIZE``, Linux: ext4, xfs, btrfs, tmpfs), and the case is
+written only once they are held: HDF5's writes then land in blocks that are already the
+file's. A claim that fails is the clean stop: nothing of the case has been written yet. Where
+the file system cannot claim (NFS, Lustre, macOS), the free-space check is the only guard.
+:class:`SpareFile` holds a few blocks beside the output for what must still be written after
+the disk filled (the completion flags and the summary CSV).
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import errno
 import math
+import os
 import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +48,10 @@ __all__ = [
     "check_space",
     "planned_bytes",
     "format_bytes",
+    "claim",
+    "SpareFile",
+    "CLAIM_SLACK",
+    "unclaim",
 ]
 
 DATASET_OVERHEAD = 2048  # bytes of HDF5 metadata per dataset (header, units, description, sha256)
@@ -118,6 +138,107 @@ def check_space(path: Path, needed: int, *, smallest_case: int = 0) -> None:
     free = free_bytes(path)
     if free < needed + MARGIN or free < 2 * smallest_case + MARGIN + UNPLANNED:
         raise OutputFull(path, needed, free)
+
+
+CLAIM_SLACK = 256 << 10  # bytes claimed beyond a case's estimate (HDF5 metadata, the flags)
+_KEEP_SIZE = 0x01  # FALLOC_FL_KEEP_SIZE (linux/falloc.h)
+_PUNCH_HOLE = 0x02  # FALLOC_FL_PUNCH_HOLE
+_UNSUPPORTED = (errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL, errno.ENODEV)
+
+
+def _libc_fallocate():
+    """``fallocate(2)`` of the C library, or None where there is none (not Linux)."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        library = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        function = library.fallocate
+    except (OSError, AttributeError):
+        return None
+    function.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int64, ctypes.c_int64]
+    function.restype = ctypes.c_int
+    return function
+
+
+_FALLOCATE = _libc_fallocate()
+
+
+def claim(descriptor: int, length: int, path: Path) -> bool:
+    """Allocate ``length`` bytes of blocks after the current end of the open file
+    ``descriptor`` without changing its size (``FALLOC_FL_KEEP_SIZE``), so that writes of up
+    to ``length`` bytes past the end cannot fail for want of space.
+
+    Returns False where the file system or platform cannot do this (then nothing is
+    claimed); raises :class:`OutputFull` (naming ``path``) when the space is not there."""
+    if _FALLOCATE is None or length <= 0:
+        return False
+    end = os.fstat(descriptor).st_size
+    if _FALLOCATE(descriptor, _KEEP_SIZE, end, length) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.ENOSPC, errno.EDQUOT):
+        raise OutputFull(path, length, free_bytes(path))
+    if code in _UNSUPPORTED:
+        return False
+    raise OSError(code, f"{path}: cannot claim space: {os.strerror(code)}")
+
+
+def unclaim(path: Path) -> None:
+    """Give back the blocks claimed past the end of the closed file ``path``: a truncation
+    to its own size (ext4, xfs) and a hole punched past the end (tmpfs), whichever the file
+    system honours; nothing where claims are not made."""
+    if _FALLOCATE is None:
+        return
+    try:
+        descriptor = os.open(path, os.O_WRONLY)
+    except OSError:
+        return
+    try:
+        end = os.fstat(descriptor).st_size
+        os.ftruncate(descriptor, end)
+        _FALLOCATE(descriptor, _KEEP_SIZE | _PUNCH_HOLE, end, 1 << 40)
+    except OSError:
+        pass
+    finally:
+        os.close(descriptor)
+
+
+class SpareFile:
+    """A few blocks held beside the output (``.NAME.spare``) and given back when the disk is
+    full, so that the completion flags and the summary CSV can still be written.
+
+    ``hold(size)`` allocates them (silently holds nothing when they are not free: the
+    writer's checks stop the run before it matters); ``release`` deletes the file."""
+
+    def __init__(self, output: Path) -> None:
+        self.path = spare_path(output)
+        self.size = 0
+        self.held = False
+
+    def hold(self, size: int) -> None:
+        self.size = int(size)
+        try:
+            descriptor = os.open(self.path, os.O_CREAT | os.O_WRONLY | os.O_TRUNC, 0o644)
+        except OSError:
+            return
+        try:
+            os.posix_fallocate(descriptor, 0, self.size)
+            self.held = True
+        except OSError:  # no room (or no fallocate): hold nothing
+            os.ftruncate(descriptor, 0)
+        finally:
+            os.close(descriptor)
+        if not self.held:
+            self.path.unlink(missing_ok=True)
+
+    def release(self) -> None:
+        self.path.unlink(missing_ok=True)
+        self.held = False
+
+
+def spare_path(output: Path) -> Path:
+    """The spare file of ``output`` (hidden, beside it)."""
+    return output.with_name(f".{output.name}.spare")
 
 
 def format_bytes(count: int | None) -> str:

@@ -159,10 +159,20 @@ def _cells(column: str, values: list[Any]) -> list[str]:
 def write_summary_csv(rows: list[dict[str, Any]], path: str | Path) -> None:
     """Write ``summary_csv(rows)`` atomically (temporary file + rename) so a kill never leaves
     half a table."""
-    path = Path(path)
+    write_text_atomically(Path(path), summary_csv(rows))
+
+
+def write_text_atomically(path: Path, text: str) -> None:
+    """``text`` (UTF-8) to ``path`` through a temporary file and a rename, so a kill never
+    leaves half a file; a temporary that could not be written whole (a full disk) is
+    removed."""
     temporary = path.with_name(f".{path.name}.tmp")
-    temporary.write_text(summary_csv(rows), encoding="utf-8")
-    os.replace(temporary, path)
+    try:
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
 
 
 def _rows_from_h5(path: Path) -> list[dict[str, Any]]:

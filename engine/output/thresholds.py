@@ -28,7 +28,6 @@ import io
 import json
 import math
 import numbers
-import os
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -39,7 +38,7 @@ import numpy as np
 from engine.commands import WrongFileError
 from engine.schema import CASES_GROUP, THRESHOLDS_GROUP, CaseStatus, threshold_columns
 
-from .summary import column_unit
+from .summary import column_unit, write_text_atomically
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -50,6 +49,7 @@ __all__ = [
     "thresholds_path",
     "table_units",
     "write_thresholds",
+    "write_thresholds_csv",
     "load_thresholds",
     "completed_rows",
 ]
@@ -107,8 +107,9 @@ def write_thresholds(
     spec: SearchSpec,
     line: bool = False,
 ) -> None:
-    """Write the table into ``file`` (replacing ``/thresholds``) and as CSV (atomically);
-    ``line``: a line contact's study (units per unit length)."""
+    """Write the table into ``file`` (replacing ``/thresholds``) and as CSV (atomically;
+    ``csv_path`` None: the file only); ``line``: a line contact's study (units per unit
+    length)."""
     if THRESHOLDS_GROUP in file:
         del file[THRESHOLDS_GROUP]
     group = file.create_group(THRESHOLDS_GROUP)
@@ -124,7 +125,15 @@ def write_thresholds(
         dataset.attrs["units"] = units[name] or "1"
         description = specs[name].description if name in specs else _parameter_text(name)
         dataset.attrs["description"] = description
-    _write_csv(csv_path, rows, units)
+    if csv_path is not None:
+        _write_csv(csv_path, rows, units)
+
+
+def write_thresholds_csv(
+    csv_path: str | Path, rows: list[dict[str, Any]], spec: SearchSpec, line: bool = False
+) -> None:
+    """The CSV of :func:`write_thresholds` alone."""
+    _write_csv(csv_path, rows, table_units(rows, spec, line))
 
 
 def _parameter_text(name: str) -> str:
@@ -166,9 +175,7 @@ def _write_csv(path: str | Path, rows: list[dict[str, Any]], units: dict[str, st
     writer = csv.writer(text, lineterminator="\n")
     writer.writerow([f"{name} [{units[name]}]" if units[name] else name for name in columns])
     writer.writerows([_cell(row.get(name)) for name in columns] for row in rows)
-    temporary = path.with_name(f".{path.name}.tmp")
-    temporary.write_text(text.getvalue(), encoding="utf-8")
-    os.replace(temporary, path)
+    write_text_atomically(path, text.getvalue())
 
 
 def completed_rows(path: str | Path) -> dict[str, dict[str, Any]]:

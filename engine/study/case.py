@@ -15,6 +15,7 @@ gives a line contact's datasets their units per unit length
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import time
@@ -170,10 +171,15 @@ class CaseRunner:
 
     def _save_progress(self, case: Case, progress: dict) -> None:
         path = self._progress_path(case)
-        path.parent.mkdir(parents=True, exist_ok=True)
         temporary = path.with_name(f".{path.name}.tmp")
-        temporary.write_text(json.dumps(progress))
-        os.replace(temporary, path)
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            temporary.write_text(json.dumps(progress))
+            os.replace(temporary, path)
+        except OSError as error:  # a full disk: no record of the time spent, the case runs on
+            temporary.unlink(missing_ok=True)
+            if error.errno not in (errno.ENOSPC, errno.EDQUOT):
+                raise
 
     def _remove_checkpoint(self, case: Case) -> None:
         for path in (self._checkpoint_path(case), self._progress_path(case)):

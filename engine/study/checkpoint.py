@@ -20,6 +20,7 @@ checkpoint or none.
 
 from __future__ import annotations
 
+import errno
 from pathlib import Path
 
 import numpy as np
@@ -71,10 +72,18 @@ def save_cyclic_state(state: CyclicState, path: str | Path) -> None:
 
 
 def _write(path: str | Path, arrays: dict[str, np.ndarray]) -> None:
+    """Atomically; on a full disk (or quota) no checkpoint is left, not even a partial one:
+    the interrupted case starts again from its first cycle when the study is rerun."""
     path = Path(path)
     temporary = path.with_name(path.name + ".tmp.npz")
-    np.savez(temporary, **arrays)
-    temporary.replace(path)
+    try:
+        np.savez(temporary, **arrays)
+        temporary.replace(path)
+    except OSError as error:
+        temporary.unlink(missing_ok=True)
+        if error.errno not in (errno.ENOSPC, errno.EDQUOT):
+            raise
+        path.unlink(missing_ok=True)
 
 
 def save_fretting_state(
