@@ -25,6 +25,8 @@ import socket
 from dataclasses import dataclass
 from pathlib import Path
 
+from .space import OutputFull, is_no_space
+
 __all__ = [
     "OutputLock",
     "OutputInUse",
@@ -134,6 +136,8 @@ def check_output_path(output: Path) -> None:
     try:
         output.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
+        if is_no_space(error):
+            raise OutputFull(output, 4096, 0) from None
         raise OutputPathError(
             f"output {output}: cannot create directory {output.parent}: {_describe(error)}"
         ) from None
@@ -162,6 +166,9 @@ class OutputLock:
         try:
             private.write_text(self.owner.line())
         except OSError as error:
+            private.unlink(missing_ok=True)
+            if is_no_space(error):  # a full disk is not bad input: exit 5, like any other
+                raise OutputFull(self.output, len(self.owner.line()), 0) from None
             raise OutputPathError(
                 f"output {self.output}: cannot create files in {self.output.parent}: "
                 f"{_describe(error)}"

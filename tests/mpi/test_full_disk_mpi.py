@@ -1,0 +1,181 @@
+"""A disk that fills to the last byte while a study runs, on 1 and 2 ranks, static and cyclic.
+
+Each trial runs a small study on its own small tmpfs and, at a moment drawn at random, has
+another process fill that file system to 0 B free. Whatever the moment, the run must end
+within 30 s of the fault with exit 0 (it had finished) or 5 (one line on stderr, no
+traceback); every case it printed as completed must be completed in the file; and a rerun
+once the space is free must complete the study to a file identical to an undisturbed run
+(``scripts/compare_results.py``). 8 trials for each of the four combinations: 32 in all.
+
+Needs root to mount a tmpfs; skipped (saying so) where it cannot mount one. The longer soak
+(kills, signals, damage as well) is ``benchmarks/soak_integrity.py``.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+from engine.study.examples import study_toml
+from tests.mpi.test_engine_mpi import engine_command, environment
+
+pytestmark = pytest.mark.mpi
+
+REPO = Path(__file__).resolve().parents[2]
+TRIALS = 8  # per (ranks, kind): 32 trials in all
+DEADLINE_S = 30.0  # s from the fault to the end of the run (the acceptance bound)
+SIZE = "5m"  # the tmpfs: the study's file (0.6-2 MB) with the 1 MB kept free, twice over
+OPTIONS = ("--no-progress-bar", "--progress-interval", "0")
+COMPLETED_LINE = re.compile(r"^\[\s*\d+/\d+\] (\S+)\s+rank \d+\s+\S+ s\s+completed$", re.M)
+
+
+def study_text(kind: str) -> str:
+    """20 small cases (n = 8): about 1 s (static) or 2 s (cyclic, 10 cycles) on one rank."""
+    loading = {"kind": "static", "steps": 2}
+    sweep = {"mu1": [0.1, 0.2, 0.3, 0.4, 0.5], "beta": [0.0, 10.0, 20.0, 30.0]}
+    if kind == "cyclic":
+        loading = {"kind": "cyclic", "cycles": 10, "record": [10]}
+        sweep["wear1"] = [1.33e-7]
+    return study_toml("disk", "disk.h5", mesh={"n": 8}, loading=loading, sweep=sweep)
+
+
+def mount_tmpfs(directory: Path, size: str) -> None:
+    directory.mkdir(parents=True, exist_ok=True)
+    if os.geteuid() != 0 or shutil.which("mount") is None:
+        pytest.skip("mounting a small tmpfs needs root and mount(8)")
+    done = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(directory)],
+        capture_output=True,
+    )
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {done.stderr.decode().strip()}")
+
+
+def fill(directory: Path) -> Path:
+    """Write a file in ``directory`` until its file system has 0 B free (blocks of 1 MiB,
+    then 4 KiB, then single bytes)."""
+    path = directory / "filler"
+    with open(path, "ab", buffering=0) as handle:
+        for size in (1 << 20, 4096, 1):
+            block = b"\0" * size
+            while True:
+                try:
+                    handle.write(block)
+                except OSError as error:
+                    if error.errno != errno.ENOSPC:
+                        raise
+                    break
+    return path
+
+
+def command(ranks: int) -> list[str]:
+    """The study by its relative name (the command line is stored in the file)."""
+    return engine_command(Path("disk.toml"), *OPTIONS, ranks=ranks)
+
+
+def run(directory: Path, ranks: int) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        command(ranks),
+        cwd=directory, env=environment(), capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+
+
+def compare(first: Path, second: Path) -> subprocess.CompletedProcess:
+    script = REPO / "scripts" / "compare_results.py"
+    return subprocess.run(
+        [sys.executable, str(script), str(first), str(second)], capture_output=True, text=True
+    )
+
+
+def faulted_run(directory: Path, ranks: int, delay: float):
+    """Start the study, fill the disk after ``delay`` s; (exit code, stdout, stderr, seconds
+    from the fault to the end). A run still alive 30 s after the fault is a hang: it gets
+    SIGTERM, then SIGKILL, and the exit code None."""
+    process = subprocess.Popen(
+        command(ranks),
+        cwd=directory, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, start_new_session=True,
+    )  # fmt: skip
+    time.sleep(delay)
+    filler = fill(directory)
+    fault = time.monotonic()
+    try:
+        out, err = process.communicate(timeout=DEADLINE_S)
+        code = process.returncode
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGTERM)
+        try:
+            out, err = process.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            out, err = process.communicate()
+        code = None
+    elapsed = time.monotonic() - fault
+    filler.unlink()
+    return code, out, err, elapsed
+
+
+@pytest.fixture(scope="module")
+def undisturbed(tmp_path_factory):
+    """The results of each kind, run once on 1 rank with space (the reference)."""
+    results = {}
+    for kind in ("static", "cyclic"):
+        directory = tmp_path_factory.mktemp(f"reference_{kind}")
+        (directory / "disk.toml").write_text(study_text(kind))
+        done = run(directory, 1)
+        assert done.returncode == 0, done.stderr
+        results[kind] = directory / "disk.h5"
+    return results
+
+
+@pytest.mark.parametrize("kind", ["static", "cyclic"])
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_a_disk_filled_to_the_last_byte_at_any_moment(tmp_path, undisturbed, ranks, kind):
+    rng = random.Random(f"{ranks}-{kind}")  # the same moments every time the test runs
+    longest = 2.5 if kind == "static" else 5.0  # s: start-up plus most of the run
+    problems = []
+    for trial in range(TRIALS):
+        directory = tmp_path / f"trial{trial}"
+        mount_tmpfs(directory, SIZE)
+        try:
+            (directory / "disk.toml").write_text(study_text(kind))
+            delay = rng.uniform(0.2, longest)
+            code, out, err, elapsed = faulted_run(directory, ranks, delay)
+            where = f"trial {trial} (fault at {delay:.2f} s)"
+            if code not in (0, 5) or elapsed > DEADLINE_S:
+                problems.append(f"{where}: exit {code} {elapsed:.1f} s after the fault: {err}")
+                continue
+            lines = err.strip().splitlines()
+            if code == 5 and (len(lines) != 1 or not lines[0].startswith("error: disk.h5: no")):
+                problems.append(f"{where}: exit 5 with stderr {err!r}")
+            printed = COMPLETED_LINE.findall(out)
+            if printed:
+                with h5py.File(directory / "disk.h5", "r") as file:
+                    missing = [
+                        case_id
+                        for case_id in printed
+                        if file["cases"][case_id].attrs.get("status") != "completed"
+                    ]
+                if missing:
+                    problems.append(f"{where}: printed completed, not in the file: {missing}")
+            rerun = run(directory, ranks)
+            if rerun.returncode != 0:
+                problems.append(f"{where}: rerun with space exit {rerun.returncode}: {rerun.stderr}")
+                continue
+            same = compare(undisturbed[kind], directory / "disk.h5")
+            if same.returncode != 0:
+                problems.append(f"{where}: rerun differs from an undisturbed run: {same.stdout}")
+        finally:
+            subprocess.run(["umount", "-l", str(directory)], check=False)
+    assert not problems, "\n".join(problems)
