@@ -51,7 +51,8 @@ def missing_file(paths: Path | Iterable[Path]) -> bool:
     file``) for the first such path."""
     for path in [paths] if isinstance(paths, Path) else paths:
         if not path.is_file():
-            print(f"error: {path}: no such file", file=sys.stderr)
+            what = "a directory, not a results file" if path.is_dir() else "no such file"
+            print(f"error: {path}: {what}", file=sys.stderr)
             return True
     return False
 

@@ -288,7 +288,13 @@ def _prepare_on_root(
     raises."""
     from engine.output.collective import choose_strategy
     from engine.output.existing import inspect_existing_isolated
-    from engine.output.lock import OutputLock, check_output_path, check_summary_path
+    from engine.output.lock import (
+        OutputLock,
+        check_output_names,
+        check_output_path,
+        check_summary_path,
+        check_text,
+    )
     from engine.study.feasibility import check_feasible
     from engine.study.layout import plan_layout
     from engine.study.plan import make_plan
@@ -299,6 +305,8 @@ def _prepare_on_root(
         return inspect_existing_isolated(output, metadata, plan, should_stop=stop_event.is_set)
 
     config = _configure(study, options)
+    check_text(f"{config.source}: [study] name", config.study.name)  # stored in the file
+    check_output_names(config.study.output)
     plan = make_plan(config)
     if config.calibrate is not None:  # engine.calibration: its own searches and outputs
         return _prepare_calibration(config, plan, options, locks)

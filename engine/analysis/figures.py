@@ -58,6 +58,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
 from engine.commands import refuse_file, results_parser  # noqa: E402
+from engine.output.owner import being_written_file  # noqa: E402
 from engine.reference.flat_punch import (  # noqa: E402
     flat_punch_stress,
     von_mises_cylindrical,
@@ -205,7 +206,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
-    if refuse_file(args.results):
+    if being_written_file(args.results) or refuse_file(args.results):
         return 2
     from .calibration_report import calibration_figures, has_calibration
     from .threshold_figures import has_thresholds, threshold_figures

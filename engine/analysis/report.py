@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from engine.commands import refuse_file, results_parser
+from engine.output.owner import being_written_file
 from engine.reference.flat_punch import mossakovskii_ratio
 
 from .reader import CaseResults, StressPlane, StudyResults, read_results
@@ -456,7 +457,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
-    if refuse_file(args.results):
+    if being_written_file(args.results) or refuse_file(args.results):
         return 2
     from .calibration_report import calibration_report, has_calibration
 

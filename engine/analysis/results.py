@@ -35,6 +35,11 @@ from typing import Any
 import h5py
 import numpy as np
 
+from engine.output.owner import (
+    check_not_being_written,
+    is_locked_error,
+    locked_by_another_program,
+)
 from engine.schema import CASES_GROUP, GRID_GROUP, PLANE, CaseStatus, cycle_of_group, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
@@ -42,11 +47,14 @@ __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup",
 
 def open_results(path: str | Path) -> Results:
     """:func:`engine.open_results`: the results file ``path`` as a :class:`Results`; a
-    missing file raises FileNotFoundError, a file without a stored study ValueError."""
+    missing file raises FileNotFoundError, a file without a stored study ValueError, a file
+    a run is writing :class:`engine.output.owner.ResultsBeingWritten` (one line naming the
+    run's pid and host and what to read meanwhile; the run is not disturbed)."""
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such results file")
-    with h5py.File(path, "r") as file:
+    check_not_being_written(path)
+    with _opened(path) as file:
         if "study_json" not in file.attrs or CASES_GROUP not in file:
             raise ValueError(f"{path}: not a results file of this engine (no stored study)")
         study = json.loads(file.attrs["study_json"])
@@ -58,6 +66,17 @@ def open_results(path: str | Path) -> Results:
             order[case_id] = int(group.attrs.get("index", position))
     case_ids = sorted(statuses, key=lambda case_id: order[case_id])
     return Results(path, name, study, version, {case_id: statuses[case_id] for case_id in case_ids})
+
+
+def _opened(path: Path) -> h5py.File:
+    """``path`` opened for reading; HDF5 refusing it because a process holds it open for
+    writing becomes :class:`engine.output.owner.ResultsBeingWritten`."""
+    try:
+        return h5py.File(path, "r")
+    except OSError as error:
+        if is_locked_error(error):
+            raise locked_by_another_program(path) from None
+        raise
 
 
 def _text(value: Any) -> str:
@@ -652,7 +671,7 @@ class Results(_Table):
         """``with open_results(path) as results:`` keeps the file open while reading many
         cases (each read otherwise opens and closes it)."""
         if self._file is None:
-            self._file = h5py.File(self.path, "r")
+            self._file = _opened(self.path)
         return self
 
     def __exit__(self, *exc) -> None:
@@ -672,7 +691,7 @@ class Results(_Table):
         and closed at its end."""
         if self._file is not None:
             return contextlib.nullcontext(self._file)
-        return h5py.File(self.path, "r")
+        return _opened(self.path)
 
     @property
     def kind(self) -> str:

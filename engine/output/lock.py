@@ -22,9 +22,9 @@ from __future__ import annotations
 import errno
 import os
 import socket
-from dataclasses import dataclass
 from pathlib import Path
 
+from .owner import LockOwner, lock_path_for, start_ticks
 from .space import OutputFull, is_no_space
 
 __all__ = [
@@ -34,6 +34,9 @@ __all__ = [
     "lock_path_for",
     "check_output_path",
     "check_output_name",
+    "check_output_names",
+    "check_text",
+    "derived_names",
 ]
 
 
@@ -43,63 +46,6 @@ class OutputInUse(ValueError):
 
 class OutputPathError(ValueError):
     """The output cannot be written: names the path and the operating-system error."""
-
-
-def lock_path_for(output: Path) -> Path:
-    return output.with_name(output.name + ".lock")
-
-
-@dataclass(frozen=True)
-class LockOwner:
-    pid: int
-    host: str
-    start: str  # process start time in clock ticks since boot ("?" where /proc is absent)
-
-    def line(self) -> str:
-        return f"{self.pid} {self.host} {self.start}\n"
-
-    @classmethod
-    def parse(cls, text: str) -> LockOwner | None:
-        words = text.split()
-        if len(words) < 2 or not words[0].isdigit():
-            return None
-        return cls(int(words[0]), words[1], words[2] if len(words) > 2 else "?")
-
-    def is_alive_here(self) -> bool | None:
-        """True/False for a process of this host; None when the owner is on another host."""
-        if self.host != socket.gethostname():
-            return None
-        if self.pid <= 0:
-            return False
-        try:
-            os.kill(self.pid, 0)
-        except ProcessLookupError:
-            return False
-        except PermissionError:
-            pass  # exists, belongs to another user
-        if _state(self.pid) in ("Z", "X"):
-            return False  # killed, not yet reaped (a container's init may never reap it)
-        return self.start in ("?", _start_ticks(self.pid))
-
-
-def _stat_fields(pid: int) -> list[str]:
-    """Fields of /proc/PID/stat after the command name (state first), or [] without /proc."""
-    try:
-        stat = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return []
-    return stat.rpartition(")")[2].split()
-
-
-def _state(pid: int) -> str:
-    fields = _stat_fields(pid)
-    return fields[0] if fields else "?"
-
-
-def _start_ticks(pid: int) -> str:
-    """Start time of ``pid`` in clock ticks after boot (field 22 of /proc/PID/stat), or "?"."""
-    fields = _stat_fields(pid)
-    return fields[19] if len(fields) > 19 else "?"
 
 
 def _describe(error: OSError) -> str:
@@ -120,12 +66,97 @@ def check_output_name(output: Path, where: str = "--output") -> None:
         )
 
 
+PID_DIGITS = 7  # a Linux pid has at most 7 digits (pid_max <= 4194304)
+_LONGEST_PID = "9" * PID_DIGITS
+
+
+def derived_names(output: Path) -> list[str]:
+    """Every name the engine may create beside ``output`` (the longest forms: a pid of
+    :data:`PID_DIGITS` digits, the 9999th damaged copy): the lock and its private and stale
+    names, the file being built, the spare blocks, salvage copies, the checkpoints folder,
+    the summary and thresholds CSVs and their temporaries."""
+    name, pid = output.name, _LONGEST_PID
+    summary = output.with_suffix(".csv").name
+    thresholds = f"{output.stem}_thresholds.csv"
+    return [
+        name,
+        f"{name}.lock",
+        f".{name}.lock.{pid}",
+        f".{name}.lock.stale.{pid}",
+        f".{name}.creating",
+        f".{name}.spare",
+        f".{name}.salvage",
+        f".{name}.salvaged",
+        f"{name}.damaged.9999",
+        f"{name}.checkpoints",
+        summary,
+        f".{summary}.tmp",
+        thresholds,
+        f".{thresholds}.tmp",
+    ]
+
+
+def _limit(directory: Path, name: str, default: int) -> int:
+    """``pathconf`` limit ``name`` of the nearest existing ancestor of ``directory``."""
+    while not directory.exists() and directory != directory.parent:
+        directory = directory.parent
+    try:
+        return int(os.pathconf(directory, name))
+    except (OSError, ValueError):
+        return default
+
+
+def check_text(what: str, text: str) -> None:
+    """Refuse control characters (NUL, newline, escape …) in a name that becomes a file name
+    or an HDF5 attribute: :class:`OutputPathError` naming the character and where."""
+    for position, character in enumerate(text):
+        if ord(character) < 32 or ord(character) == 127:
+            raise OutputPathError(
+                f"{what} {text[:60]!r}: contains the control character U+{ord(character):04X} "
+                f"at position {position}; use printable characters"
+            )
+
+
+def _shortened(path: Path, most: int = 60) -> str:
+    """``path`` for a message: its first and last characters when it is long."""
+    text = str(path)
+    return text if len(text) <= most else f"{text[: most // 2]}…{text[-most // 2 :]}"
+
+
+def check_output_names(output: Path) -> None:
+    """Before anything is created: no control characters in the output's path, and every
+    name the engine derives from it (:func:`derived_names`) within the file system's limits
+    (``NAME_MAX`` per name, ``PATH_MAX`` for the whole path). Raises
+    :class:`OutputPathError` naming the longest name and the limit."""
+    check_text("output", str(output))
+    directory = output.parent
+    name_max = _limit(directory, "PC_NAME_MAX", 255)
+    longest = max(derived_names(output), key=lambda name: len(os.fsencode(name)))
+    size = len(os.fsencode(longest))
+    if size > name_max:
+        room = name_max - (size - len(os.fsencode(output.name)))
+        raise OutputPathError(
+            f"output {_shortened(output)}: its name is {len(os.fsencode(output.name))} bytes; the "
+            f"engine writes {longest[:40]}… beside it, {size} bytes, and the file system "
+            f"allows {name_max}: use an output name of at most {room} bytes"
+        )
+    path_max = _limit(directory, "PC_PATH_MAX", 4096)
+    whole = len(os.fsencode(str(output.absolute().with_name(longest))))
+    if whole >= path_max:
+        raise OutputPathError(
+            f"output {_shortened(output)}: the paths the engine writes beside it reach "
+            f"{whole} bytes; the file system allows {path_max - 1}: use a shorter folder or name"
+        )
+
+
 def check_output_path(output: Path) -> None:
     """Make the output's directory and check that files can be created in it.
 
     Raises :class:`OutputPathError` naming the path and the OS error (a parent that is a
-    regular file, a read-only or immutable directory, a path under /proc, …).
+    regular file, a read-only or immutable directory, a path under /proc, …), or a name too
+    long or with control characters (:func:`check_output_names`).
     """
+    check_output_names(output)
     if output.exists() and not output.is_file():
         raise OutputPathError(f"output {output}: exists and is not a regular file")
     for ancestor in output.parents:
@@ -151,7 +182,7 @@ class OutputLock:
     def __init__(self, output: Path) -> None:
         self.output = Path(output)
         self.path = lock_path_for(self.output)
-        self.owner = LockOwner(os.getpid(), socket.gethostname(), _start_ticks(os.getpid()))
+        self.owner = LockOwner(os.getpid(), socket.gethostname(), start_ticks(os.getpid()))
         self.held = False
         self.replaced: LockOwner | None = None  # a stale lock this run replaced
 
@@ -259,9 +290,31 @@ class OutputLock:
         self.release()
 
 
+def sibling_outputs(output: Path) -> list[Path]:
+    """The other results files that would share ``output``'s summary CSV (``x.h5`` and
+    ``x.hdf5`` both write ``x.csv``)."""
+    return [
+        output.with_suffix(suffix)
+        for suffix in RESULTS_SUFFIXES
+        if suffix != output.suffix and output.suffix in RESULTS_SUFFIXES
+    ]
+
+
 def check_summary_path(output: Path, summary: Path) -> None:
     """Refuse to overwrite a CSV beside the output that is not a summary of this engine (an
-    unrelated table that happens to have the summary's name)."""
+    unrelated table that happens to have the summary's name), or the summary of another
+    results file beside it (``x.hdf5`` when writing ``x.h5``, or a run on it: its file, the
+    file being built or its lock; called once the lock is held, so two runs that start at
+    once both see the other's lock)."""
+    for other in sibling_outputs(output):
+        used = [
+            p for p in (other, lock_path_for(other), other.with_name(f".{other.name}.creating"))
+        ]
+        if any(path.exists() for path in used):
+            raise OutputPathError(
+                f"output {output}: {other} is beside it and both would write the summary "
+                f"{summary}; choose another name for one of them"
+            )
     if not summary.exists():
         return
     try:

@@ -17,6 +17,7 @@ whose damage sends HDF5 into an endless loop is reported as damaged, not waited 
 from __future__ import annotations
 
 import argparse
+import codecs
 import csv
 import io
 import json
@@ -35,6 +36,7 @@ from engine.schema import CASES_GROUP, CaseStatus
 from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import FORMAT
 from .isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated, time_limit_for
+from .owner import being_written_file
 from .summary import summary_csv
 
 __all__ = [
@@ -80,6 +82,8 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
     Raises :class:`NotResultsFile` for an HDF5 file without this engine's ``format``."""
     check = FileCheck(path)
     rows: dict[str, tuple[int, dict]] = {}
+    if not h5py.is_hdf5(path) and _is_text(path):  # a study file, a CSV: not damage
+        raise NotResultsFile(f"{path}: a text file, not a results file (HDF5) of this engine")
     try:
         with h5py.File(path, "r") as file:
             if file.attrs.get("format") != FORMAT:
@@ -102,6 +106,18 @@ def verify_file(path: Path, summary: Path | None) -> FileCheck:
     elif not check.problem:
         check.summary_problems = compare_summary(summary, rows)
     return check
+
+
+def _is_text(path: Path, length: int = 4096) -> bool:
+    """Whether the first ``length`` bytes of ``path`` are UTF-8 text (a results file damaged
+    in its first block holds binary bytes after it, or zeros)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(length)
+        codecs.getincrementaldecoder("utf-8")().decode(head, final=False)  # may end mid-character
+    except (OSError, UnicodeDecodeError):
+        return False
+    return b"\0" not in head
 
 
 def _checked(cases: h5py.Group, name: str, *, each_dataset: bool = True) -> CaseCheck:
@@ -216,7 +232,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     path: Path = args.results
-    if refuse_file(path):
+    if being_written_file(path) or refuse_file(path):
         return EXIT_BAD_INPUT
     summary = None if args.no_summary else (args.summary or path.with_suffix(".csv"))
     stop = threading.Event()

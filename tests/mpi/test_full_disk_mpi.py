@@ -171,7 +171,9 @@ def test_a_disk_filled_to_the_last_byte_at_any_moment(tmp_path, undisturbed, ran
                     problems.append(f"{where}: printed completed, not in the file: {missing}")
             rerun = run(directory, ranks)
             if rerun.returncode != 0:
-                problems.append(f"{where}: rerun with space exit {rerun.returncode}: {rerun.stderr}")
+                problems.append(
+                    f"{where}: rerun with space exit {rerun.returncode}: {rerun.stderr}"
+                )
                 continue
             same = compare(undisturbed[kind], directory / "disk.h5")
             if same.returncode != 0:

@@ -245,17 +245,52 @@ class StudyConfig:
         return json.dumps(resolved, sort_keys=True)
 
 
+# A study file is a few kB (a sweep of thousands of values, a few hundred kB); its tables
+# nest three or four levels deep. Beyond these it is not a study, and reading on would only
+# exhaust memory or the parser's recursion.
+MAX_STUDY_BYTES = 16 << 20
+MAX_NESTING = 16
+
+
 def load_study(path: str | Path) -> StudyConfig:
     """Read and validate the study file ``path``; raises :class:`StudyConfigError`."""
     path = Path(path)
     source = str(path)
     try:
+        size = path.stat().st_size
+        if path.is_file() and size > MAX_STUDY_BYTES:
+            raise StudyConfigError(
+                source, "study", MISSING,
+                f"file of {size} bytes: a study file is at most {MAX_STUDY_BYTES >> 20} MiB",
+            )  # fmt: skip
         text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark is not TOML
     except FileNotFoundError:
         raise StudyConfigError(source, "study", MISSING, "study file not found") from None
     except (OSError, UnicodeDecodeError) as error:
         raise StudyConfigError(source, "study", MISSING, f"cannot read: {error}") from None
     return parse_study(text, source=source)
+
+
+def _depth(value) -> int:
+    """How deeply tables and arrays nest in ``value`` (a scalar: 0), without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        item, depth = stack.pop()
+        deepest = max(deepest, depth)
+        if depth > MAX_NESTING:
+            break
+        if isinstance(item, dict):
+            stack.extend((child, depth + 1) for child in item.values())
+        elif isinstance(item, list):
+            stack.extend((child, depth + 1) for child in item)
+    return deepest
+
+
+def _too_deep(source: str) -> StudyConfigError:
+    return StudyConfigError(
+        source, "study", MISSING,
+        f"tables or arrays nested more than {MAX_NESTING} levels deep: not a study file",
+    )  # fmt: skip
 
 
 def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
@@ -266,10 +301,19 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     naming the key, its list position and the value. Combinations are validated by
     :func:`engine.study.plan.make_plan`.
     """
+    if len(text) > MAX_STUDY_BYTES:
+        raise StudyConfigError(
+            source, "study", MISSING,
+            f"text of {len(text)} characters: a study is at most {MAX_STUDY_BYTES >> 20} MiB",
+        )  # fmt: skip
     try:
         data = tomllib.loads(text.removeprefix("\ufeff"))  # a byte-order mark is not TOML
     except tomllib.TOMLDecodeError as error:
         raise toml_error(source, text, error) from None
+    except RecursionError:
+        raise _too_deep(source) from None
+    if _depth(data) > MAX_NESTING:
+        raise _too_deep(source)
     search_table = data.pop("search", None)
     calibrate_table = data.pop("calibrate", None)
     relative_to = ""
