@@ -12,6 +12,7 @@ not results files.
 from __future__ import annotations
 
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -167,3 +168,59 @@ def test_verify_on_paths_that_are_not_results_files(results, tmp_path, capsys):
     data[:4096] = bytes(4096)  # the superblock zeroed: damage, not a wrong kind of file
     damaged.write_bytes(bytes(data))
     assert verify.main([str(damaged), "--no-summary"]) == 4
+
+
+# ------------------------------------------------------------------ bounds of the physics
+def test_a_refused_long_list_prints_one_short_line():
+    """A list of 10^5 values where a number belongs: the message shows its ends and size."""
+    study = text().replace("steps = 2", "steps = [" + ", ".join(["1"] * 100_000) + "]")
+    with pytest.raises(parsing.StudyConfigError) as error:
+        parsing.parse_study(study)
+    message = str(error.value)
+    assert "\n" not in message and len(message) < 400, len(message)
+    assert "100000 items" in message and "[loading] steps" in message
+
+
+def test_plane_step_is_bounded_by_what_can_run():
+    from engine.fatigue.quantities import MIN_PLANE_STEP, check_plane_step
+
+    assert check_plane_step(MIN_PLANE_STEP) == 0.1  # 1800 planes
+    for step in (1e-6, 0.05, 0.0, 91.0, 0.7):  # too fine, zero, too coarse, not dividing 180
+        with pytest.raises(ValueError, match=r"plane_step must divide 180 degrees"):
+            check_plane_step(step)
+
+
+def test_search_targets_a_column_never_takes_are_refused():
+    from engine.study.search import parse_search
+
+    base = {"parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2, "rtol": 0.01}
+    parse_search("s.toml", {**base, "column": "slip_regime", "target": "gross"})
+    for column, target, words in (
+        ("slip_regime", "sliding", "slip_regime takes only 'partial', 'gross'"),
+        ("peak_region", "corner", "peak_region takes only 'edge-surface'"),
+        ("matvecs", -3, "matvecs counts (≥ 0)"),
+    ):
+        with pytest.raises(parsing.StudyConfigError, match=re.escape(words)):
+            parse_search("s.toml", {**base, "column": column, "target": target})
+
+
+def test_a_line_contact_slides_along_x_only():
+    from engine.study.examples import CYLINDER_ON_STEEL
+    from engine.study.feasibility import ImpossibleCases, check_feasible
+    from engine.study.plan import make_plan
+
+    def study(direction):
+        return parsing.parse_study(
+            study_toml(
+                "line", "line.h5", CYLINDER_ON_STEEL,
+                loading={"kind": "fretting", "load": 185.0, "amplitude": 0.001,
+                         "direction": direction},
+                sweep={"mu1": [0.6], "alpha": [5e-6]}, wear={"law": "energy"},
+            )
+        )  # fmt: skip
+
+    config = study(0.0)
+    check_feasible(config, make_plan(config))
+    config = study(90.0)
+    with pytest.raises(ImpossibleCases, match=r"direction = 90°: a line contact \(cylinder"):
+        check_feasible(config, make_plan(config))

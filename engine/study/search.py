@@ -535,7 +535,17 @@ INTEGER_KEYS = ("mesh.n", "loading.steps", "loading.cycles", "subsurface.layers"
 def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> SearchSpec:
     """Validate the ``[search]`` table of a study file into a :class:`SearchSpec`; errors
     name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
-    from engine.schema import COLUMN_UNITS, SUMMARY_COLUMNS, TEXT_COLUMNS
+    from engine.schema import (
+        COLUMN_UNITS,
+        INTEGER_COLUMNS,
+        REGIONS,
+        SUMMARY_COLUMNS,
+        TEXT_COLUMNS,
+    )
+    from engine.solvers.fretting import REGIME_NAMES
+
+    # the values a text column can take: a target among none of them is never reached
+    text_values = {"slip_regime": REGIME_NAMES, "peak_region": REGIONS, "deep_region": REGIONS}
 
     from .config.sections import MISSING, SWEEPABLE, StudyConfigError
 
@@ -566,6 +576,13 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
         raise error("column", column, "not a summary column")
     if column in TEXT_COLUMNS and not isinstance(target, str):
         raise error("target", target, f"{column} is a text column: the target is its text")
+    values = text_values.get(column)
+    if values is not None and target not in values:
+        raise error(
+            "target", target, f"{column} takes only {', '.join(map(repr, values))}: never reached"
+        )
+    if column in INTEGER_COLUMNS and not isinstance(target, str) and target < 0:
+        raise error("target", target, f"{column} counts (≥ 0): a negative target is never reached")
     if column not in TEXT_COLUMNS and (
         isinstance(target, bool) or not isinstance(target, int | float)
     ):

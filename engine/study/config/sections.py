@@ -55,8 +55,21 @@ class StudyConfigError(ValueError):
         self.problem = problem
         section, _, name = key.partition(".")
         where = f"[{section}] {name}" if name else f"[{section}]"
-        shown = "" if value is MISSING else f" = {value!r}"
+        shown = "" if value is MISSING else f" = {_shown(value)}"
         super().__init__(f"{source}: {where}{shown}: {problem}")
+
+
+MOST_SHOWN = 120  # characters of a refused value in a message (a list of 10^5 values is long)
+
+
+def _shown(value: Any) -> str:
+    """``repr(value)``, its start and end only when long (one line whatever the input)."""
+    text = repr(value)
+    if len(text) <= MOST_SHOWN:
+        return text
+    size = f", {len(value)} items" if isinstance(value, list | tuple | dict) else ""
+    half = MOST_SHOWN // 2
+    return f"{text[:half]} … {text[-half // 2 :]} ({len(text)} characters{size})"
 
 
 MISSING = object()  # "no value given" (distinct from None)

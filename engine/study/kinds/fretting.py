@@ -102,7 +102,13 @@ class FrettingKind(CycledKind):
         return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
 
     def check_case(self, case, config):
-        check_force_bound(case, settings(config), config.punch.load_unit)
+        fretting = settings(config)
+        if config.punch.is_line and fretting.direction % 360.0 != 0.0:
+            raise ValueError(
+                f"[loading] direction = {fretting.direction:g}°: a line contact "
+                f"({config.punch.shape}, plane strain in x–z) slides along x only (direction = 0)"
+            )
+        check_force_bound(case, fretting, config.punch.load_unit)
 
     def describe(self, config, value):
         loading, unit = config.loading, config.punch.load_unit
