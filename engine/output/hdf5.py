@@ -714,7 +714,8 @@ class SingleWriter(ResultsWriter):
         space could be claimed) leaves its open file unusable: nothing more is written to it.
         Otherwise the written cases are committed, with the spare blocks given back for it;
         cases whose flags could not be committed are pending again (never announced)."""
-        self.full = error if isinstance(error, OutputFull) else OutputFull(self.path, needed)
+        if self.full is None:  # the first fault names what the run needed
+            self.full = error if isinstance(error, OutputFull) else OutputFull(self.path, needed)
         if not isinstance(error, OutputFull) and not isinstance(error, _SummaryFull):
             self._broken = True
         if not self._broken:

@@ -13,14 +13,15 @@ Needs root to mount a tmpfs; skipped (saying so) where it cannot mount one. The 
 
 from __future__ import annotations
 
+import concurrent.futures
 import errno
+import importlib.util
 import os
 import random
 import re
 import shutil
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -34,6 +35,7 @@ pytestmark = pytest.mark.mpi
 
 REPO = Path(__file__).resolve().parents[2]
 TRIALS = 8  # per (ranks, kind): 32 trials in all
+PARALLEL = 2  # trials at once (each on its own tmpfs)
 DEADLINE_S = 30.0  # s from the fault to the end of the run (the acceptance bound)
 SIZE = "5m"  # the tmpfs: the study's file (0.6-2 MB) with the 1 MB kept free, twice over
 OPTIONS = ("--no-progress-bar", "--progress-interval", "0")
@@ -91,11 +93,13 @@ def run(directory: Path, ranks: int) -> subprocess.CompletedProcess:
     )  # fmt: skip
 
 
-def compare(first: Path, second: Path) -> subprocess.CompletedProcess:
+def differences(first: Path, second: Path) -> list[str]:
+    """``scripts/compare_results.py``'s differences (run times ignored), in this process."""
     script = REPO / "scripts" / "compare_results.py"
-    return subprocess.run(
-        [sys.executable, str(script), str(first), str(second)], capture_output=True, text=True
-    )
+    spec = importlib.util.spec_from_file_location("compare_results", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.compare_hdf5(first, second, module.RUN_DEPENDENT)
 
 
 def faulted_run(directory: Path, ranks: int, delay: float):
@@ -139,45 +143,54 @@ def undisturbed(tmp_path_factory):
     return results
 
 
+def trial(directory: Path, ranks: int, kind: str, delay: float, reference: Path) -> list[str]:
+    """One trial on its own tmpfs at ``directory``; the problems found."""
+    mount_tmpfs(directory, SIZE)
+    problems = []
+    where = f"{directory.name} (fault at {delay:.2f} s)"
+    try:
+        (directory / "disk.toml").write_text(study_text(kind))
+        code, out, err, elapsed = faulted_run(directory, ranks, delay)
+        if code not in (0, 5) or elapsed > DEADLINE_S:
+            return [f"{where}: exit {code} {elapsed:.1f} s after the fault: {err}"]
+        lines = err.strip().splitlines()
+        if code == 5 and (len(lines) != 1 or not lines[0].startswith("error: disk.h5: no")):
+            problems.append(f"{where}: exit 5 with stderr {err!r}")
+        printed = COMPLETED_LINE.findall(out)
+        if printed:
+            with h5py.File(directory / "disk.h5", "r") as file:
+                cases = file["cases"]
+                missing = [c for c in printed if cases[c].attrs.get("status") != "completed"]
+            if missing:
+                problems.append(f"{where}: printed completed, not in the file: {missing}")
+        rerun = run(directory, ranks)
+        if rerun.returncode != 0:
+            return [
+                *problems,
+                f"{where}: rerun with space: exit {rerun.returncode}: {rerun.stderr}",
+            ]
+        found = differences(reference, directory / "disk.h5")
+        if found:
+            problems.append(f"{where}: the rerun differs from an undisturbed run: {found[:5]}")
+        return problems
+    finally:
+        subprocess.run(["umount", "-l", str(directory)], check=False)
+
+
 @pytest.mark.parametrize("kind", ["static", "cyclic"])
 @pytest.mark.parametrize("ranks", [1, 2])
 def test_a_disk_filled_to_the_last_byte_at_any_moment(tmp_path, undisturbed, ranks, kind):
+    """8 trials, two at a time (each on its own tmpfs), the fault moments drawn from a
+    fixed seed; every problem of every trial is listed."""
     rng = random.Random(f"{ranks}-{kind}")  # the same moments every time the test runs
-    longest = 2.5 if kind == "static" else 5.0  # s: start-up plus most of the run
-    problems = []
-    for trial in range(TRIALS):
-        directory = tmp_path / f"trial{trial}"
-        mount_tmpfs(directory, SIZE)
-        try:
-            (directory / "disk.toml").write_text(study_text(kind))
-            delay = rng.uniform(0.2, longest)
-            code, out, err, elapsed = faulted_run(directory, ranks, delay)
-            where = f"trial {trial} (fault at {delay:.2f} s)"
-            if code not in (0, 5) or elapsed > DEADLINE_S:
-                problems.append(f"{where}: exit {code} {elapsed:.1f} s after the fault: {err}")
-                continue
-            lines = err.strip().splitlines()
-            if code == 5 and (len(lines) != 1 or not lines[0].startswith("error: disk.h5: no")):
-                problems.append(f"{where}: exit 5 with stderr {err!r}")
-            printed = COMPLETED_LINE.findall(out)
-            if printed:
-                with h5py.File(directory / "disk.h5", "r") as file:
-                    missing = [
-                        case_id
-                        for case_id in printed
-                        if file["cases"][case_id].attrs.get("status") != "completed"
-                    ]
-                if missing:
-                    problems.append(f"{where}: printed completed, not in the file: {missing}")
-            rerun = run(directory, ranks)
-            if rerun.returncode != 0:
-                problems.append(
-                    f"{where}: rerun with space exit {rerun.returncode}: {rerun.stderr}"
-                )
-                continue
-            same = compare(undisturbed[kind], directory / "disk.h5")
-            if same.returncode != 0:
-                problems.append(f"{where}: rerun differs from an undisturbed run: {same.stdout}")
-        finally:
-            subprocess.run(["umount", "-l", str(directory)], check=False)
+    longest = 2.5 if kind == "static" else 4.0  # s: start-up plus most of the run
+    delays = [rng.uniform(0.2, longest) for _ in range(TRIALS)]
+    with concurrent.futures.ThreadPoolExecutor(PARALLEL) as pool:
+        found = pool.map(
+            lambda number: trial(
+                tmp_path / f"trial{number}", ranks, kind, delays[number], undisturbed[kind]
+            ),
+            range(TRIALS),
+        )
+        problems = [problem for problems in found for problem in problems]
     assert not problems, "\n".join(problems)
