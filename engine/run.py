@@ -521,10 +521,12 @@ def _settle_existing(
 ) -> bool:
     """Rank 0, under the lock: fresh removes the old outputs; a damaged file is salvaged or
     moved aside (engine.output.salvage, the copy in a child process that ``stop_event``
-    ends). False when a stop ended the salvage (nothing was changed)."""
+    ends). False when a stop ended the salvage (nothing was changed); the message of
+    :class:`engine.output.space.OutputFull` when the disk has no room for the salvage."""
     from engine.output.hdf5 import remove_outputs
     from engine.output.isolated import IsolatedCallStopped
     from engine.output.salvage import apply_existing
+    from engine.output.space import OutputFull
 
     config = prepared.config
     if options.fresh:
@@ -540,6 +542,8 @@ def _settle_existing(
             )
         except IsolatedCallStopped:
             return False
+        except OutputFull as full:
+            return str(full)
     return True
 
 
@@ -576,7 +580,10 @@ def _compute(comm, prepared: _Prepared, options: _RunOptions, command_line, stop
     searches, settled = None, True
     if rank == 0:
         settled = _settle_existing(prepared, options, command_line, stop_event)
-    if not patient_bcast(comm, settled):  # every rank, before the writer's first collective
+    settled = patient_bcast(comm, settled)  # every rank, before the writer's first collective
+    if isinstance(settled, str):  # no room to salvage the damaged file: nothing changed
+        return {"status": "output-full", "message": settled}
+    if not settled:
         if rank == 0:
             print("stopped while salvaging the damaged file; nothing changed", file=sys.stderr)
         return {"status": "interrupted", "message": "stopped while salvaging"}

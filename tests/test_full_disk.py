@@ -39,7 +39,7 @@ def test_a_case_that_does_not_fit_is_not_begun(tmp_path, monkeypatch):
         writer.prepare(plan, metadata(config))
         for number, case in enumerate(plan):
             if number == 2:
-                free["bytes"] = space.MARGIN  # the disk fills up
+                free["bytes"] = 0  # the disk fills up (the writer still holds its claims)
             writer.write(fake_outcome(case))
         assert isinstance(writer.full, OutputFull)
         assert str(path) in str(writer.full) and "rerun to resume" in str(writer.full)

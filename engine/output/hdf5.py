@@ -87,6 +87,7 @@ from .space import (
     SpareFile,
     case_bytes,
     claim,
+    claimed,
     ensure_space,
     is_no_space,
     unclaim,
@@ -550,7 +551,7 @@ class ResultsWriter:
             self.close()
 
 
-SUMMARY_ROW_BYTES = 1024  # bytes a row of the summary CSV takes at most (for the spare file)
+SUMMARY_ROW_BYTES = 512  # bytes of a summary row (about 300 at most; for the spare file)
 
 
 def file_descriptor(file: h5py.File) -> int | None:
@@ -672,7 +673,8 @@ class SingleWriter(ResultsWriter):
         record = case_record(outcome)
         needed = _record_bytes(record)
         try:
-            ensure_space(self.path, needed, remaining_cases=self._remaining)
+            held = claimed(self._descriptor) + self._spare.held * self._spare.size
+            ensure_space(self.path, needed, remaining_cases=self._remaining, held=held)
             self._claim(2 * needed)
             self._write_record(outcome, record)
         except Exception as error:

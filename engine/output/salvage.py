@@ -34,7 +34,8 @@ from engine.study.plan import Plan
 from .checksum import CaseCheck, check_root, verify_case
 from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_root
 from .identity import ExistingResults, check_identity, damaged_path, verdict
-from .isolated import IsolatedCallTimedOut, call_isolated, time_limit_for
+from .isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated, time_limit_for
+from .space import MARGIN, OutputFull, ensure_space, free_bytes, is_no_space
 
 __all__ = ["scan_damaged", "apply_existing", "readable_copy"]
 
@@ -128,6 +129,8 @@ def apply_existing(
     kept_as = existing.kept_as or damaged_path(path)
     if existing.kind == "salvage":
         temporary = path.with_name(f".{path.name}.salvaged")
+        size = path.stat().st_size  # the copy, and a readable copy of a truncated file
+        ensure_space(path, size)
         try:
             copied = call_isolated(
                 copy_sound_cases,
@@ -143,6 +146,15 @@ def apply_existing(
             copied = []
             existing.kind, existing.problem = "start-over", f"{existing.problem}; copying: {error}"
             print(f"note: salvage abandoned ({error}); the study starts over", flush=True)
+        except IsolatedCallStopped:
+            temporary.unlink(missing_ok=True)
+            raise
+        except Exception as error:
+            temporary.unlink(missing_ok=True)
+            path.with_name(f".{path.name}.salvage").unlink(missing_ok=True)
+            if is_no_space(error) or free_bytes(path) < MARGIN:  # HDF5 may hide the errno
+                raise OutputFull(path, size, free_bytes(path)) from None
+            raise
         existing.completed[:] = copied
     if existing.kind == "salvage":
         os.replace(path, kept_as)

@@ -52,6 +52,7 @@ __all__ = [
     "SpareFile",
     "CLAIM_SLACK",
     "unclaim",
+    "claimed",
 ]
 
 DATASET_OVERHEAD = 2048  # bytes of HDF5 metadata per dataset (header, units, description, sha256)
@@ -119,11 +120,12 @@ def planned_bytes(layout: dict, case_ids) -> int:
     return total
 
 
-def ensure_space(path: Path, needed: int, *, remaining_cases=1) -> None:
+def ensure_space(path: Path, needed: int, *, remaining_cases=1, held: int = 0) -> None:
     """Raise :class:`OutputFull` unless ``needed`` bytes (twice, plus a margin) fit on the
     file system of ``path``; the message names what the ``remaining_cases`` need (a count,
-    or a callable returning it: counted only when the space is short)."""
-    free = free_bytes(path)
+    or a callable returning it: counted only when the space is short). ``held``: bytes the
+    writer holds already (claimed past the file's end, the spare file), counted as free."""
+    free = free_bytes(path) + held
     if free < 2 * needed + MARGIN:
         remaining = remaining_cases() if callable(remaining_cases) else remaining_cases
         raise OutputFull(path, needed * max(remaining, 1), free)
@@ -140,7 +142,9 @@ def check_space(path: Path, needed: int, *, smallest_case: int = 0) -> None:
         raise OutputFull(path, needed, free)
 
 
-CLAIM_SLACK = 256 << 10  # bytes claimed beyond a case's estimate (HDF5 metadata, the flags)
+# Bytes claimed beyond a case's estimate: HDF5's metadata of a case (object headers, B-tree
+# nodes, attributes) and the flags; a static 8 x 8 case writes about 30 kB in all.
+CLAIM_SLACK = 64 << 10
 _KEEP_SIZE = 0x01  # FALLOC_FL_KEEP_SIZE (linux/falloc.h)
 _PUNCH_HOLE = 0x02  # FALLOC_FL_PUNCH_HOLE
 _UNSUPPORTED = (errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL, errno.ENODEV)
@@ -181,6 +185,14 @@ def claim(descriptor: int, length: int, path: Path) -> bool:
     if code in _UNSUPPORTED:
         return False
     raise OSError(code, f"{path}: cannot claim space: {os.strerror(code)}")
+
+
+def claimed(descriptor: int | None) -> int:
+    """Bytes allocated to the open file past its end (a claim not used yet)."""
+    if descriptor is None:
+        return 0
+    status = os.fstat(descriptor)
+    return max(0, getattr(status, "st_blocks", 0) * 512 - status.st_size)
 
 
 def unclaim(path: Path) -> None:
