@@ -22,7 +22,7 @@ from engine.output import space
 from engine.output.hdf5 import SingleWriter
 from engine.output.space import OutputFull, is_no_space
 from engine.study.examples import study_toml
-from tests.test_kill_safety import metadata, study
+from tests.test_kill_safety import completed_file, metadata, study
 from tests.test_output import fake_outcome
 
 REPO = Path(__file__).resolve().parents[1]
@@ -134,3 +134,103 @@ def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_pat
     last = engine(moved, "full.toml")
     assert last.returncode == 0, last.stderr
     assert f"{kept} already complete, {4 - kept} to run" in last.stdout, last.stdout
+
+
+def test_a_case_is_announced_only_once_its_flag_is_on_disk(tmp_path):
+    """Flags are committed in batches: an outcome is handed back for announcing (its
+    "completed" line) only after the flush that put its status in the file."""
+    config, plan = study()
+    path = tmp_path / "r.h5"
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        writer.flag_spacing = 1e9  # after the first commit, none until asked
+        announced = []
+        for case in plan:
+            outcome = fake_outcome(case)
+            writer.write(outcome)
+            announced += writer.committed(outcome)
+            shutil.copyfile(path, tmp_path / "now.h5")  # the bytes a kill now would leave
+            with h5py.File(tmp_path / "now.h5", "r") as file:
+                for done in announced:
+                    assert file["cases"][done.case_id].attrs["status"] == "completed"
+        assert len(announced) == 1  # the first case; the other three wait for a commit
+        rest = writer.commit()
+        assert [o.case_id for o in announced + rest] == list(plan.case_ids)
+
+
+def test_a_claim_that_fails_stops_before_the_case_is_begun(tmp_path, monkeypatch):
+    """Another process took the space: the claim fails, nothing of the case is written, the
+    cases written before are committed (their flags fit in the spare blocks given back) and
+    announced; those never committed are pending in the summary."""
+    from engine.output import hdf5
+
+    config, plan = study()
+    first, second, *_ = list(plan)
+    path = tmp_path / "r.h5"
+    with SingleWriter(path) as writer:
+        writer.prepare(plan, metadata(config))
+        assert space.spare_path(path).exists() or not writer._spare.held
+        writer.flag_spacing = 1e9
+        writer.write(fake_outcome(first))
+        announced = writer.committed(None)
+
+        def no_room(descriptor, length, where):
+            raise OutputFull(where, length, 0)
+
+        monkeypatch.setattr(hdf5, "claim", no_room)
+        writer.write(fake_outcome(second))
+        assert isinstance(writer.full, OutputFull) and not writer._broken
+        announced += writer.commit()
+    assert [o.case_id for o in announced] == [first.case_id]
+    assert not space.spare_path(path).exists()
+    with h5py.File(path, "r") as file:
+        assert file["cases"][first.case_id].attrs["status"] == "completed"
+        assert file["cases"][second.case_id].attrs["status"] == "pending"
+        assert len(file["cases"][second.case_id]) == 0  # not begun
+
+
+def test_claimed_blocks_are_held_then_given_back(tmp_path):
+    """fallocate(KEEP_SIZE) allocates past the end without changing the size; closing the
+    file gives the blocks back (where the file system supports it)."""
+    path = tmp_path / "f"
+    path.write_bytes(b"x" * 5000)
+    with open(path, "r+b") as handle:
+        if not space.claim(handle.fileno(), 1 << 20, path):
+            pytest.skip("this file system cannot claim blocks (fallocate KEEP_SIZE)")
+        assert path.stat().st_size == 5000
+        assert space.claimed(handle.fileno()) >= (1 << 20) - 4096
+    space.unclaim(path)
+    assert path.stat().st_size == 5000 and path.stat().st_blocks * 512 < 64 << 10
+
+
+def test_a_checkpoint_that_does_not_fit_leaves_nothing(tmp_path, monkeypatch):
+    """A full disk while a stopped cyclic case saves its state: no checkpoint, not even a
+    partial one (the case starts over when rerun), and no error."""
+    import numpy as np
+
+    from engine.study import checkpoint
+
+    def no_space(target, **arrays):
+        Path(target).write_bytes(b"partial")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", no_space)
+    target = tmp_path / "case.npz"
+    checkpoint._write(target, {"a": np.zeros(3)})
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_no_room_to_salvage_a_damaged_file_is_a_full_disk(tmp_path, monkeypatch):
+    """A salvage copies the sound cases into a new file: without room for it, exit 5 and
+    the damaged file untouched."""
+    from engine.output.identity import ExistingResults
+    from engine.output.salvage import apply_existing
+
+    config, plan = completed_file(tmp_path / "r.h5")
+    before = (tmp_path / "r.h5").read_bytes()
+    existing = ExistingResults(tmp_path / "r.h5", "salvage", completed=list(plan.case_ids))
+    monkeypatch.setattr(space, "free_bytes", lambda _: 0)
+    with pytest.raises(OutputFull):
+        apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
+    assert (tmp_path / "r.h5").read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.h5"]
