@@ -60,6 +60,13 @@ def open_results(path):
         ``summary`` row, ``history``, ``fields`` and ``planes`` (values with units and
         coordinates; ``.to_xarray()`` when xarray is installed).
 
+    Raises
+    ------
+    OSError
+        ``ResultsBeingWritten`` (an ``OSError``, errno EBUSY) while a run writes the file:
+        one line naming the run's pid and host; meanwhile ``engine.load_summary`` on the
+        summary CSV reads the completed cases. The run is not disturbed.
+
     Examples
     --------
     >>> results = engine.open_results("results/demo.h5")               # doctest: +SKIP

@@ -28,6 +28,7 @@ __all__ = [
     "check_not_being_written",
     "being_written_file",
     "is_locked_error",
+    "locked_by_another_program",
 ]
 
 

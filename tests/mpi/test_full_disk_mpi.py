@@ -1,9 +1,10 @@
 """A disk that fills to the last byte while a study runs, on 1 and 2 ranks, static and cyclic.
 
 Each trial runs a small study on its own small tmpfs and, at a moment drawn at random, has
-another process fill that file system to 0 B free. Whatever the moment, the run must end
-within 30 s of the fault with exit 0 (it had finished) or 5 (one line on stderr, no
-traceback); every case it printed as completed must be completed in the file; and a rerun
+another process fill that file system to 0 B free (every other trial also sends SIGTERM to
+the ranks 0.3 s later, while the run stops). Whatever the moment, the run must end within
+30 s of the fault with exit 0 (it had finished), 5 (one line on stderr, no traceback) or,
+after SIGTERM, 3; every case it printed as completed must be completed in the file; and a rerun
 once the space is free must complete the study to a file identical to an undisturbed run
 (``scripts/compare_results.py``). 8 trials for each of the four combinations: 32 in all.
 
@@ -14,6 +15,7 @@ Needs root to mount a tmpfs; skipped (saying so) where it cannot mount one. The 
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import errno
 import importlib.util
 import os
@@ -102,10 +104,24 @@ def differences(first: Path, second: Path) -> list[str]:
     return module.compare_hdf5(first, second, module.RUN_DEPENDENT)
 
 
-def faulted_run(directory: Path, ranks: int, delay: float):
-    """Start the study, fill the disk after ``delay`` s; (exit code, stdout, stderr, seconds
-    from the fault to the end). A run still alive 30 s after the fault is a hang: it gets
-    SIGTERM, then SIGKILL, and the exit code None."""
+def rank_pids(directory: Path) -> list[int]:
+    """Pids of the engine's rank processes running in ``directory``."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        try:
+            words = (entry / "cmdline").read_bytes().split(b"\0")
+            if b"engine" in words and os.readlink(entry / "cwd") == str(directory):
+                pids.append(int(entry.name))
+        except (OSError, ValueError):
+            continue
+    return pids
+
+
+def faulted_run(directory: Path, ranks: int, delay: float, terminate: bool = False):
+    """Start the study, fill the disk after ``delay`` s (``terminate``: and SIGTERM to every
+    rank 0.3 s later, while the run stops); (exit code, stdout, stderr, seconds from the
+    fault to the end). A run still alive 30 s after the fault is a hang: it gets SIGTERM,
+    then SIGKILL, and the exit code None."""
     process = subprocess.Popen(
         command(ranks),
         cwd=directory, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -114,6 +130,11 @@ def faulted_run(directory: Path, ranks: int, delay: float):
     time.sleep(delay)
     filler = fill(directory)
     fault = time.monotonic()
+    if terminate:
+        time.sleep(0.3)
+        for pid in rank_pids(directory):
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGTERM)
     try:
         out, err = process.communicate(timeout=DEADLINE_S)
         code = process.returncode
@@ -144,18 +165,23 @@ def undisturbed(tmp_path_factory):
 
 
 def trial(directory: Path, ranks: int, kind: str, delay: float, reference: Path) -> list[str]:
-    """One trial on its own tmpfs at ``directory``; the problems found."""
+    """One trial on its own tmpfs at ``directory``; the problems found. Every other trial
+    also sends SIGTERM while the run stops: then exit 3 is right as well, and the line
+    saying that the signal was received comes first."""
     mount_tmpfs(directory, SIZE)
     problems = []
-    where = f"{directory.name} (fault at {delay:.2f} s)"
+    terminate = int(directory.name.removeprefix("trial")) % 2 == 1
+    where = f"{directory.name} (fault at {delay:.2f} s{', SIGTERM' if terminate else ''})"
     try:
         (directory / "disk.toml").write_text(study_text(kind))
-        code, out, err, elapsed = faulted_run(directory, ranks, delay)
-        if code not in (0, 5) or elapsed > DEADLINE_S:
+        code, out, err, elapsed = faulted_run(directory, ranks, delay, terminate)
+        if code not in ((0, 3, 5) if terminate else (0, 5)) or elapsed > DEADLINE_S:
             return [f"{where}: exit {code} {elapsed:.1f} s after the fault: {err}"]
-        lines = err.strip().splitlines()
+        lines = [line for line in err.strip().splitlines() if " received: " not in line]
         if code == 5 and (len(lines) != 1 or not lines[0].startswith("error: disk.h5: no")):
             problems.append(f"{where}: exit 5 with stderr {err!r}")
+        if "Traceback" in err:
+            problems.append(f"{where}: a traceback: {err}")
         printed = COMPLETED_LINE.findall(out)
         if printed:
             with h5py.File(directory / "disk.h5", "r") as file:
