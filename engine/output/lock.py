@@ -303,14 +303,11 @@ def sibling_outputs(output: Path) -> list[Path]:
 def check_summary_path(output: Path, summary: Path) -> None:
     """Refuse to overwrite a CSV beside the output that is not a summary of this engine (an
     unrelated table that happens to have the summary's name), or the summary of another
-    results file beside it (``x.hdf5`` when writing ``x.h5``, or a run on it: its file, the
-    file being built or its lock; called once the lock is held, so two runs that start at
-    once both see the other's lock)."""
+    results file beside it (``x.hdf5`` when writing ``x.h5``: the file, or the lock of a run
+    building it; called once this run's lock is held, so two runs that start at once both
+    see the other's lock)."""
     for other in sibling_outputs(output):
-        used = [
-            p for p in (other, lock_path_for(other), other.with_name(f".{other.name}.creating"))
-        ]
-        if any(path.exists() for path in used):
+        if other.exists() or lock_path_for(other).exists():
             raise OutputPathError(
                 f"output {output}: {other} is beside it and both would write the summary "
                 f"{summary}; choose another name for one of them"
