@@ -90,18 +90,16 @@ def run(directory: Path, ranks: int, *extra: str) -> subprocess.CompletedProcess
 
 
 def rank_pids(directory: Path) -> list[int]:
-    """Pids of the engine's rank processes running in ``directory``."""
+    """Pids of the engine's rank processes running in ``directory`` (not ``mpiexec``: a
+    signal goes to the ranks, as SLURM sends it to the tasks)."""
     pids = []
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit():
             continue
         try:
             words = (entry / "cmdline").read_bytes().split(b"\0")
-            if (
-                b"engine" in words
-                and b"-m" in words
-                and os.readlink(entry / "cwd") == str(directory)
-            ):
+            rank = words[1:3] == [b"-m", b"engine"]  # python -m engine, not the launcher
+            if rank and os.readlink(entry / "cwd") == str(directory):
                 pids.append(int(entry.name))
         except OSError:
             continue
