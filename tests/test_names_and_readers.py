@@ -44,7 +44,7 @@ def refused(tmp_path, monkeypatch, study: str, **options) -> str:
     folder = tmp_path / "run"
     folder.mkdir()
     monkeypatch.chdir(folder)
-    run = engine.run_study(study, progress=False, **options)
+    run = engine.run_study(study, progress=False, check=False, **options)
     assert run.status == "invalid", run
     assert os.listdir(folder) == [], "a refused study created files"
     assert "\n" not in run.message and len(run.message) < 400
@@ -90,7 +90,7 @@ def test_x_h5_and_x_hdf5_never_share_a_summary(tmp_path, monkeypatch):
     first = engine.run_study(text(output="x.h5"), progress=False)
     assert first.ok, first
     summary = (tmp_path / "x.csv").read_bytes()
-    second = engine.run_study(text(name="other", output="x.hdf5"), progress=False)
+    second = engine.run_study(text(name="other", output="x.hdf5"), progress=False, check=False)
     assert second.status == "invalid"
     assert "x.h5 is beside it and both would write the summary x.csv" in second.message
     assert not (tmp_path / "x.hdf5").exists() and (tmp_path / "x.csv").read_bytes() == summary
@@ -157,8 +157,8 @@ def test_verify_on_paths_that_are_not_results_files(results, tmp_path, capsys):
     study.write_text(text())
     for path, words in (
         (tmp_path, "a directory, not a results file"),
-        (study, "a text file, not a results file"),
-        (results.with_suffix(".csv"), "a text file, not a results file"),
+        (study, "is a study file; its results:"),
+        (results.with_suffix(".csv"), "the summary table (CSV) of a study"),
         (tmp_path / "none.h5", "no such file"),
     ):
         assert verify.main([str(path)]) == 2

@@ -117,7 +117,7 @@ def _is_text(path: Path, length: int = 4096) -> bool:
         codecs.getincrementaldecoder("utf-8")().decode(head, final=False)  # may end mid-character
     except (OSError, UnicodeDecodeError):
         return False
-    return b"\0" not in head
+    return bool(head) and b"\0" not in head  # an empty file is a truncated results file
 
 
 def _checked(cases: h5py.Group, name: str, *, each_dataset: bool = True) -> CaseCheck:
