@@ -230,13 +230,26 @@ def _quiet_shutdown(code: int, stop_event: threading.Event) -> int:
     return code
 
 
-def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) -> int:
+def _world():
+    """``MPI.COMM_WORLD``; without an MPI launcher (:func:`engine.interpreter.launcher_seen`),
+    a :class:`engine.parallel.serial.SerialComm`, which neither loads mpi4py nor initialises
+    MPI: the world of a process started alone has one rank either way."""
+    from engine.interpreter import launcher_seen
+
+    if not launcher_seen():
+        from engine.parallel.serial import SerialComm
+
+        return SerialComm()
     from mpi4py import rc
 
     rc.thread_level = "funneled"  # only the main thread calls MPI (see engine.parallel.scheduler)
     from mpi4py import MPI
 
-    comm = MPI.COMM_WORLD
+    return MPI.COMM_WORLD
+
+
+def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) -> int:
+    comm = _world()
     from engine.interpreter import launcher_mismatch
 
     mismatch = launcher_mismatch(comm.Get_size())  # another MPI's mpiexec, srun without PMI

@@ -143,6 +143,22 @@ def launched_sizes(environ: Mapping[str, str] = os.environ) -> dict[str, int]:
     return {name: int(environ[name]) for name in names if environ.get(name, "").isdigit()}
 
 
+# prefixes of the variables an MPI launcher (Hydra, Open MPI's mpirun/prterun, PMIx, MVAPICH,
+# Intel MPI, srun's PMI plug-ins) sets in the environment of the processes it starts
+_LAUNCHER_PREFIXES = ("PMI_", "PMIX_", "OMPI_", "PRTE_", "HYDI_", "HYDRA_", "MPI_LOCAL",
+                      "MV2_", "MPIR_", "I_MPI_HYDRA", "SLURM_STEP")  # fmt: skip
+
+
+def launcher_seen(environ: Mapping[str, str] = os.environ) -> bool:
+    """Whether an MPI launcher (or an srun step) may have started this process: any of its
+    variables in ``environ`` (:func:`launched_sizes`, or a name with one of the launchers'
+    prefixes). False only for a process typed alone, which is then a world of one rank
+    without MPI being initialised; when in doubt, True (MPI decides)."""
+    if launched_sizes(environ) or any(key in environ for key in _SLURM_STEP_MARK):
+        return True
+    return any(name.startswith(_LAUNCHER_PREFIXES) for name in environ)
+
+
 def launcher_mismatch(world_size: int, environ: Mapping[str, str] = os.environ) -> str | None:
     """The error when the launcher started more ranks than MPI sees in its world
     (``world_size``); None when they agree.

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from engine import __version__
+from engine.parallel.serial import any_rank, ranks_on_node
 from engine.parallel.waiting import patient_bcast, patient_gather
 
 __all__ = ["StudyError", "StudyRun", "RUN_STATUSES", "run_study"]
@@ -450,17 +451,15 @@ def _verdict(comm, study, options: _RunOptions, locks: list, stop_event):
     """Rank 0 prepares; every rank receives ``("ok", _Prepared)``, ``("invalid", message)``,
     ``("output-full", message)`` or ``("stopped", "")`` (a stop signal while the existing file
     was read)."""
-    from mpi4py import MPI
-
     from engine.output.isolated import IsolatedCallStopped
     from engine.output.space import OutputFull
 
     verdict = None
     if comm.Get_rank() == 0:
-        ranks_on_node = comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
+        node_ranks = ranks_on_node(comm)
         try:
             prepared = _prepare_on_root(
-                study, options, comm.Get_size(), ranks_on_node, locks, stop_event
+                study, options, comm.Get_size(), node_ranks, locks, stop_event
             )
             verdict = ("ok", prepared)
         except _input_errors() as error:
@@ -470,13 +469,11 @@ def _verdict(comm, study, options: _RunOptions, locks: list, stop_event):
         except IsolatedCallStopped:
             verdict = ("stopped", "")
     else:
-        comm.Split_type(MPI.COMM_TYPE_SHARED)  # collective: every rank takes part
+        ranks_on_node(comm)  # collective: every rank takes part
     return patient_bcast(comm, verdict)
 
 
 def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> StudyRun:
-    from mpi4py import MPI
-
     rank = comm.Get_rank()
     peers = comm.allgather((os.getpid(), socket.gethostname()))
     locks: list = []  # rank 0: the output lock, once taken
@@ -496,7 +493,7 @@ def _run(comm, study, options: _RunOptions, command_line: str, stop_event) -> St
             if rank == 0:
                 print_plan(prepared, options, comm.Get_size())
             return run
-        if comm.allreduce(stop_event.is_set(), op=MPI.LOR):  # a stop during start-up
+        if any_rank(comm, stop_event.is_set()):  # a stop during start-up
             return _stopped_at_start_up(comm, run)
         if rank == 0 and prepared.existing is not None:
             prepared.existing.report(sys.stdout, drop_stale=options.drop_stale)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engine.interpreter import REQUIRED, launcher_mismatch, missing_modules
+from engine.interpreter import REQUIRED, launcher_mismatch, launcher_seen, missing_modules
 from engine.study.examples import study_toml
 from tests.mpi.test_engine_mpi import MPIEXEC
 
@@ -114,6 +114,21 @@ def test_a_serial_run_in_a_batch_script_or_salloc_shell_is_allowed():
     batch = {"SLURM_NTASKS": "32", "SLURM_PROCID": "0", "SLURM_JOB_ID": "7"}
     assert launcher_mismatch(1, batch) is None
     assert launcher_mismatch(2, {**batch, "PMI_SIZE": "2", "PMI_RANK": "0"}) is None
+
+
+def test_a_process_typed_alone_is_told_from_a_launched_one():
+    """Alone (no MPI is initialised: engine.parallel.serial) only without any launcher's
+    variable; a batch or salloc shell is no launcher, an srun step is one."""
+    assert not launcher_seen({})
+    assert not launcher_seen({"SLURM_NTASKS": "32", "SLURM_JOB_ID": "7", "HOME": "/h"})
+    for launched in (
+        {"PMI_SIZE": "1", "PMI_RANK": "0"},  # MPICH's Hydra, Intel MPI
+        {"OMPI_COMM_WORLD_SIZE": "1"},  # Open MPI's mpirun
+        {"PMIX_RANK": "0"},  # a PMIx launcher (prterun, srun --mpi=pmix)
+        {"MPI_LOCALNRANKS": "1"},  # Hydra
+        {"SLURM_STEP_ID": "0"},  # an srun step, whatever its --mpi plug-in
+    ):
+        assert launcher_seen(launched), launched
 
 
 def test_srun_with_a_plugin_of_another_mpi_is_recognised():

@@ -2,10 +2,15 @@
 FFT length helper that replaced SciPy's gives SciPy's lengths (so the subsurface lattices,
 hence the stresses, keep their bits)."""
 
+import os
 import subprocess
 import sys
+from pathlib import Path
 
+from engine.interpreter import launcher_seen
 from engine.kernels.fft import next_fast_length
+
+REPO = Path(__file__).resolve().parents[1]
 
 
 def test_next_fast_length_is_scipys_real_next_fast_len():
@@ -71,3 +76,38 @@ def test_the_reports_closed_forms_import_scipy_only_when_a_root_is_searched():
     )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert run.stdout.split() == ["[]", "True"], run.stdout
+
+
+def test_a_process_typed_alone_loads_no_mpi(tmp_path):
+    """Without a launcher the command runs on a world of one rank that is not MPI's (17 MB of
+    mpi4py saved), and its files are bit-identical to those of the same command on
+    ``MPI.COMM_WORLD`` (scripts/compare_results.py, no tolerance)."""
+    from engine.study.examples import study_toml
+
+    text = study_toml(
+        "t", "t.h5", mesh={"n": 8}, loading={"kind": "static", "steps": 1},
+        sweep={"mu1": [0.1, 0.3]},
+    )  # fmt: skip
+    code = (
+        "import sys\n"
+        "import engine.cli\n"
+        "if sys.argv[2] == 'mpi':\n"
+        "    from mpi4py import MPI\n"
+        "    engine.cli._world = lambda: MPI.COMM_WORLD\n"
+        "status = engine.cli.main(['t.toml', '--no-progress-bar'])\n"
+        "print(status, 'mpi4py' in sys.modules)\n"
+    )
+    environ = {k: v for k, v in os.environ.items() if not launcher_seen({k: v})}
+    for world, expected in (("serial", "0 False"), ("mpi", "0 True")):
+        (tmp_path / world).mkdir()
+        (tmp_path / world / "t.toml").write_text(text)
+        run = subprocess.run(
+            [sys.executable, "-c", code, "t.toml", world],
+            capture_output=True, text=True, cwd=tmp_path / world, env=environ,
+        )  # fmt: skip
+        assert run.stdout.strip().splitlines()[-1] == expected, run.stdout + run.stderr
+    compare = [sys.executable, str(REPO / "scripts" / "compare_results.py")]
+    for name in ("t.h5", "t.csv"):
+        files = [str(tmp_path / world / name) for world in ("serial", "mpi")]
+        check = subprocess.run([*compare, *files], capture_output=True, text=True)
+        assert check.returncode == 0, check.stdout + check.stderr

@@ -43,6 +43,7 @@ from typing import Any
 import h5py
 import numpy as np
 
+from engine.parallel.serial import any_rank, as_mpi
 from engine.schema import CASES_GROUP, CaseStatus, DatasetRecord
 from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
@@ -168,14 +169,12 @@ class CollectiveWriter(ResultsWriter):
         return exists
 
     def _open(self, path: Path, mode: str) -> h5py.File:
-        return h5py.File(path, mode, driver="mpio", comm=self.comm)
+        return h5py.File(path, mode, driver="mpio", comm=as_mpi(self.comm))
 
     def _stop_agreed(self) -> bool:
         """Collective: whether any rank has seen a stop signal (the same answer everywhere, so
         every rank leaves the structural writes at the same point)."""
-        from mpi4py import MPI
-
-        return bool(self.comm.allreduce(bool(self.should_stop()), op=MPI.LOR))
+        return any_rank(self.comm, bool(self.should_stop()))
 
     def _discard(self, temporary: Path) -> None:
         if self.rank == 0:

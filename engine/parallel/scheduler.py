@@ -341,10 +341,12 @@ class _Dispatcher:
         self.local_alive = True
 
     def run(self) -> SchedulerReport:
-        from mpi4py import MPI
+        self.status = self.any_source = None  # alone (no workers): no message to probe
+        if self.workers_alive:
+            from mpi4py import MPI
 
-        self.status = MPI.Status()
-        self.any_source = MPI.ANY_SOURCE
+            self.status = MPI.Status()
+            self.any_source = MPI.ANY_SOURCE
         self.local.start()
         self._feed_local()
         while self.local_alive or self.rank in self.busy or self.workers_alive:
