@@ -96,8 +96,8 @@ def test_frictionless_case_builds_only_the_spectra_it_needs():
     assert set(coupled._spectra) == {"zz"}
     coupled.coupling_to_tangential(np.ones(grid.shape))  # the slip of a frictionless case
     assert set(coupled._spectra) == {"zz", "zx", "zy"}
-    # 2n_x (n_y + 1) values each: real for A_zz (even), complex 0 + ik for A_zx, A_zy (odd).
-    assert coupled.spectra_bytes == (1 + 2 * 2) * 32 * 17 * 8
+    # 2n_x (n_y + 1) values each: real for A_zz (even), k of ik for A_zx, A_zy (odd).
+    assert coupled.spectra_bytes == 3 * 32 * 17 * 8
 
 
 def test_products_do_not_depend_on_the_batch_sizes_asked_before():

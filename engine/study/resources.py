@@ -10,8 +10,8 @@ kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
 The 830 B per element are the contact solver: the kernel spectra it needs (the real half of
-an even kernel's, 8 B per padded frequency, ~16 B per element; complex values of the two
-odd ones, ~32 B per element; one to three frictionless and six frictional), one pair of
+an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary half of the
+two odd ones, as much; one to three frictionless and six frictional), one pair of
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
 arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
 components and three loads per layer on the folded line lattice, up to the evaluator's
