@@ -98,6 +98,12 @@ def test_frictionless_case_builds_only_the_spectra_it_needs():
     assert set(coupled._spectra) == {"zz", "zx", "zy"}
     # 2n_x (n_y + 1) values each: real for A_zz (even), k of ik for A_zx, A_zy (odd).
     assert coupled.spectra_bytes == 3 * 32 * 17 * 8
+    # a frictional solve keeps them whole, 0 + ik (one complex product each), bit for bit
+    slip = coupled.coupling_to_tangential(np.arange(256.0).reshape(grid.shape))
+    coupled.apply(*np.ones((3, *grid.shape)))
+    assert coupled.spectra_bytes == (1 + 2 * 2 + 3) * 32 * 17 * 8
+    again = coupled.coupling_to_tangential(np.arange(256.0).reshape(grid.shape))
+    assert all(np.array_equal(a, b) for a, b in zip(slip, again))
 
 
 def test_products_do_not_depend_on_the_batch_sizes_asked_before():

@@ -152,7 +152,7 @@ class HalfSpaceOperator:
         values, kind = self._stored(key)
         if kind == "real":
             return values.astype(complex)
-        return 1j * values if kind == "imaginary" else values.copy()
+        return 1j * _imaginary_part(values) if kind == "imaginary" else values.copy()
 
     def _stored(self, key: str) -> tuple[np.ndarray, str]:
         if key not in self._spectra:
@@ -190,6 +190,18 @@ class HalfSpaceOperator:
                 self._spectra[key] = (spectrum.real * self._scale, "real")
             else:  # odd along one axis: an imaginary spectrum ik, kept as k (half of 0 + ik)
                 self._spectra[key] = (spectrum.imag * self._scale, "imaginary")
+        if "xx" in self._spectra:  # a frictional solve: its products by A_zx, A_zy in one step
+            self._imaginary_whole()
+
+    def _imaginary_whole(self) -> None:
+        """Keep the imaginary spectra whole, as 0 + ik (twice the memory of k, a product in
+        one complex multiplication): for the frictional solves, which apply them at every
+        iteration; a frictionless case reads them once per increment (its slip)."""
+        for key, (values, kind) in list(self._spectra.items()):
+            if kind == "imaginary" and not np.iscomplexobj(values):
+                whole = np.zeros(values.shape, complex)
+                whole.imag = values
+                self._spectra[key] = (whole, kind)
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:
@@ -233,17 +245,18 @@ class HalfSpaceOperator:
     ) -> np.ndarray:
         """``out`` ← ``sign`` · (spectrum of kernel ``key``) · ``spectrum``; ``out`` may be
         ``spectrum``. A real kernel spectrum k multiplies the real and imaginary parts:
-        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one, kept as k, in one
-        complex product by 0 + ik (``multiply_by_imaginary``): (a + ib)(0 + ik) =
+        (a + ib)k = ak + ibk (``multiply_by_real``); an imaginary one (kept as k, or whole as
+        0 + ik for frictional solves) in one complex product by 0 + ik (``multiply_by_imaginary``
+        for k): (a + ib)(0 + ik) =
         (a·0 − bk) + i(ak + b·0) = −bk + iak, exactly (the same values as turning ak + ibk
         by i; a zero may differ in sign, which no sum with a nonzero keeps)."""
         values, kind = self._stored(key)
         if kind == "imaginary" and sign < 0:  # turned by −i instead (numpy's complex
-            multiply_by_real(spectrum, values, out)  # negation is slow): bk − iak
-            return np.multiply(out, 1j * sign, out=out)
+            multiply_by_real(spectrum, _imaginary_part(values), out)  # negation is slow)
+            return np.multiply(out, 1j * sign, out=out)  # bk − iak
         if kind == "real":
             multiply_by_real(spectrum, values, out)
-        elif kind == "imaginary":
+        elif kind == "imaginary" and not np.iscomplexobj(values):
             multiply_by_imaginary(spectrum, values, out, self._imaginary_rows())
         else:
             np.multiply(spectrum, values, out=out)
@@ -340,6 +353,7 @@ class HalfSpaceOperator:
                 for (a, b), (key, sign) in _BLOCKS.items():
                     values, kind = self._stored(key)
                     factor = {"real": 1.0, "imaginary": 1j, "complex": 1.0}[kind] * sign
+                    values = _imaginary_part(values) if kind == "imaginary" else values
                     np.multiply(values[part], factor, out=symbol[..., a, b])
                 hermitian = (0.5 / self._scale) * (symbol + np.conj(np.swapaxes(symbol, -1, -2)))
                 largest = max(largest, float(np.linalg.eigvalsh(hermitian).max()))
@@ -354,6 +368,11 @@ def multiply_by_real(spectrum: np.ndarray, values: np.ndarray, out: np.ndarray) 
     at each call (fresh pages: more time than the product on small grids)."""
     np.multiply(spectrum.real, values, out=out.real)
     np.multiply(spectrum.imag, values, out=out.imag)
+
+
+def _imaginary_part(values: np.ndarray) -> np.ndarray:
+    """k of an imaginary spectrum kept as k or as 0 + ik."""
+    return values.imag if np.iscomplexobj(values) else values
 
 
 def multiply_by_imaginary(
