@@ -103,7 +103,7 @@ def test_frictionless_case_builds_only_the_spectra_it_needs():
     coupled.apply(*np.ones((3, *grid.shape)))
     assert coupled.spectra_bytes == (1 + 2 * 2 + 3) * 32 * 17 * 8
     again = coupled.coupling_to_tangential(np.arange(256.0).reshape(grid.shape))
-    assert all(np.array_equal(a, b) for a, b in zip(slip, again))
+    assert all(np.array_equal(a, b) for a, b in zip(slip, again, strict=True))
 
 
 def test_products_do_not_depend_on_the_batch_sizes_asked_before():

@@ -43,7 +43,6 @@ from typing import Any
 import h5py
 import numpy as np
 
-from engine.parallel.serial import any_rank, as_mpi
 from engine.schema import CASES_GROUP, CaseStatus, DatasetRecord
 from engine.study.case import COMPLETED, FAILED, CaseOutcome
 from engine.study.layout import DatasetShape
@@ -169,12 +168,19 @@ class CollectiveWriter(ResultsWriter):
         return exists
 
     def _open(self, path: Path, mode: str) -> h5py.File:
-        return h5py.File(path, mode, driver="mpio", comm=as_mpi(self.comm))
+        comm = self.comm
+        if not hasattr(comm, "py2f"):  # a world of one without MPI (engine.parallel.serial)
+            from mpi4py import MPI
+
+            comm = MPI.COMM_SELF
+        return h5py.File(path, mode, driver="mpio", comm=comm)
 
     def _stop_agreed(self) -> bool:
         """Collective: whether any rank has seen a stop signal (the same answer everywhere, so
         every rank leaves the structural writes at the same point)."""
-        return any_rank(self.comm, bool(self.should_stop()))
+        from mpi4py import MPI
+
+        return bool(self.comm.allreduce(bool(self.should_stop()), op=MPI.LOR))
 
     def _discard(self, temporary: Path) -> None:
         if self.rank == 0:

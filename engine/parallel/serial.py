@@ -7,9 +7,10 @@ layers make of a communicator of size one, exactly as ``MPI.COMM_SELF`` would: e
 collective returns this rank's own contribution. Point-to-point calls do not exist (there is
 no peer); the layers make none with one rank.
 
-:func:`any_rank` is the logical-or reduction both kinds of communicator accept, and
-:func:`as_mpi` gives the real ``MPI.COMM_SELF`` where a library needs one (h5py's ``mpio``
-driver).
+:func:`any_rank` and :func:`ranks_on_node` are the collectives both kinds of communicator
+answer without MPI's constants. Where a library needs an mpi4py communicator (h5py's
+``mpio`` driver, ``engine.output.collective``), a ``SerialComm`` stands for
+``MPI.COMM_SELF``.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import os
 import sys
 from typing import Any
 
-__all__ = ["SerialComm", "any_rank", "as_mpi", "ranks_on_node"]
+__all__ = ["SerialComm", "any_rank", "ranks_on_node"]
 
 
 class SerialComm:
@@ -68,12 +69,3 @@ def ranks_on_node(comm) -> int:
     from mpi4py import MPI
 
     return comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size()
-
-
-def as_mpi(comm):
-    """``comm`` as an mpi4py communicator: ``MPI.COMM_SELF`` for a :class:`SerialComm`."""
-    if isinstance(comm, SerialComm):
-        from mpi4py import MPI
-
-        return MPI.COMM_SELF
-    return comm
