@@ -75,7 +75,7 @@ def test_a_bad_tests_file_is_refused_naming_file_row_and_column(tmp_path, tests,
     """Exit 2 (status "invalid") with the file, the row (1 = first data row, 0 = header) and
     the column; nothing is written."""
     study = write_study(tmp_path, tests=tests)
-    run = engine.run_study(study, progress=False)
+    run = engine.run_study(study, progress=False, check=False)
     assert run.status == "invalid"
     assert re_search(message, run.message), run.message
     assert not (tmp_path / "out").exists()
@@ -257,7 +257,7 @@ def test_kept_solutions_of_a_changed_test_or_study_are_not_reused(tmp_path):
 
 def test_a_calibration_takes_one_combination_of_the_sweep(tmp_path):
     study = write_study(tmp_path, {"sweep": {"mu1": [0.5, 0.6]}})
-    run = engine.run_study(study, progress=False)
+    run = engine.run_study(study, progress=False, check=False)
     assert run.status == "invalid"
     assert "[sweep] = '2 combinations': a calibration takes one combination" in run.message
     assert not (tmp_path / "out").exists()
