@@ -26,31 +26,33 @@ mapping the run's status to the exit code. The flow:
    cleanly, exit code 3; the next run resumes. A dead peer on the same host ends the job
    (exit 70, ``engine.parallel.scheduler.PeerWatch``). See docs/how-to/resume-and-requeue.md.
 
-Exit codes: 0 all cases completed; 1 at least one case failed; 2 bad input, unusable output
-path, output in use by another run or holding another study (nothing computed, no output of
-another run created or changed); 3 interrupted by a signal (rerun to resume); 4 a case the
-run wrote cannot be read back (rerun to recompute it); 5 the output's file system is full
-(completed cases kept: free space and rerun to resume); 70 internal error or a dead peer (the
-communicator is aborted so no rank waits forever).
+Exit codes: :mod:`engine.exit_codes` defines them and what each means (the ``--help`` epilog
+and docs/reference/exit-codes.md are generated from it).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
+import logging
 import os
 import shlex
 import signal
 import sys
+import textwrap
 import threading
 import time
 import traceback
 from pathlib import Path
 
-from engine import __version__
+from engine._version import __version__
+from engine.exit_codes import ExitCode, epilog_text
+from engine.interpreter import check_interpreter, launcher_mismatch
 
-EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INTERNAL = 0, 1, 2, 3, 70
-EXIT_DAMAGED, EXIT_OUTPUT_FULL = 4, 5
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = ExitCode.OK, ExitCode.FAILED, ExitCode.BAD_INPUT
+EXIT_INTERRUPTED, EXIT_INTERNAL = ExitCode.INTERRUPTED, ExitCode.INTERNAL
+EXIT_DAMAGED, EXIT_OUTPUT_FULL = ExitCode.DAMAGED, ExitCode.OUTPUT_FULL
 _STOP_SIGNALS = ("SIGTERM", "SIGUSR1", "SIGINT")
 _QUIET_EXIT_DELAY = 2.0  # s: ranks other than 0 wait this long before exiting on a bad launch
 
@@ -74,16 +76,18 @@ subcommands (serial, no MPI):
   plot RESULTS.h5     draw the figures of a results file (PNG); `plot --help` for options
   report RESULTS.h5   print its results tables in Markdown; `report --help` for options
   verify RESULTS.h5   read every case back, compare checksums and the summary CSV with the
-                      file (exit 0 whole, 4 damaged)"""
+                      file (exit 0 whole, 4 damaged; `verify --help` for all)"""
 
-_EPILOG = """\
-Relative paths ([study] output, --output) are taken from the working directory, not from the
-folder of the study file. Exit codes: 0 every case completed, 1 a case failed, 2 bad input,
-unusable output path, or output in use by another run or holding another study (nothing
-computed or changed), 3 interrupted by a signal (rerun to resume), 4 a case written cannot
-be read back (rerun), 5 the output's file system is full (free space, rerun to resume), 70
-internal error or a dead rank.
-Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run"""
+_EPILOG = "\n".join(
+    (
+        textwrap.fill(
+            "Relative paths ([study] output, --output) are taken from the working directory, "
+            "not from the folder of the study file. " + epilog_text(),
+            width=95,
+        ),
+        "Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run",
+    )
+)
 
 
 def vocabulary() -> str:
@@ -203,7 +207,6 @@ def main(
     """The command line; ``stop_event``: one that early stop-signal handlers already set
     (``python -m engine`` installs them before importing this module)."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    from engine.interpreter import check_interpreter
 
     if code := check_interpreter(argv):  # a Python without the engine's packages: exit 2
         return code
@@ -250,8 +253,6 @@ def _world():
 
 def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) -> int:
     comm = _world()
-    from engine.interpreter import launcher_mismatch
-
     mismatch = launcher_mismatch(comm.Get_size())  # another MPI's mpiexec, srun without PMI
     if mismatch is not None:
         if mismatch:
@@ -291,18 +292,19 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
         return EXIT_INTERNAL
 
 
-_OUTPUT_COMMANDS = ("plot", "report", "verify")  # on a results file: serial, no MPI
+#: The commands on a results file (serial, no MPI) and the modules whose ``main`` they run,
+#: imported when the command is asked for.
+_OUTPUT_COMMANDS = {
+    "plot": "engine.analysis.figures",
+    "report": "engine.analysis.report",
+    "verify": "engine.output.verify",
+}
 
 
 def _output_command(argv: list[str], prog: str | None) -> int:
     """``plot RESULTS.h5 [--out DIR]`` (engine.analysis.figures), ``report RESULTS.h5 …``
     (engine.analysis.report)."""
-    if argv[0] == "plot":
-        from engine.analysis.figures import main as command
-    elif argv[0] == "verify":
-        from engine.output.verify import main as command
-    else:
-        from engine.analysis.report import main as command
+    command = importlib.import_module(_OUTPUT_COMMANDS[argv[0]]).main
     try:
         return command(argv[1:], prog=f"{prog or 'python -m engine'} {argv[0]}")
     except SystemExit as exit_:  # --help, usage errors
@@ -321,11 +323,52 @@ EXIT_CODES = {
 }
 
 
+class _ConsoleHandler(logging.Handler):
+    """The run's log as the command line shows it: INFO on stdout (a record marked
+    ``stream="stderr"``, a progress status line, on stderr), WARNING and above on stderr, the
+    message alone, flushed line by line (the streams are looked up at each record, so a
+    redirection in force is followed)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        to_stderr = record.levelno >= logging.WARNING or getattr(record, "stream", "") == "stderr"
+        stream = sys.stderr if to_stderr else sys.stdout
+        try:
+            stream.write(self.format(record) + "\n")
+            stream.flush()
+        except BrokenPipeError:
+            raise
+        except Exception:  # noqa: BLE001 - logging must not end the run
+            self.handleError(record)
+
+
+@contextlib.contextmanager
+def _console_log(name: str = "engine"):
+    """Show the records of the logger ``name`` (INFO and above) on the console meanwhile."""
+    logger, handler = logging.getLogger(name), _ConsoleHandler(logging.INFO)
+    previous = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(previous)
+
+
 def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
-    """The study run through :func:`engine.run.run_study`; its status as the exit code."""
+    """The study run through :func:`engine.run.run_study`, its log on the console; its
+    status as the exit code."""
     from engine.run import run_study
 
-    run = run_study(
+    with _console_log():
+        run = _run_study(run_study, comm, args, command_line, stop_event)
+    if comm.Get_rank() == 0 and run.status in ("invalid", "output-full"):
+        print(f"error: {run.message}", file=sys.stderr, flush=True)
+    return EXIT_CODES[run.status]
+
+
+def _run_study(run_study, comm, args, command_line: str, stop_event: threading.Event):
+    return run_study(
         args.study,
         comm=comm,
         output=args.output,
@@ -339,9 +382,6 @@ def _run(comm, args, command_line: str, stop_event: threading.Event) -> int:
         command_line=command_line,
         check=False,
     )
-    if comm.Get_rank() == 0 and run.status in ("invalid", "output-full"):
-        print(f"error: {run.message}", file=sys.stderr, flush=True)
-    return EXIT_CODES[run.status]
 
 
 # the rank, once MPI is initialised (for the message of the stop handler)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import tomllib
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -164,8 +165,6 @@ def _text(head: bytes) -> str | None:
 
 def _study_output(path: Path) -> str | None:
     """``[study] output`` of a study file (TOML with a ``[study]`` table), or None."""
-    import tomllib
-
     try:
         with open(path, "rb") as handle:
             document = tomllib.load(handle)

@@ -23,7 +23,7 @@ Layout of a case group ``/cases/<case_id>/`` (units as UDUNITS strings, "1" dime
                                       each change of the peak region (cyclic)
     fatigue/cycle_NNNNNNN/<name>      fretting with [fatigue]: each criterion's map on the
                                       stress plane, its angles, lives and hot spot
-                                      (FATIGUE_CRITERIA, fatigue_maps)
+                                      (fatigue_maps)
 
 and at the root ``/grid/x``, ``/grid/y`` (ROOT_GRID) when every case shares the grid. Every
 dataset carries ``units`` and ``description`` attributes; :func:`case_dataset` gives both for
@@ -33,8 +33,8 @@ The units of the tables are a 3-D contact's. A line (plane-strain) contact is co
 unit length along y: its forces, energies, areas and volumes are per mm of contact length
 (N → N/mm, mJ → mJ/mm, mm^2 → mm^2/mm, and a volume mm^3 → mm^2/mm, the worn area per mm
 of length as ``scar_area``, :data:`PER_UNIT_LENGTH`);
-:func:`contact_units` turns a table's unit into the contact's, :func:`unit_of` and
-:func:`parameter_units` take the geometry, and :meth:`DatasetRecord.per_unit_length` gives a
+:func:`contact_units` turns a table's unit into the contact's, :func:`unit_of` takes the
+geometry, and :meth:`DatasetRecord.per_unit_length` gives a
 line contact's record. Lengths, pressures, stresses and counts are the same in both.
 """
 
@@ -73,19 +73,17 @@ __all__ = [
     "DEEP_DEPTH_FRACTION",
     "PARAMETER_UNITS",
     "PARAMETERS",
+    "CASE_PARAMETERS",
     "SWEPT_KEY_UNITS",
     "UNITS",
     "PER_UNIT_LENGTH",
     "contact_units",
     "unit_of",
-    "parameter_units",
     "SUMMARY_COLUMNS",
     "SURFACE_COLUMNS",
     "SURFACE_DATASETS",
     "FRETTING_HISTORY",
     "FRETTING_RECORDS",
-    "FATIGUE_CRITERIA",
-    "FATIGUE_HISTORY",
     "FATIGUE_HOT_SPOT_COLUMNS",
     "fatigue_specs",
     "fatigue_maps",
@@ -374,16 +372,10 @@ FRETTING_RECORDS = {
 
 
 # ------------------------------------------------------------------ fatigue criteria
-#: The bundled fatigue criteria (engine.fatigue.CRITERIA) by value column: (unit, what the
-#: value is, whether it has a critical-plane angle, whether it gives a life). A plug-in
-#: criterion's columns and datasets follow the same rule from its own column and unit
-#: (:func:`fatigue_specs`).
-FATIGUE_CRITERIA = {
-    "crossland_risk": ("1", "Crossland risk (√J2,a + α σ_H,max)/τ_d", False, False),
-    "dang_van_risk": ("1", "Dang Van risk max_t (τ(t) + α σ_H(t))/τ_d", False, False),
-    "swt": ("MPa", "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane", True, True),
-    "fs": ("1", "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane", True, True),
-}
+#: The columns of a fatigue criterion's hot spot (``fatigue/cycle_<N>/<column>_hot_spot``).
+#: A criterion's columns and datasets are named from its own column, unit and description
+#: (:func:`fatigue_specs`, :func:`fatigue_maps`; the criteria declare them,
+#: :mod:`engine.fatigue`).
 FATIGUE_HOT_SPOT_COLUMNS = ("value", "x", "z", "angle", "life", "critical", "critical_x")
 
 
@@ -427,15 +419,6 @@ def fatigue_maps(column: str, unit: str, what: str, angle: bool, life: bool, cyc
         ", ".join(FATIGUE_HOT_SPOT_COLUMNS),
     )
     return specs
-
-
-#: history/<key> of a fretting case with ``[fatigue] every_cycle = true``: the bundled
-#: criteria's hot spots per simulated cycle.
-FATIGUE_HISTORY = {
-    key: DatasetSpec(spec.units, spec.description + _PER_CYCLE)
-    for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items()
-    for key, spec in fatigue_specs(column, unit, what, angle, life).items()
-}
 
 
 def fretting_record(name: str, cycle: int) -> DatasetSpec:
@@ -487,8 +470,6 @@ def history_dataset(key: str, cyclic: bool = True, fretting: bool = False) -> Da
     increment) case."""
     if fretting and key in FRETTING_HISTORY:
         return FRETTING_HISTORY[key]
-    if fretting and key in FATIGUE_HISTORY:
-        return FATIGUE_HISTORY[key]
     if cyclic:
         return _known(HISTORY, key, "HISTORY")
     return _known(STATIC_HISTORY, key, "STATIC_HISTORY")
@@ -504,16 +485,20 @@ def grid_dataset(axis: str, per_case: bool = True) -> DatasetSpec:
     return _known(CASE_GRID if per_case else ROOT_GRID, axis, "CASE_GRID")
 
 
-def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
-    """Units and description of the dataset at ``path`` relative to a case group.
+def case_dataset(path: str, cyclic: bool = True, criteria=()) -> DatasetSpec:
+    """Units and description of the dataset at ``path`` relative to a case group;
+    ``criteria``: the (column, unit, what, angle, life) of the fatigue criteria the case
+    evaluates (``engine.study.fatigue.criterion_schema``).
 
     Raises KeyError for a path the schema does not know."""
     parts = path.split("/")
     if len(parts) == 2 and parts[0] == "grid":
         return grid_dataset(parts[1])
     if len(parts) == 2 and parts[0] == "history":
-        if cyclic and parts[1] in FATIGUE_HISTORY:
-            return FATIGUE_HISTORY[parts[1]]
+        for described in criteria if cyclic else ():
+            specs = fatigue_specs(*described)
+            if parts[1] in specs:
+                return DatasetSpec(specs[parts[1]].units, specs[parts[1]].description + _PER_CYCLE)
         return history_dataset(parts[1], cyclic)
     if len(parts) == 3 and parts[0] == "fields":
         allowed = FINAL_FIELDS if parts[1] == "final" else RECORDED_FIELDS
@@ -529,24 +514,23 @@ def case_dataset(path: str, cyclic: bool = True) -> DatasetSpec:
     if len(parts) == 2 and parts[0] == "surface":
         return _known(SURFACE_DATASETS, parts[1], "SURFACE_DATASETS")
     if len(parts) == 3 and parts[0] == "fatigue" and cycle_of_group(parts[1]) is not None:
-        for column, (unit, what, angle, life) in FATIGUE_CRITERIA.items():
-            specs = fatigue_maps(column, unit, what, angle, life, cycle_of_group(parts[1]))
+        for described in criteria:
+            specs = fatigue_maps(*described, cycle_of_group(parts[1]))
             if parts[2] in specs:
                 return specs[parts[2]]
     raise KeyError(f"no dataset {path!r} in the results schema")
 
 
 # ------------------------------------------------------------------ summary table
-#: Units of the case parameters stored as attributes of each case group.
-#: Units of the study-file keys that ``[sweep]`` may vary (dotted), as parameters and summary
-#: columns of each case (the study layer's ``SWEEPABLE``).
+#: Units of the study-file keys of the engine's own sections that ``[sweep]`` may vary
+#: (dotted), as parameters and summary columns of each case. The plug-ins' keys (a profile's
+#: ``[punch]`` keys, the ``[fatigue]`` constants) come from their declarations, and the study
+#: layer's ``SWEEPABLE`` is the union (:mod:`engine.study.settings.units`).
 SWEPT_KEY_UNITS = {
     "material.E_A": "MPa",
     "material.nu_A": "1",
     "material.E_B": "MPa",
     "material.nu_B": "1",
-    "punch.radius": "mm",
-    "punch.edge_radius": "mm",
     "mesh.n": "1",
     "mesh.half_width": "mm",
     "mesh.reference_distance": "mm",
@@ -563,21 +547,6 @@ SWEPT_KEY_UNITS = {
     "subsurface.layers": "1",
     "solver.tol": "1",
     "solver.maxiter": "1",
-    # [fatigue]: every constant of the bundled criteria and the critical distance
-    # (engine.study.fatigue.fatigue_sweepable; tests/test_fatigue_study.py checks the two)
-    "fatigue.sigma_d": "MPa",
-    "fatigue.tau_d": "MPa",
-    "fatigue.sigma_f": "MPa",
-    "fatigue.b": "1",
-    "fatigue.eps_f": "1",
-    "fatigue.c": "1",
-    "fatigue.tau_f": "MPa",
-    "fatigue.gamma_f": "1",
-    "fatigue.b0": "1",
-    "fatigue.c0": "1",
-    "fatigue.k": "1",
-    "fatigue.sigma_y": "MPa",
-    "fatigue.length": "mm",
     # [surface] (engine.surface.config)
     "surface.seed": "1",
     "surface.hurst": "1",
@@ -590,11 +559,14 @@ SWEPT_KEY_UNITS = {
 #: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
 #: study uses it) with their units.
 PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
+#: Every parameter a case may have, in the order of the ``[sweep]`` lists: the friction and
+#: wear parameters of :data:`PARAMETERS`, then the energy law's ``alpha``.
+CASE_PARAMETERS = (*PARAMETERS, "alpha")
 ALPHA_UNITS = "mm^3/J"
 PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
 
 SUMMARY_COLUMNS = [
-    "case_id", "mu1", "mu2", "wear1", "wear2", "beta", "status", "cycles", "load",
+    "case_id", *PARAMETERS, "status", "cycles", "load",
     "approach", "p0", "max_wear_depth", "wear_volume",
     "vm_max", "vm_max_x", "vm_max_y", "vm_max_z",
     "vm_sub_max", "vm_sub_max_x", "vm_sub_max_y", "vm_sub_max_z",
@@ -666,14 +638,6 @@ def unit_of(name: str, line: bool = False) -> str:
     return contact_units(UNITS.get(name, ""), line)
 
 
-def parameter_units(parameters, line: bool = False) -> dict[str, str]:
-    """Units of a case's parameter attributes: :data:`PARAMETER_UNITS` and those of the
-    swept dotted keys among ``parameters`` (names), in a 3-D or (``line``) a line contact."""
-    units = dict(PARAMETER_UNITS)
-    units.update({name: SWEPT_KEY_UNITS[name] for name in parameters if "." in name})
-    return {name: contact_units(unit, line) for name, unit in units.items()}
-
-
 #: What each summary column holds (the manual's outputs reference is generated from these,
 #: COLUMN_UNITS and PARAMETER_UNITS by scripts/reference.py; not stored in the files).
 COLUMN_DESCRIPTIONS = {
@@ -740,11 +704,6 @@ COLUMN_DESCRIPTIONS = {
 }
 
 COLUMN_DESCRIPTIONS.update({column: what for column, (_, what) in SURFACE_COLUMNS.items()})
-
-for _column, (_unit, _what, _angle, _life) in FATIGUE_CRITERIA.items():
-    for _key, _spec in fatigue_specs(_column, _unit, _what, _angle, _life).items():
-        COLUMN_UNITS[_key] = _spec.units
-        COLUMN_DESCRIPTIONS[_key] = "fatigue: " + _spec.description + " (last recorded cycle)"
 
 #: The one units table of the results: case parameters, summary columns and swept keys.
 UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}

@@ -33,6 +33,7 @@ from typing import Any
 from engine.output.thresholds import completed_rows
 from engine.parallel.scheduler import CaseQueue
 from engine.schema import CaseStatus
+from engine.study.config import StudyConfigError
 from engine.study.plan import Case, Plan
 from engine.study.search import SearchCampaign, SearchStatus
 
@@ -50,7 +51,6 @@ def search_strategy(config) -> str:
     docstring); an explicit ``mpio`` is refused, naming the key."""
     if config.study.output_strategy != "mpio":
         return "single"
-    from engine.study.config import StudyConfigError
 
     raise StudyConfigError(
         config.source,

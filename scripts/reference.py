@@ -7,12 +7,15 @@ Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME 
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
   default, unit and meaning (``engine/study/config/keys.toml``), and ``sweepable-keys``: the
-  dotted keys ``[sweep]`` accepts (``SWEEPABLE`` of the study configuration), ``limits``: every
-  range the checks enforce, from the declarations they use, and
+  dotted keys ``[sweep]`` accepts (``sweepable_keys`` of the study configuration, over the
+  built-in profiles and criteria: the manual describes the engine, not what else is
+  installed), ``limits``: every range the checks enforce, from the declarations they use, and
   ``bundled-studies``: every study of ``studies/`` with the title and time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
   (:mod:`engine.schema`, the table the writers and the reader share);
+- ``docs/reference/exit-codes.md``, ``exit-codes-run`` and ``exit-codes-verify``: what each
+  exit code of a study run and of ``verify`` means (:mod:`engine.exit_codes`);
 - ``docs/reference/cli.md``, ``cli-run``, ``cli-plot``, ``cli-report``, ``cli-verify``: the
   help of each command as ``python -m engine`` prints it.
 """
@@ -25,15 +28,23 @@ import subprocess
 import sys
 from pathlib import Path
 
-from engine import schema
+from engine import exit_codes, schema
 from engine.analysis.markdown import markdown_table, read_block, replace_block
-from engine.study.config import SWEEPABLE
+from engine.fatigue import CRITERIA
+from engine.geometry import PROFILES
 from engine.study.config.keys import SECTIONS, STUDY_KEYS
+from engine.study.fatigue import fatigue_history, fatigue_map_specs
+from engine.study.settings.units import summary_columns as described_columns
+from engine.study.settings.units import sweepable_keys as swept_key_units
+
+# The manual describes the engine: its own profiles and criteria, whatever else is installed.
+BUILT_IN = {"profiles": PROFILES.builtins, "criteria": CRITERIA.builtins}
 
 REPO = Path(__file__).resolve().parents[1]
 STUDY_FILE = REPO / "docs" / "reference" / "study-file.md"
 OUTPUTS = REPO / "docs" / "reference" / "outputs.md"
 CLI = REPO / "docs" / "reference" / "cli.md"
+EXIT_CODES = REPO / "docs" / "reference" / "exit-codes.md"
 
 
 def _code(text: str) -> str:
@@ -59,22 +70,25 @@ def study_keys() -> str:
 
 def sweepable_keys() -> str:
     """The dotted keys of ``[sweep]`` with their units."""
-    rows = [(_code(f'"{key}"'), _units(unit)) for key, unit in SWEEPABLE.items()]
+    rows = [
+        (_code(f'"{key}"'), _units(unit))
+        for key, unit in swept_key_units(BUILT_IN["profiles"], BUILT_IN["criteria"]).items()
+    ]
     return markdown_table(("dotted key", "unit"), rows)
 
 
-def _column_unit(column: str) -> str:
-    if column in schema.TEXT_COLUMNS:
-        return "–"
-    return _units(schema.unit_of(column) or "1")
-
-
 def summary_columns() -> str:
-    """Every summary column: the common ones, then the fretting and energy-law ones."""
+    """Every summary column: the common ones, then the fretting, energy-law and fatigue
+    criteria's ones (the criteria's from their declarations)."""
+    described = described_columns(BUILT_IN["criteria"])
     common = list(schema.SUMMARY_COLUMNS)
-    extra = [column for column in schema.COLUMN_DESCRIPTIONS if column not in common]
+    extra = [column for column in described if column not in common]
     rows = [
-        (_code(column), _column_unit(column), schema.COLUMN_DESCRIPTIONS[column])
+        (
+            _code(column),
+            "–" if column in schema.TEXT_COLUMNS else _units(described[column][0] or "1"),
+            described[column][1],
+        )
         for column in common + extra
     ]
     return markdown_table(("column", "unit", "meaning"), rows)
@@ -100,9 +114,8 @@ def datasets() -> str:
     rows += _dataset_rows(f"fields/{cycle}", schema.FRETTING_RECORDS)
     rows += _dataset_rows("subsurface/final", schema.PLANE)
     rows += _dataset_rows(f"peak_changes/{cycle}", schema.FIELDS, schema.PEAK_CHANGE_FIELDS)
-    rows += _dataset_rows("history", schema.FATIGUE_HISTORY)  # [fatigue] every_cycle = true
-    for column, described in schema.FATIGUE_CRITERIA.items():
-        rows += _dataset_rows(f"fatigue/{cycle}", schema.fatigue_maps(column, *described, "N"))
+    rows += _dataset_rows("history", fatigue_history(BUILT_IN["criteria"]))  # every_cycle
+    rows += _dataset_rows(f"fatigue/{cycle}", fatigue_map_specs("N", BUILT_IN["criteria"]))
     rows += _dataset_rows("surface", schema.SURFACE_DATASETS)  # [surface]
     return markdown_table(("path in the case group", "units", "description"), rows)
 
@@ -147,9 +160,12 @@ FRETTING_WEAR = "fretting tests: 1e-9 … 1e-6"
 def limit_rows() -> list[tuple[str, str, str, str]]:
     """(dotted key, accepted values, unit, why) of every range the study checks enforce, read
     from the declarations the checks themselves use: the physical ranges and ``BOUNDS`` of
-    ``engine.study.config.checks`` and the constants' ranges of ``engine.study.fatigue``."""
+    ``engine.study.settings.checks`` and the constants' ranges the built-in criteria declare."""
+    from engine.fatigue import CRITERIA
+    from engine.geometry import PROFILES
+    from engine.keys import declared_keys
     from engine.study import fatigue
-    from engine.study.config import checks
+    from engine.study.settings import checks
 
     units = {f"{key.section}.{key.name}": key.unit for key in STUDY_KEYS}
     low, high = checks.MODULUS_RANGE
@@ -176,6 +192,13 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         "solver.tol", f"(0, {_number(checks.MAX_TOLERANCE)}]", "1",
         "a looser solve stops before doing anything meaningful",
     ))  # fmt: skip
+    punch_keys: dict[str, object] = {}
+    for profile in PROFILES.builtins.values():  # the [punch] keys each shape declares
+        for name, key in declared_keys(profile).items():
+            punch_keys.setdefault(f"punch.{name}", key)
+    for dotted, key in punch_keys.items():
+        if key.maximum is not None:
+            rows.append((dotted, f"≤ {_number(key.maximum)}", key.unit, key.why))
     for dotted, (maximum, why) in checks.BOUNDS.items():
         key = dotted.removesuffix(".energy")
         if key == "loading.bulk_stress":
@@ -186,7 +209,7 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         if key == "wear.pad_coefficient":
             unit = "mm³/J (energy law)" if dotted.endswith(".energy") else "1/MPa (Archard)"
         rows.append((key, f"≤ {_number(maximum)}", unit, why))
-    for name, (low, high, why) in fatigue.CONSTANT_RANGES.items():
+    for name, (low, high, why) in fatigue.constant_ranges(CRITERIA.builtins).items():
         rows.append((f"fatigue.{name}", f"[{_number(low)}, {_number(high)}]",
                      units[f"fatigue.{name}"], why))  # fmt: skip
     rows.append(("fatigue.length", f"(0, {_number(fatigue.MAX_LENGTH)}]", "mm",
@@ -202,13 +225,18 @@ def limits() -> str:
 
 def _help(*command: str) -> str:
     """``python -m engine ... --help`` at a fixed width, in a text block."""
-    environment = dict(os.environ, COLUMNS="100")
+    environment = dict(os.environ, COLUMNS="100", FRETTING_ENGINE_BUILT_IN_ONLY="1")
     done = subprocess.run(
         [sys.executable, "-m", "engine", *command, "--help"],
         capture_output=True, text=True, check=True, env=environment, cwd=REPO,
     )  # fmt: skip
     title = " ".join(("python -m engine", *command, "--help"))
     return f"`{title}`:\n\n```text\n{done.stdout.rstrip()}\n```\n"
+
+
+def exit_code_table(meanings, launcher=None) -> str:
+    """The exit codes of a command and what each means."""
+    return markdown_table(("code", "meaning"), exit_codes.markdown_rows(meanings, launcher))
 
 
 BLOCKS = {
@@ -218,6 +246,10 @@ BLOCKS = {
     (STUDY_FILE, "limits"): limits,
     (OUTPUTS, "summary-columns"): summary_columns,
     (OUTPUTS, "datasets"): datasets,
+    (EXIT_CODES, "exit-codes-run"): lambda: exit_code_table(
+        exit_codes.STUDY_RUN, exit_codes.LAUNCHER
+    ),
+    (EXIT_CODES, "exit-codes-verify"): lambda: exit_code_table(exit_codes.VERIFY),
     (CLI, "cli-run"): lambda: _help(),
     (CLI, "cli-plot"): lambda: _help("plot"),
     (CLI, "cli-report"): lambda: _help("report"),

@@ -10,6 +10,9 @@ cd "$(dirname "$0")/.."
 python3 -m venv .venv
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet -e '.[test]'
+# The example plug-in package (a cone profile and a fatigue criterion registered through entry
+# points): the conformance tests run it with the built-in plug-ins.
+.venv/bin/python -m pip install --quiet -e examples/plugins
 .venv/bin/ruff check engine tests benchmarks scripts
 .venv/bin/ruff format --check engine tests benchmarks scripts
 .venv/bin/python -m pytest tests --ignore=tests/mpi --ignore=tests/slurm -q

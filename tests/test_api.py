@@ -92,15 +92,40 @@ def test_bad_input_raises_naming_the_key_or_is_a_status(tmp_path, monkeypatch):
         run.summary  # noqa: B018 - the property raises
 
 
-def test_a_dry_run_changes_nothing(tmp_path, monkeypatch, capsys):
+def test_a_dry_run_changes_nothing(tmp_path, monkeypatch, capsys, caplog):
+    """The library prints nothing: the dry run's report is in the returned run and in the
+    log (the logger ``engine.run``, which the command line shows)."""
     monkeypatch.chdir(tmp_path)
-    run = engine.run_study(TOML, dry_run=True)
+    with caplog.at_level("INFO", logger="engine"):
+        run = engine.run_study(TOML, dry_run=True)
     assert (run.status, run.cases) == ("planned", 2)
-    assert "would run 2 cases" in capsys.readouterr().out
+    assert any(line.startswith("would run 2 cases") for line in run.plan)
+    assert capsys.readouterr() == ("", "")
+    assert [record.getMessage() for record in caplog.records] == list(run.plan)
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_run_prints_nothing_and_logs_its_lines(tmp_path, monkeypatch, capsys, caplog):
+    monkeypatch.chdir(tmp_path)
+    with caplog.at_level("INFO", logger="engine"):
+        run = engine.run_study(TOML, progress=False, progress_interval=0)
+    assert run.status == "completed"
+    assert capsys.readouterr().out == ""
+    messages = [record.getMessage() for record in caplog.records]
+    assert messages[0].startswith("study 'api': 2 cases, 0 already complete, 2 to run")
+    assert messages[-1].startswith("study 'api': 2 completed, 0 failed")
+
+
 def test_dir_engine_lists_the_public_api():
-    for name in ("run_study", "StudyRun", "StudyError", "load_summary", "__version__"):
-        assert name in dir(engine) and name in engine.__all__
-    assert not hasattr(engine, "__getattr__")  # nothing hidden behind a module __getattr__
+    """Every public name is listed and reached through the module's PEP 562 ``__getattr__``
+    (imported on first use); an unknown name is an AttributeError."""
+    for name in engine.__all__:
+        assert name in dir(engine) and getattr(engine, name) is not None
+    with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
+        engine.no_such_name  # noqa: B018
+
+
+def test_import_engine_loads_no_layer():
+    code = "import sys, engine; print(sorted(m for m in sys.modules if m.startswith('engine.')))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "['engine._version']", done.stdout

@@ -203,3 +203,48 @@ def test_post_processing_tables_do_not_import_matplotlib(module):
     code = f"import sys, {module}; assert 'matplotlib' not in sys.modules, 'matplotlib'"
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
+
+
+def _package_node(module: str) -> str:
+    """The unit of ``module`` in the package graph: its package when that package holds no
+    package of its own (``engine.study.kinds.base`` -> ``engine.study.kinds``), else the
+    module itself (``engine.study.outcome``, ``engine.run``)."""
+    parts = module.split(".")
+    package = REPO.joinpath(*parts[:-1])
+    if len(parts) > 1 and (package / "__init__.py").exists():
+        holds_packages = any((child / "__init__.py").exists() for child in package.iterdir())
+        if not holds_packages:
+            return ".".join(parts[:-1])
+    return module
+
+
+def test_no_import_circles_between_packages():
+    """The study-file parser sits above the loading kinds it dispatches to, and no package
+    imports one that imports it back (function-local imports counted)."""
+    graph: dict[str, set[str]] = {}
+    for module, targets in _import_graph().items():
+        node = _package_node(module)
+        graph.setdefault(node, set()).update(
+            _package_node(target) for target in targets if _package_node(target) != node
+        )
+    circles = _circles(graph)
+    assert not circles, "package circles:\n" + "\n".join(" <-> ".join(c) for c in circles)
+
+
+#: Function-local imports are for optional or heavy dependencies (matplotlib, xarray, SciPy
+#: where a search needs it, pandas, tqdm, pyFFTW, MPI where its initialisation must wait);
+#: everything else is imported at the top of the module.
+MAX_LOCAL_IMPORTS = 40
+
+
+def test_imports_inside_functions_are_few():
+    local = []
+    for path in _engine_files():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                local += [
+                    f"{path.relative_to(REPO)}:{inner.lineno}"
+                    for inner in ast.walk(node)
+                    if isinstance(inner, ast.Import | ast.ImportFrom)
+                ]
+    assert len(local) <= MAX_LOCAL_IMPORTS, "\n".join(local)

@@ -20,9 +20,9 @@ import pytest
 
 import engine
 from engine.cli import build_parser
+from engine.dry_run import idle_ranks_warning as _idle_ranks_warning
+from engine.dry_run import resumed_cases_line
 from engine.output.progress import ProgressReporter, format_duration, plural
-from engine.run import idle_ranks_warning as _idle_ranks_warning
-from engine.run import resumed_cases_line
 from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -317,3 +317,18 @@ def test_results_doc_has_a_block_for_every_study_of_the_results_script():
         assert f"<!-- BEGIN report {study} -->" in results
         assert f"<!-- END report {study} -->" in results
     assert "--update docs/explanation/results.md" in script
+
+
+def test_every_run_status_exits_with_a_code_the_manual_describes():
+    """engine.exit_codes is the one definition: each status of a run maps to one of its
+    codes, each code of a study run is reachable, and the help's epilog says them all."""
+    from engine import exit_codes
+    from engine.cli import EXIT_CODES
+    from engine.run import RUN_STATUSES
+
+    described = {meaning.code for meaning in exit_codes.STUDY_RUN}
+    assert set(EXIT_CODES) == set(RUN_STATUSES)
+    assert set(EXIT_CODES.values()) | {exit_codes.ExitCode.INTERNAL} == described
+    epilog = " ".join(build_parser().epilog.split())
+    for meaning in exit_codes.STUDY_RUN:
+        assert f"{meaning.code.value} {meaning.short}" in epilog

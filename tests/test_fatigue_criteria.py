@@ -125,25 +125,6 @@ def test_shear_amplitude_chord_and_ball_differ_on_a_triangle():
         assert quantities.shear_amplitude(circle, method)[0] == pytest.approx(70.0, rel=1e-9)
 
 
-def test_criteria_are_vectorised_over_points():
-    """A history of many different points gives, point by point, the one-point values
-    (1e-12: the same arithmetic)."""
-    rng = np.random.default_rng(3)
-    phase = 2 * np.pi * np.arange(16)[:, None] / 16
-    shape = (5, 4)
-    components = {
-        key: rng.normal(0, 100, (1, *shape))
-        + rng.normal(0, 100, (1, *shape)) * np.sin(phase + rng.uniform(0, 6, (1, 1)))[..., None]
-        for key in ("xx", "yy", "zz", "xz")
-    }
-    history = StressHistory.from_components(components, rng.normal(size=shape), 0.0)
-    for name in fatigue.CRITERIA:
-        whole = _value(name, history).value
-        for point in (0, 7, 19):
-            alone = _value(name, history.take(np.array([point]))).value[0]
-            assert whole[point] == pytest.approx(alone, rel=1e-12)
-
-
 def test_missing_or_bad_constants_are_named():
     with pytest.raises(ValueError, match=r"missing \['tau_d'\]"):
         fatigue.build_criteria(["crossland"], {"sigma_d": 300.0}, STEEL)

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from engine.schema import FATIGUE_HOT_SPOT_COLUMNS
-from engine.study.config.reader import Section
-from engine.study.config.sections import StudyConfigError
 from engine.study.fatigue import (
     FatigueAnalysis,
     fatigue_columns,
     fatigue_sweepable,
     parse_fatigue,
 )
+from engine.study.settings.reader import Section
+from engine.study.settings.sections import StudyConfigError
 
 TABLE = {
     "criteria": ["crossland", "swt"],

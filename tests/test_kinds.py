@@ -10,24 +10,12 @@ import pytest
 
 from engine.study.config import parse_study
 from engine.study.examples import study_toml
-from engine.study.kinds import KINDS, LoadingKind
+from engine.study.kinds import KINDS
 from engine.study.layout import case_layout
 from engine.study.plan import case_id_for, make_plan
 from engine.study.resources import largest_case
 
 KINDS_DIR = Path(__file__).resolve().parents[1] / "engine" / "study" / "kinds"
-
-
-def test_every_kind_is_registered_under_its_name_and_implements_the_protocol():
-    assert list(KINDS) == ["static", "cyclic", "fretting"]
-    for name, kind in KINDS.items():
-        assert isinstance(kind, LoadingKind) and kind.name == name
-        assert type(kind).parse is not LoadingKind.parse, name
-        assert type(kind).run is not LoadingKind.run, name
-        assert {"kind", "load", "steps"} <= kind.keys
-        if kind.has_cycles:  # a kind with cycles can be stopped and resumed
-            assert type(kind).save_state is not LoadingKind.save_state, name
-            assert type(kind).load_state is not LoadingKind.load_state, name
 
 
 def test_no_kind_module_imports_another_kind_module():

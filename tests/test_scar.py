@@ -41,6 +41,7 @@ def test_no_wear_no_scar():
 
 def test_line_contact_of_a_study():
     """The study layer's line contact: nominal half-width (Hertz, Ciavarella) and p0 = P/(2a0)."""
+    from engine.geometry import profile_for
     from engine.material import MaterialPair
     from engine.reference import line_contact as ref
     from engine.solvers.scar import pad_ratio
@@ -48,11 +49,11 @@ def test_line_contact_of_a_study():
 
     steel = MaterialPair(200e3, 0.3, 200e3, 0.3)
     e_star = steel.contact_modulus
-    cylinder = LineContact("cylinder", 6.0, None, 185.0)
+    cylinder = LineContact(profile_for("cylinder", radius=6.0), 185.0)
     a = ref.hertz_line_half_width(185.0, 6.0, e_star)
     assert cylinder.nominal_half_width(e_star) == a
     assert cylinder.nominal_pressure(e_star) == pytest.approx(185.0 / (2 * a), rel=1e-15)
-    pad = LineContact("pad", 0.1, 5.0, 200.0)
+    pad = LineContact(profile_for("pad", radius=0.1, edge_radius=5.0), 200.0)
     assert pad.nominal_half_width(e_star) == ref.pad_half_width(200.0, 0.1, 5.0, e_star)
     assert pad_ratio(2.75e-8, 2.75e-8) == 1.0 and pad_ratio(None, 1e-8) == 0.0
     with pytest.raises(ValueError, match="pad_coefficient"):

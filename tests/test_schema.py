@@ -118,17 +118,24 @@ def test_unknown_paths_are_rejected_and_groups_round_trip():
 
 def test_one_units_table_for_parameters_columns_and_swept_keys():
     """engine.schema.UNITS: every case parameter (alpha too), every numeric summary column
-    and every key a sweep may vary has its unit there, and the study layer's SWEEPABLE and
-    the summary's column units are that table."""
+    and every key of the engine's own sections a sweep may vary has its unit there; the
+    study layer's SWEEPABLE adds the plug-ins' keys from their declarations, and the
+    summary's column units read it."""
     from engine import schema
+    from engine.geometry import PROFILES
     from engine.output.summary import column_unit
     from engine.study.config import SWEEPABLE
+    from engine.study.settings.units import parameter_units, unit_of
 
     names = [*schema.PARAMETERS, "alpha", *schema.COLUMN_UNITS, *schema.SWEPT_KEY_UNITS]
     for name in names:
         assert schema.unit_of(name), name
     numeric = [c for c in schema.SUMMARY_COLUMNS if c not in schema.TEXT_COLUMNS]
     assert all(schema.unit_of(column) for column in numeric if column != "index")
-    assert SWEEPABLE is schema.SWEPT_KEY_UNITS
+    assert schema.SWEPT_KEY_UNITS.items() <= SWEEPABLE.items()
+    for profile in PROFILES.values():
+        for name, key in profile.keys().items():
+            assert SWEEPABLE[f"punch.{name}"] == unit_of(f"punch.{name}") == key.unit
+    assert all(unit_of(name) for name in SWEEPABLE)
     assert column_unit("loading.load") == "N" and column_unit("alpha") == "mm^3/J"
-    assert schema.parameter_units(["loading.amplitude"])["loading.amplitude"] == "mm"
+    assert parameter_units(["loading.amplitude"])["loading.amplitude"] == "mm"

@@ -119,14 +119,12 @@ def calibration_report(path: str | Path) -> str:
 
 def draw_calibration(path: str | Path):
     """The figure of ``calibration.png`` (module docstring)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # no pyplot: nothing to close, no backend to set
 
     frame = load_calibration(path)
     unit = frame.attrs["units"].get("measured", "")
-    figure, axes = plt.subplots(figsize=(5.5, 5.0))
+    figure = Figure(figsize=(5.5, 5.0))
+    axes = figure.subplots()
     shown = frame[frame["predicted"].notna()]
     values = np.r_[frame["measured"].to_numpy(float), shown["predicted"].to_numpy(float)]
     top = 1.15 * float(np.nanmax(values)) if values.size else 1.0
@@ -163,12 +161,9 @@ def draw_calibration(path: str | Path):
 
 def calibration_figures(path: str | Path, out_dir: str | Path) -> list[Path]:
     """Draw ``calibration.png`` into ``out_dir``; returns the paths written."""
-    import matplotlib.pyplot as plt
-
     figure = draw_calibration(path)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     target = out_dir / "calibration.png"
     figure.savefig(target, dpi=130)
-    plt.close(figure)
     return [target]

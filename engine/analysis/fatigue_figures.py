@@ -24,6 +24,7 @@ import numpy as np
 from matplotlib.tri import Triangulation
 
 from .fatigue import case_verdicts, crack_ratio, has_fatigue, hot_spot_history
+from .fretting import direction
 from .reader import CaseResults, StudyResults
 
 __all__ = ["fatigue_figures", "draw_crack_boundary", "MAX_MAP_CASES"]
@@ -39,8 +40,6 @@ def _last_cycle(case: CaseResults) -> int:
 def _along_plane(study: StudyResults, case: CaseResults, values: np.ndarray, s: np.ndarray):
     """A surface field (grid shape) at the plane's points s (mm) along the sliding direction:
     the nearest element's value."""
-    from .fretting import direction
-
     theta = direction(study, case)
     grid_x, grid_y = study.grid_x, study.grid_y
     if values.shape != (grid_x.size, grid_y.size):  # a case with its own grid

@@ -64,11 +64,13 @@ from engine.reference.flat_punch import (  # noqa: E402
     von_mises_cylindrical,
 )
 
+from .calibration_report import calibration_figures, has_calibration  # noqa: E402
 from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
 from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
 from .surface_figures import surface_figures  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
+from .threshold_figures import has_thresholds, threshold_figures
 
 __all__ = [
     "plot_study",
@@ -208,8 +210,6 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     if being_written_file(args.results) or refuse_file(args.results):
         return 2
-    from .calibration_report import calibration_figures, has_calibration
-    from .threshold_figures import has_thresholds, threshold_figures
 
     if args.case is None and has_calibration(args.results):  # a [calibrate] study
         out = args.out or args.results.with_name(f"{args.results.stem}_figures")

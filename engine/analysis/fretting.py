@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
+from engine.geometry import profile_from_table
 from engine.material import MaterialPair
 from engine.schema import CASES_GROUP
 
@@ -107,14 +108,9 @@ def slip_boundary(study: StudyResults, case: CaseResults):
 
 def case_profile(study: StudyResults, case: CaseResults):
     """The punch profile (engine.geometry) of a case, with its swept values."""
-    from engine.geometry import profile_for
-
-    edge = setting(study, case, "punch.edge_radius")
-    return profile_for(
-        setting(study, case, "punch.shape", "flat"),
-        float(setting(study, case, "punch.radius")),
-        None if edge is None else float(edge),
-    )
+    punch = dict(study.config.get("punch", {}))
+    punch.update({key[6:]: v for key, v in case.settings.items() if key.startswith("punch.")})
+    return profile_from_table(punch)
 
 
 def material(study: StudyResults, case: CaseResults) -> MaterialPair:

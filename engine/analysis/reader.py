@@ -12,14 +12,18 @@ planes' peaks. Units as stored: mm, N, MPa. The other cases are listed in
 from __future__ import annotations
 
 import copy
+import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from engine.geometry import profile_from_table
 from engine.material import MaterialPair
+from engine.output.summary import column_unit
 from engine.schema import CaseStatus, contact_units
+from engine.study.kinds import KINDS
 
 from .results import Records, ResultCase, VariableGroup, open_results
 
@@ -136,7 +140,6 @@ class CaseResults:
     def label(self) -> str:
         """Short name of the case for legends and titles (μ, and μ2, β when orthotropic, and
         every other swept key with its unit)."""
-        from engine.output.summary import column_unit
 
         def unit(key: str) -> str:  # the file's unit (a line contact's per unit length)
             stored = self.parameter_units.get(key, "1")
@@ -179,15 +182,11 @@ class StudyResults:
     @property
     def kind(self):
         """The study's loading kind (:data:`engine.study.kinds.KINDS`)."""
-        from engine.study.kinds import KINDS
-
         return KINDS[self.config["loading"]["kind"]]
 
     def kind_hook(self, name: str):
         """The analysis function the loading kind names for ``name`` ("report",
         "figures"): its ``"module:function"`` attribute, imported now."""
-        import importlib
-
         module, _, function = getattr(self.kind, name).partition(":")
         return getattr(importlib.import_module(module), function)
 
@@ -219,15 +218,7 @@ class StudyResults:
     @property
     def profile(self):
         """The punch profile (:data:`engine.geometry.PROFILES`) of the study."""
-        from engine.geometry import profile_for
-
-        punch = self.config["punch"]
-        edge_radius = punch.get("edge_radius")
-        return profile_for(
-            punch.get("shape", "flat"),
-            float(punch["radius"]),
-            None if edge_radius is None else float(edge_radius),
-        )
+        return profile_from_table(self.config["punch"])
 
     @property
     def radius(self) -> float:

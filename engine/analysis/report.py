@@ -20,18 +20,25 @@ p0 = P/(π a0²) (Eq. 19); r = |x| on the plane y = 0; z into the half-space.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 from engine.commands import refuse_file, results_parser
 from engine.output.owner import being_written_file
-from engine.reference.flat_punch import mossakovskii_ratio
+from engine.output.summary import load_summary
+from engine.reference.flat_punch import mossakovskii_ratio, sneddon_approach
+from engine.schema import PARAMETERS
 
+from .calibration_report import calibration_report, has_calibration
+from .markdown import replace_block
 from .reader import CaseResults, StressPlane, StudyResults, read_results
+from .surface_report import surface_report
 
 __all__ = ["study_report", "main", "INTERIOR_DEPTH"]
 
@@ -159,8 +166,6 @@ def static_table(study: StudyResults) -> list[str]:
 
 # ----------------------------------------------------------------------------- measured facts
 def static_facts(study: StudyResults) -> list[str]:
-    from engine.reference.flat_punch import sneddon_approach
-
     mu, ratios, limit, _ = stiffness_ratios(study)
     facts = [
         f"stiffness ratio k_μ/k_0 = {ratios[-1]:.5f} at μ = {mu[-1]:g} vs Mossakovskii "
@@ -236,7 +241,7 @@ def _group_label(case: CaseResults, names: Sequence[str], varying: set[str]) -> 
 
 
 def _varying_parameters(cases: Sequence[CaseResults]) -> set[str]:
-    names = ("mu1", "mu2", "wear1", "wear2", "beta")
+    names = PARAMETERS
     return {name for name in names if len({getattr(case, name) for case in cases}) > 1}
 
 
@@ -359,8 +364,6 @@ def cyclic_facts(study: StudyResults) -> list[str]:
 
 def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
-    from .surface_report import surface_report
-
     study = results if isinstance(results, StudyResults) else read_results(results)
     return study.kind_hook("report")(study, cycles) + surface_report(study)  # [surface]
 
@@ -400,10 +403,6 @@ _STUDY_WIDE = {"punch.radius", "loading.load", "mesh.n", "mesh.half_width", "loa
 def study_settings(path: str | Path) -> dict:
     """The resolved study stored in the results file ``path`` (root attributes only: cheap,
     whatever the number of cases)."""
-    import json
-
-    import h5py
-
     with h5py.File(path, "r") as file:
         return json.loads(file.attrs["study_json"])
 
@@ -416,11 +415,9 @@ def swept_keys(settings: dict) -> list[str]:
 def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
     """Studies with swept dotted keys (engine.analysis.sweep_report); the per-case tables too
     when no swept key changes the study-wide normalisation (a0, P, mesh, material)."""
-    from engine.output.summary import load_summary
-
-    from .sweep_report import sweep_report
-
     line = study.profile.is_line
+    from .sweep_report import sweep_report  # pandas: only for a sweep
+
     text = sweep_report(load_summary(study.path), study.swept_keys, study.name, line)
     if set(study.swept_keys) & _STUDY_WIDE:
         return text
@@ -431,8 +428,6 @@ def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
 def update_markdown(document: str | Path, name: str, report: str) -> None:
     """Replace the block between ``<!-- BEGIN report NAME -->`` and ``<!-- END report NAME -->``
     of ``document`` with ``report`` (how the tables of the results page are regenerated)."""
-    from .markdown import replace_block
-
     replace_block(document, name, report, kind="report")
 
 
@@ -459,7 +454,6 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     args = build_parser(prog).parse_args(argv)
     if being_written_file(args.results) or refuse_file(args.results):
         return 2
-    from .calibration_report import calibration_report, has_calibration
 
     for path in args.results:
         if has_calibration(path) and args.update is None:  # a [calibrate] study

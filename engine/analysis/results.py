@@ -40,16 +40,53 @@ from engine.output.owner import (
     is_locked_error,
     locked_by_another_program,
 )
-from engine.schema import CASES_GROUP, GRID_GROUP, PLANE, CaseStatus, cycle_of_group, unit_of
+from engine.output.summary import load_summary
+from engine.schema import (
+    CASE_PARAMETERS,
+    CASES_GROUP,
+    GRID_GROUP,
+    PLANE,
+    CaseStatus,
+    cycle_of_group,
+)
+from engine.study.settings.units import unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
 
 def open_results(path: str | Path) -> Results:
-    """:func:`engine.open_results`: the results file ``path`` as a :class:`Results`; a
-    missing file raises FileNotFoundError, a file without a stored study ValueError, a file
-    a run is writing :class:`engine.output.owner.ResultsBeingWritten` (one line naming the
-    run's pid and host and what to read meanwhile; the run is not disturbed)."""
+    """Open a study's results file as objects.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) a study run wrote.
+
+    Returns
+    -------
+    Results
+        A mapping case id → case, in plan order, with ``study`` (the resolved study),
+        ``summary`` (a pandas DataFrame); each case with its ``parameters``, ``status``,
+        ``summary`` row, ``history``, ``fields`` and ``planes`` (values with units and
+        coordinates; ``.to_xarray()`` when xarray is installed).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    ValueError
+        A file without a stored study.
+    engine.output.owner.ResultsBeingWritten
+        A file a run is writing (an ``OSError``): one line naming the run's pid and host and
+        what to read meanwhile (``engine.load_summary`` on the summary CSV); the run is not
+        disturbed.
+
+    Examples
+    --------
+    >>> results = engine.open_results("results/demo.h5")               # doctest: +SKIP
+    >>> case = results["mu0.1_w1.33e-07_b0"]                            # doctest: +SKIP
+    >>> case.planes["final"].to_xarray()["von_mises"].max()             # doctest: +SKIP
+    """
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such results file")
@@ -360,7 +397,7 @@ class ResultCase:
             self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
             units = attrs.get("parameter_units")
             stored = json.loads(units) if units is not None else {}
-            names = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+            names = CASE_PARAMETERS
             self.parameters: dict[str, Any] = {
                 key: value.item() if hasattr(value, "item") else value
                 for key, value in attrs.items()
@@ -729,8 +766,6 @@ class Results(_Table):
     def summary(self):
         """The summary table (:func:`engine.load_summary`): a :class:`pandas.DataFrame`, one
         row per case, units in ``docs/reference/outputs.md``."""
-        from engine.output.summary import load_summary
-
         return load_summary(self.path)
 
     def __getitem__(self, case_id: str) -> ResultCase:

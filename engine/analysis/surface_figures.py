@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from engine.output.ensemble import SEED, ensemble_frame
+from engine.output.summary import load_summary
 
 __all__ = ["surface_figures"]
 
@@ -37,7 +38,6 @@ def surface_figures(study):
     ``[surface]``."""
     if "surface" not in study.config:
         return
-    from engine.output.summary import load_summary
 
     summary = load_summary(study.path)
     done = summary[summary["status"] == "completed"]

@@ -5,9 +5,14 @@ roughness changes (:mod:`.ensemble`)."""
 
 from __future__ import annotations
 
+import argparse
 import math
 
 from engine.output.ensemble import SEED, ensemble_frame
+from engine.output.summary import load_summary
+
+from .markdown import measured_on, replace_block
+from .reader import read_results
 
 __all__ = ["surface_report"]
 
@@ -38,7 +43,6 @@ def surface_report(study) -> str:
     """The Markdown table (empty text when the study does not sweep ``surface.seed``)."""
     if "surface" not in study.config or SEED not in study.swept_keys:
         return ""
-    from engine.output.summary import load_summary
 
     ensemble = ensemble_frame(load_summary(study.path))
     keys = [key for key in study.swept_keys if key != SEED]
@@ -62,11 +66,6 @@ def surface_report(study) -> str:
 def main(argv=None) -> int:
     """``python -m engine.analysis.surface_report RESULTS.h5 [--update DOC.md]``: print the ensemble
     table, or write it into the block ``<!-- BEGIN report NAME-ensemble -->`` of DOC.md."""
-    import argparse
-
-    from .markdown import measured_on, replace_block
-    from .reader import read_results
-
     parser = argparse.ArgumentParser(prog="python -m engine.analysis.surface_report")
     parser.add_argument("results")
     parser.add_argument("--update", metavar="DOC.md")

@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from engine.output.summary import column_unit
-from engine.schema import SUMMARY_COLUMNS, CaseStatus, contact_units
+from engine.schema import PARAMETERS, SUMMARY_COLUMNS, CaseStatus, contact_units
 
 from .names import key_label, key_title
 
@@ -36,8 +36,8 @@ _MAIN_COLUMNS = [
     "approach", "max_wear_depth", "wear_volume", "vm_max", "vm_sub_max", "vm_sub_max_z",
     "stick_fraction", "runtime_s",
 ]  # fmt: skip
-_PARAMETERS = ["mu1", "mu2", "wear1", "wear2", "beta"]
-_NOT_CONVERGENCE = {"case_id", "status", "mu1", "mu2", "wear1", "wear2", "beta", "cycles"}
+_PARAMETERS = list(PARAMETERS)
+_NOT_CONVERGENCE = {"case_id", "status", *PARAMETERS, "cycles"}
 
 
 def _completed(summary: pd.DataFrame) -> pd.DataFrame:

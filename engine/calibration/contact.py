@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.fatigue.fields import Increment
+from engine.solvers.fretting import FrettingAnalysis
 from engine.study.fatigue import FatigueAnalysis
 from engine.study.kinds.fretting import check_force_bound, plane_angle, settings
 from engine.study.outcome import case_wear_law
@@ -43,8 +44,6 @@ def solve_cycle(context, case, config, should_stop=None) -> ContactCycle:
     cycles; returns the increments of the last one. ``context``: a
     :class:`~engine.study.outcome.CaseContext` (its operator cache is reused between calls).
     """
-    from engine.solvers.fretting import FrettingAnalysis
-
     if not config.is_fretting:
         raise ValueError('a calibration searches fretting cases ([loading] kind = "fretting")')
     solver, _, _ = context.solver(case, config)

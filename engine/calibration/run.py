@@ -22,6 +22,7 @@ import dataclasses
 import hashlib
 import json
 import math
+import shutil
 import sys
 import time
 from dataclasses import dataclass, field
@@ -30,7 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from engine.output.calibration import calibration_csv_path, write_calibration
 from engine.study.calibrate import TARGET_KEY
+from engine.study.operators import OperatorCache
+from engine.study.outcome import CaseContext
 from engine.study.plan import Case, make_plan, setting_names
 from engine.study.plan import _format as format_value
 from engine.study.search import SearchSpec, SearchStatus
@@ -196,10 +200,6 @@ def _residual(problem, test, result, values) -> float:
 def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> CalibrationResult:
     """Fit, predict and write (module docstring); raises :class:`Stopped` on a stop (the
     contact store keeps what was solved)."""
-    from engine.output.calibration import calibration_csv_path, write_calibration
-    from engine.study.operators import OperatorCache
-    from engine.study.outcome import CaseContext
-
     start = time.perf_counter()
     spec = config.calibrate
     plan = make_plan(config)  # one combination (engine.run checks it before anything runs)
@@ -208,8 +208,6 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
     store = ContactStore(contact_dir(output))
     rank = comm.Get_rank()
     if fresh and rank == 0:
-        import shutil
-
         shutil.rmtree(store.directory, ignore_errors=True)
         for path in (output, calibration_csv_path(config.study.summary_path)):
             path.unlink(missing_ok=True)

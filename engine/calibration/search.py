@@ -33,7 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from engine.study.search import Search, SearchSpec, SearchStatus
+from engine.parallel.serial import any_rank
+from engine.study.search import Search, SearchSpec, SearchStatus, StepFailure
 
 from .contact import ContactCycle, criterion_value, cycle_arrays, cycle_from_arrays, solve_cycle
 
@@ -169,10 +170,8 @@ class TestSearches:
 
     # ------------------------------------------------------------------ internals
     def _check_stop(self) -> None:
-        from mpi4py import MPI
-
         stop = bool(self.should_stop is not None and self.should_stop())
-        if self.comm.allreduce(stop, op=MPI.LOR):
+        if any_rank(self.comm, stop):
             raise Stopped()
 
     def _seeded(self, tests, specs, values, contact, evaluation) -> dict[str, SearchSpec]:
@@ -286,8 +285,6 @@ class TestSearches:
         return [self._read[(test.id, x)] for test, x in wanted]
 
     def _value(self, test, x, values, contact):
-        from engine.study.search import StepFailure
-
         entry = self.store.get(self.problem.store_name(test), x, contact)
         cycle = self.store.cycle(entry)
         if not cycle.converged or not cycle.increments:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .base import CriterionField, FatigueCriterion, FatigueOptions
+from .criteria import CRITERIA
 from .distance import METHODS, StressEvaluator, critical_points
 from .history import Elasticity, StressHistory
 
@@ -79,7 +80,7 @@ def build_criteria(
     """Criteria by name (keys of ``registry``, default ``engine.fatigue.CRITERIA``) or class,
     each given the constants it names from ``constants`` (MPa; a flat mapping)."""
     if registry is None:
-        from .criteria import CRITERIA as registry
+        registry = CRITERIA
     built = []
     for name in names:
         cls = registry.get(name) if isinstance(name, str) else name

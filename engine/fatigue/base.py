@@ -8,7 +8,11 @@ A criterion is a class with four class attributes and one method:
   criterion gives them, ``<column>_angle`` and ``<column>_life`` are named;
 - ``unit``: the unit of its value ("1" for a risk, "MPa", …);
 - ``constants``: the names of its material constants, all required (no defaults), and
-  ``constant_units`` their units ({name: "MPa" | "1"});
+  ``constant_units`` their units ({name: "MPa" | "1"}); ``constant_ranges`` [{}] the range a
+  constant of a real material lies in ({name: (low, high, why)}; a study-file value outside
+  is refused, naming the key and why);
+- ``description`` [its name]: what its value is, one phrase (the results' descriptions of
+  its columns and datasets, the reference of the manual);
 - ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
   angle and a life (then the columns ``_angle`` and ``_life`` exist);
 - ``evaluate(history) -> CriterionField``: its value at every point of a ``StressHistory``,
@@ -33,7 +37,21 @@ import numpy as np
 from .history import Elasticity, StressHistory
 from .quantities import AMPLITUDE_METHODS, check_plane_step
 
-__all__ = ["CriterionField", "FatigueCriterion", "FatigueLimitCriterion", "FatigueOptions"]
+__all__ = [
+    "CriterionField",
+    "FatigueCriterion",
+    "FatigueLimitCriterion",
+    "FatigueOptions",
+    "STRENGTH",
+    "BASQUIN",
+    "COFFIN_MANSON",
+]
+
+# The magnitudes a material constant can take (a value outside is a typo or a unit slip: MPa
+# given in Pa, a percentage for a fraction): (low, high, the reason printed when passed).
+STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
+BASQUIN = (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2")
+COFFIN_MANSON = (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9")
 
 
 @dataclass(frozen=True)
@@ -74,13 +92,29 @@ class CriterionField:
 
 
 class FatigueCriterion:
-    """Base class of the bundled criteria (module docstring)."""
+    """Base class of a fatigue criterion (the protocol: module docstring of
+    ``engine.fatigue.base``). A subclass sets the class attributes and implements
+    :meth:`evaluate`; a criterion of another package registers under the entry-point group
+    ``fretting_engine.criteria`` (``engine.plugins``).
+
+    Parameters
+    ----------
+    constants : mapping of str to float
+        The material constants, exactly the names of ``constants`` (finite numbers, in
+        ``constant_units``); kept as attributes.
+    elasticity : engine.fatigue.Elasticity
+        E (MPa) and ν of the flat, for the criteria that need strains.
+    options : engine.fatigue.FatigueOptions, optional
+        How the shared quantities are computed (amplitude method, plane step).
+    """
 
     name: ClassVar[str]
     column: ClassVar[str]
     unit: ClassVar[str]
     constants: ClassVar[tuple[str, ...]]
     constant_units: ClassVar[dict[str, str]]
+    constant_ranges: ClassVar[dict[str, tuple[float, float, str]]] = {}
+    description: ClassVar[str] = ""
     reports_angle: ClassVar[bool] = False
     reports_life: ClassVar[bool] = False
 
@@ -125,6 +159,19 @@ class FatigueCriterion:
                 )
 
     def evaluate(self, history: StressHistory) -> CriterionField:  # pragma: no cover
+        """The criterion at every point of a stress history.
+
+        Parameters
+        ----------
+        history : engine.fatigue.StressHistory
+            Stresses (MPa), shape (n_instants, n_points, 6), at the points x, z (mm).
+
+        Returns
+        -------
+        engine.fatigue.CriterionField
+            Its value at every point (shape (n_points,), in ``unit``), with the
+            critical-plane angle and the life where the criterion gives them.
+        """
         raise NotImplementedError
 
 
@@ -135,6 +182,7 @@ class FatigueLimitCriterion(FatigueCriterion):
     unit = "1"
     constants = ("sigma_d", "tau_d")
     constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
+    constant_ranges = {"sigma_d": STRENGTH, "tau_d": STRENGTH}
 
     def check(self) -> None:
         self._require_positive("sigma_d", "tau_d")

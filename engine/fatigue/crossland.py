@@ -21,6 +21,7 @@ from .quantities import hydrostatic, shear_amplitude
 class Crossland(FatigueLimitCriterion):
     name = "crossland"
     column = "crossland_risk"
+    description = "Crossland risk (√J2,a + α σ_H,max)/τ_d"
 
     def evaluate(self, history: StressHistory) -> CriterionField:
         alpha = 3.0 * self.tau_d / self.sigma_d - math.sqrt(3.0)

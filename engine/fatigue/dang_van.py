@@ -38,6 +38,7 @@ def _mesoscopic_deviator(history: StressHistory) -> StressHistory:
 class DangVan(FatigueLimitCriterion):
     name = "dang_van"
     column = "dang_van_risk"
+    description = "Dang Van risk max_t (τ(t) + α σ_H(t))/τ_d"
 
     def evaluate(self, history: StressHistory) -> CriterionField:
         alpha = 3.0 * self.tau_d / self.sigma_d - 1.5

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import CriterionField, FatigueCriterion
+from .base import BASQUIN, COFFIN_MANSON, STRENGTH, CriterionField, FatigueCriterion
 from .history import StressHistory
 from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
 
@@ -31,6 +31,7 @@ class FatemiSocie(FatigueCriterion):
     name = "fatemi_socie"
     column = "fs"
     unit = "1"
+    description = "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane"
     constants = ("tau_f", "gamma_f", "b0", "c0", "k", "sigma_y")
     reports_angle = True
     reports_life = True
@@ -41,6 +42,14 @@ class FatemiSocie(FatigueCriterion):
         "c0": "1",
         "k": "1",
         "sigma_y": "MPa",
+    }
+    constant_ranges = {
+        "tau_f": STRENGTH,
+        "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
+        "b0": BASQUIN,
+        "c0": COFFIN_MANSON,
+        "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
+        "sigma_y": STRENGTH,
     }
 
     def check(self) -> None:

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import CriterionField, FatigueCriterion
+from .base import BASQUIN, COFFIN_MANSON, STRENGTH, CriterionField, FatigueCriterion
 from .history import StressHistory
 from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
 
@@ -29,10 +29,17 @@ class SmithWatsonTopper(FatigueCriterion):
     name = "swt"
     column = "swt"
     unit = "MPa"
+    description = "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane"
     constants = ("sigma_f", "b", "eps_f", "c")
     reports_angle = True
     reports_life = True
     constant_units = {"sigma_f": "MPa", "b": "1", "eps_f": "1", "c": "1"}
+    constant_ranges = {
+        "sigma_f": STRENGTH,
+        "b": BASQUIN,
+        "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
+        "c": COFFIN_MANSON,
+    }
 
     def check(self) -> None:
         self._require_positive("sigma_f", "eps_f")

@@ -9,8 +9,9 @@ profile and never branches on the shape:
 =============================  ===========================================================
 what                           member
 =============================  ===========================================================
-the study file's ``[punch]``   :attr:`~Profile.name`, :attr:`~Profile.edge_radius_rule`,
-                               :meth:`~Profile.from_settings`
+the study file's ``[punch]``   :attr:`~Profile.name`, :attr:`~Profile.description`, its
+                               dataclass fields (:meth:`~Profile.keys`: unit, meaning and
+                               bounds of each key, :mod:`engine.keys`)
 contact length a0              :meth:`~Profile.contact_length` (the length unit of
                                ``[subsurface] depth`` and of the summary's p0)
 default mesh                   :meth:`~Profile.grid` (square or line), :meth:`~Profile.
@@ -20,7 +21,7 @@ gap                            :meth:`~Profile.gap` (``numpy.inf``: no surface t
 border check                   :meth:`~Profile.check_grid`, :attr:`~Profile.extent`
                                (:func:`may_reach_border`, :func:`border_contact`)
 summary parameters             :meth:`~Profile.mean_pressure` (the summary's p0),
-                               :meth:`~Profile.summary` (a0 and p0), :attr:`~Profile.
+                               :meth:`~Profile.nominal` (a0 and p0), :attr:`~Profile.
                                load_unit` (N, or N/mm for a line contact)
 fretting references            :meth:`~Profile.fretting_reference` (the closed forms
                                where they exist, None otherwise), and from it
@@ -39,7 +40,8 @@ from typing import ClassVar
 import numpy as np
 
 from engine.grid import Grid
-from engine.validation import check_fields, require_non_negative, require_positive
+from engine.keys import Key, declared_keys
+from engine.reference.flat_punch import mean_pressure
 
 __all__ = [
     "Profile",
@@ -57,38 +59,54 @@ HERTZ_MARGIN = 1.5
 
 
 class Profile:
-    """A punch profile (module docstring). Subclasses are frozen dataclasses holding the
-    shape's lengths (mm) and implement :meth:`gap`; the defaults are a 3-D punch's whose
-    contact length is its radius."""
+    """A punch profile (module docstring). Subclasses are frozen dataclasses whose fields
+    are the shape's ``[punch]`` keys, each declared with its unit, meaning and bounds in the
+    field's metadata (:func:`engine.keys.length`, :func:`engine.keys.parameter`); they set
+    ``name`` and implement :meth:`gap` and, unless the contact length is the field
+    ``radius``, :meth:`contact_length`. The other members have a 3-D punch's defaults."""
 
     #: ``[punch] shape`` value.
     name: ClassVar[str] = ""
     #: One line for the help texts (what the shape is).
     description: ClassVar[str] = ""
-    #: ``[punch] edge_radius``: None (not accepted), ">= 0" or "> 0" (required).
-    edge_radius_rule: ClassVar[str | None] = None
     #: A plane-strain line contact (grid of one element along y, loads per unit length).
     is_line: ClassVar[bool] = False
     #: What the mesh must cover, with 4 elements across it (the contact length a0).
     covered: ClassVar[str] = "punch face radius"
     #: Unit of the load: N (a line contact's: N/mm, per unit length).
     load_unit: ClassVar[str] = "N"
-    #: Lengths (mm) that must be > 0, and those that must be >= 0 (checked on creation).
-    positive: ClassVar[tuple[str, ...]] = ("radius",)
-    non_negative: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
-        check_fields(self, require_positive, *self.positive)
-        check_fields(self, require_non_negative, *self.non_negative)
+        """Each declared key checked against its bounds (ValueError naming it) and kept as
+        a float."""
+        for name, key in self.keys().items():
+            object.__setattr__(self, name, key.check(name, getattr(self, name)))
 
     @classmethod
-    def from_settings(cls, radius: float, edge_radius: float | None = None) -> Profile:
-        """The profile of ``[punch] radius`` and ``edge_radius`` (mm)."""
-        return cls(radius)
+    def keys(cls) -> dict[str, Key]:
+        """The ``[punch]`` keys of this shape besides ``shape``.
+
+        Returns
+        -------
+        dict of str to engine.keys.Key
+            Name → declaration (unit, meaning, bounds), in the order of the dataclass fields.
+        """
+        return declared_keys(cls)
 
     # ------------------------------------------------------------ gap and grid
     def gap(self, grid: Grid) -> np.ndarray:
-        """g_g (mm) at the element centres, shape ``grid.shape``; inf where no surface."""
+        """The geometric gap g_g of Eq. (1) at the element centres.
+
+        Parameters
+        ----------
+        grid : engine.grid.Grid
+            The surface grid; ``grid.coordinates()`` gives the element centres x, y (mm).
+
+        Returns
+        -------
+        numpy.ndarray
+            g_g (mm), shape ``grid.shape``, ``numpy.inf`` where the punch has no surface.
+        """
         raise NotImplementedError
 
     def check_grid(self, grid: Grid) -> None:
@@ -106,7 +124,21 @@ class Profile:
 
     # ------------------------------------------------------------ nominal contact
     def contact_length(self, load: float, contact_modulus: float) -> float:
-        """a0 (mm) at the load P (N) and contact modulus E* (MPa, Eq. 6)."""
+        """The nominal contact length a0: the length unit of ``[subsurface] depth``, the
+        default mesh and the summary's p0.
+
+        Parameters
+        ----------
+        load : float
+            Peak normal load P (N; a line contact's N/mm).
+        contact_modulus : float
+            E* (MPa, Eq. 6).
+
+        Returns
+        -------
+        float
+            a0 (mm); by default the field ``radius``.
+        """
         return self.radius
 
     def default_half_width(self, load: float, contact_modulus: float) -> float:
@@ -115,8 +147,6 @@ class Profile:
 
     def mean_pressure(self, load: float, contact_length: float) -> float:
         """The summary's p0 (MPa): P/(π a0²) (Eq. 19)."""
-        from engine.reference.flat_punch import mean_pressure
-
         return mean_pressure(load, contact_length)
 
     def unworn_pressure(self, r, load: float, contact_length: float):
@@ -152,7 +182,7 @@ class Profile:
         reference = self.fretting_reference(load, material, mu, reference_distance)
         return None if reference is None else reference.loop(**amplitude)
 
-    def summary(self, load: float, contact_modulus: float) -> dict[str, float]:
+    def nominal(self, load: float, contact_modulus: float) -> dict[str, float]:
         """The nominal contact: ``a0`` (mm) and ``p0`` (MPa) at the load."""
         a0 = self.contact_length(load, contact_modulus)
         return {"a0": a0, "p0": self.mean_pressure(load, a0)}

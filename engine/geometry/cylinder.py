@@ -10,6 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
+from engine.keys import length
+from engine.reference import line_contact
+from engine.reference.line_contact import hertz_line_half_width
 
 from .base import LineProfile
 
@@ -20,11 +23,9 @@ class CylinderProfile(LineProfile):
 
     name = "cylinder"
     description = "cylinder on a flat, plane strain (line contact)"
-    radius: float
+    radius: float = length("cylinder radius R", example=6.0)
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
-        from engine.reference.line_contact import hertz_line_half_width
-
         return hertz_line_half_width(load, self.radius, contact_modulus)
 
     def gap(self, grid: Grid) -> np.ndarray:
@@ -35,8 +36,6 @@ class CylinderProfile(LineProfile):
         """The cylinder's closed forms relative to the displacement datum
         ``reference_distance`` d (mm): δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2), the loop energy
         (:func:`engine.reference.line_contact.line_fretting_reference`)."""
-        from engine.reference import line_contact
-
         return line_contact.line_fretting_reference(
             load, self.radius, material.contact_modulus, mu, float(reference_distance)
         )

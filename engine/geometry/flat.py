@@ -8,6 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
+from engine.keys import length
+from engine.reference.flat_punch import sneddon_pressure
 
 from .base import Profile, check_covers
 
@@ -21,7 +23,7 @@ class FlatPunch(Profile):
 
     name = "flat"
     description = "flat-ended cylindrical punch (the paper's)"
-    radius: float
+    radius: float = length("punch radius a0", example=1.8)
 
     @property
     def extent(self) -> float:
@@ -37,8 +39,6 @@ class FlatPunch(Profile):
 
     def unworn_pressure(self, r, load: float, contact_length: float):
         """Sneddon's pressure P/(2πa√(a² − r²)) (Eq. 17), MPa."""
-        from engine.reference.flat_punch import sneddon_pressure
-
         return sneddon_pressure(r, load, contact_length)
 
     def gap(self, grid: Grid) -> np.ndarray:

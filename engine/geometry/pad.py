@@ -10,29 +10,29 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
+from engine.keys import length
+from engine.reference.line_contact import pad_half_width
 
 from .base import LineProfile
 
 
 @dataclass(frozen=True)
 class RoundedPadProfile(LineProfile):
-    """Flat pad of half-width ``flat_half_width`` (b, mm) with edges rounded to
-    ``edge_radius`` (R, mm): g = 0 for |x| ≤ b, (|x| − b)²/(2R) for |x| > b."""
+    """Flat pad of half-width ``radius`` (b, mm; the key keeps the name of the other
+    shapes' face size) with edges rounded to ``edge_radius`` (R, mm): g = 0 for |x| ≤ b,
+    (|x| − b)²/(2R) for |x| > b."""
 
     name = "pad"
     description = "flat pad with rounded edges on a flat, plane strain (line contact)"
-    positive = ("flat_half_width", "edge_radius")
-    edge_radius_rule = "> 0"
-    flat_half_width: float
-    edge_radius: float
+    radius: float = length("half-width b of the flat", example=0.1)
+    edge_radius: float = length("radius R of the rounded edges", example=5.0)
 
-    @classmethod
-    def from_settings(cls, radius, edge_radius=None):
-        return cls(radius, edge_radius)
+    @property
+    def flat_half_width(self) -> float:
+        """b (mm), the half-width of the flat (``[punch] radius``)."""
+        return self.radius
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
-        from engine.reference.line_contact import pad_half_width
-
         return pad_half_width(load, self.flat_half_width, self.edge_radius, contact_modulus)
 
     def check_grid(self, grid: Grid) -> None:

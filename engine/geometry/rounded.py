@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
+from engine.keys import length
 
 from .base import Profile, check_covers
 from .flat import FACE_MARGIN
@@ -26,14 +27,10 @@ class RoundedPunch(Profile):
 
     name = "rounded"
     description = "flat punch with a rounded (toroidal) edge"
-    non_negative = ("edge_radius",)
-    edge_radius_rule = ">= 0"
-    radius: float
-    edge_radius: float
-
-    @classmethod
-    def from_settings(cls, radius, edge_radius=None):
-        return cls(radius, edge_radius or 0.0)
+    radius: float = length("radius b of the flat face", example=1.8)
+    edge_radius: float = length(
+        "radius ρ of the toroidal edge (0 is the sharp flat punch)", strict=False, example=0.2
+    )
 
     @property
     def extent(self) -> float:

@@ -9,6 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.grid import Grid
+from engine.keys import length
+from engine.reference import mindlin
+from engine.reference.hertz import hertz_contact_radius
 
 from .base import Profile
 
@@ -20,12 +23,10 @@ class SphericalPunch(Profile):
     name = "sphere"
     description = "sphere (Hertz)"
     covered = "Hertz contact radius"
-    radius: float
+    radius: float = length("sphere radius R", example=10.0)
 
     def contact_length(self, load: float, contact_modulus: float) -> float:
         """Hertz's contact radius a = (3PR/(4E*))^(1/3) (mm)."""
-        from engine.reference.hertz import hertz_contact_radius
-
         return hertz_contact_radius(load, self.radius, contact_modulus)
 
     def check_grid(self, grid: Grid) -> None:
@@ -38,6 +39,4 @@ class SphericalPunch(Profile):
 
     def fretting_reference(self, load: float, material, mu: float, reference_distance):
         """Mindlin's closed forms (:func:`engine.reference.mindlin.fretting_reference`)."""
-        from engine.reference import mindlin
-
         return mindlin.fretting_reference(load, self.radius, material, mu)

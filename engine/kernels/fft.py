@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import wisdom
 from .pyfftw_import import pyfftw
 
 DEFAULT_EFFORT = "FFTW_ESTIMATE"
@@ -89,8 +90,6 @@ def plan(
     if effort == "FFTW_ESTIMATE":
         pyfftw.forget_wisdom()
     else:
-        from . import wisdom
-
         wisdom.load()
     made = pyfftw.FFTW(
         source, target, axes=axes, direction=direction, threads=threads, flags=(effort, *flags)

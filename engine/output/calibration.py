@@ -43,6 +43,8 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
+from engine.output.summary import column_unit
+
 if TYPE_CHECKING:
     import pandas as pd
 
@@ -75,8 +77,6 @@ _DESCRIPTIONS = {
 
 
 def _units(config, rows) -> dict[str, str]:
-    from engine.output.summary import column_unit
-
     line = config.punch.is_line
     parameter = column_unit(config.search.parameter, line)
     units = {}
@@ -102,8 +102,6 @@ def _columns(rows) -> list[str]:
 
 
 def _fitted_units(config, fitted) -> dict[str, str]:
-    from engine.output.summary import column_unit
-
     line = config.punch.is_line
     return {
         key: column_unit(config.search.column if key == "search.target" else key, line)
@@ -239,11 +237,25 @@ _THRESHOLD = re.compile(r"^# threshold: (?P<column>\S+) = (?P<value>\S+)")
 
 
 def load_calibration(path: str | Path) -> pd.DataFrame:
-    """The calibration table of a results file (``.h5``) or of ``NAME_calibration.csv``:
-    one row per test; ``frame.attrs["fitted"]`` maps each fitted key to its value,
-    ``frame.attrs["units"]`` each column to its unit, ``frame.attrs["fit_status"]`` says how
-    the fit ended, ``frame.attrs["column"]`` and ``["target"]`` define the threshold.
+    """The calibration table of a study with a ``[calibrate]`` section, as a DataFrame.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) or ``NAME_calibration.csv``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per test: its id and keys, ``measured``, ``predicted`` (the searched
+        parameter's units), ``error`` (predicted/measured − 1), ``role`` (``calibrate`` or
+        ``predict``), the final bracket, ``steps``, ``status``; ``frame.attrs["fitted"]``
+        maps each fitted key to its value, ``frame.attrs["units"]`` each column to its unit,
+        ``frame.attrs["fit_status"]`` says how the fit ended, ``frame.attrs["column"]`` and
+        ``["target"]`` define the threshold.
+
+    Examples
+    --------
     >>> frame = engine.load_calibration("results/fouvry_crack_nucleation.h5")  # doctest: +SKIP
     >>> frame.attrs["fitted"]                                                  # doctest: +SKIP
     {'fatigue.length': 0.0312...}

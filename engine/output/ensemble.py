@@ -15,9 +15,12 @@ surface itself is :mod:`engine.surface`.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
+
+from .summary import load_summary, summary_frame
 
 SEED = "surface.seed"
 STATISTICS = ("mean", "std", "ci_low", "ci_high")
@@ -88,9 +91,6 @@ def write_ensemble(config, rows) -> Path | None:
     ``surface.seed`` (atomically); returns its path, None when there is nothing to write."""
     if config.surface is None or SEED not in config.sweep.swept_keys:
         return None
-    import os
-
-    from .summary import summary_frame
 
     frame = ensemble_frame(summary_frame(list(rows)))
     path = ensemble_path(config.study.summary_path)
@@ -101,8 +101,24 @@ def write_ensemble(config, rows) -> Path | None:
 
 
 def load_ensemble(path: str | Path):
-    """The ensemble table of a study (module docstring) as a pandas DataFrame, computed from
-    its summary (``path``: the results ``.h5`` or the summary ``.csv``)."""
-    from .summary import load_summary
+    """Statistics over the realisations of a study sweeping ``surface.seed``, computed from
+    its summary (the same table as ``NAME_ensemble.csv``; module docstring).
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) or its summary ``.csv``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per combination of the other swept keys: ``realisations`` (completed cases)
+        and, for every numeric summary column c, ``c_mean``, ``c_std`` and the 95 %
+        confidence interval of the mean ``c_ci_low``, ``c_ci_high`` (units: the column's).
+
+    Examples
+    --------
+    >>> frame = engine.load_ensemble("results/rough_fretting.h5")         # doctest: +SKIP
+    >>> frame[["loading.amplitude", "real_area_fraction_mean"]]           # doctest: +SKIP
+    """
     return ensemble_frame(load_summary(path))

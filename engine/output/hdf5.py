@@ -52,10 +52,12 @@ path uses it.
 from __future__ import annotations
 
 import contextlib
+import gc
 import json
 import math
 import os
 import shutil
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -64,10 +66,11 @@ import h5py
 import numpy as np
 
 from engine.commands import RESULTS_FORMAT
-from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus, parameter_units
+from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
+from engine.study.settings.units import parameter_units
 
 from .checksum import (
     CASE_CHECKSUM,
@@ -93,7 +96,7 @@ from .space import (
     unclaim,
 )
 from .summary import pending_row, write_summary_csv
-from .thresholds import thresholds_path
+from .thresholds import thresholds_path, write_thresholds, write_thresholds_csv
 
 __all__ = [
     "FORMAT",
@@ -781,8 +784,6 @@ class SingleWriter(ResultsWriter):
         """The thresholds table of a ``[search]`` study (:mod:`engine.output.thresholds`),
         in the file and as ``NAME_thresholds.csv`` beside the summary; not on a full disk
         (the next run writes it)."""
-        from .thresholds import thresholds_path, write_thresholds, write_thresholds_csv
-
         if self.full is not None:
             return
         line = self._plan is not None and self._plan.line
@@ -841,9 +842,6 @@ class _SummaryFull(OutputFull):
 def _quiet_unraisable():
     """h5py reports errors of objects it frees (a file HDF5 can no longer close) through
     ``sys.unraisablehook``: silence them while a broken file is let go."""
-    import gc
-    import sys
-
     hook = sys.unraisablehook
     sys.unraisablehook = lambda _: None
     try:

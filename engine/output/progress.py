@@ -1,9 +1,11 @@
 """Progress of a study on rank 0: a line per finished case, and a status line with an ETA.
 
-What rank 0 prints while a study runs:
+What rank 0 reports while a study runs, through :mod:`logging` (the logger
+``engine.output.progress``, at INFO; the command line shows the case lines on stdout and the
+status lines, marked ``stream="stderr"``, on stderr):
 
-- one line per finished case on stdout: ``[k/N] case_id rank r  t s  status``;
-- a *status line* on stderr every ``interval`` seconds (default 30) and after each finished
+- one line per finished case: ``[k/N] case_id rank r  t s  status``;
+- a *status line* every ``interval`` seconds (default 30) and after each finished
   case: cases done/total, the running cases with the cycle they reached, elapsed time, and
   the ETA. Plain lines, so that they work under ``mpiexec``/``srun`` where stderr is a file;
 - on a terminal (stderr a tty) a tqdm bar instead of the status lines, with the same
@@ -39,6 +41,7 @@ the first case completes there is no measurement and the line says so.
 from __future__ import annotations
 
 import heapq
+import logging
 import queue
 import sys
 import time
@@ -47,6 +50,8 @@ from dataclasses import dataclass
 from typing import Any, TextIO
 
 from engine.schema import CaseStatus
+
+LOGGER = logging.getLogger(__name__)
 
 __all__ = [
     "ProgressReporter",
@@ -141,8 +146,8 @@ class ProgressReporter:
         self._searches: tuple[int, int] | None = None  # (ended, searches) of a [search] study
         self.counts = {CaseStatus.COMPLETED: done, CaseStatus.FAILED: 0, CaseStatus.INTERRUPTED: 0}
         self.ranks = max(1, ranks)
-        self.stream = stream or sys.stdout
-        self.status_stream = status_stream or sys.stderr
+        self.stream = stream  # None: the case lines are logged
+        self.status_stream = status_stream  # None: the status lines are logged
         self.interval = interval
         self.clock = clock
         self.start = clock()
@@ -348,8 +353,12 @@ class ProgressReporter:
 
     # ------------------------------------------------------------------ output
     def line(self, text: str) -> None:
+        """A finished case's line: through the bar while one is drawn, else logged (INFO,
+        the logger ``engine.output.progress``), or written to the ``stream`` given."""
         if self._bar is not None:
-            self._bar.write(text, file=self.stream)
+            self._bar.write(text, file=self.stream or sys.stdout)
+        elif self.stream is None:
+            LOGGER.info(text)
         else:
             print(text, file=self.stream, flush=True)
 
@@ -363,7 +372,11 @@ class ProgressReporter:
         if self.interval <= 0 or (not force and now - self._last_status < self.interval):
             return
         self._last_status = now
-        print(f"progress: {self.status_text()}", file=self.status_stream, flush=True)
+        text = f"progress: {self.status_text()}"
+        if self.status_stream is None:  # a status line: stderr on the command line
+            LOGGER.info(text, extra={"stream": "stderr"})
+        else:
+            print(text, file=self.status_stream, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:

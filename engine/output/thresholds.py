@@ -38,7 +38,7 @@ import numpy as np
 from engine.commands import WrongFileError
 from engine.schema import CASES_GROUP, THRESHOLDS_GROUP, CaseStatus, threshold_columns
 
-from .summary import column_unit, write_text_atomically
+from .summary import check_readable, column_unit, write_text_atomically
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -199,17 +199,28 @@ _HEADER_UNIT = re.compile(r"^(?P<name>.*?) \[(?P<unit>[^\]]*)\]$")
 
 
 def load_thresholds(path: str | Path) -> pd.DataFrame:
-    """The thresholds table of a study with a ``[search]`` section, from its results file
-    (``.h5``) or ``NAME_thresholds.csv``; ``frame.attrs["units"]`` maps each column to its
-    unit ("" for text and dimensionless columns); from the results file
-    ``frame.attrs["search"]`` holds the search's settings.
+    """Thresholds table of a study with a ``[search]`` section as a DataFrame (one row per
+    search), from its results file or ``NAME_thresholds.csv``.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The results file (``.h5``) or the ``NAME_thresholds.csv`` beside it.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per search: the threshold found, its bracket and the search's settings;
+        ``frame.attrs["units"]`` maps each column to its unit ("" for text and
+        dimensionless columns); from the results file ``frame.attrs["search"]`` holds the
+        search's settings.
+
+    Examples
+    --------
     >>> frame = engine.load_thresholds("results/fretting_map_search.h5")   # doctest: +SKIP
     >>> frame.plot(x="loading.load", y="threshold")                        # doctest: +SKIP
     """
     import pandas as pd
-
-    from .summary import check_readable
 
     path = Path(path)
     check_readable(path)

@@ -5,10 +5,8 @@ checksums (:mod:`engine.output.checksum`), and compares the summary CSV beside i
 summary rows stored in the file. Prints one line per bad case (case id, status, what is
 wrong), then a verdict. Use it on results copied from a cluster before trusting them.
 
-Exit codes: 0 the file is whole (every completed case read in full and its checksums equal;
-the CSV, when present, agrees); 4 damage found (a case or the file cannot be read, a checksum
-differs, the CSV disagrees with the file); 2 bad input (no such file, not a results file of
-this engine); 3 interrupted (Ctrl-C, SIGTERM).
+Exit codes: :data:`engine.exit_codes.VERIFY` (0 whole, 4 damaged, 2 bad input, 3
+interrupted; the help and the manual's table are generated from it).
 
 The reading runs in a child process with a time limit (:mod:`engine.output.isolated`): a file
 whose damage sends HDF5 into an endless loop is reported as damaged, not waited for forever.
@@ -31,6 +29,7 @@ from pathlib import Path
 import h5py
 
 from engine.commands import refuse_file, results_parser
+from engine.exit_codes import VERIFY, ExitCode, epilog_text
 from engine.schema import CASES_GROUP, CaseStatus
 
 from .checksum import CaseCheck, check_root, verify_case
@@ -49,7 +48,8 @@ __all__ = [
     "EXIT_DAMAGED",
 ]
 
-EXIT_CLEAN, EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_DAMAGED = 0, 2, 3, 4
+EXIT_CLEAN, EXIT_BAD_INPUT = ExitCode.OK, ExitCode.BAD_INPUT
+EXIT_INTERRUPTED, EXIT_DAMAGED = ExitCode.INTERRUPTED, ExitCode.DAMAGED
 
 
 class NotResultsFile(ValueError):
@@ -212,8 +212,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser = results_parser(
         prog,
         "Check a results file: read every case and dataset, compare the checksums, "
-        "compare the summary CSV with the file. Exit codes: 0 whole, 4 damaged, 2 bad input, "
-        "3 interrupted.",
+        "compare the summary CSV with the file. " + epilog_text(VERIFY),
         "results file (HDF5)",
     )
     parser.add_argument(

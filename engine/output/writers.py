@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .collective import CollectiveWriter  # mpio only: imported when chosen
 from .hdf5 import Bystander, ResultsWriter, SingleWriter
 
 __all__ = ["open_writer"]
@@ -31,8 +32,6 @@ def open_writer(
     its write journals in ``journal_dir``."""
     options = dict(summary_path=summary_path, drop_stale=drop_stale, should_stop=should_stop)
     if strategy == "mpio":
-        from .collective import CollectiveWriter  # mpio only: imported when chosen
-
         return CollectiveWriter(path, comm, layout, journal_dir=journal_dir, **options)
     if strategy != "single":
         raise ValueError(f"output strategy must be 'single' or 'mpio', not {strategy!r}")

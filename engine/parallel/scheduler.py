@@ -38,7 +38,9 @@ aborts the communicator so no rank is left waiting (see ``engine.cli``).
 from __future__ import annotations
 
 import math
+import os
 import queue
+import socket
 import threading
 import time
 import traceback
@@ -138,9 +140,6 @@ class PeerWatch:
     """
 
     def __init__(self, rank: int, peers: list[tuple[int, str]] | None, interval: float = 1.0):
-        import os
-        import socket
-
         self.interval = interval
         self._next = time.monotonic() + interval
         host = socket.gethostname()
@@ -162,8 +161,6 @@ class PeerWatch:
 
 def _process_exists(pid: int) -> bool:
     """True while ``pid`` runs (a zombie — dead, not yet reaped — counts as gone)."""
-    import os
-
     try:
         os.kill(pid, 0)
     except ProcessLookupError:

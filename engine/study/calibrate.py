@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from engine.study.config.sections import MISSING, SWEEPABLE, StudyConfigError
+from engine.study.settings.sections import MISSING, SWEEPABLE, StudyConfigError
 
 __all__ = [
     "CalibrationInputError",

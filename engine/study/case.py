@@ -29,6 +29,7 @@ from engine.surface import surface_outcome
 
 from .config import StudyConfig
 from .kinds import kind_of
+from .operators import OperatorCache
 from .outcome import (
     COMPLETED,
     FAILED,
@@ -69,8 +70,6 @@ class CaseRunner:
     """Callable ``runner(case, should_stop) -> CaseOutcome`` for one study configuration."""
 
     def __init__(self, config: StudyConfig) -> None:
-        from .operators import OperatorCache
-
         self.config = config
         self.checkpoint_dir = config.study.checkpoint_dir
         # Operators, plans and stress kernels shared by the cases of this rank.

@@ -48,7 +48,6 @@ from engine.fatigue.fields import (
 from engine.fatigue.history import Elasticity
 from engine.fatigue.quantities import AMPLITUDE_METHODS
 from engine.schema import (
-    FATIGUE_CRITERIA,
     FATIGUE_HOT_SPOT_COLUMNS,
     DatasetRecord,
     DatasetSpec,
@@ -66,6 +65,11 @@ __all__ = [
     "fatigue_keys",
     "fatigue_sweepable",
     "fatigue_columns",
+    "fatigue_column_specs",
+    "fatigue_history",
+    "fatigue_map_specs",
+    "constant_ranges",
+    "criterion_schema",
     "FatigueAnalysis",
     "FatigueCycle",
     "fatigue_layout",
@@ -122,29 +126,24 @@ def fatigue_keys(registry=CRITERIA) -> set[str]:
     return _OPTIONS | {name for cls in registry.values() for name in cls.constants}
 
 
-# The magnitudes a material constant can take (a value outside is a typo or a unit slip:
-# MPa given in Pa, a percentage for a fraction), with the reason printed when it is passed.
-_STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
-CONSTANT_RANGES = {
-    "sigma_d": _STRENGTH, "tau_d": _STRENGTH, "sigma_f": _STRENGTH, "tau_f": _STRENGTH,
-    "sigma_y": _STRENGTH,
-    "b": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
-    "b0": (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2"),
-    "c": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
-    "c0": (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9"),
-    "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
-    "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
-    "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
-}  # fmt: skip
 MAX_LENGTH = 100.0  # mm, the critical distance
 
 
-def _check_range(section, name: str, value: float) -> None:
-    """Refuse a constant outside :data:`CONSTANT_RANGES` (a fifth criterion's constants
-    without an entry are taken as given), naming the key."""
-    if name not in CONSTANT_RANGES:
+def constant_ranges(registry=CRITERIA) -> dict[str, tuple[float, float, str]]:
+    """{constant: (low, high, why)} of every criterion's declared ranges
+    (``constant_ranges`` of each class; a constant without one is taken as given)."""
+    return {
+        name: bounds for cls in registry.values() for name, bounds in cls.constant_ranges.items()
+    }
+
+
+def _check_range(section, name: str, value: float, criteria) -> None:
+    """Refuse a constant outside the range a listed criterion declares for it, naming the
+    key."""
+    ranges = constant_ranges({c: CRITERIA[c] for c in criteria})
+    if name not in ranges:
         return
-    low, high, why = CONSTANT_RANGES[name]
+    low, high, why = ranges[name]
     if not low <= value <= high:
         raise section.error(name, value, f"must lie in [{low:g}, {high:g}] ({why})")
 
@@ -162,7 +161,7 @@ def _criteria(section) -> tuple[str, ...]:
 
 
 def parse_fatigue(section) -> FatigueConfig:
-    """Read the ``[fatigue]`` table (``engine.study.config.reader.Section``): errors name the
+    """Read the ``[fatigue]`` table (``engine.study.settings.reader.Section``): errors name the
     key and the value (a constant a listed criterion needs, a constant no listed criterion
     uses, a length missing for a critical-distance method …)."""
     section.check_known(fatigue_keys())
@@ -211,7 +210,7 @@ def parse_fatigue(section) -> FatigueConfig:
         key = next((k for k in constants if f"'{k}'" in str(error)), "criteria")
         raise section.error(key, constants.get(key, list(criteria)), str(error)) from None
     for name, value in constants.items():  # signs checked above, magnitudes here
-        _check_range(section, name, value)
+        _check_range(section, name, value, criteria)
     return config
 
 
@@ -253,13 +252,37 @@ def fatigue_layout(config: FatigueConfig, plane_shape) -> dict[str, tuple[int, .
 
 
 def criterion_schema(criterion) -> tuple[str, str, str, bool, bool]:
-    """(column, unit, what, angle, life) of a criterion for the results schema: the bundled
-    criteria's descriptions (``engine.schema.FATIGUE_CRITERIA``), a plug-in's name."""
-    column = criterion.column
-    unit, what, angle, life = FATIGUE_CRITERIA.get(
-        column, (criterion.unit, criterion.name, criterion.reports_angle, criterion.reports_life)
-    )
-    return column, unit, what, angle, life
+    """(column, unit, what, angle, life) of a criterion (class or instance) for the results
+    schema (:func:`engine.schema.fatigue_specs`, :func:`engine.schema.fatigue_maps`): its
+    declared ``description``, else its name."""
+    what = criterion.description or criterion.name
+    return criterion.column, criterion.unit, what, criterion.reports_angle, criterion.reports_life
+
+
+def fatigue_column_specs(registry=CRITERIA) -> dict[str, DatasetSpec]:
+    """Summary (and ``history/<column>``) columns of every registered criterion:
+    name → :class:`DatasetSpec` (:func:`engine.schema.fatigue_specs`)."""
+    specs: dict[str, DatasetSpec] = {}
+    for cls in registry.values():
+        specs.update(fatigue_specs(*criterion_schema(cls)))
+    return specs
+
+
+def fatigue_history(registry=CRITERIA) -> dict[str, DatasetSpec]:
+    """``history/<key>`` of a fretting case with ``[fatigue] every_cycle = true``: every
+    registered criterion's hot spots per simulated cycle."""
+    return {
+        key: DatasetSpec(spec.units, spec.description + _PER_CYCLE)
+        for key, spec in fatigue_column_specs(registry).items()
+    }
+
+
+def fatigue_map_specs(cycle, registry=CRITERIA) -> dict[str, DatasetSpec]:
+    """``fatigue/cycle_<N>/<name>`` of every registered criterion at ``cycle``."""
+    specs: dict[str, DatasetSpec] = {}
+    for cls in registry.values():
+        specs.update(fatigue_maps(*criterion_schema(cls), cycle))
+    return specs
 
 
 class FatigueAnalysis:

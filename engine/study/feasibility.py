@@ -11,6 +11,8 @@ from the plan, so the run is refused at once (exit code 2) naming the case ids.
 
 from __future__ import annotations
 
+from .kinds.base import LoadingKind
+
 __all__ = ["impossible_cases", "ImpossibleCases"]
 
 
@@ -20,8 +22,6 @@ class ImpossibleCases(ValueError):
 
 def impossible_cases(config, plan) -> list[tuple[str, str]]:
     """(case id, reason) of every case of ``plan`` that cannot be computed."""
-    from .kinds.base import LoadingKind
-
     kind = config.kind
     if type(kind).check_case is LoadingKind.check_case:  # a kind without case checks
         return []

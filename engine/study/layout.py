@@ -39,9 +39,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from engine.schema import FIELD_DTYPES, FINAL_FIELDS, RECORDED_FIELDS, case_group_path, cycle_group
+from engine.solvers.line_subsurface import LineSubsurfaceStress
+from engine.solvers.subsurface import SubsurfaceStress, depth_layers
 from engine.surface import surface_layout
 
 from .config import StudyConfig
+from .fatigue import fatigue_layout
 
 __all__ = ["DatasetShape", "case_layout", "plan_layout", "recorded_cycles"]
 
@@ -97,8 +100,6 @@ def case_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     for path, (shape, dtype) in surface_layout(config).items():  # [surface]
         layout[path] = DatasetShape(shape, dtype)
     if config.fatigue is not None:  # the criteria's maps and hot spots of a recorded cycle
-        from .fatigue import fatigue_layout
-
         for cycle in recorded_cycles(config):
             for name, shape in fatigue_layout(config.fatigue, plane["z"].shape).items():
                 path = case_group_path("fatigue", cycle_group(cycle), name)
@@ -112,8 +113,6 @@ def _grid(config: StudyConfig):
 
 def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     """Names and shapes of the x–z plane datasets (zero tractions: only shapes matter)."""
-    from engine.solvers.subsurface import SubsurfaceStress, depth_layers
-
     grid = _grid(config)
     depths = np.asarray(
         depth_layers(config.subsurface.depth * config.contact_length, config.subsurface.layers),
@@ -123,8 +122,6 @@ def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
     # estimate plans of the same lattice reuse, on this rank only (issue 15).
     zero = np.zeros(grid.shape)
     if grid.is_line:
-        from engine.solvers.line_subsurface import LineSubsurfaceStress
-
         plane = LineSubsurfaceStress(grid, config.material.nu_A, depths).plane(zero, zero)
     else:
         stress = SubsurfaceStress(

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from engine.geometry import profile_for
+from engine.geometry import Profile
 from engine.grid import Grid
 from engine.solvers.line_subsurface import LinePeakTracker, LineSubsurfaceStress
 from engine.solvers.scar import scar_measures
@@ -32,25 +32,20 @@ DEFAULT_REFERENCE_DISTANCE = 10.0  # mm: the datum of 2-D displacements (a speci
 
 @dataclass(frozen=True)
 class LineContact:
-    """A line contact's geometry and loading as the study file gives them: ``shape``
-    ("cylinder" | "pad"), ``radius`` (cylinder R, or the pad's flat half-width b, mm),
-    ``edge_radius`` (pad's rounds R, mm) and ``load`` (N/mm)."""
+    """A line contact's ``profile`` (a cylinder or a pad, :class:`engine.geometry.Profile`)
+    and ``load`` (N/mm)."""
 
-    shape: str
-    radius: float
-    edge_radius: float | None
+    profile: Profile
     load: float
 
     def nominal_half_width(self, contact_modulus: float) -> float:
         """a0 (mm): the profile's (Hertz's a = √(4PR/(πE*)) or Ciavarella's pad half-width)
         at the load."""
-        profile = profile_for(self.shape, self.radius, self.edge_radius)
-        return profile.contact_length(self.load, contact_modulus)
+        return self.profile.contact_length(self.load, contact_modulus)
 
     def nominal_pressure(self, contact_modulus: float) -> float:
         """p0 = P/(2 a0) (MPa), the mean pressure over the nominal contact."""
-        profile = profile_for(self.shape, self.radius, self.edge_radius)
-        return profile.mean_pressure(self.load, self.nominal_half_width(contact_modulus))
+        return self.profile.mean_pressure(self.load, self.nominal_half_width(contact_modulus))
 
     @staticmethod
     def peak_tracker(stress: LineSubsurfaceStress, nominal_half_width: float, angle=0.0):

@@ -33,6 +33,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from engine.geometry import ContactReachesBorder, border_contact, may_reach_border
+from engine.material import MaterialPair
 from engine.schema import (
     FINAL_FIELDS,
     PEAK_CHANGE_FIELDS,
@@ -40,11 +42,22 @@ from engine.schema import (
     DatasetRecord,
     DatasetSpec,
     case_group_path,
+    contact_units,
+    cycle_group,
     field_dataset,
     grid_dataset,
     pending_row,
     plane_dataset,
 )
+from engine.solvers.contact import ContactSolver
+from engine.solvers.friction import EnergyWearLaw, FrictionLaw, WearLaw
+from engine.solvers.peak import PeakTracker, first_region_change, region_name
+from engine.solvers.scar import pad_ratio as ratio
+from engine.solvers.scar import two_body_depths, two_body_wear_law
+from engine.solvers.subsurface import depth_layers
+from engine.study.line_contact import LineContact
+from engine.study.line_contact import scar_row as line_scar_row
+from engine.surface import rough_profile
 
 from .plan import Case
 
@@ -104,24 +117,18 @@ class CaseOutcome:
 def case_wear_law(case: Case, cfg: StudyConfig):
     """The case's wear law (``[wear] law``, kinds with wear): the orthotropic Archard law
     (wear1, wear2 in 1/MPa, β) or the dissipated-energy law (α in mm³/J)."""
-    from engine.solvers.friction import EnergyWearLaw, WearLaw
-
     if cfg.wear.law == "energy":
         law = EnergyWearLaw(case.alpha)
     else:
         law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
     ratio = pad_ratio(case, cfg)
     if cfg.punch.is_line or ratio > 0.0:  # the gap carries the flat's and the pad's wear
-        from engine.solvers.scar import two_body_wear_law
-
         return two_body_wear_law(law, ratio)
     return law
 
 
 def pad_ratio(case: Case, cfg: StudyConfig) -> float:
     """k_pad / k_flat (``[wear] pad_coefficient``; 0 without, the punch does not wear)."""
-    from engine.solvers.scar import pad_ratio as ratio
-
     flat = case.alpha if cfg.wear.law == "energy" else case.wear1
     return ratio(cfg.wear.pad_coefficient, flat)
 
@@ -138,10 +145,7 @@ def peak_tracker(stress, contact_length: float, angle: float = 0.0):
     """The peak tracker of a case's stresses (engine.solvers.peak): a line contact's tracks
     its contact half-width (engine.solvers.line_subsurface)."""
     if stress.grid.is_line:
-        from engine.study.line_contact import LineContact
-
         return LineContact.peak_tracker(stress, contact_length, angle)
-    from engine.solvers.peak import PeakTracker
 
     return PeakTracker(stress, contact_length, angle=angle)
 
@@ -165,8 +169,6 @@ class BorderCheckedSolver:
         setattr(self._solver, name, value)
 
     def _checked(self, result, what: str):
-        from engine.geometry import ContactReachesBorder, border_contact
-
         touching = border_contact(result.pressure)
         if touching:
             grid = self._solver.grid
@@ -179,7 +181,6 @@ class BorderCheckedSolver:
 
     def solve_load(self, load, state=None, wear=None, guess=None):
         result = self._solver.solve_load(load, state, wear=wear, guess=guess)
-        from engine.schema import contact_units
 
         return self._checked(result, f"P = {load:g} {contact_units('N', self.grid.is_line)}")
 
@@ -225,12 +226,6 @@ class CaseContext:
         beyond the grid (sphere, a rounded edge cut by the mesh) it is wrapped so that a
         contact touching the grid's border fails the case
         (engine.geometry.ContactReachesBorder) instead of being truncated."""
-        from engine.geometry import may_reach_border
-        from engine.material import MaterialPair
-        from engine.solvers.contact import ContactSolver
-        from engine.solvers.friction import FrictionLaw
-        from engine.surface import rough_profile
-
         material = MaterialPair(
             cfg.material.E_A, cfg.material.nu_A, cfg.material.E_B, cfg.material.nu_B
         )
@@ -264,8 +259,6 @@ class CaseContext:
     def subsurface(self, grid, material, cfg: StudyConfig, plane_angle: float = 0.0):
         """(stress evaluator, depths in mm) of a case: ``[subsurface] layers`` depths down to
         ``depth · a0``; the plane through the axis at ``plane_angle`` (degrees from x)."""
-        from engine.solvers.subsurface import depth_layers
-
         depths = np.asarray(
             depth_layers(cfg.subsurface.depth * cfg.contact_length, cfg.subsurface.layers),
             dtype=float,
@@ -336,8 +329,6 @@ def recorded_datasets(records, stress, angle: float = 0.0, at: str = "peak load"
     """The surface fields (``fields/cycle_N/``) and the stress plane through the axis at
     ``angle`` (radians; ``subsurface/cycle_N/``) of every recorded cycle N; ``at`` names
     the instant of the fields in their descriptions."""
-    from engine.schema import cycle_group
-
     datasets = {}
     for cycle in sorted(records):
         fields, group = records[cycle], cycle_group(cycle)
@@ -354,8 +345,6 @@ def recorded_datasets(records, stress, angle: float = 0.0, at: str = "peak load"
 def region_change_datasets(stress, changes) -> dict[str, DatasetRecord]:
     """x–z plane (σ_VM and components) and the peak-load pressure and tractions at the first
     cycle and every change of the peak region, under ``peak_changes/cycle_<N>/``."""
-    from engine.schema import cycle_group
-
     datasets = {}
     for cycle in sorted(changes):
         fields = changes[cycle]
@@ -402,8 +391,6 @@ def final_row(case, cfg, final, stress, depths, datasets, angle: float = 0.0) ->
 
 def peak_row(tracker, final, history: dict[str, np.ndarray]) -> dict[str, Any]:
     """Summary values of the peak history: final peaks, region and its first change."""
-    from engine.solvers.peak import first_region_change, region_name
-
     values = tracker(final.pressure, final.traction_x, final.traction_y)
     change = first_region_change(history.get("cycle", []), history.get("peak_region", []))
     return {
@@ -444,9 +431,7 @@ def scar_row(case, cfg, grid, result) -> dict[str, Any]:
         ratio = pad_ratio(case, cfg)
         if ratio == 0.0:
             return {}
-        from engine.solvers.scar import two_body_depths
 
         return two_body_depths(result.state.wear, ratio)
-    from engine.study.line_contact import scar_row as line_scar_row
 
     return line_scar_row(grid, result.state.wear, pad_ratio(case, cfg))

@@ -28,8 +28,10 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .config.sections import MISSING as _MISSING
-from .config.sections import PROPORTIONAL, StudyConfigError
+from engine.schema import CASE_PARAMETERS
+
+from .settings.sections import MISSING as _MISSING
+from .settings.sections import PROPORTIONAL, StudyConfigError
 
 if TYPE_CHECKING:  # annotations only: the configuration package parses the kinds' sections
     from .config import StudyConfig
@@ -243,7 +245,7 @@ def make_plan(config: StudyConfig) -> Plan:
     return Plan(tuple(cases))
 
 
-_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+_PARAMETERS = CASE_PARAMETERS
 
 
 def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:

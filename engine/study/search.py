@@ -45,10 +45,20 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from engine.schema import CaseStatus
+from engine.schema import (
+    COLUMN_UNITS,
+    INTEGER_COLUMNS,
+    REGIONS,
+    SUMMARY_COLUMNS,
+    TEXT_COLUMNS,
+    CaseStatus,
+)
+from engine.solvers.fretting import REGIME_NAMES
 
+from .fatigue import fatigue_column_specs
 from .plan import Case, Plan, setting_names
 from .plan import _format as format_value
+from .settings.sections import MISSING, SWEEPABLE, StudyConfigError
 
 __all__ = [
     "SearchSpec",
@@ -535,19 +545,8 @@ INTEGER_KEYS = ("mesh.n", "loading.steps", "loading.cycles", "subsurface.layers"
 def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> SearchSpec:
     """Validate the ``[search]`` table of a study file into a :class:`SearchSpec`; errors
     name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
-    from engine.schema import (
-        COLUMN_UNITS,
-        INTEGER_COLUMNS,
-        REGIONS,
-        SUMMARY_COLUMNS,
-        TEXT_COLUMNS,
-    )
-    from engine.solvers.fretting import REGIME_NAMES
-
     # the values a text column can take: a target among none of them is never reached
     text_values = {"slip_regime": REGIME_NAMES, "peak_region": REGIONS, "deep_region": REGIONS}
-
-    from .config.sections import MISSING, SWEEPABLE, StudyConfigError
 
     def error(key: str, value: Any, problem: str) -> StudyConfigError:
         return StudyConfigError(source, f"search.{key}", value, problem)
@@ -572,6 +571,7 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
             raise error(key, value, "must be a number")
     column, target = table["column"], table["target"]
     known_columns = set(SUMMARY_COLUMNS) | set(COLUMN_UNITS) | set(TEXT_COLUMNS)
+    known_columns |= set(fatigue_column_specs())
     if column not in known_columns - {"case_id", "status"}:
         raise error("column", column, "not a summary column")
     if column in TEXT_COLUMNS and not isinstance(target, str):

@@ -26,10 +26,13 @@ surface exits with status 2 before anything is written.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from .measured import read_height_map
 
 KINDS = ("self_affine", "file")
 HEIGHT_UNITS = {"m": 1e3, "mm": 1.0, "um": 1e-3, "µm": 1e-3, "nm": 1e-6}
@@ -70,7 +73,6 @@ class SurfaceConfig:
         fingerprint, so that a run does not resume on a map changed under the same name."""
         if self.kind != "file":
             return None
-        import hashlib
 
         return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
 
@@ -143,8 +145,6 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
 
 
 def _file(s, mesh, is_line: bool) -> SurfaceConfig:
-    from .measured import read_height_map
-
     _only(s, "file", FILE_KEYS)
     path = s.string("path")
     pixel = s.number(

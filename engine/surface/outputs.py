@@ -26,6 +26,9 @@ import math
 
 import numpy as np
 
+from engine.schema import SURFACE_DATASETS, CaseStatus, cycle_of_group
+
+from .profile import surface_height
 from .topography import radial_psd, rms_height, rms_slope
 
 __all__ = ["surface_datasets", "surface_row", "surface_outcome", "surface_layout"]
@@ -34,8 +37,6 @@ GROUP = "surface"
 
 
 def _specs(line: bool):
-    from engine.schema import SURFACE_DATASETS
-
     return {
         name: spec
         if not line or name not in ("psd", "psd_worn")
@@ -89,8 +90,6 @@ def surface_row(
 
 def _last_wear(datasets: dict) -> np.ndarray | None:
     """The wear field of the last recorded cycle among a case's datasets (None: none)."""
-    from engine.schema import cycle_of_group
-
     cycles = {
         cycle_of_group(path.split("/")[1]): record
         for path, record in datasets.items()
@@ -102,11 +101,8 @@ def _last_wear(datasets: dict) -> np.ndarray | None:
 def surface_outcome(config, outcome):
     """Add the surface's columns and datasets to a completed case's ``outcome`` (the case
     runner's hook; any other outcome, or a study without ``[surface]``, is returned as is)."""
-    from engine.schema import CaseStatus
-
     if config.surface is None or outcome.status != CaseStatus.COMPLETED:
         return outcome
-    from .profile import surface_height
 
     grid = config.punch.profile().grid(config.mesh.n, config.mesh.half_width)
     height = np.asarray(surface_height(config.surface, grid))

@@ -15,6 +15,8 @@ import numpy as np
 from engine.grid import Grid
 
 from .config import HEIGHT_UNITS, SurfaceConfig
+from .measured import detrended, read_height_map, resampled
+from .topography import self_affine
 
 __all__ = ["RoughProfile", "surface_height", "rough_profile"]
 
@@ -23,8 +25,6 @@ __all__ = ["RoughProfile", "surface_height", "rough_profile"]
 def _height(surface: SurfaceConfig, grid: Grid) -> np.ndarray:
     spacing = (grid.dx, grid.dy)
     if surface.kind == "self_affine":
-        from .topography import self_affine
-
         height = self_affine(
             grid.shape,
             spacing,
@@ -36,8 +36,6 @@ def _height(surface: SurfaceConfig, grid: Grid) -> np.ndarray:
             rms_slope=surface.rms_slope,
         )
     else:
-        from .measured import detrended, read_height_map, resampled
-
         heights = detrended(read_height_map(surface.path), surface.detrend)
         height = resampled(heights * HEIGHT_UNITS[surface.units], surface.pixel_size, grid)
     height.setflags(write=False)

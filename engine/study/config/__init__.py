@@ -15,9 +15,8 @@ Every name below is importable from ``engine.study.config``.
 """
 
 from engine.geometry import HERTZ_MARGIN
-
-from . import sections
-from .checks import (
+from engine.study.settings import sections
+from engine.study.settings.checks import (
     MAX_FRICTION,
     MAX_PRESSURE_OVER_MODULUS,
     MAX_TOLERANCE,
@@ -26,9 +25,15 @@ from .checks import (
     MODULUS_RANGE,
     check_physical_ranges,
 )
-from .compat import FORMER_DEFAULTS, STATIC_PLACEHOLDERS, fill_former_defaults, same_fingerprint
+from engine.study.settings.compat import (
+    FORMER_DEFAULTS,
+    STATIC_PLACEHOLDERS,
+    fill_former_defaults,
+    same_fingerprint,
+)
+from engine.study.settings.sections import *  # noqa: F403  (the section records; sections.__all__)
+
 from .parsing import StudyConfig, load_study, parse_study
-from .sections import *  # noqa: F403  (the section records; sections.__all__)
 from .toml_writer import dump_toml
 
 __all__ = [

@@ -16,9 +16,8 @@ Sections and keys (``*`` = required; defaults in brackets):
                   ("single": rank 0 writes; "mpio": every rank writes its cases through
                   parallel HDF5; "auto": mpio when h5py is MPI-enabled and ranks > 1)
 ``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
-``[punch]``       shape ["flat"] ("flat" | "rounded" | "sphere"), radius* (flat: punch radius;
-                  rounded: radius of the flat face; sphere: sphere radius), edge_radius*
-                  (rounded only: toroidal edge radius, >= 0; 0 is the sharp flat punch)  mm
+``[punch]``       shape ["flat"] (a name of engine.geometry.PROFILES) and the keys its
+                  profile declares as dataclass fields (radius, edge_radius …)         mm
 ``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
                   1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
 ``[loading]``     kind* ("static" | "cyclic" | "fretting"), load* (N), steps [10] (increments
@@ -65,13 +64,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from engine.geometry import PROFILES
+from engine.geometry import DEFAULT_SHAPE, PROFILES
+from engine.schema import CASE_PARAMETERS
 from engine.solvers import defaults
-
-from .checks import MAX_TOLERANCE, bound, check_physical_ranges
-from .compat import STATIC_PLACEHOLDERS
-from .reader import Section, toml_error
-from .sections import (
+from engine.study.kinds import KINDS
+from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
+from engine.study.settings.checks import MAX_TOLERANCE, bound, check_physical_ranges
+from engine.study.settings.compat import STATIC_PLACEHOLDERS
+from engine.study.settings.reader import Section, toml_error
+from engine.study.settings.sections import (
     MISSING,
     PROPORTIONAL,
     WEAR_LAWS,
@@ -88,6 +89,11 @@ from .sections import (
     WearConfig,
     contact_modulus,
 )
+from engine.surface.config import parse_surface
+
+from ..calibrate import check_fit_bounds, parse_calibrate
+from ..fatigue import parse_fatigue
+from ..search import parse_search
 from .sweep import SECTIONS_OPTIONAL, SECTIONS_REQUIRED, axis_error, split_sweep, substituted
 from .toml_writer import dump_toml
 
@@ -206,11 +212,11 @@ class StudyConfig:
                     }
                 continue
             section = {}
-            for key, value in dataclasses.asdict(getattr(self, field.name)).items():
+            record = getattr(self, field.name)
+            items = record.resolved() if field.name == "punch" else dataclasses.asdict(record)
+            for key, value in items.items():
                 if value is None or f"{field.name}.{key}" in swept:
                     continue  # TOML has no null: None is "not applicable" (static loading)
-                if field.name == "punch" and key == "shape" and value == "flat":
-                    continue  # the default, left out so that older results files resume
                 if field.name == "loading" and key in STATIC_PLACEHOLDERS and not self.is_cyclic:
                     continue  # no cycles in a static study (older files: fill_former_defaults)
                 if isinstance(value, Path):
@@ -325,8 +331,6 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     search = _search_spec(source, search_table, tables, tuple(first))
     calibrate = None
     if calibrate_table is not None:  # engine.calibration: its own section and tests file
-        from ..calibrate import parse_calibrate
-
         calibrate = parse_calibrate(source, calibrate_table, search, relative_to, tuple(first))
     if search is not None:  # the base study at the bracket's low end
         first[search.parameter] = search.low
@@ -356,8 +360,6 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
         config, sweep=sweep, tables=tables, search=search, calibrate=calibrate
     )
     if calibrate is not None:
-        from ..calibrate import check_fit_bounds
-
         check_fit_bounds(config)
     return config
 
@@ -367,7 +369,6 @@ def _search_spec(source: str, table: Any, tables: dict[str, Any], swept: tuple[s
     its parameter must be left out of its own section: the search sets it case by case."""
     if table is None:
         return None
-    from ..search import parse_search
 
     search = parse_search(source, table, swept)
     section, name = search.parameter.split(".", 1)
@@ -474,26 +475,20 @@ def _parse_material(s: Section) -> MaterialConfig:
 
 
 def _parse_punch(s: Section) -> PunchConfig:
-    s.check_known({"shape", "radius", "edge_radius"})
-    shape = s.string("shape", "flat")
+    """``shape`` names a profile of :data:`engine.geometry.PROFILES`, whose dataclass fields
+    are the other keys of the section, each read through its declaration (unit, bounds,
+    required or default; :meth:`engine.geometry.Profile.keys`)."""
+    declared = {name: cls.keys() for name, cls in PROFILES.items()}
+    s.check_known({"shape"}.union(*declared.values()))
+    shape = s.string("shape", DEFAULT_SHAPE)
     if shape not in PROFILES:
         raise s.error("shape", shape, "must be " + ", ".join(f'"{x}"' for x in PROFILES))
-    radius = s.number("radius", minimum=0.0, strict=True, unit="mm", **bound("punch.radius"))
-    rule = PROFILES[shape].edge_radius_rule  # None, ">= 0" or "> 0"
-    edge_radius = None
-    if rule is not None:
-        edge_radius = s.number(
-            "edge_radius",
-            minimum=0.0,
-            strict=rule == "> 0",
-            unit="mm",
-            **bound("punch.edge_radius"),
-        )
-    elif "edge_radius" in s.table:
-        shapes = [f'"{name}"' for name, profile in PROFILES.items() if profile.edge_radius_rule]
-        value = s.table["edge_radius"]
-        raise s.error("edge_radius", value, f"only for shape = {' or '.join(shapes)}")
-    return PunchConfig(radius=radius, shape=shape, edge_radius=edge_radius)
+    for key in s.table:
+        if key != "shape" and key not in declared[shape]:
+            shapes = [f'"{name}"' for name, keys in declared.items() if key in keys]
+            raise s.error(key, s.table[key], f"only for shape = {' or '.join(shapes)}")
+    keys = tuple((name, key.read(s, name)) for name, key in declared[shape].items())
+    return PunchConfig(shape=shape, keys=keys)
 
 
 def _parse_mesh(
@@ -529,7 +524,6 @@ def _parse_mesh(
         )
     if not profile.is_line:
         return MeshConfig(n=n, half_width=half_width)
-    from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 
     distance = s.number(
         "reference_distance",
@@ -570,8 +564,6 @@ def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
     """``[loading]``: ``kind`` names a loading kind of :data:`engine.study.kinds.KINDS`,
     which reads the rest of the section after ``load`` (``load_unit``: N, a line contact's
     N/mm) and ``steps``."""
-    from engine.study.kinds import KINDS
-
     kind = s.string("kind")
     if kind not in KINDS:
         names = [f'"{name}"' for name in KINDS]
@@ -584,8 +576,6 @@ def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
 def _kinds():
     """The table of loading kinds (imported when first needed: the kinds' modules read
     their sections with this package's reader)."""
-    from engine.study.kinds import KINDS
-
     return KINDS
 
 
@@ -612,8 +602,6 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
 def _parse_fatigue(s: Section, loading: LoadingConfig):
     """The ``[fatigue]`` section (``engine.study.fatigue``): the criteria read the increments
     of a fretting cycle, so it needs ``[loading] kind = "fretting"``."""
-    from ..fatigue import parse_fatigue
-
     config = parse_fatigue(s)
     if loading.kind != "fretting":
         raise StudyConfigError(
@@ -627,8 +615,6 @@ def _parse_fatigue(s: Section, loading: LoadingConfig):
 
 def _parse_surface(s: Section, mesh: MeshConfig, punch: PunchConfig):
     """The ``[surface]`` section (``engine.surface.config``): roughness on any profile."""
-    from engine.surface.config import parse_surface
-
     return parse_surface(s, mesh, punch.is_line)
 
 
@@ -643,7 +629,7 @@ def _parse_subsurface(s: Section) -> SubsurfaceConfig:
 
 
 def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepConfig:
-    s.check_known({"mu1", "mu2", "wear1", "wear2", "beta", "alpha"})
+    s.check_known(set(CASE_PARAMETERS))
     mu1 = s.number_list("mu1", minimum=0.0)
     mu2 = s.number_list("mu2", minimum=0.0) if "mu2" in s.table else None
     if wear.law == "energy":

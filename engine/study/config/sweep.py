@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .sections import MISSING, SWEEPABLE, StudyConfigError, SweepAxis
+from engine.study.settings.sections import MISSING, SWEEPABLE, StudyConfigError, SweepAxis
 
 SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
 SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue", "surface")

@@ -8,6 +8,8 @@ its docs (docs/explanation/architecture.md, "Add a loading kind").
 
 from __future__ import annotations
 
+from engine.plugins import GROUPS, Registry, subclass_of
+
 from .base import LoadingKind
 from .cyclic import CyclicKind
 from .fretting import FrettingKind
@@ -15,10 +17,16 @@ from .static import StaticKind
 
 __all__ = ["KINDS", "LoadingKind", "kind_of"]
 
-#: ``[loading] kind`` → its :class:`LoadingKind`, in the order the manual lists them.
-KINDS: dict[str, LoadingKind] = {
-    kind.name: kind for kind in (StaticKind(), CyclicKind(), FrettingKind())
-}
+#: ``[loading] kind`` → its :class:`LoadingKind`: the built-in ones in the order the manual
+#: lists them, then those other packages register (entry-point group
+#: ``fretting_engine.kinds``, a subclass of :class:`LoadingKind`, :mod:`engine.plugins`).
+KINDS: Registry[LoadingKind] = Registry(
+    GROUPS["kinds"],
+    {kind.name: kind for kind in (StaticKind(), CyclicKind(), FrettingKind())},
+    what="loading kind",
+    check=subclass_of(LoadingKind),
+    adapt=lambda cls: cls(),
+)
 
 
 def kind_of(config) -> LoadingKind:

@@ -45,14 +45,14 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from engine import schema
 from engine.schema import DatasetSpec
 from engine.solvers import defaults
-from engine.study.config.checks import bound
-from engine.study.config.sections import LoadingConfig
 from engine.study.outcome import INTERRUPTED, CaseContext, CaseOutcome
 from engine.study.plan import Case
+from engine.study.settings.checks import bound
+from engine.study.settings.sections import LoadingConfig
 
 if TYPE_CHECKING:  # annotations only
     from engine.study.config import StudyConfig
-    from engine.study.config.reader import Section
+    from engine.study.settings.reader import Section
 
 __all__ = ["LoadingKind", "CycledKind", "parse_cycles", "CYCLE_KEYS"]
 

@@ -12,7 +12,9 @@ its surface fields (``fields/cycle_<N>/``) and stress plane (``subsurface/cycle_
 from __future__ import annotations
 
 from engine import schema
+from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
 from engine.study import outcome
+from engine.study.checkpoint import load_cyclic_state, save_cyclic_state
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
 
 from .base import CycledKind
@@ -33,18 +35,12 @@ class CyclicKind(CycledKind):
         return f"cyclic, P = {load}, {cycles}"
 
     def save_state(self, state, path):
-        from engine.study.checkpoint import save_cyclic_state
-
         save_cyclic_state(state, path)
 
     def load_state(self, path):
-        from engine.study.checkpoint import load_cyclic_state
-
         return load_cyclic_state(path)
 
     def run(self, context, case, config, should_stop):
-        from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
-
         solver, grid, material = context.solver(case, config)
         wear_law = outcome.case_wear_law(case, config)  # [wear] law: Archard or energy
         settings = CyclicSettings(

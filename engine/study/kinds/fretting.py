@@ -41,10 +41,13 @@ from typing import Any
 
 from engine import schema
 from engine.schema import cycle_group
+from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, slip_regime_name
 from engine.study import outcome
-from engine.study.config.checks import MAX_FRICTION, bound
-from engine.study.config.sections import MISSING
+from engine.study.checkpoint import load_extra, load_fretting_state, save_fretting_state
+from engine.study.fatigue import FatigueAnalysis
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
+from engine.study.settings.checks import MAX_FRICTION, bound
+from engine.study.settings.sections import MISSING
 
 from .base import CycledKind, parse_cycles
 
@@ -136,21 +139,15 @@ class FrettingKind(CycledKind):
 
     # ------------------------------------------------------------ checkpoint
     def save_state(self, state, path, extra=None):
-        from engine.study.checkpoint import save_fretting_state
-
         save_fretting_state(state, path, extra)
 
     def load_state(self, path):
-        from engine.study.checkpoint import load_fretting_state
-
         return load_fretting_state(path)
 
     # ------------------------------------------------------------ the case
     def run(self, context, case, config, should_stop):
         """The cyclic case's solver, stresses, checkpoints and outputs, plus the loops, the
         fretting history and summary columns."""
-        from engine.solvers.fretting import FrettingAnalysis
-
         angle_deg = self.plane_angle(config)
         angle = math.radians(angle_deg)  # the plane contains the sliding direction
         solver, grid, material = context.solver(case, config)
@@ -187,8 +184,6 @@ class FrettingKind(CycledKind):
         if fatigue is not None:
             analysis.probe_every_cycle = config.fatigue.every_cycle
             if state is not None:
-                from engine.study.checkpoint import load_extra
-
                 fatigue.restore(load_extra(checkpoint))
             on_cycle = _both(fatigue.on_cycle, on_cycle)
         result = analysis.run(state=state, should_stop=should_stop, on_cycle=on_cycle)
@@ -240,7 +235,6 @@ def fatigue_analysis(config, stress, grid, angle: float):
     the flat's E and ν, the case's plane at ``angle`` (rad), its recorded cycles."""
     if config.fatigue is None:
         return None
-    from engine.study.fatigue import FatigueAnalysis
 
     loading = config.loading
     recorded = set(loading.record) | {loading.cycles}
@@ -281,8 +275,6 @@ def label_plane(datasets: dict, angle: float) -> None:
 def settings(config):
     """The solver settings (engine.solvers.fretting.FrettingSettings) of a fretting study
     configuration."""
-    from engine.solvers.fretting import FrettingSettings
-
     loading = config.loading
     options: dict[str, Any] = {}
     if loading.max_wear_fraction is not None:
@@ -320,8 +312,6 @@ def check_force_bound(case, fretting, unit: str = "N") -> None:
 
 def summary_values(result) -> dict[str, Any]:
     """Summary columns of the last simulated cycle (see the module docstring)."""
-    from engine.solvers.fretting import slip_regime_name
-
     history = result.history
     row: dict[str, Any] = {
         "q_amplitude": float(history["q_amplitude"][-1]),

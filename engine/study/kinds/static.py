@@ -7,6 +7,7 @@ the stress plane through the axis at the final state (:mod:`engine.study.outcome
 
 from __future__ import annotations
 
+from engine.solvers.static import static_analysis
 from engine.study.outcome import (
     COMPLETED,
     FAILED,
@@ -16,6 +17,8 @@ from engine.study.outcome import (
     grid_datasets,
     history_datasets,
 )
+from engine.study.settings.compat import STATIC_PLACEHOLDERS
+from engine.study.settings.sections import LoadingConfig
 
 from .base import LoadingKind
 
@@ -27,17 +30,12 @@ class StaticKind(LoadingKind):
     summary = "one loading to P in `steps` increments, no wear"
 
     def parse(self, s, load, steps):
-        from engine.study.config.compat import STATIC_PLACEHOLDERS
-        from engine.study.config.sections import LoadingConfig
-
         # the placeholders that results files of earlier versions stored: they parse back
         former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
         s.check_known(self.keys | former)
         return LoadingConfig(self.name, load, steps, 0, (), None)
 
     def run(self, context, case, config, should_stop):
-        from engine.solvers.static import static_analysis
-
         solver, grid, material = context.solver(case, config)
         result = static_analysis(solver, config.loading.load, config.loading.steps)
         if not result.converged:

@@ -11,8 +11,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from engine.geometry import PROFILES, Profile, profile_for
-from engine.schema import SWEPT_KEY_UNITS
+from engine.geometry import DEFAULT_SHAPE, PROFILES, Profile, profile_for
+from engine.schema import CASE_PARAMETERS
+
+from .units import SWEEPABLE
 
 # Every name here is public and re-exported by the package (engine.study.config).
 __all__ = [
@@ -39,10 +41,6 @@ __all__ = [
 PROPORTIONAL = "proportional"
 
 PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFILES)
-
-# Scalars that [sweep] accepts under their dotted key, with their units (summary columns):
-# the results schema's table.
-SWEEPABLE = SWEPT_KEY_UNITS
 
 
 class StudyConfigError(ValueError):
@@ -100,9 +98,28 @@ class MaterialConfig:
 
 @dataclass(frozen=True)
 class PunchConfig:
-    radius: float
-    shape: str = "flat"
-    edge_radius: float | None = None  # rounded and pad only
+    """``[punch]``: the ``shape`` (a name of :data:`engine.geometry.PROFILES`) and the values
+    of the keys its profile declares (``keys``: (name, value) pairs in the order of the
+    profile's fields; units as the profile declares them)."""
+
+    shape: str
+    keys: tuple[tuple[str, float], ...]
+
+    def __getattr__(self, name: str) -> float:
+        """A key of the profile by name (``punch.radius``)."""
+        for key, value in self.__dict__.get("keys", ()):
+            if key == name:
+                return value
+        raise AttributeError(f"the {self.__dict__.get('shape')!r} punch has no key {name!r}")
+
+    def resolved(self) -> dict[str, object]:
+        """The section as the results file stores it: the first key, ``shape`` (left out
+        for :data:`engine.geometry.DEFAULT_SHAPE`, so that older results files resume),
+        then the other keys (the order studies have always been stored in)."""
+        keys = dict(self.keys)
+        first = dict(list(keys.items())[:1])
+        shape = {} if self.shape == DEFAULT_SHAPE else {"shape": self.shape}
+        return first | shape | keys
 
     @property
     def is_line(self) -> bool:
@@ -116,7 +133,7 @@ class PunchConfig:
 
     def profile(self) -> Profile:
         """The :mod:`engine.geometry` profile of this punch (:data:`PROFILES`)."""
-        return profile_for(self.shape, self.radius, self.edge_radius)
+        return profile_for(self.shape, **dict(self.keys))
 
 
 @dataclass(frozen=True)
@@ -189,7 +206,7 @@ class SweepConfig:
     def resolved(self) -> dict[str, Any]:
         """TOML-able: the friction/wear lists, then every dotted key, then the zip groups."""
         out: dict[str, Any] = {}
-        for name in ("mu1", "mu2", "wear1", "wear2", "beta", "alpha"):
+        for name in CASE_PARAMETERS:
             value = getattr(self, name)
             if value is not None:
                 out[name] = list(value) if isinstance(value, tuple) else value

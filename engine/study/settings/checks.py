@@ -3,6 +3,8 @@ mean pressure over the contact modulus, friction and wear coefficients, solver t
 
 from __future__ import annotations
 
+from engine.keys import LENGTH_REASON, MAX_LENGTH
+
 from .sections import StudyConfigError, contact_modulus
 
 MAX_TOLERANCE = 1e-2
@@ -26,10 +28,7 @@ MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
 # The energy law's α (mm³/J) wears α·τ·s·1e-3 mm per cycle where Archard's wears k·p·s: at
 # μ = 1, α = 1 mm³/J wears as fast as the Archard bound above (fretting tests: 1e-6 … 1e-4).
 MAX_ENERGY_WEAR_COEFFICIENT = 1.0  # mm^3/J
-# Lengths (mm): 10 m is beyond any contact the half-space model describes; further out the
-# mean pressure and the influence coefficients leave float64's useful range (1e300 overflowed).
-MAX_LENGTH = 1e4  # mm
-LENGTH_REASON = "10 m: larger than any contact this half-space model describes"
+# Lengths (mm): MAX_LENGTH (engine.keys, where the punch profiles declare their lengths).
 
 # Upper bounds of the count and control keys, each with the reason printed when it is passed
 # (a key beyond them is a typo or a unit slip, and would otherwise run for days or fail late).
@@ -45,8 +44,6 @@ BOUNDS = {
         "whole elastic approach and the jump control no longer holds",
     ),
     "mesh.n": (16384, "elements per side: a 16384² grid needs about 0.8 TB of memory per rank"),
-    "punch.radius": (MAX_LENGTH, LENGTH_REASON),
-    "punch.edge_radius": (MAX_LENGTH, LENGTH_REASON),
     "mesh.half_width": (MAX_LENGTH, LENGTH_REASON),
     "mesh.reference_distance": (MAX_LENGTH, LENGTH_REASON),
     "loading.amplitude": (

@@ -1,0 +1,95 @@
+"""The units of every key a study may sweep, derived from the engine's own sections and the
+plug-in registries.
+
+The results schema (:data:`engine.schema.SWEPT_KEY_UNITS`) holds the keys of the sections
+the engine owns (``[material]``, ``[mesh]``, ``[loading]``, ``[subsurface]``, ``[solver]``);
+the keys of a plug-in come from its declaration: a punch profile's ``[punch]`` keys from its
+dataclass fields (:meth:`engine.geometry.Profile.keys`), the ``[fatigue]`` constants from the
+criteria (:func:`engine.study.fatigue.fatigue_sweepable`). :data:`SWEEPABLE` is their union,
+section by section; :func:`unit_of` and :func:`parameter_units` read it for the summary
+columns and the case attributes. A key two plug-ins declare with different units is an
+error naming both (:func:`engine.keys.merge_units`).
+"""
+
+from __future__ import annotations
+
+from engine import schema
+from engine.geometry import PROFILES
+from engine.keys import merge_units
+from engine.study.fatigue import fatigue_column_specs, fatigue_sweepable
+
+__all__ = [
+    "SWEEPABLE",
+    "sweepable_keys",
+    "summary_columns",
+    "unit_of",
+    "parameter_units",
+]
+
+#: Sections in the order of the study-file reference.
+_ORDER = (
+    "material", "punch", "mesh", "loading", "subsurface", "solver", "wear", "fatigue", "surface",
+)  # fmt: skip
+
+
+def sweepable_keys(profiles=None, criteria=None) -> dict[str, str]:
+    """{dotted key: unit} of every scalar ``[sweep]`` accepts: the engine's sections
+    (:data:`engine.schema.SWEPT_KEY_UNITS`), each profile's ``[punch]`` keys and every
+    criterion's constants with ``fatigue.length``, ordered by section."""
+    profiles = PROFILES if profiles is None else profiles
+    punch = merge_units(
+        (
+            (f"the {name!r} profile ({cls.__module__})", {
+                f"punch.{key}": declared.unit for key, declared in cls.keys().items()
+            })
+            for name, cls in profiles.items()
+        ),
+        "[punch] key",
+    )  # fmt: skip
+    fatigue = fatigue_sweepable() if criteria is None else fatigue_sweepable(criteria)
+    table = {**schema.SWEPT_KEY_UNITS, **punch, **fatigue}
+    return {
+        key: table[key] for section in _ORDER for key in table if key.split(".", 1)[0] == section
+    }
+
+
+#: Scalars that ``[sweep]`` accepts under their dotted key, with their units (the summary
+#: columns and case parameters of a swept key carry these).
+SWEEPABLE = sweepable_keys()
+
+
+def summary_columns(criteria=None) -> dict[str, tuple[str, str]]:
+    """{column: (unit, meaning)} of every summary column: the results schema's
+    (:data:`engine.schema.COLUMN_DESCRIPTIONS`), then every fatigue criterion's of
+    ``criteria`` (default: the registered ones;
+    :func:`engine.study.fatigue.fatigue_column_specs`)."""
+    columns = {
+        column: (schema.unit_of(column), meaning)
+        for column, meaning in schema.COLUMN_DESCRIPTIONS.items()
+    }
+    specs = fatigue_column_specs() if criteria is None else fatigue_column_specs(criteria)
+    for column, spec in specs.items():
+        columns[column] = (spec.units, f"fatigue: {spec.description} (last recorded cycle)")
+    return columns
+
+
+_FATIGUE_COLUMN_UNITS = {column: spec.units for column, spec in fatigue_column_specs().items()}
+
+
+def unit_of(name: str, line: bool = False) -> str:
+    """Units of a case parameter, summary column or swept dotted key in a 3-D or (``line``)
+    a line contact; "" for text columns and names no table knows
+    (:func:`engine.schema.unit_of` with the plug-ins' keys and columns)."""
+    if name in SWEEPABLE:
+        return schema.contact_units(SWEEPABLE[name], line)
+    if name in _FATIGUE_COLUMN_UNITS:
+        return schema.contact_units(_FATIGUE_COLUMN_UNITS[name], line)
+    return schema.unit_of(name, line)
+
+
+def parameter_units(parameters, line: bool = False) -> dict[str, str]:
+    """Units of a case's parameter attributes: :data:`engine.schema.PARAMETER_UNITS` and those
+    of the swept dotted keys among ``parameters`` (names), in a 3-D or a line contact."""
+    units = dict(schema.PARAMETER_UNITS)
+    units.update({name: SWEEPABLE[name] for name in parameters if "." in name})
+    return {name: schema.contact_units(unit, line) for name, unit in units.items()}

@@ -1,0 +1,229 @@
+"""Conformance suites: one parametrised class per plug-in protocol, run over every registered
+plug-in (the built-in ones and those other packages register, such as the example package of
+``examples/plugins/``). A new profile, criterion or loading kind is tested by being
+registered; no test here lists their names."""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import math
+
+import numpy as np
+import pytest
+
+from engine.fatigue import CRITERIA, CriterionField, FatigueCriterion, FatigueOptions
+from engine.fatigue.history import Elasticity, StressHistory
+from engine.geometry import PROFILES, Profile, profile_for, profile_from_table
+from engine.keys import Key, examples
+from engine.material import MaterialPair
+from engine.schema import DatasetSpec, fatigue_specs
+from engine.study.config import SWEEPABLE, parse_study
+from engine.study.config.keys import punch_keys
+from engine.study.examples import study_toml
+from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
+from engine.study.kinds import KINDS, LoadingKind
+
+E_STAR = 200e3 / (2 * (1 - 0.3**2))  # MPa, two steel bodies
+
+
+def _load(profile: type[Profile]) -> float:
+    """A load of the paper's magnitude in the profile's unit: 750 N, or 200 N/mm along a
+    line contact."""
+    return 200.0 if profile.is_line else 750.0
+
+
+@pytest.mark.parametrize("name", list(PROFILES))
+class TestProfile:
+    """The protocol of :class:`engine.geometry.Profile` (engine/geometry/base.py)."""
+
+    def test_is_a_frozen_dataclass_registered_under_its_name(self, name):
+        cls = PROFILES[name]
+        assert issubclass(cls, Profile) and cls.name == name and cls.description
+        assert dataclasses.is_dataclass(cls) and cls.__dataclass_params__.frozen
+        assert cls.gap is not Profile.gap
+
+    def test_declares_every_field_as_a_key_with_unit_and_meaning(self, name):
+        cls = PROFILES[name]
+        keys = cls.keys()
+        assert list(keys) == [field.name for field in dataclasses.fields(cls)]
+        for key_name, key in keys.items():
+            assert isinstance(key, Key) and key.unit and key.meaning, key_name
+            assert SWEEPABLE[f"punch.{key_name}"] == key.unit
+            described = {k.name: k for k in punch_keys()}[key_name]
+            assert f"{name}: {key.meaning}" in described.meaning
+            value = examples(cls)[key_name]
+            assert key.check(key_name, value) == value
+            if key.minimum is not None:
+                with pytest.raises(ValueError, match=key_name):
+                    cls(**(examples(cls) | {key_name: key.minimum - 1.0}))
+
+    def test_gap_contact_length_and_default_mesh(self, name):
+        """The gap (mm) has the grid's shape, is ≥ 0 or inf (no surface) and is smallest at
+        the element nearest to the axis; a0 > 0; the default mesh covers the contact and
+        passes the grid check; p0 is the load over the nominal area (π a0², or 2 a0 per
+        unit length)."""
+        cls = PROFILES[name]
+        profile = cls(**examples(cls))
+        load = _load(cls)
+        a0 = profile.contact_length(load, E_STAR)
+        assert a0 > 0.0 and math.isfinite(a0)
+        half_width = profile.default_half_width(load, E_STAR)
+        assert half_width >= a0
+        grid = profile.grid(32, half_width)
+        assert grid.is_line == cls.is_line
+        profile.check_grid(grid)
+        gap = profile.gap(grid)
+        assert gap.shape == grid.shape
+        assert np.all((gap >= 0.0) | np.isinf(gap)) and not np.any(np.isnan(gap))
+        x, y = grid.coordinates()
+        distance = np.abs(x) if cls.is_line else np.hypot(x, y)
+        assert gap[np.unravel_index(np.argmin(distance), grid.shape)] == np.min(gap)
+        area = 2.0 * a0 if cls.is_line else math.pi * a0**2
+        nominal = profile.nominal(load, E_STAR)
+        assert nominal["a0"] == a0
+        assert nominal["p0"] == pytest.approx(load / area, rel=1e-12)
+        assert cls.load_unit == ("N/mm" if cls.is_line else "N")
+
+    def test_fretting_references_are_all_there_or_all_none(self, name):
+        """Closed forms (δ_slip, the loop) where the profile has them, None for each where
+        it has none."""
+        cls = PROFILES[name]
+        profile, load = cls(**examples(cls)), _load(cls)
+        material = MaterialPair(200e3, 0.3, 200e3, 0.3)
+        distance = 10.0 if cls.is_line else None
+        reference = profile.fretting_reference(load, material, 0.5, distance)
+        slip = profile.slip_displacement(load, material, 0.5, distance)
+        loop = profile.fretting_loop(load, material, 0.5, distance, displacement_amplitude=1e-3)
+        assert (reference is None) == (slip is None) == (loop is None)
+        if reference is not None:
+            assert slip == reference.slip_displacement > 0.0
+
+    def test_a_study_file_reads_it_and_the_results_rebuild_it(self, name):
+        """[punch] shape = name with its example keys parses, and the stored [punch] table
+        gives the same profile back (the results reader's way)."""
+        cls = PROFILES[name]
+        keys = examples(cls)
+        punch = {"shape": name, "radius": None} | keys
+        loading = {"kind": "static", "load": _load(cls), "steps": 1}
+        text = study_toml(name, f"{name}.h5", punch=punch, loading=loading, sweep={"mu1": [0.0]})
+        config = parse_study(text)
+        assert config.punch.profile() == profile_for(name, **keys)
+        assert profile_from_table(config.resolved()["punch"]) == config.punch.profile()
+
+
+def _constants(cls: type[FatigueCriterion]) -> dict[str, float]:
+    """Constants inside each declared range (the middle of it); 1 for a constant without one
+    (a unit-free coefficient)."""
+    ranges = cls.constant_ranges
+    return {
+        name: 0.5 * (ranges[name][0] + ranges[name][1]) if name in ranges else 1.0
+        for name in cls.constants
+    }
+
+
+def _history(points: int = 3) -> StressHistory:
+    """Fully reversed tension-torsion at ``points`` points, 9 instants (MPa)."""
+    phase = np.linspace(0.0, 2.0 * np.pi, 9)[:, None] * np.ones(points)
+    scale = np.arange(1, points + 1, dtype=float)
+    components = {"xx": 100.0 * scale * np.sin(phase), "xz": 50.0 * scale * np.sin(phase)}
+    return StressHistory.from_components(components, np.arange(points, dtype=float), 0.5)
+
+
+@pytest.mark.parametrize("name", list(CRITERIA))
+class TestCriterion:
+    """The protocol of :class:`engine.fatigue.FatigueCriterion` (engine/fatigue/base.py)."""
+
+    def test_declares_its_name_column_unit_and_constants(self, name):
+        cls = CRITERIA[name]
+        assert issubclass(cls, FatigueCriterion) and cls.name == name
+        assert cls.column and cls.unit and cls.description
+        assert set(cls.constant_units) == set(cls.constants)
+        assert set(cls.constant_ranges) <= set(cls.constants)
+        for constant, unit in cls.constant_units.items():
+            assert SWEEPABLE[f"fatigue.{constant}"] == unit
+
+    def test_evaluates_a_field_per_point_with_its_angle_and_life(self, name):
+        cls = CRITERIA[name]
+        criterion = cls(_constants(cls), Elasticity(200e3, 0.3), FatigueOptions())
+        history = _history()
+        field = criterion.evaluate(history)
+        assert isinstance(field, CriterionField)
+        assert field.value.shape == (3,) and np.all(np.isfinite(field.value))
+        assert (field.angle is not None) == cls.reports_angle
+        assert (field.life is not None) == cls.reports_life
+        if cls.reports_life:
+            assert np.shape(criterion.life(field.value)) == (3,)
+
+    def test_is_vectorised_over_points(self, name):
+        """A history of many different points gives, point by point, the one-point values
+        (1e-12: the same arithmetic)."""
+        cls = CRITERIA[name]
+        criterion = cls(_constants(cls), Elasticity(200e3, 0.3), FatigueOptions())
+        rng = np.random.default_rng(3)
+        phase = 2 * np.pi * np.arange(16)[:, None] / 16
+        shape = (5, 4)
+        components = {
+            key: rng.normal(0, 100, (1, *shape))
+            + rng.normal(0, 100, (1, *shape)) * np.sin(phase + rng.uniform(0, 6, (1, 1)))[..., None]
+            for key in ("xx", "yy", "zz", "xz")
+        }
+        history = StressHistory.from_components(components, rng.normal(size=shape), 0.0)
+        whole = criterion.evaluate(history).value
+        for point in (0, 7, 19):
+            alone = criterion.evaluate(history.take(np.array([point]))).value[0]
+            assert whole[point] == pytest.approx(alone, rel=1e-12)
+
+    def test_missing_constants_are_refused_naming_them(self, name):
+        cls = CRITERIA[name]
+        constants = _constants(cls)
+        missing = cls.constants[0]
+        del constants[missing]
+        with pytest.raises(ValueError, match=missing):
+            cls(constants, Elasticity(200e3, 0.3))
+
+    def test_its_columns_and_datasets_follow_from_its_declaration(self, name):
+        cls = CRITERIA[name]
+        specs = fatigue_specs(*criterion_schema(cls))
+        config = FatigueConfig((name,), _constants(cls))
+        assert list(specs) == fatigue_columns(config)
+        assert all(isinstance(spec, DatasetSpec) and spec.units for spec in specs.values())
+
+
+def _function(reference: str):
+    module, function = reference.split(":")
+    return getattr(importlib.import_module(module), function)
+
+
+@pytest.mark.parametrize("name", list(KINDS))
+class TestLoadingKind:
+    """The protocol of :class:`engine.study.kinds.LoadingKind` (engine/study/kinds/base.py)."""
+
+    def test_is_registered_under_its_name_and_describes_itself(self, name):
+        kind = KINDS[name]
+        assert isinstance(kind, LoadingKind) and kind.name == name and kind.summary
+        assert {"kind", "load", "steps"} <= kind.keys
+        assert type(kind).parse is not LoadingKind.parse
+        assert type(kind).run is not LoadingKind.run
+        assert kind.increments(4) == kind.increments_per_step * 4
+        assert kind.has_cycles == (kind.increments_per_step > 0)
+        if kind.has_cycles:  # a kind with cycles can be stopped and resumed
+            assert type(kind).save_state is not LoadingKind.save_state
+            assert type(kind).load_state is not LoadingKind.load_state
+
+    def test_its_datasets_are_described_in_the_schema_tables(self, name):
+        kind = KINDS[name]
+        assert kind.history and all(
+            isinstance(spec, DatasetSpec) for table in kind.history for spec in table.values()
+        )
+        for table in kind.history:
+            for key in table:
+                assert kind.history_spec(key).units
+        for record in kind.records:
+            assert kind.record_spec(record, 10).description.endswith("cycle 10")
+
+    def test_its_report_and_figures_name_functions_of_the_analysis_layer(self, name):
+        kind = KINDS[name]
+        for reference in (kind.report, kind.figures):
+            assert reference.startswith("engine.analysis.") or "." in reference
+            assert callable(_function(reference))
