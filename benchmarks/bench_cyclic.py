@@ -345,7 +345,7 @@ def main() -> None:
     parser.add_argument(
         "--baseline-commit",
         metavar="REV",
-        help="also run the engine of this git revision (e.g. the commit before issue 17) as "
+        help="also run the engine of this git revision (e.g. an earlier commit) as "
         "'base', from a temporary export (git archive)",
     )
     args = parser.parse_args()

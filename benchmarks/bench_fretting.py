@@ -1,4 +1,4 @@
-"""Fretting benchmark (issue 13.7): operator applications per increment and a 10⁵-cycle case.
+"""Fretting benchmark: operator applications per increment and a 10⁵-cycle case.
 
 1. Operator applications (FFT matvecs) per increment at 128², side by side in one run:
    - cyclic: today's frictional cyclic increment (Section 7.2: flat punch a0 = 1.8 mm,

@@ -4,13 +4,13 @@ Four cyclic cases of identical cost (isotropic friction, so the axes angle β = 
 changes nothing but the id) are run with ``python -m engine`` under ``mpiexec -n 1`` and
 ``mpiexec -n 2``, side by side in one session, alternating, ``--repeat`` times each. The wall
 time of the whole command (start-up, MPI init, HDF5 writing included) is measured; the best of
-the repeats is compared. Target (issue 5): t(2 ranks) / t(1 rank) <= 0.55 on a 2-core machine.
+the repeats is compared. Target: t(2 ranks) / t(1 rank) <= 0.55 on a 2-core machine.
 
     python benchmarks/bench_parallel.py            # short (n = 32) and long (n = 64) cases
     python benchmarks/bench_parallel.py --n 32 --cycles 10000 --repeat 1   # quick look
 
 The fixed CPU of a run (start-up, imports, MPI initialisation, operator set-up, writing) is
-printed per study: it is what keeps short cases from scaling (issue 17).
+printed per study: it is what keeps short cases from scaling.
 
 Other processes on the machine distort the figure; run it on an otherwise idle machine.
 """

@@ -1,4 +1,4 @@
-"""Peak-history cost benchmark (issue 11): what tracking the σ_VM peak adds to a simulated cycle.
+"""Peak-history cost benchmark: what tracking the σ_VM peak adds to a simulated cycle.
 
 Section 7.2 settings (flat punch a0 = 1.8 mm, P = 750 N, μ = 0.1, i = 1.33e-7 1/MPa, 10
 increments per half cycle, default cycle jumping, tol 1e-6), subsurface as in the studies
@@ -9,7 +9,7 @@ the probe calls are timed inside the same run, so the two figures share the mach
 - the probe's cost per cycle, first call (fills the kernel cache: one-off) and the others
   (cached kernels: six inverse FFTs per layer of the x–z plane lattice, the peak searches).
 
-Target (issue 11): the added cost per simulated cycle <= 15 % of the cycle's own cost.
+Target: the added cost per simulated cycle <= 15 % of the cycle's own cost.
 
 Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_peak_history.py [--sizes 32 64]
 Takes ~1 minute for 32² and 64² with --cycles 10000 here.
@@ -93,7 +93,7 @@ def main() -> None:
             f"{row['cache_mb']:8.1f} {row['converged']}",
             flush=True,
         )
-    print("target: probe/cycle <= 15 % (issue 11)")
+    print("target: probe/cycle <= 15 %")
 
 
 if __name__ == "__main__":

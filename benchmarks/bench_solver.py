@@ -1,4 +1,4 @@
-"""Contact-solver benchmark (issue 2): flat punch, tolerance 1e-8, one core.
+"""Contact-solver benchmark: flat punch, tolerance 1e-8, one core.
 
 For 64², 128², 256², 512² elements over the square of half-width 1.05 a0 (a0 = 1.8 mm,
 P = 714 N, paper materials E_B = 100 E_A, ν = 0.3, K = 0.196), prints for the frictionless

@@ -1,4 +1,4 @@
-"""Cost of the subsurface stress evaluation (issue 4) against the surface operator and a solve.
+"""Cost of the subsurface stress evaluation against the surface operator and a solve.
 
 Computes, on the paper's 128² grid over the square of half width 1.05 a0 (a0 = 1.8 mm,
 P = 714 N, ν = 0.3) with 40 graded depth layers down to 2 a0:

@@ -1,4 +1,4 @@
-"""Mesh convergence of the punch profiles (issue 12.3): rounded punch vs sharp flat punch vs
+"""Mesh convergence of the punch profiles: rounded punch vs sharp flat punch vs
 an independent axisymmetric reference, and the sphere vs Hertz.
 
 Rounded punch: flat face b = 1 mm, toroidal edge ρ = 1 mm, E* = 1 MPa (identical materials,

@@ -1,6 +1,6 @@
 """The results schema: what a case produces, where it is stored, in which units.
 
-One table for everything the other layers must agree on (issue 14.1): the case status values,
+One table for everything the other layers must agree on: the case status values,
 the dataset paths of a case group with their units and descriptions, the peak-region codes
 stored in the histories, the summary columns and the row of a case without results. The
 loading kinds (:mod:`engine.study.kinds`), the layout (:mod:`engine.study.layout`), the solvers'
@@ -170,7 +170,7 @@ RECORDED_FIELDS = ("wear", "pressure", "traction_x", "traction_y", "status")  # 
 PEAK_CHANGE_FIELDS = ("pressure", "traction_x", "traction_y")
 FIELD_DTYPES = {"status": "int8"}  # every other field is float64
 
-# ------------------------------------------------------------------ peak regions (Issue 11)
+# ------------------------------------------------------------------ peak regions
 REGIONS = ("edge-surface", "edge-subsurface", "axis-subsurface", "axis-surface")
 AXIS_RADIUS_FRACTION = 0.5  # r/a below which a peak is "axis"
 SURFACE_DEPTH_FRACTION = 0.1  # z/a below which a peak is "surface"

@@ -1,4 +1,4 @@
-"""The worn state at which the deep σ_VM peak reaches the paper's place (issue 11, finding (c)).
+"""The worn state at which the deep σ_VM peak reaches the paper's place.
 
 Runs the Section 7.2 case μ = 0.1 (flat punch a0 = 1.8 mm, P = 750 N, 10 increments per half
 cycle, default cycle jumping, subsurface as studies/peak_regime.toml) with a wear coefficient

@@ -1,4 +1,4 @@
-"""Study file validation: every error names the file, the key and the value (issue 5, item 6)."""
+"""Study file validation: every error names the file, the key and the value."""
 
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ def test_valid_study_resolves_defaults():
 
 
 def test_every_solver_default_is_resolved_and_stored():
-    """Issue 14.4: the resolved TOML and the fingerprint name the iteration cap and the
+    """The resolved TOML and the fingerprint name the iteration cap and the
     cycle-jump control that ran (no "None means the solver's default"); the solvers' own
     keyword defaults are the same values."""
     config = parse_study(VALID)

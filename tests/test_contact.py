@@ -1,4 +1,4 @@
-"""Contact solver against analytic solutions (issue 2 acceptance points 1–5).
+"""Contact solver against analytic solutions.
 
 Tiers: equilibrium and symmetry hold to round-off or solver tolerance; comparisons with
 analytic solutions hold to the discretisation error at the stated resolution.

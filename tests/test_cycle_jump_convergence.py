@@ -1,4 +1,4 @@
-"""Issue 3 acceptance 2, issue 17 acceptance 4: cycle-jump convergence for μ = 0.2.
+"""Cycle-jump convergence for μ = 0.2.
 
 The default settings (10 increments per half cycle, wear per jump ≤ 0.004 of the elastic
 approach) are checked against halving the wear allowed per jump and against doubling the

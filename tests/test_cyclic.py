@@ -1,4 +1,4 @@
-"""Cyclic indentation with wear (issue 3 acceptance points 1, 3, 4, 5; point 2 in
+"""Cyclic indentation with wear (the convergence of cycle jumping is in
 test_cycle_jump_convergence.py)."""
 
 import numpy as np

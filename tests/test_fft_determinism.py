@@ -1,4 +1,4 @@
-"""Bit reproducibility of the FFTs whatever was planned before in the process (issue 15).
+"""Bit reproducibility of the FFTs whatever was planned before in the process.
 
 FFTW reuses, for an ``FFTW_ESTIMATE`` plan, the plan a timed planner (``FFTW_MEASURE``)
 chose earlier in the same process for the same problem; the timed choice adds in another

@@ -1,4 +1,4 @@
-"""Tangential fretting (issue 13): engine.solvers.fretting and the fretting study kind.
+"""Tangential fretting: engine.solvers.fretting and the fretting study kind.
 
 Sphere R = 10 mm on a half-space of the same material (E = 200 GPa, ν = 0.3, so K = 0),
 P = 100 N, μ = 0.5; Hertz radius a = 0.190 mm, mesh half-width 1.5 a. Cattaneo–Mindlin

@@ -1,4 +1,4 @@
-"""The subsurface plane of a fretting case contains its sliding direction (issue 13).
+"""The subsurface plane of a fretting case contains its sliding direction.
 
 A 16² steel sphere on steel (K = 0, isotropic μ = 0.5, Archard wear, 4 cycles, partial slip)
 is run through engine.cli.main with ``direction = 0°`` and ``90°`` (~0.5 s). On the square

@@ -1,4 +1,4 @@
-"""`python -m engine report` and `--dry-run` on a fretting study (issue 13).
+"""`python -m engine report` and `--dry-run` on a fretting study.
 
 One 16² sphere study (steel on steel, K = 0, μ = 0.6, P = 100 N, energy law, 4 cycles), a
 partial-slip (δ* = 0.26 δ_slip) and a gross-slip (δ* = 1.28 δ_slip) case, run in-process

@@ -1,4 +1,4 @@
-"""The fretting solver against the Mindlin references (issue 13.5; engine.reference.mindlin).
+"""The fretting solver against the Mindlin references (engine.reference.mindlin).
 
 A sphere (R = 10 mm, P = 100 N) on a half-space of the same steel (E = 210 GPa, ν = 0.3 for
 both bodies, so K = 0 and the normal and tangential problems are uncoupled, as Mindlin

@@ -90,7 +90,7 @@ def test_a_guess_changes_where_the_iteration_starts_not_the_answer(material, fri
 
 
 def test_warm_increment_work_does_not_grow_with_the_mesh(material):
-    """Issue 2's scaling target as a deterministic count: operator applications of a
+    """The scaling target as a deterministic count: operator applications of a
     warm-started μ = 0.2 increment grow by at most 1.5x from 32² to 128² (16x the elements;
     FISTA's grew about 2x over the same range). The benchmark covers 64² to 512²."""
     counts = {}

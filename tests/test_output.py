@@ -113,7 +113,7 @@ def test_layout_units_attributes_and_completion_flag(study):
 
 
 def test_grid_coordinates_are_dimension_scales_of_the_surface_fields(study):
-    """Issue 14.2: a case's grid/x and grid/y are HDF5 dimension scales attached to axes 0 and
+    """A case's grid/x and grid/y are HDF5 dimension scales attached to axes 0 and
     1 of its surface fields (ij indexing), history arrays are left alone, and the shared root
     grid is marked as a scale too."""
     config, plan, path = study
@@ -226,7 +226,7 @@ def test_scheduler_surfaces_exceptions_of_run_case():
 
 
 def test_low_level_writes_make_the_objects_h5py_makes(tmp_path):
-    """engine.output.lowlevel (the per-case writes, issue 18.3) against h5py's high-level calls:
+    """engine.output.lowlevel (the per-case writes) against h5py's high-level calls:
     same datatypes (variable-length UTF-8 for str), shapes, values and creation properties, an
     existing attribute replaced, intermediate groups created."""
     from engine.output.lowlevel import create_dataset, set_attribute

@@ -1,4 +1,4 @@
-"""Peak history and peak regions (issue 11): classification, the tracker on synthetic
+"""Peak history and peak regions: classification, the tracker on synthetic
 tractions with analytic references, the history columns of a cyclic run and their checkpoint.
 
 The mini regime study (edge → axis as the wear coefficient grows) runs the real entry point:

@@ -1,4 +1,4 @@
-"""Mini peak-regime study (issue 11): the real entry point on a 24² mesh, μ = 0.1, the
+"""Mini peak-regime study: the real entry point on a 24² mesh, μ = 0.1, the
 paper's wear coefficient and ten times it, 10⁵ cycles (coarse: 4 increments per half cycle,
 wear per jump 2 % of the approach; ~15 s on one core).
 

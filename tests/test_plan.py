@@ -1,4 +1,4 @@
-"""Sweep expansion and case ids (issue 5: every combination is a case; ids are stable)."""
+"""Sweep expansion and case ids (every combination is a case; ids are stable)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Punch profiles beyond the sharp flat punch (issue 12.2–12.3): sphere vs Hertz, rounded
+"""Punch profiles beyond the sharp flat punch: sphere vs Hertz, rounded
 punch vs an independent axisymmetric computation (Sneddon's integrals, no grid) and vs the
 flat punch, and the mesh-border check. Each tolerance states its reason; 256² figures come
 from ``benchmarks/profile_convergence.py`` (docs/explanation/profiles.md)."""

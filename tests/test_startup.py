@@ -1,4 +1,4 @@
-"""Start-up of a run (issue 17.3): the compute path imports neither SciPy nor pandas, and the
+"""Start-up of a run: the compute path imports neither SciPy nor pandas, and the
 FFT length helper that replaced SciPy's gives SciPy's lengths (so the subsurface lattices,
 hence the stresses, keep their bits)."""
 

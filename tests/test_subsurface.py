@@ -1,4 +1,4 @@
-"""Subsurface stresses by DC-FFT (engine.solvers.subsurface), issue 4 acceptance tests.
+"""Subsurface stresses by DC-FFT (engine.solvers.subsurface).
 
 Tiers: DC-FFT against the direct sum of the same coefficients (rounding, 1e-10); the
 frictionless flat punch against the analytic field of Appendix A at 128² (2 %, 0.02 p0);

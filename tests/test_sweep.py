@@ -1,4 +1,4 @@
-"""Any scalar as a sweep axis (issue 12.1): dotted keys, zip groups, ids, validation, order,
+"""Any scalar as a sweep axis: dotted keys, zip groups, ids, validation, order,
 per-case configuration, layout and output. Exact checks (no tolerances): these are
 bookkeeping, not numerics."""
 

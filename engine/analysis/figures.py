@@ -15,7 +15,7 @@ cyclic study (Sections 7.2, 7.3)
     ``von_mises_N<N>.png``            σ_VM/p0 in the x–z plane at each recorded N   Figs. 8, 11
     ``peak_regime_*.png``             peak region vs wear severity (studies sweeping
                                       wear; :mod:`engine.analysis.regime`)
-fretting study (issue 13; :mod:`engine.analysis.fretting_figures`)
+fretting study (:mod:`engine.analysis.fretting_figures`)
     ``fretting_map.png``, ``fretting_loops.png``, ``wear_energy.png``
 
 Conventions: lengths normalised by a0 (punch radius), stresses by p0 = P/(π a0²) (Eq. 19),
@@ -32,7 +32,7 @@ Studies that sweep dotted keys (load, mesh, modulus …) get ``sweep_<key>.png``
 (:mod:`engine.analysis.sweep_figures`); when a swept key changes a0, p0 or the grid from
 case to case, the per-case figures are drawn for one case chosen with ``--case ID``.
 
-Legibility rules (issue 15): no text below ``MIN_FONT_SIZE`` points (at ``DPI``, as the PNG
+Legibility rules: no text below ``MIN_FONT_SIZE`` points (at ``DPI``, as the PNG
 is seen at 100 %); no figure wider than ``MAX_WIDTH_PX``; cases that differ only in β get the
 same colour and differ in line style, width and marker (``case_styles``), so curves that
 coincide — an isotropic law at β = 0° and 90° — stay visible; surface maps use one colour

@@ -1,4 +1,4 @@
-"""Fretting results against the closed forms of their geometry, without plotting (issue 13):
+"""Fretting results against the closed forms of their geometry, without plotting:
 shared by the report (:mod:`engine.analysis.report`), the figures
 (:mod:`engine.analysis.fretting_figures`) and ``scripts/check_fretting_map.py``.
 

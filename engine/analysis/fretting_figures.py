@@ -1,4 +1,4 @@
-"""Figures of a tangential fretting study (``[loading] kind = "fretting"``, issue 13).
+"""Figures of a tangential fretting study (``[loading] kind = "fretting"``).
 
 ``python -m engine plot RESULTS.h5`` draws, for a fretting study (:func:`fretting_figures`):
 

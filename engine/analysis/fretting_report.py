@@ -1,4 +1,4 @@
-"""Report of a tangential fretting study (``[loading] kind = "fretting"``, issue 13).
+"""Report of a tangential fretting study (``[loading] kind = "fretting"``).
 
 ``python -m engine report RESULTS.h5`` prints, for a fretting study, per case and recorded
 cycle N (or the cycles of ``--cycles``):

@@ -197,7 +197,7 @@ class StudyResults:
 
     @property
     def is_fretting(self) -> bool:
-        """Tangential fretting (``kind = "fretting"``, issue 13): load cycles and wear too."""
+        """Tangential fretting (``kind = "fretting"``): load cycles and wear too."""
         return self.config["loading"]["kind"] == "fretting"
 
     @property

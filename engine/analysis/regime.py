@@ -1,4 +1,4 @@
-"""Peak-regime figures (issue 11): where the σ_VM peak sits as the surface wears.
+"""Peak-regime figures: where the σ_VM peak sits as the surface wears.
 
 Drawn by ``python -m engine plot`` for a cyclic study whose cases carry the peak history
 (:mod:`engine.solvers.peak`) and that sweeps the wear coefficient (two values or more):

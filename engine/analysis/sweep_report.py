@@ -1,4 +1,4 @@
-"""Report tables of studies with swept dotted keys (issue 12.5), from the summary table.
+"""Report tables of studies with swept dotted keys, from the summary table.
 
 ``python -m engine report RESULTS.h5`` prints these for a study whose ``[sweep]`` has dotted
 keys (``"loading.load"``, ``"mesh.n"``, ``"punch.edge_radius"``, …):

@@ -8,8 +8,8 @@ result is bit-reproducible:
   (``FFTW_MEASURE``, ``FFTW_PATIENT``) chose earlier for the same problem. The measured
   choice depends on timings, so an ``FFTW_ESTIMATE`` plan made after any measured plan of
   the same size may add in another order (a few ulps), and differently in another process.
-  This made an interrupted + resumed study differ by 1 ulp from an uninterrupted one
-  (issue 15): the mpio writer's layout had planned the subsurface lattice with
+  This made an interrupted + resumed study differ by 1 ulp from an uninterrupted one: the
+  mpio writer's layout had planned the subsurface lattice with
   ``FFTW_MEASURE`` on rank 0 only, before the cases were planned with ``FFTW_ESTIMATE``.
   Here, an ``FFTW_ESTIMATE`` plan is made with the wisdom forgotten first, so it is a
   function of the problem (shape, strides, alignment, threads) and of the FFTW build only.

@@ -11,7 +11,7 @@ final iterate. Once the inner tolerances are at least as tight as the outer one,
 ends with that residual, from displacements the blocks already know (u_t: the slip the
 tangential solver updates with A_tt Δq; u_n: A_zz p of the normal solve plus the coupling of
 the new tractions, which the next pass needs anyway), so an increment stops as soon as it is
-certified, without a further pass to show that nothing moves (issue 17: 3.3 → 2.1 passes per
+certified, without a further pass to show that nothing moves (3.3 → 2.1 passes per
 increment at 64², μ = 0.1). Should the alternation not settle within ``MAX_OUTER`` passes,
 or the normal CG stall (``engine.solvers.normal``), FISTA continues from its iterate.
 

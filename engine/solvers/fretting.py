@@ -1,4 +1,4 @@
-"""Tangential fretting: a held normal load and an oscillating rigid tangential motion (issue 13).
+"""Tangential fretting: a held normal load and an oscillating rigid tangential motion.
 
 The punch is pressed with the normal load P in ``steps`` load-controlled increments and held;
 then it is moved tangentially along the unit vector d = (cos θ, sin θ) (θ = ``direction``)

@@ -1,4 +1,4 @@
-"""Where the von Mises peak sits: per-cycle peak history and its classification (issue 11).
+"""Where the von Mises peak sits: per-cycle peak history and its classification.
 
 After every simulated cycle the peak-load tractions give the stresses on the x–z plane
 through the punch axis (Eq. 16 by DC-FFT, von Mises Eq. 21; :mod:`.subsurface`). From that

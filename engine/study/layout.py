@@ -119,7 +119,7 @@ def _plane_layout(config: StudyConfig) -> dict[str, DatasetShape]:
         dtype=float,
     )
     # The study's planner effort: a timed plan here would leave FFTW wisdom that the cases'
-    # estimate plans of the same lattice reuse, on this rank only (issue 15).
+    # estimate plans of the same lattice reuse, on this rank only.
     zero = np.zeros(grid.shape)
     if grid.is_line:
         plane = LineSubsurfaceStress(grid, config.material.nu_A, depths).plane(zero, zero)

@@ -4,7 +4,7 @@ Building a case's numerical machinery costs far more than a short case: the surf
 kernels and their spectra, the FFTW plans of the operator and of its preconditioner, and the
 subsurface stress kernels (six components × three loads × every depth layer). None of it
 depends on the friction or wear coefficients that a sweep varies, so the case runner asks this
-cache instead of building them again (issue 17).
+cache instead of building them again.
 
 Sharing is safe bit for bit: the objects keep no state between applications (every buffer is
 overwritten before it is read; plans are ``FFTW_ESTIMATE`` plans, see ``engine.kernels.fft``),

@@ -1,4 +1,4 @@
-"""The product as users meet it: ``mpiexec -n 2 python -m engine STUDY.toml`` (issue 5 acceptance).
+"""The product as users meet it: ``mpiexec -n 2 python -m engine STUDY.toml``.
 
 Every test launches real processes — real MPI ranks, real HDF5 files, real signals — with the
 ``mpiexec`` of the virtualenv (the ``mpich`` wheel). Run with ``python -m pytest tests/mpi``.

@@ -139,7 +139,7 @@ def _kill_at_first_writes(directory: Path, delay: float, watch_final: bool):
 
 
 def test_kill_at_the_first_writes_then_plain_resume_completes(tmp_path):
-    """Issue 16.1: SIGKILL both ranks 0, 5, 10, 20, 40 ms after the file's temporary appears
+    """SIGKILL both ranks 0, 5, 10, 20, 40 ms after the file's temporary appears
     (creation) or after the file itself appears (the first cases' writes), 20 times; a plain
     ``--resume`` completes all 16 cases every time."""
     delays = [0.0, 0.005, 0.010, 0.020, 0.040] * (TRIALS // 5)
@@ -186,7 +186,7 @@ def _signal_rank_one(directory: Path, delay: float) -> tuple[int, float, bool, s
 
 
 def test_sigterm_to_rank_one_alone_ends_the_job(tmp_path):
-    """Issue 16.2: SIGTERM to rank 1 only, at a random time (start-up, computing, shutdown),
+    """SIGTERM to rank 1 only, at a random time (start-up, computing, shutdown),
     20 trials: every job ends within 30 s with exit code 3 (or 0 when the signal came after
     the last case and found nothing to stop), and a rerun completes every case."""
     rng = random.Random(16)
@@ -213,7 +213,7 @@ def test_sigterm_to_rank_one_alone_ends_the_job(tmp_path):
 
 
 def test_sigterm_during_start_up_exits_3_within_5_seconds(tmp_path):
-    """Issue 16.3/16.7: a stop signal as soon as the ranks can catch it, and a second one
+    """A stop signal as soon as the ranks can catch it, and a second one
     50 ms later: exit 3 (not a signal death), within 5 s."""
     study = tiny_study(tmp_path)
     process = start(study)
@@ -231,7 +231,7 @@ def test_sigterm_during_start_up_exits_3_within_5_seconds(tmp_path):
 
 
 def test_sigterm_during_shutdown_is_not_a_signal_death(tmp_path):
-    """Issue 16.7: SIGTERM to both ranks once the last line is printed (file closing, MPI and
+    """SIGTERM to both ranks once the last line is printed (file closing, MPI and
     the interpreter shutting down): exit code 3 or 0, never the signal's 143/15."""
     study = tiny_study(tmp_path)
     process = start(study)

@@ -1,4 +1,4 @@
-"""Collective (mpio) output strategy under ``mpiexec -n 2`` (issue 6 acceptance).
+"""Collective (mpio) output strategy under ``mpiexec -n 2``.
 
 Acceptance 1 and 2 need h5py built against parallel HDF5 in the engine's environment; run them
 with the environment of ``scripts/build_parallel_h5py.sh``::
@@ -192,7 +192,7 @@ sys.exit(1)
 
 @needs_parallel_h5py
 def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_path):
-    """Issue 16.3 on the mpio path: a stop seen by one rank while the new file's structure is
+    """On the mpio path: a stop seen by one rank while the new file's structure is
     being created (every 64 cases the ranks agree by an allreduce) stops the creation on every
     rank at the same point, and neither the file nor its temporary is left. Deterministic: the
     "signal" is a should_stop() that turns true on rank 1 at its third check."""

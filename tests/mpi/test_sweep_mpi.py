@@ -1,4 +1,4 @@
-"""Swept mesh (issue 12.1) under ``mpiexec -n 2``: cases with different grids (mesh.n swept)
+"""Swept mesh under ``mpiexec -n 2``: cases with different grids (mesh.n swept)
 give the same file with one rank or two, and with the collective (mpio) writer, whose
 datasets are pre-created per case from ``engine.study.layout.plan_layout``."""
 
