@@ -163,14 +163,16 @@ def faulted_run(directory: Path, ranks: int, delay: float, terminate: bool = Fal
 
 @pytest.fixture(scope="module")
 def undisturbed(tmp_path_factory):
-    """The results of each kind, run once on 1 rank with space (the reference)."""
+    """The results of each kind, run once on 1 rank with space (the reference), and the
+    wall time that run took from its start (s)."""
     results = {}
     for kind in ("static", "cyclic"):
         directory = tmp_path_factory.mktemp(f"reference_{kind}")
         (directory / "disk.toml").write_text(study_text(kind))
+        start = time.monotonic()
         done = run(directory, 1)
         assert done.returncode == 0, done.stderr
-        results[kind] = directory / "disk.h5"
+        results[kind] = (directory / "disk.h5", time.monotonic() - start)
     return results
 
 
@@ -216,13 +218,15 @@ def test_a_disk_filled_to_the_last_byte_at_any_moment(tmp_path, undisturbed, ran
     """8 trials, two at a time (each on its own tmpfs), the fault moments drawn from a
     fixed seed; every problem of every trial is listed. At least two trials must have been
     stopped by the fault (exit 5, or 3 after SIGTERM), else the moments missed the run."""
-    rng = random.Random(f"{ranks}-{kind}")  # the same moments every time the test runs
-    longest = 2.5 if kind == "static" else 3.0  # s: start-up plus most of the run
-    delays = [rng.uniform(0.2, longest) for _ in range(TRIALS)]
+    rng = random.Random(f"{ranks}-{kind}")  # the same fractions of the run every time
+    reference, duration = undisturbed[kind]
+    # the fault within the run, however fast this machine runs it: from 0.2 s to 80 % of
+    # the undisturbed run's wall time (start-up included)
+    delays = [rng.uniform(0.2, max(0.4, 0.8 * duration)) for _ in range(TRIALS)]
     with concurrent.futures.ThreadPoolExecutor(PARALLEL) as pool:
         found = pool.map(
             lambda number: trial(
-                tmp_path / f"trial{number}", ranks, kind, delays[number], undisturbed[kind]
+                tmp_path / f"trial{number}", ranks, kind, delays[number], reference
             ),
             range(TRIALS),
         )
