@@ -44,6 +44,7 @@ import h5py
 import numpy as np
 
 from engine.output.summary import column_unit
+from engine.output.thresholds import split_header_units
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -231,7 +232,6 @@ def _write_csv(path: Path, rows, units, fit, config) -> None:
     os.replace(temporary, path)
 
 
-_HEADER_UNIT = re.compile(r"^(?P<name>.*?) \[(?P<unit>[^\]]*)\]$")
 _FITTED = re.compile(r"^# fitted (?P<key>\S+) = (?P<value>\S+)")
 _THRESHOLD = re.compile(r"^# threshold: (?P<column>\S+) = (?P<value>\S+)")
 
@@ -278,13 +278,7 @@ def load_calibration(path: str | Path) -> pd.DataFrame:
         body = "\n".join(line for line in lines if not line.startswith("#"))
         frame = pd.read_csv(io.StringIO(body), dtype={"id": str, "role": str, "status": str,
                                                       "message": str})  # fmt: skip
-        units = {}
-        for header in frame.columns:
-            match = _HEADER_UNIT.match(header)
-            name, unit = (match["name"], match["unit"]) if match else (header, "")
-            units[name] = unit
-        frame.columns = list(units)
-        frame["message"] = frame["message"].fillna("")
+        units = split_header_units(frame)
         frame.attrs.update(units=units, fitted=fitted, fit_status=status, **threshold)
         return frame
     with h5py.File(path, "r") as file:

@@ -198,6 +198,21 @@ def completed_rows(path: str | Path) -> dict[str, dict[str, Any]]:
 _HEADER_UNIT = re.compile(r"^(?P<name>.*?) \[(?P<unit>[^\]]*)\]$")
 
 
+def split_header_units(frame) -> dict[str, str]:
+    """Rename the columns of a table read from CSV, whose headers are ``name [unit]``, to
+    their names; returns {name: unit} ("" where a header has no unit). A ``message`` column's
+    empty cells become ""."""
+    units = {}
+    for header in frame.columns:
+        match = _HEADER_UNIT.match(header)
+        name, unit = (match["name"], match["unit"]) if match else (header, "")
+        units[name] = unit
+    frame.columns = list(units)
+    if "message" in frame.columns:
+        frame["message"] = frame["message"].fillna("")
+    return units
+
+
 def load_thresholds(path: str | Path) -> pd.DataFrame:
     """Thresholds table of a study with a ``[search]`` section as a DataFrame (one row per
     search), from its results file or ``NAME_thresholds.csv``.
@@ -226,13 +241,7 @@ def load_thresholds(path: str | Path) -> pd.DataFrame:
     check_readable(path)
     if path.suffix.lower() not in (".h5", ".hdf5"):
         frame = pd.read_csv(path, dtype={"case_id": str, "status": str, "message": str})
-        units = {}
-        for header in frame.columns:
-            match = _HEADER_UNIT.match(header)
-            name, unit = (match["name"], match["unit"]) if match else (header, "")
-            units[name] = unit
-        frame.columns = list(units)
-        frame["message"] = frame["message"].fillna("")
+        units = split_header_units(frame)
         frame.attrs["units"] = units
         return frame
     with h5py.File(path, "r") as file:
