@@ -44,7 +44,7 @@ import h5py
 import numpy as np
 
 from engine.output.summary import column_unit
-from engine.output.thresholds import split_header_units
+from engine.output.thresholds import read_table_group, split_header_units
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -285,14 +285,7 @@ def load_calibration(path: str | Path) -> pd.DataFrame:
         group = file.get(CALIBRATION_GROUP)
         if group is None:
             raise KeyError(f"{path}: no calibration table (the study has no [calibrate] section)")
-        data, units = {}, {}
-        for name in [str(n) for n in group.attrs["column_order"]]:
-            values = group[name][()]
-            if values.dtype.kind == "O":
-                values = [value.decode("utf-8") for value in values]
-            data[name] = values
-            unit = str(group[name].attrs.get("units", ""))
-            units[name] = "" if unit == "1" else unit
+        data, units = read_table_group(group, [str(n) for n in group.attrs["column_order"]])
         attrs = {
             "units": units,
             "fitted": json.loads(group.attrs["fitted"]),

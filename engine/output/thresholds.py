@@ -251,14 +251,7 @@ def load_thresholds(path: str | Path) -> pd.DataFrame:
                 f"{path}: no thresholds table (the study has no [search] section; "
                 "engine.load_summary reads its cases)"
             )
-        data, units = {}, {}
-        for name in _ordered(group):
-            values = group[name][()]
-            if values.dtype.kind == "O":
-                values = [value.decode("utf-8") for value in values]
-            data[name] = values
-            unit = str(group[name].attrs.get("units", ""))
-            units[name] = "" if unit == "1" else unit
+        data, units = read_table_group(group, _ordered(group))
         search = {
             name: _plain(value) for name, value in group.attrs.items() if name != "column_order"
         }
@@ -266,6 +259,23 @@ def load_thresholds(path: str | Path) -> pd.DataFrame:
     frame.attrs["units"] = units
     frame.attrs["search"] = search
     return frame
+
+
+def read_table_group(group: h5py.Group, names: list[str]) -> tuple[dict, dict[str, str]]:
+    """Columns ``names`` of a stored table group, as ``(data, units)``.
+
+    Text columns come back as lists of ``str``, numbers as numpy arrays; a unit of "1"
+    (dimensionless) reads back as "".
+    """
+    data, units = {}, {}
+    for name in names:
+        values = group[name][()]
+        if values.dtype.kind == "O":
+            values = [value.decode("utf-8") for value in values]
+        data[name] = values
+        unit = str(group[name].attrs.get("units", ""))
+        units[name] = "" if unit == "1" else unit
+    return data, units
 
 
 def _ordered(group: h5py.Group) -> list[str]:
