@@ -154,13 +154,11 @@ def _number(value: float) -> str:
     return f"{value:g}".replace("e+0", "e").replace("e+", "e")
 
 
-FRETTING_WEAR = "fretting tests: 1e-9 … 1e-6"
-
-
 def limit_rows() -> list[tuple[str, str, str, str]]:
     """(dotted key, accepted values, unit, why) of every range the study checks enforce, read
-    from the declarations the checks themselves use: the physical ranges and ``BOUNDS`` of
-    ``engine.study.settings.checks`` and the constants' ranges the built-in criteria declare."""
+    from the declarations the checks themselves use: ``LIMITS`` of
+    ``engine.study.settings.checks``, the bounds the built-in profiles declare for their
+    ``[punch]`` keys, and the constants' ranges the built-in criteria declare."""
     from engine.fatigue import CRITERIA
     from engine.geometry import PROFILES
     from engine.keys import declared_keys
@@ -168,52 +166,41 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
     from engine.study.settings import checks
 
     units = {f"{key.section}.{key.name}": key.unit for key in STUDY_KEYS}
-    low, high = checks.MODULUS_RANGE
-    moduli = "from gels to a rigid punch modelled as 10⁶ × steel"
-    rows = [
-        (key, f"[{_number(low)}, {_number(high)}]", "MPa", moduli)
-        for key in ("material.E_A", "material.E_B")
-    ]
-    rows.append((
+    units |= {"search.rtol": "1", "search.atol": "unit of the parameter", "search.max_steps": "1"}
+    units |= {"calibrate.fit_rtol": "1", "calibrate.max_evaluations": "1"}
+    rows = [(
         "loading.load",
         f"{_number(checks.MIN_PRESSURE_OVER_MODULUS)} ≤ p0/E* ≤ "
         f"{_number(checks.MAX_PRESSURE_OVER_MODULUS)}",
         "N (N/mm for line contacts)",
         "p0 the mean pressure over the nominal contact: the half-space is linear elastic "
         "(small strains)",
-    ))  # fmt: skip
-    for keys, maximum, why in (
-        (("sweep.mu1", "sweep.mu2"), checks.MAX_FRICTION, "real contacts lie below ~2"),
-        (("sweep.wear1", "sweep.wear2"), checks.MAX_WEAR_COEFFICIENT, FRETTING_WEAR),
-        (("sweep.alpha",), checks.MAX_ENERGY_WEAR_COEFFICIENT, "fretting tests: 1e-6 … 1e-4"),
-    ):  # fmt: skip
-        rows += [(key, f"[0, {_number(maximum)}]", units[key], why) for key in keys]
-    rows.append((
-        "solver.tol", f"(0, {_number(checks.MAX_TOLERANCE)}]", "1",
-        "a looser solve stops before doing anything meaningful",
-    ))  # fmt: skip
+    )]  # fmt: skip
+    for dotted, limit in checks.LIMITS.items():
+        key = dotted.removesuffix(".energy")
+        if key == "loading.bulk_stress":
+            rows.append(("loading.bulk_stress_max, bulk_stress_min", limit.accepted, "MPa",
+                         limit.why))  # fmt: skip
+            continue
+        unit = "mm³/J" if dotted.endswith(".energy") else units[key]
+        if key == "wear.pad_coefficient":
+            unit = "mm³/J (energy law)" if dotted.endswith(".energy") else "1/MPa (Archard)"
+        rows.append((key, limit.accepted, unit, limit.why))
     punch_keys: dict[str, object] = {}
     for profile in PROFILES.builtins.values():  # the [punch] keys each shape declares
         for name, key in declared_keys(profile).items():
             punch_keys.setdefault(f"punch.{name}", key)
     for dotted, key in punch_keys.items():
-        if key.maximum is not None:
-            rows.append((dotted, f"≤ {_number(key.maximum)}", key.unit, key.why))
-    for dotted, (maximum, why) in checks.BOUNDS.items():
-        key = dotted.removesuffix(".energy")
-        if key == "loading.bulk_stress":
-            rows.append(("loading.bulk_stress_max, bulk_stress_min",
-                         f"[−{_number(maximum)}, {_number(maximum)}]", "MPa", why))  # fmt: skip
-            continue
-        unit = "mm³/J" if dotted.endswith(".energy") else units[key]
-        if key == "wear.pad_coefficient":
-            unit = "mm³/J (energy law)" if dotted.endswith(".energy") else "1/MPa (Archard)"
-        rows.append((key, f"≤ {_number(maximum)}", unit, why))
+        if key.minimum is not None or key.maximum is not None:
+            limit = checks.Limit(key.minimum, key.maximum, key.why, open_minimum=key.strict)
+            rows.append((dotted, limit.accepted, key.unit, key.why or "–"))
     for name, (low, high, why) in fatigue.constant_ranges(CRITERIA.builtins).items():
         rows.append((f"fatigue.{name}", f"[{_number(low)}, {_number(high)}]",
                      units[f"fatigue.{name}"], why))  # fmt: skip
     rows.append(("fatigue.length", f"(0, {_number(fatigue.MAX_LENGTH)}]", "mm",
                  "the critical distance"))  # fmt: skip
+    rows.append(("fatigue.plane_step", f"(0, {_number(fatigue.MAX_PLANE_STEP)}]", "degree",
+                 "the step of the critical-plane search; it must divide 180"))  # fmt: skip
     return rows
 
 

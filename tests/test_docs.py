@@ -260,6 +260,8 @@ def _known_keys(section: str) -> set[str]:
     if section in ("mesh", "loading"):  # a line contact: the keys only line contacts take
         layers.append({"punch": {"shape": "cylinder", "radius": 6.0}})
         loading["load"] = 185.0  # N/mm
+    if section == "calibrate":  # [calibrate] is read after the [search] it needs
+        layers += _calibration_layers()
     layers.append({section: {"not_a_key": 1}})
     text = study_toml("keys", "keys.h5", *layers, loading=loading)
     with pytest.raises(StudyConfigError) as error:
@@ -292,12 +294,15 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
     with pytest.raises(StudyConfigError) as error:
         parse_study(text)
     known = re.findall(r"\[(\w+)\]", str(error.value).split("(known: ", 1)[1])
-    assert set(SECTIONS) == set(known) | {"search"}  # [search] is read by engine.study.search
+    # [search] and [calibrate] are read by engine.study.search and engine.study.calibrate
+    assert set(SECTIONS) == set(known) | {"search", "calibrate"}
     for section in SECTIONS:
         described = {key.name for key in STUDY_KEYS if key.section == section}
         known = _known_keys(section)
         if section == "sweep":
             known |= {"zip"}  # the zip groups are read before the section's own keys
+        if section == "search":
+            known |= {"relative_to"}  # read with [calibrate], before the search's own keys
         known -= foreign_keys.get(section, set())
         assert described == known, section
     units = {f"{key.section}.{key.name}": key.unit for key in STUDY_KEYS}
@@ -320,6 +325,29 @@ def _height_map_surface() -> dict:
     return {"kind": "file", "path": str(path), "pixel_size": 0.1}
 
 
+def _calibration_layers() -> list[dict]:
+    """A fretting-fatigue threshold search with a [calibrate] section over two tests (the
+    tests file written in a folder of its own, named by its absolute path)."""
+    import tempfile
+
+    from engine.study.examples import CYLINDER_ON_STEEL
+
+    tests = Path(tempfile.mkdtemp(prefix="tests")) / "tests.csv"
+    tests.write_text("test,punch.radius,Q\nA,6,40\nB,10,45\n")
+    search = {
+        "parameter": "loading.force_amplitude", "relative_to": "mu_load", "low": 0.2,
+        "high": 0.95, "column": "crossland_risk_critical", "target": 1.0, "rtol": 2e-3,
+    }  # fmt: skip
+    fatigue = {"criteria": ["crossland"], "sigma_d": 300.0, "tau_d": 200.0}
+    return [
+        {"sweep": {"mu1": [0.5], "wear1": [0.0]}},
+        CYLINDER_ON_STEEL,
+        {"loading": {"kind": "fretting", "load": 185.0}, "mesh": {"n": 48}},
+        {"fatigue": fatigue, "search": search},
+        {"calibrate": {"tests": str(tests), "id": "test", "measured": "Q"}},
+    ]
+
+
 def _default_study(section: str, name: str) -> str:
     """A valid study in which ``[section] name`` is absent: the kind of study the key belongs
     to (a line fretting case for the bulk stress, a search for [search], …)."""
@@ -331,6 +359,8 @@ def _default_study(section: str, name: str) -> str:
     if (section, name) in {("loading", "bulk_stress_max"), ("loading", "bulk_stress_min"),
                            ("mesh", "reference_distance")}:  # fmt: skip
         layers = [wear, CYLINDER_ON_STEEL, fretting, {"loading": {"load": 185.0}}]
+    elif section == "calibrate" or (section, name) == ("search", "relative_to"):
+        layers = _calibration_layers()
     elif section == "search":
         search = {
             "parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2,
@@ -588,21 +618,47 @@ _FATIGUE = {
 }  # fmt: skip
 
 
-def _beyond(key: str, accepted: str, unit: str) -> list[dict]:
-    """Study layers with ``key`` just outside the range ``accepted`` the reference states."""
+_INTEGER_KEYS = {"steps", "cycles", "n", "layers", "maxiter", "threads", "max_steps"}
+_INTEGER_KEYS |= {"max_evaluations"}
+_NUMBER = r"-?\d+(?:\.\d+)?(?:e-?\d+)?"
+
+
+def _outside(key: str, accepted: str) -> list[tuple[str, float]]:
+    """("below" or "above", a value just outside) for each end of the range ``accepted``
+    (``[a, b]``, ``(a, b]``, ``[a, b)``, ``≥ a``, ``> a``, ``≤ b``, or ``a ≤ p0/E* ≤ b``
+    for the load): the bound itself at an open end, the nearest value beyond a closed one
+    (the next integer, or 0.1 % of the bound's size beyond it)."""
+    integer = key.split(".")[-1] in _INTEGER_KEYS
+    numbers = [float(x) for x in re.findall(_NUMBER, accepted)]
+
+    def beyond(bound: float, sign: int, is_open: bool) -> float:
+        if is_open:
+            return bound
+        return bound + sign * (1 if integer else 1e-3 * max(abs(bound), 1e-3))
+
+    if key == "loading.load":  # p0/E* on the base flat punch: 1e-20 N and 1e9 N
+        return [("below", 1e-20), ("above", 1e9)]
+    if accepted.startswith(("≥", ">")):
+        return [("below", beyond(numbers[0], -1, accepted.startswith(">")))]
+    if accepted.startswith(("≤", "<")):
+        return [("above", beyond(numbers[0], +1, accepted.startswith("<")))]
+    low, high = numbers
+    return [
+        ("below", beyond(low, -1, accepted.startswith("("))),
+        ("above", beyond(high, +1, accepted.endswith(")"))),
+    ]
+
+
+def _study_with(key: str, value: float, unit: str) -> list[dict]:
+    """Study layers of the kind ``key`` belongs to, with ``key`` set to ``value``."""
     section, name = key.split(".", 1)
-    numbers = [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e-?\d+)?", accepted)]
-    high = numbers[-1]
     fretting = {"loading": {"kind": "fretting", "amplitude": 0.001}}
-    if key == "loading.load":
-        return [_WEAR, {"loading": {"load": 1e9}}]  # p0/E* = 420 on the base flat punch
-    if section == "fatigue":
-        value = numbers[0] - 1.0 if numbers[0] < 0 else high * 2 + 1
-        return [_WEAR, _SPHERE, fretting, {"fatigue": dict(_FATIGUE, **{name: value})}]
-    value = high * 2 + 1
-    integers = {"steps", "cycles", "n", "layers", "maxiter", "threads"}
-    if name in integers:
+    if name in _INTEGER_KEYS:
         value = int(value)
+    if key == "loading.load":
+        return [_WEAR, {"loading": {"load": value}}]
+    if section == "fatigue":
+        return [_WEAR, _SPHERE, fretting, {"fatigue": dict(_FATIGUE, **{name: value})}]
     if key.startswith("loading.bulk_stress"):
         return [_LINE, fretting, {"loading": {"load": 185.0, "bulk_stress_max": value}}]
     if key == "wear.pad_coefficient":
@@ -613,35 +669,65 @@ def _beyond(key: str, accepted: str, unit: str) -> list[dict]:
         return [_WEAR] + layers
     if key == "mesh.reference_distance":
         return [_WEAR, _LINE, {"loading": {"load": 185.0}, "mesh": {name: value}}]
-    if key == "punch.edge_radius":
-        return [_WEAR, {"punch": {"shape": "rounded", "radius": 1.0, name: value}}]
-    if key == "loading.amplitude":
+    if key.startswith("punch."):
+        return [_WEAR, {"punch": {"shape": "rounded", "radius": 1.0, "edge_radius": 0.2}},
+                {"punch": {name: value}}]  # fmt: skip
+    if key in ("loading.amplitude", "loading.direction"):
         return [_SPHERE, fretting, {"loading": {name: value}}]
+    if key == "loading.force_amplitude":
+        return [_SPHERE, {"loading": {"kind": "fretting", "force_amplitude": value}}]
     if key == "sweep.alpha":
         return [{"wear": {"law": "energy"}, "sweep": {"mu1": [0.3], "alpha": [value]}}]
-    if key == "sweep.mu2":
-        return [_WEAR, {"sweep": {"mu2": [value]}}]
     if section == "sweep":
         return [_WEAR, {"sweep": {name: [value]}}]
+    if section == "search":
+        search = {"parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2,
+                  "column": "slip_regime", "target": "gross", "rtol": 1e-3}  # fmt: skip
+        return [_WEAR, _SPHERE, fretting, {"search": dict(search, **{name: value})}]
+    if section == "calibrate":
+        return _calibration_layers() + [{"calibrate": {name: value}}]
     return [_WEAR, {section: {name: value}}]
 
 
-@pytest.mark.parametrize(
-    "row", _limit_rows(), ids=lambda row: f"{row[0]} {row[2]}".replace(" ", "_")
-)
-def test_every_limit_of_the_reference_is_enforced_and_named(row):
-    """A value just outside each range of the generated limits table is refused by the
-    study checks, with the key in the message: the table states what the code enforces."""
+def _limit_cases():
+    return [
+        pytest.param(key, side, value, unit, id=f"{key}_{unit}_{side}".replace(" ", "_"))
+        for key, accepted, unit, _ in _limit_rows()
+        for side, value in _outside(key.split(",")[0], accepted)
+    ]
+
+
+@pytest.mark.parametrize(("key", "side", "value", "unit"), _limit_cases())
+def test_every_limit_of_the_reference_is_enforced_and_named(key, side, value, unit):
+    """A value just outside each end of each range of the generated limits table (the bound
+    itself at an open end) is refused by the study checks, with the key in the message: the
+    table states what the code enforces, lower bounds and upper bounds."""
     from engine.study.config import StudyConfigError, parse_study
     from engine.study.examples import study_toml
 
-    key, accepted, unit, _ = row
     first = key.split(",")[0]
-    text = study_toml("limits", "limits.h5", *_beyond(first, accepted, unit))
+    text = study_toml("limits", "limits.h5", *_study_with(first, value, unit))
     with pytest.raises(StudyConfigError) as error:
         parse_study(text)
     section, name = first.split(".", 1)
     assert f"[{section}] {name}" in str(error.value), str(error.value)
+
+
+def test_every_limit_is_tested_at_both_ends_and_inside():
+    """The values the limits test takes lie just outside the ranges the checks declare, and
+    the bounds themselves are accepted at closed ends (``Limit.holds``)."""
+    from engine.study.settings.checks import LIMITS
+
+    cases = {(p.values[0], p.values[1]) for p in _limit_cases()}
+    for dotted, limit in LIMITS.items():
+        key = dotted.removesuffix(".energy")
+        key = "loading.bulk_stress_max, bulk_stress_min" if key == "loading.bulk_stress" else key
+        if limit.minimum is not None:
+            assert (key, "below") in cases, dotted
+            assert limit.holds(limit.minimum) != limit.open_minimum, dotted
+        if limit.maximum is not None:
+            assert (key, "above") in cases, dotted
+            assert limit.holds(limit.maximum) != limit.open_maximum, dotted
 
 
 def test_every_default_stated_in_words_is_what_the_parser_does():
@@ -700,6 +786,12 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
                         search=dict(search, column=column, target=target))  # fmt: skip
         assert config.resolved()["search"]["method"] == method
     checked.add("search.method")
+    # search.relative_to: absolute (low and high in the parameter's unit)
+    calibrated = parse_study(
+        study_toml("words", "words.h5", *_calibration_layers(), {"search": {"relative_to": None}})
+    )
+    assert calibrated.calibrate.relative_to == ""
+    checked.add("search.relative_to")
     # solver.tol: 1e-8 static, 1e-6 cyclic and fretting
     assert parsed(loading={"kind": "static"}).solver.tol == 1e-8
     assert parsed().solver.tol == 1e-6

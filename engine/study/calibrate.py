@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from engine.study.settings.checks import LIMITS
 from engine.study.settings.sections import MISSING, SWEEPABLE, StudyConfigError
 
 __all__ = [
@@ -291,19 +292,21 @@ def parse_calibrate(
         if not low < high:
             raise error("high", high, f"must be greater than low = {low} ({key})")
     fit_rtol = table.get("fit_rtol", 1e-3)
+    limit = LIMITS["calibrate.fit_rtol"]
     if (
         isinstance(fit_rtol, bool)
         or not isinstance(fit_rtol, int | float)
-        or not 0 < fit_rtol < 0.5
+        or not limit.holds(fit_rtol)
     ):
-        raise error("fit_rtol", fit_rtol, "must be a number in (0, 0.5)")
+        raise error("fit_rtol", fit_rtol, f"must be a number in {limit.accepted}")
     evaluations = table.get("max_evaluations", 40)
+    limit = LIMITS["calibrate.max_evaluations"]
     if (
         isinstance(evaluations, bool)
         or not isinstance(evaluations, int)
-        or not 3 <= evaluations <= 10_000
+        or not limit.holds(evaluations)
     ):
-        raise error("max_evaluations", evaluations, "must be an integer in [3, 10000]")
+        raise error("max_evaluations", evaluations, f"must be an integer in {limit.accepted}")
     calibrate_on = table.get("calibrate_on", [])
     if not isinstance(calibrate_on, list) or not all(isinstance(i, str) for i in calibrate_on):
         raise error("calibrate_on", calibrate_on, "must be a list of test ids (text)")

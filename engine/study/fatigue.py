@@ -127,6 +127,7 @@ def fatigue_keys(registry=CRITERIA) -> set[str]:
 
 
 MAX_LENGTH = 100.0  # mm, the critical distance
+MAX_PLANE_STEP = 90.0  # degrees, the step of the critical-plane search (it must divide 180)
 
 
 def constant_ranges(registry=CRITERIA) -> dict[str, tuple[float, float, str]]:
@@ -197,8 +198,10 @@ def parse_fatigue(section) -> FatigueConfig:
             "amplitude_method", amplitude, f"must be one of {', '.join(AMPLITUDE_METHODS)}"
         )
     step = section.number("plane_step", 1.0, minimum=0.0, strict=True, unit="degree")
-    if step > 90.0 or not float(180.0 / step).is_integer():
-        raise section.error("plane_step", step, "must divide 180 degrees and be <= 90")
+    if step > MAX_PLANE_STEP or not float(180.0 / step).is_integer():
+        raise section.error(
+            "plane_step", step, f"must divide 180 degrees and be <= {MAX_PLANE_STEP:g}"
+        )
     every_cycle = section.raw("every_cycle", False)
     if not isinstance(every_cycle, bool):
         raise section.error("every_cycle", every_cycle, "must be true or false")

@@ -58,6 +58,7 @@ from engine.solvers.fretting import REGIME_NAMES
 from .fatigue import fatigue_column_specs
 from .plan import Case, Plan, setting_names
 from .plan import _format as format_value
+from .settings.checks import LIMITS
 from .settings.sections import MISSING, SWEEPABLE, StudyConfigError
 
 __all__ = [
@@ -83,7 +84,7 @@ class SearchStatus:
 
 METHODS = ("bisection", "illinois")
 ID_RESOLUTION = 1e-8  # finest relative tolerance: case ids carry 10 significant digits
-MAX_STEPS = 1000  # cases per search: a bound on typos, far above the 27 halvings of 1e-8
+MAX_STEPS = int(LIMITS["search.max_steps"].maximum)  # cases per search (a bound on typos)
 
 
 @dataclass(frozen=True)
@@ -135,7 +136,7 @@ class SearchSpec:
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             found.append(("high", self.high, f"must be finite and greater than low = {self.low}"))
         for key in ("rtol", "atol"):
-            if not getattr(self, key) >= 0.0:
+            if not getattr(self, key) >= LIMITS[f"search.{key}"].minimum:
                 found.append((key, getattr(self, key), "must be ≥ 0"))
         if not self.rtol + self.atol > 0.0:
             found.append(("rtol", self.rtol, "rtol and atol must be ≥ 0, one of them > 0"))
@@ -153,7 +154,7 @@ class SearchSpec:
                     "|high|): finer steps would share a case id (10 significant digits)",
                 )
             )
-        if self.rtol >= 0.5:
+        if self.rtol >= LIMITS["search.rtol"].maximum:
             found.append(("rtol", self.rtol, "must be < 0.5 (a relative tolerance on x)"))
         if not (math.isfinite(self.atol) and self.atol < self.high - self.low):
             found.append(
@@ -163,7 +164,9 @@ class SearchSpec:
             found.append(("method", self.method, f"must be one of {', '.join(METHODS)}"))
         elif self.categorical and self.method != "bisection":
             found.append(("method", self.method, "a text target is searched by bisection"))
-        if not (isinstance(self.max_steps, int) and 3 <= self.max_steps <= MAX_STEPS):
+        if not (
+            isinstance(self.max_steps, int) and LIMITS["search.max_steps"].holds(self.max_steps)
+        ):
             found.append(
                 (
                     "max_steps",

@@ -69,7 +69,7 @@ from engine.schema import CASE_PARAMETERS
 from engine.solvers import defaults
 from engine.study.kinds import KINDS
 from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
-from engine.study.settings.checks import MAX_TOLERANCE, bound, check_physical_ranges
+from engine.study.settings.checks import LIMITS, bound, check_physical_ranges
 from engine.study.settings.compat import STATIC_PLACEHOLDERS
 from engine.study.settings.reader import Section, toml_error
 from engine.study.settings.sections import (
@@ -468,9 +468,9 @@ def _parse_material(s: Section) -> MaterialConfig:
     s.check_known({"E_A", "nu_A", "E_B", "nu_B"})
     return MaterialConfig(
         E_A=s.number("E_A", minimum=0.0, strict=True, unit="MPa"),
-        nu_A=s.poisson("nu_A"),
+        nu_A=s.poisson("nu_A", LIMITS["material.nu_A"]),
         E_B=s.number("E_B", minimum=0.0, strict=True, unit="MPa"),
-        nu_B=s.poisson("nu_B"),
+        nu_B=s.poisson("nu_B", LIMITS["material.nu_B"]),
     )
 
 
@@ -503,7 +503,7 @@ def _parse_mesh(
     (engine.geometry)."""
     profile = punch.profile()
     s.check_known({"n", "half_width"} | ({"reference_distance"} if profile.is_line else set()))
-    n = s.integer("n", minimum=8, **bound("mesh.n"))
+    n = s.integer("n", **bound("mesh.n"))
     modulus = contact_modulus(material)
     contact = profile.contact_length(loading.load, modulus)
     what = profile.covered
@@ -512,9 +512,7 @@ def _parse_mesh(
             "half_width", s.table["half_width"], f"must be >= {contact:.6g} mm (the {what})"
         )
     default = profile.default_half_width(loading.load, modulus)
-    half_width = s.number(
-        "half_width", default, minimum=0.0, strict=True, unit="mm", **bound("mesh.half_width")
-    )
+    half_width = s.number("half_width", default, unit="mm", **bound("mesh.half_width"))
     if n * contact / half_width < 4:
         raise s.error(
             "n",
@@ -528,7 +526,6 @@ def _parse_mesh(
     distance = s.number(
         "reference_distance",
         DEFAULT_REFERENCE_DISTANCE,
-        minimum=0.0,
         unit="mm",
         **bound("mesh.reference_distance"),
     )
@@ -569,7 +566,7 @@ def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
         names = [f'"{name}"' for name in KINDS]
         raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
     load = s.number("load", minimum=0.0, strict=True, unit=load_unit)
-    steps = s.integer("steps", 10, minimum=1, **bound("loading.steps"))
+    steps = s.integer("steps", 10, **bound("loading.steps"))
     return KINDS[kind].parse(s, load, steps)
 
 
@@ -595,7 +592,7 @@ def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
         limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
         unit = "mm³/J" if law == "energy" else "1/MPa"
-        pad = s.number("pad_coefficient", minimum=0.0, unit=unit, **limit)
+        pad = s.number("pad_coefficient", unit=unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
 
 
@@ -621,28 +618,28 @@ def _parse_surface(s: Section, mesh: MeshConfig, punch: PunchConfig):
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:
     s.check_known({"depth", "layers"})
     return SubsurfaceConfig(
-        depth=s.number(
-            "depth", 1.5, minimum=0.0, strict=True, unit="punch radii", **bound("subsurface.depth")
-        ),
-        layers=s.integer("layers", 16, minimum=2, **bound("subsurface.layers")),
+        depth=s.number("depth", 1.5, unit="punch radii", **bound("subsurface.depth")),
+        layers=s.integer("layers", 16, **bound("subsurface.layers")),
     )
 
 
 def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepConfig:
     s.check_known(set(CASE_PARAMETERS))
-    mu1 = s.number_list("mu1", minimum=0.0)
-    mu2 = s.number_list("mu2", minimum=0.0) if "mu2" in s.table else None
+    mu1 = s.number_list("mu1", minimum=LIMITS["sweep.mu1"].minimum)
+    mu2 = s.number_list("mu2", minimum=LIMITS["sweep.mu2"].minimum) if "mu2" in s.table else None
     if wear.law == "energy":
         for key in ("wear1", "wear2"):
             if key in s.table:
                 raise s.error(key, s.table[key], '[wear] law = "energy" takes alpha (mm³/J)')
-        alpha = s.number_list("alpha", minimum=0.0, unit="mm^3/J")
+        alpha = s.number_list("alpha", minimum=LIMITS["sweep.alpha"].minimum, unit="mm^3/J")
         beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
         return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
     if "alpha" in s.table:
         raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
     wear_default = MISSING if _kind(loading).has_cycles else [0.0]
-    wear1 = s.number_list("wear1", wear_default, minimum=0.0, unit="1/MPa")
+    wear1 = s.number_list(
+        "wear1", wear_default, minimum=LIMITS["sweep.wear1"].minimum, unit="1/MPa"
+    )
     wear2: tuple[float, ...] | str | None = None
     if "wear2" in s.table:
         if s.table["wear2"] == PROPORTIONAL:
@@ -654,7 +651,7 @@ def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepC
                 "wear2", s.table["wear2"], f'must be a list of numbers or "{PROPORTIONAL}"'
             )
         else:
-            wear2 = s.number_list("wear2", minimum=0.0, unit="1/MPa")
+            wear2 = s.number_list("wear2", minimum=LIMITS["sweep.wear2"].minimum, unit="1/MPa")
     beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
     return SweepConfig(mu1=mu1, mu2=mu2, wear1=wear1, wear2=wear2, beta=beta)
 
@@ -666,8 +663,8 @@ def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:
     # the wear-jump and discretisation errors (see tests/test_cycle_jump_convergence.py).
     default_tol = _kind(loading).default_tolerance
     tol = _tolerance(s, s.number("tol", default_tol, minimum=0.0, strict=True))
-    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, minimum=1, **bound("solver.maxiter"))
-    threads = s.integer("threads", 1, minimum=1, **bound("solver.threads"))
+    maxiter = s.integer("maxiter", defaults.MAX_ITERATIONS, **bound("solver.maxiter"))
+    threads = s.integer("threads", 1, **bound("solver.threads"))
     fft_planner = s.string("fft_planner", "estimate")
     if fft_planner not in ("estimate", "measure"):
         raise s.error("fft_planner", fft_planner, 'must be "estimate" or "measure"')
@@ -685,10 +682,9 @@ def _parse_testing(s: Section) -> TestingConfig:
 def _tolerance(s: Section, tol: float) -> float:
     """Relative residual of the solvers: above 1e-2 a solve stops before it has done anything
     meaningful (tol = 1e300 "completed" every case with the same wrong wear)."""
-    if tol > MAX_TOLERANCE:
-        raise s.error(
-            "tol", s.table["tol"], f"must lie in (0, {MAX_TOLERANCE:g}] (relative residual)"
-        )
+    limit = LIMITS["solver.tol"]
+    if not limit.holds(tol):
+        raise s.error("tol", s.table["tol"], f"must lie in {limit.accepted} (relative residual)")
     return tol
 
 
@@ -697,8 +693,9 @@ def _axes_angles(s: Section, angles: tuple[float, ...]) -> tuple[float, ...]:
     β and β ± 180° are the same physics; two values that coincide are rejected."""
     normalised = []
     for value in angles:
-        if not -360.0 <= value <= 360.0:
-            raise s.error("beta", s.table["beta"], "angles must lie in [-360, 360] degrees")
+        if not LIMITS["sweep.beta"].holds(value):
+            angles = LIMITS["sweep.beta"].accepted
+            raise s.error("beta", s.table["beta"], f"angles must lie in {angles} degrees")
         normalised.append(value % 180.0)
     for index, value in enumerate(normalised):
         first = normalised.index(value)

@@ -207,7 +207,7 @@ class CycledKind(LoadingKind):
 def parse_cycles(s: Section, kind: str, load: float, steps: int) -> LoadingConfig:
     """The keys of every kind with cycles: ``cycles``, ``record`` (cycle numbers, default
     the last) and ``max_wear_fraction`` (cycle-jump bound)."""
-    cycles = s.integer("cycles", minimum=1, **bound("loading.cycles"))
+    cycles = s.integer("cycles", **bound("loading.cycles"))
     record_raw = s.raw("record", [cycles])
     record_list = record_raw if isinstance(record_raw, list) else [record_raw]
     record = []
@@ -224,8 +224,6 @@ def parse_cycles(s: Section, kind: str, load: float, steps: int) -> LoadingConfi
     max_wear_fraction = s.number(
         "max_wear_fraction",
         defaults.MAX_WEAR_FRACTION,
-        minimum=0.0,
-        strict=True,
         **bound("loading.max_wear_fraction"),
     )
     return LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)

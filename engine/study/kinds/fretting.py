@@ -87,16 +87,12 @@ class FrettingKind(CycledKind):
                 "and force_amplitude (N, a line contact's N/mm; force control)",
             )
         unit = "mm" if given[0] == "amplitude" else ""  # a force's bound is 0: no unit
-        limit = bound("loading.amplitude") if given[0] == "amplitude" else {}
-        value = s.number(given[0], minimum=0.0, strict=True, unit=unit, **limit)
+        value = s.number(given[0], unit=unit, **bound(f"loading.{given[0]}"))
         if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
             raise s.error(given[0], value, "must be below the friction bound μP (the load's unit)")
-        direction = s.number("direction", 0.0, unit="degrees")
-        if not -360.0 <= direction <= 360.0:
-            raise s.error("direction", direction, "must lie in [-360, 360] degrees")
-        bulk_limit = bound("loading.bulk_stress")
+        direction = s.number("direction", 0.0, unit="degrees", **bound("loading.direction"))
         bulk = {
-            key: s.number(key, unit="MPa", minimum=-bulk_limit["maximum"], **bulk_limit)
+            key: s.number(key, unit="MPa", **bound("loading.bulk_stress"))
             for key in sorted(BULK_STRESS_KEYS)
             if key in s.table
         }

@@ -3,6 +3,8 @@ mean pressure over the contact modulus, friction and wear coefficients, solver t
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from engine.keys import LENGTH_REASON, MAX_LENGTH
 
 from .sections import StudyConfigError, contact_modulus
@@ -30,51 +32,165 @@ MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
 MAX_ENERGY_WEAR_COEFFICIENT = 1.0  # mm^3/J
 # Lengths (mm): MAX_LENGTH (engine.keys, where the punch profiles declare their lengths).
 
-# Upper bounds of the count and control keys, each with the reason printed when it is passed
-# (a key beyond them is a typo or a unit slip, and would otherwise run for days or fail late).
-BOUNDS = {
-    "loading.steps": (
+
+@dataclass(frozen=True)
+class Limit:
+    """The range a value of the study file must lie in, as the checks read it and the
+    manual states it (``scripts/reference.py`` writes the limits table from :data:`LIMITS`).
+
+    ``minimum``/``maximum``: the bounds (None: none), in the key's unit; ``open_minimum`` /
+    ``open_maximum``: the bound itself is refused; ``why``: the reason, printed when a value
+    passes the maximum and written in the manual's table.
+    """
+
+    minimum: float | None = None
+    maximum: float | None = None
+    why: str = ""
+    open_minimum: bool = False
+    open_maximum: bool = False
+
+    def holds(self, value: float) -> bool:
+        """True when ``value`` lies in the range."""
+        low, high = self.minimum, self.maximum
+        above = low is None or (value > low if self.open_minimum else value >= low)
+        below = high is None or (value < high if self.open_maximum else value <= high)
+        return above and below
+
+    @property
+    def accepted(self) -> str:
+        """The range in the manual's notation: ``[8, 16384]``, ``(0, 10]``, ``≥ 0``, ``> 0``."""
+        low, high = self.minimum, self.maximum
+        if low is None:
+            return f"{'<' if self.open_maximum else '≤'} {_number(high)}"
+        if high is None:
+            return f"{'>' if self.open_minimum else '≥'} {_number(low)}"
+        left, right = "(" if self.open_minimum else "[", ")" if self.open_maximum else "]"
+        return f"{left}{_number(low)}, {_number(high)}{right}"
+
+
+def _number(value: float) -> str:
+    """``1e-12``, ``10000``, ``1e9``: a bound as the manual and the messages write it."""
+    return f"{value:g}".replace("e+0", "e").replace("e+", "e")
+
+
+_LENGTH = LENGTH_REASON
+_ANGLE = "angles in degrees, one turn either way"
+
+#: Every range a number of the host's sections must lie in ("section.key": Limit), read by the
+#: checks (:func:`bound`) and written in the manual's limits table. A key beyond the maximum
+#: is a typo or a unit slip, and would otherwise run for days or fail late. The plug-ins
+#: declare their own keys' ranges (``engine.keys.Key``; the fatigue criteria's constants).
+LIMITS = {
+    "material.E_A": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
+    "material.E_B": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
+    "material.nu_A": Limit(-1.0, 0.5, "Poisson's ratio of a stable isotropic solid", True, True),
+    "material.nu_B": Limit(-1.0, 0.5, "Poisson's ratio of a stable isotropic solid", True, True),
+    "loading.steps": Limit(
+        1,
         10_000,
         "increments per half cycle, each a full contact solve: 10^4 resolve any loading path",
     ),
-    "loading.cycles": (10**9, "fretting tests run 10^7 to 10^8 cycles"),
-    "loading.max_wear_fraction": (
+    "loading.cycles": Limit(1, 10**9, "fretting tests run 10^7 to 10^8 cycles"),
+    "loading.max_wear_fraction": Limit(
+        0.0,
         1.0,
-        "wear per cycle jump over the peak elastic approach: beyond 1 a jump removes the "
-        "whole elastic approach and the jump control no longer holds",
+        "wear per cycle jump over the peak elastic approach: beyond 1 a jump removes "
+        "the whole elastic approach and the jump control no longer holds",
+        open_minimum=True,
     ),
-    "mesh.n": (16384, "elements per side: a 16384² grid needs about 0.8 TB of memory per rank"),
-    "mesh.half_width": (MAX_LENGTH, LENGTH_REASON),
-    "mesh.reference_distance": (MAX_LENGTH, LENGTH_REASON),
-    "loading.amplitude": (
+    "loading.amplitude": Limit(
+        0.0,
         10.0,
-        "fretting amplitudes lie below ~0.3 mm; beyond 10 mm the motion is reciprocating "
-        "sliding, which moves the contact over the flat, and this model holds it in place",
+        "fretting amplitudes lie below ~0.3 mm; beyond 10 mm the motion is "
+        "reciprocating sliding, which moves the contact over the flat, and this model holds "
+        "it in place",
+        open_minimum=True,
     ),
-    "loading.bulk_stress": (
+    "loading.force_amplitude": Limit(
+        0.0,
+        None,
+        "a force (the load's unit), also below the friction bound μP of every case",
+        open_minimum=True,
+    ),
+    "loading.direction": Limit(-360.0, 360.0, _ANGLE),
+    "loading.bulk_stress": Limit(
+        -1e4,
         1e4,
-        "in magnitude: 10 GPa is above the strength of any steel, and the flat stays linear "
-        "elastic",
+        "in magnitude: 10 GPa is above the strength of any steel, and the flat "
+        "stays linear elastic",
     ),
-    "wear.pad_coefficient": (
+    "mesh.n": Limit(
+        8,
+        16384,
+        "elements per side: a 16384² grid needs about 0.8 TB of memory per rank; "
+        "and at least 4 elements across the contact",
+    ),
+    "mesh.half_width": Limit(
+        0.0, MAX_LENGTH, f"{_LENGTH}; and at least the contact length a0", open_minimum=True
+    ),
+    "mesh.reference_distance": Limit(
+        0.0, MAX_LENGTH, f"{_LENGTH}; and at least the mesh's length 2·half_width"
+    ),
+    "wear.pad_coefficient": Limit(
+        0.0,
         MAX_WEAR_COEFFICIENT,
         "the Archard bound of [sweep] wear1 (fretting tests: 1e-9 … 1e-6 1/MPa)",
     ),
-    "wear.pad_coefficient.energy": (
+    "wear.pad_coefficient.energy": Limit(
+        0.0,
         MAX_ENERGY_WEAR_COEFFICIENT,
         "the energy-law bound of [sweep] alpha (fretting tests: 1e-6 … 1e-4 mm³/J)",
     ),
-    "subsurface.layers": (1024, "depth layers of the stress plane: 1024 resolve it to 0.1 %"),
-    "subsurface.depth": (100.0, "stresses 100 radii deep are below 1e-4 of the mean pressure"),
-    "solver.maxiter": (10**7, "iterations per increment: a solve not converged in 10^7 will not"),
-    "solver.threads": (1024, "FFT threads per rank: more than the cores of a node only slow"),
+    "subsurface.depth": Limit(
+        0.0,
+        100.0,
+        "stresses 100 radii deep are below 1e-4 of the mean pressure",
+        open_minimum=True,
+    ),
+    "subsurface.layers": Limit(
+        2, 1024, "depth layers of the stress plane: 1024 resolve it to 0.1 %"
+    ),
+    "sweep.mu1": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
+    "sweep.mu2": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
+    "sweep.wear1": Limit(0.0, MAX_WEAR_COEFFICIENT, "fretting tests: 1e-9 … 1e-6"),
+    "sweep.wear2": Limit(0.0, MAX_WEAR_COEFFICIENT, "fretting tests: 1e-9 … 1e-6"),
+    "sweep.alpha": Limit(0.0, MAX_ENERGY_WEAR_COEFFICIENT, "fretting tests: 1e-6 … 1e-4"),
+    "sweep.beta": Limit(-360.0, 360.0, f"{_ANGLE}; taken modulo 180°"),
+    "solver.tol": Limit(
+        0.0,
+        MAX_TOLERANCE,
+        "relative residual: a looser solve stops before doing anything meaningful",
+        open_minimum=True,
+    ),
+    "solver.maxiter": Limit(
+        1, 10**7, "iterations per increment: a solve not converged in 10^7 will not"
+    ),
+    "solver.threads": Limit(
+        1, 1024, "FFT threads per rank: more than the cores of a node only slow"
+    ),
+    "search.rtol": Limit(0.0, 0.5, "a relative tolerance on the searched value", open_maximum=True),
+    "search.atol": Limit(0.0, None, "and below the bracket's width high − low"),
+    "search.max_steps": Limit(
+        3,
+        1000,
+        "cases per search: a bound on typos, far above the 27 halvings a tolerance of 1e-8 "
+        "of the bracket takes",
+    ),
+    "calibrate.fit_rtol": Limit(
+        0.0, 0.5, "relative tolerance on the fitted values", open_minimum=True, open_maximum=True
+    ),
+    "calibrate.max_evaluations": Limit(
+        3, 10_000, "searches run per fit: each evaluation is one threshold search per test"
+    ),
 }
 
 
 def bound(key: str) -> dict:
-    """Keyword arguments ``maximum`` and ``why`` of :class:`reader.Section` for ``key``."""
-    maximum, why = BOUNDS[key]
-    return {"maximum": maximum, "why": why}
+    """Keyword arguments ``minimum``, ``maximum``, ``why`` (and ``strict`` for an open
+    minimum) of :meth:`reader.Section.number` and ``integer`` for ``key`` of :data:`LIMITS`."""
+    limit = LIMITS[key]
+    strict = {"strict": True} if limit.open_minimum else {}
+    return {"minimum": limit.minimum, "maximum": limit.maximum, "why": limit.why} | strict
 
 
 _MEAN_PRESSURE = {False: "p0 = P/(π a0²)", True: "p0 = P/(2 a0), P per unit length"}
@@ -83,15 +199,14 @@ _MEAN_PRESSURE = {False: "p0 = P/(π a0²)", True: "p0 = P/(2 a0), P per unit le
 def check_physical_ranges(source, material, punch, loading, sweep) -> None:
     """Moduli, load (as mean pressure over contact modulus), friction and wear coefficients
     inside what the model represents (see the constants above for the ranges and why)."""
-    low, high = MODULUS_RANGE
     for key in ("E_A", "E_B"):
-        value = getattr(material, key)
-        if not low <= value <= high:
+        value, limit = getattr(material, key), LIMITS[f"material.{key}"]
+        if not limit.holds(value):
             raise StudyConfigError(
                 source,
                 f"material.{key}",
                 value,
-                f"must lie in [{low:g}, {high:g}] MPa (from gels to a rigid punch modelled as "
+                f"must lie in {limit.accepted} MPa (from gels to a rigid punch modelled as "
                 "10^6 × steel; outside, the compliance leaves float64's useful range)",
             )
     modulus = contact_modulus(material)
@@ -111,33 +226,35 @@ def check_physical_ranges(source, material, punch, loading, sweep) -> None:
             f"{MAX_PRESSURE_OVER_MODULUS:g} (small strains)",
         )
     for key in ("mu1", "mu2"):
+        limit = LIMITS[f"sweep.{key}"]
         for value in getattr(sweep, key, None) or ():
-            if value > MAX_FRICTION:
+            if not limit.holds(value):
                 raise StudyConfigError(
                     source,
                     f"sweep.{key}",
                     value,
-                    f"friction coefficient must lie in [0, {MAX_FRICTION:g}] (real contacts: "
-                    "below ~2)",
+                    f"friction coefficient must lie in {limit.accepted} (real contacts: below ~2)",
                 )
     for key in ("wear1", "wear2"):
+        limit = LIMITS[f"sweep.{key}"]
         values = getattr(sweep, key, None)
         for value in values if isinstance(values, tuple) else ():
-            if value > MAX_WEAR_COEFFICIENT:
+            if not limit.holds(value):
                 raise StudyConfigError(
                     source,
                     f"sweep.{key}",
                     value,
-                    f"wear coefficient must lie in [0, {MAX_WEAR_COEFFICIENT:g}] 1/MPa "
+                    f"wear coefficient must lie in {limit.accepted} 1/MPa "
                     "(fretting tests: 1e-9 … 1e-6)",
                 )
+    limit = LIMITS["sweep.alpha"]
     for value in getattr(sweep, "alpha", None) or ():
-        if value > MAX_ENERGY_WEAR_COEFFICIENT:
+        if not limit.holds(value):
             raise StudyConfigError(
                 source,
                 "sweep.alpha",
                 value,
-                f"energy wear coefficient must lie in [0, {MAX_ENERGY_WEAR_COEFFICIENT:g}] "
+                f"energy wear coefficient must lie in {limit.accepted} "
                 "mm^3/J (fretting tests: 1e-6 … 1e-4; 1 mm^3/J at μ = 1 wears as fast as "
                 f"Archard's {MAX_WEAR_COEFFICIENT:g} 1/MPa)",
             )

@@ -100,10 +100,11 @@ class Section:
             raise self.error(key, value, "must be a non-empty string")
         return value
 
-    def poisson(self, key: str) -> float:
+    def poisson(self, key: str, limit) -> float:
+        """Poisson's ratio within ``limit`` (``engine.study.settings.checks.Limit``)."""
         value = self.number(key)
-        if not -1.0 < value < 0.5:
-            raise self.error(key, self.table[key], "Poisson ratio must lie in (-1, 0.5)")
+        if not limit.holds(value):
+            raise self.error(key, self.table[key], f"Poisson ratio must lie in {limit.accepted}")
         return value
 
     def number_list(
