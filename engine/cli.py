@@ -47,7 +47,7 @@ import traceback
 from pathlib import Path
 
 from engine._version import __version__
-from engine.exit_codes import ExitCode, epilog_text
+from engine.exit_codes import RUN_STATUSES, ExitCode, epilog_text, status_epilog
 from engine.interpreter import check_interpreter, launcher_mismatch
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = ExitCode.OK, ExitCode.FAILED, ExitCode.BAD_INPUT
@@ -82,7 +82,7 @@ _EPILOG = "\n".join(
     (
         textwrap.fill(
             "Relative paths ([study] output, --output) are taken from the working directory, "
-            "not from the folder of the study file. " + epilog_text(),
+            "not from the folder of the study file. " + epilog_text() + " " + status_epilog(),
             width=95,
         ),
         "Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run",
@@ -312,15 +312,7 @@ def _output_command(argv: list[str], prog: str | None) -> int:
 
 
 # StudyRun.status -> exit code (the module docstring lists what each means)
-EXIT_CODES = {
-    "completed": EXIT_OK,
-    "planned": EXIT_OK,
-    "failed": EXIT_FAILED,
-    "invalid": EXIT_BAD_INPUT,
-    "interrupted": EXIT_INTERRUPTED,
-    "damaged": EXIT_DAMAGED,
-    "output-full": EXIT_OUTPUT_FULL,
-}
+EXIT_CODES = {status.name: status.code for status in RUN_STATUSES}
 
 
 class _ConsoleHandler(logging.Handler):

@@ -1,10 +1,12 @@
 """The exit codes of the commands, defined once.
 
 :class:`ExitCode` holds the numbers; :data:`STUDY_RUN` says what each means for a study run
-(``python -m engine STUDY.toml``) and :data:`VERIFY` for ``python -m engine verify``. The
-command line returns these members, its ``--help`` epilog is :func:`epilog_text` of
-:data:`STUDY_RUN`, and ``scripts/reference.py`` writes the tables of
-``docs/reference/exit-codes.md`` from them (:func:`markdown_rows`).
+(``python -m engine STUDY.toml``) and :data:`VERIFY` for ``python -m engine verify``;
+:data:`RUN_STATUSES` names what a run can end as (``StudyRun.status`` of ``run_study``) and
+the code each exits with. The command line returns these members, its ``--help`` epilog is
+:func:`epilog_text` of :data:`STUDY_RUN` and :func:`status_epilog`, and
+``scripts/reference.py`` writes the tables of ``docs/reference/exit-codes.md`` and of the
+SLURM guide from them (:func:`markdown_rows`).
 
 This module imports nothing of the engine.
 """
@@ -14,7 +16,17 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass
 
-__all__ = ["ExitCode", "Meaning", "STUDY_RUN", "VERIFY", "LAUNCHER", "epilog_text"]
+__all__ = [
+    "ExitCode",
+    "Meaning",
+    "RunStatus",
+    "STUDY_RUN",
+    "RUN_STATUSES",
+    "VERIFY",
+    "LAUNCHER",
+    "epilog_text",
+    "status_epilog",
+]
 
 
 class ExitCode(enum.IntEnum):
@@ -87,6 +99,46 @@ STUDY_RUN = (
     ),
 )
 
+
+@dataclass(frozen=True)
+class RunStatus:
+    """What a study run can end as (``StudyRun.status``), the code the command line exits
+    with, and what it means (Markdown)."""
+
+    name: str
+    code: ExitCode
+    meaning: str
+
+
+#: Every status of a run, in the order of the exit codes.
+RUN_STATUSES = (
+    RunStatus("completed", ExitCode.OK, "every case completed"),
+    RunStatus("planned", ExitCode.OK, "a dry run (`--dry-run`): nothing computed or changed"),
+    RunStatus("failed", ExitCode.FAILED, "at least one case failed"),
+    RunStatus(
+        "invalid",
+        ExitCode.BAD_INPUT,
+        "bad input, an unusable output path, or an output in use by another run or holding "
+        "another study: nothing computed, nothing changed; the message says why",
+    ),
+    RunStatus(
+        "interrupted",
+        ExitCode.INTERRUPTED,
+        "stopped by a signal (or `run_study`'s `stop_event`): run again to resume",
+    ),
+    RunStatus(
+        "damaged",
+        ExitCode.DAMAGED,
+        "a case the run wrote cannot be read back: run again to recompute it",
+    ),
+    RunStatus(
+        "output-full",
+        ExitCode.OUTPUT_FULL,
+        "the output's file system is full: completed cases kept; free space and run again",
+    ),
+)
+
+
 #: What the launcher returns when a rank dies (not an exit code of the engine's own).
 LAUNCHER = (
     "a rank *died* (SIGKILL, OOM killer, node loss): `mpiexec` (Hydra) kills the other ranks "
@@ -121,6 +173,12 @@ VERIFY = (
 def epilog_text(meanings=STUDY_RUN) -> str:
     """``Exit codes: 0 every case completed, 1 a case failed, …`` for a ``--help`` epilog."""
     return "Exit codes: " + ", ".join(f"{m.code.value} {m.short}" for m in meanings) + "."
+
+
+def status_epilog() -> str:
+    """``Run statuses (exit code): completed 0, planned 0, …`` for a ``--help`` epilog."""
+    statuses = ", ".join(f"{status.name} {status.code.value}" for status in RUN_STATUSES)
+    return f"Run statuses (exit code): {statuses}."
 
 
 def markdown_rows(meanings, launcher: str | None = None) -> list[tuple[str, str]]:

@@ -46,6 +46,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from engine import exit_codes
 from engine.calibration.run import calibrate
 from engine.dry_run import idle_ranks_warning, plan_report, resumed_cases_line
 from engine.output.ensemble import write_ensemble
@@ -71,16 +72,9 @@ __all__ = ["StudyError", "StudyRun", "RUN_STATUSES", "run_study", "LOGGER"]
 LOGGER = logging.getLogger(__name__)
 logging.getLogger("engine").addHandler(logging.NullHandler())  # quiet unless configured
 
-# What a run can end as (StudyRun.status); the command line maps them to its exit codes.
-RUN_STATUSES = (
-    "completed",
-    "failed",
-    "invalid",
-    "interrupted",
-    "planned",
-    "damaged",
-    "output-full",
-)
+#: What a run can end as (StudyRun.status), defined with the exit code of each in
+#: engine.exit_codes.
+RUN_STATUSES = tuple(status.name for status in exit_codes.RUN_STATUSES)
 
 
 class StudyError(ValueError):

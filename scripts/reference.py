@@ -13,9 +13,12 @@ Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME 
   ``bundled-studies``: every study of ``studies/`` with the title and time of its header;
 - ``docs/reference/outputs.md``, ``summary-columns``: every summary column with its unit and
   meaning, and ``datasets``: every dataset of a case group with its units and description
-  (:mod:`engine.schema`, the table the writers and the reader share);
+  (:mod:`engine.schema`, the table the writers and the reader share), and ``calibration``:
+  the columns, attributes and subgroups of ``/calibration`` (:mod:`engine.output.calibration`);
 - ``docs/reference/exit-codes.md``, ``exit-codes-run`` and ``exit-codes-verify``: what each
-  exit code of a study run and of ``verify`` means (:mod:`engine.exit_codes`);
+  exit code of a study run and of ``verify`` means, and ``run-statuses``: what a run can end
+  as and the code of each (:mod:`engine.exit_codes`); ``docs/how-to/slurm.md``,
+  ``slurm-exit-codes``: what the batch script does with each code;
 - ``docs/reference/cli.md``, ``cli-run``, ``cli-plot``, ``cli-report``, ``cli-verify``: the
   help of each command as ``python -m engine`` prints it.
 """
@@ -45,6 +48,7 @@ STUDY_FILE = REPO / "docs" / "reference" / "study-file.md"
 OUTPUTS = REPO / "docs" / "reference" / "outputs.md"
 CLI = REPO / "docs" / "reference" / "cli.md"
 EXIT_CODES = REPO / "docs" / "reference" / "exit-codes.md"
+SLURM = REPO / "docs" / "how-to" / "slurm.md"
 
 
 def _code(text: str) -> str:
@@ -118,6 +122,20 @@ def datasets() -> str:
     rows += _dataset_rows(f"fatigue/{cycle}", fatigue_map_specs("N", BUILT_IN["criteria"]))
     rows += _dataset_rows("surface", schema.SURFACE_DATASETS)  # [surface]
     return markdown_table(("path in the case group", "units", "description"), rows)
+
+
+def calibration() -> str:
+    """The group ``/calibration`` of a calibration's results file: its columns (after the
+    tests' own keys), attributes and subgroups (:mod:`engine.output.calibration`)."""
+    from engine.output import calibration as table
+
+    rows = [(_code(name), unit, meaning) for name, (unit, meaning) in table.COLUMNS.items()]
+    columns = markdown_table(("dataset", "unit", "meaning"), rows)
+    rows = [(_code(name), meaning) for name, meaning in table.GROUP_ATTRIBUTES.items()]
+    rows += [
+        (_code(f"{name}/"), f"subgroup: {meaning}") for name, meaning in table.SUBGROUPS.items()
+    ]
+    return columns + "\n" + markdown_table(("attribute or subgroup", "meaning"), rows)
 
 
 def _header_title(line: str) -> str:
@@ -226,6 +244,33 @@ def exit_code_table(meanings, launcher=None) -> str:
     return markdown_table(("code", "meaning"), exit_codes.markdown_rows(meanings, launcher))
 
 
+def run_statuses() -> str:
+    """What a study run can end as (``StudyRun.status``) and the exit code of each."""
+    rows = [
+        (_code(status.name), str(status.code.value), status.meaning)
+        for status in exit_codes.RUN_STATUSES
+    ]
+    return markdown_table(("status", "exit code", "meaning"), rows)
+
+
+def slurm_exit_codes() -> str:
+    """What the batch script does with each exit code of the engine: 3 (interrupted) is the
+    only one it requeues on; every other code ends the job."""
+    rows = []
+    for meaning in exit_codes.STUDY_RUN:
+        statuses = [s.name for s in exit_codes.RUN_STATUSES if s.code == meaning.code]
+        then = (
+            "the pre-timeout signal: requeued (or chained) and resumed, up to `MAX_RESTARTS`; "
+            "`scancel`: CANCELLED, resubmit to resume (the table above)"
+            if meaning.code == exit_codes.ExitCode.INTERRUPTED
+            else "ends COMPLETED" if meaning.code == exit_codes.ExitCode.OK
+            else "ends FAILED, never requeued"
+        )  # fmt: skip
+        status = ", ".join(_code(name) for name in statuses) or "–"
+        rows.append((str(meaning.code.value), status, meaning.short, then))
+    return markdown_table(("exit code", "run status", "meaning", "the job"), rows)
+
+
 BLOCKS = {
     (STUDY_FILE, "study-keys"): study_keys,
     (STUDY_FILE, "sweepable-keys"): sweepable_keys,
@@ -233,10 +278,13 @@ BLOCKS = {
     (STUDY_FILE, "limits"): limits,
     (OUTPUTS, "summary-columns"): summary_columns,
     (OUTPUTS, "datasets"): datasets,
+    (OUTPUTS, "calibration"): calibration,
     (EXIT_CODES, "exit-codes-run"): lambda: exit_code_table(
         exit_codes.STUDY_RUN, exit_codes.LAUNCHER
     ),
     (EXIT_CODES, "exit-codes-verify"): lambda: exit_code_table(exit_codes.VERIFY),
+    (EXIT_CODES, "run-statuses"): run_statuses,
+    (SLURM, "slurm-exit-codes"): slurm_exit_codes,
     (CLI, "cli-run"): lambda: _help(),
     (CLI, "cli-plot"): lambda: _help("plot"),
     (CLI, "cli-report"): lambda: _help("report"),

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -127,6 +128,13 @@ def test_a_calibration_on_synthetic_tests_recovers_the_critical_distance(tmp_pat
     assert (frame["status"] == "converged").all()
     assert np.all(np.abs(frame["error"]) <= 2 * 2e-3), frame[["id", "error"]]
     assert list(frame["role"]) == ["calibrate", "calibrate", "predict"]
+    # the group holds the columns, attributes and subgroups the manual's reference describes
+    from engine.output.calibration import COLUMNS, GROUP_ATTRIBUTES, SUBGROUPS
+
+    with h5py.File(tmp_path / "fit" / "out" / "calibrate.h5", "r") as file:
+        group = file["calibration"]
+        assert set(group.attrs) == set(GROUP_ATTRIBUTES)
+        assert set(group) - {"punch.radius", "loading.load"} == set(COLUMNS) | set(SUBGROUPS)
     # the CSV beside the summary holds the same table and fitted value
     csv = engine.load_calibration(tmp_path / "fit" / "out" / "calibrate_calibration.csv")
     assert csv.attrs["fitted"] == frame.attrs["fitted"]

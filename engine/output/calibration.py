@@ -55,43 +55,72 @@ __all__ = [
     "load_calibration",
     "CALIBRATION_GROUP",
     "TABLE_COLUMNS",
+    "COLUMNS",
+    "GROUP_ATTRIBUTES",
+    "SUBGROUPS",
 ]
 
 CALIBRATION_GROUP = "calibration"
 TABLE_COLUMNS = ("measured", "predicted", "error", "role", "lower", "upper", "lower_value",
                  "upper_value", "steps", "status", "message")  # fmt: skip
-_TEXT = ("id", "role", "status", "message")
-_DESCRIPTIONS = {
-    "id": "the test's id (tests file)",
-    "measured": "measured threshold (tests file)",
-    "predicted": "threshold the engine predicts at the fitted values",
-    "error": "predicted / measured - 1",
-    "role": "calibrate: used by the fit; predict: predicted with the fitted values",
-    "lower": "final bracket of the test's search, lower end",
-    "upper": "final bracket of the test's search, upper end",
-    "lower_value": "the threshold column at lower",
-    "upper_value": "the threshold column at upper",
-    "steps": "values of the searched parameter the final search took",
-    "status": "how the final search ended",
-    "message": "why the search did not converge",
+#: The unit of a column that holds values of the searched parameter, or of the searched column.
+PARAMETER_UNIT = "the searched parameter's unit"
+COLUMN_UNIT = "the searched column's unit"
+#: Every column of the table after the tests' own keys: (unit, description). The units stored
+#: are the searched parameter's and column's (``[search]``); "1" dimensionless, "–" text.
+COLUMNS = {
+    "id": ("–", "the test's id (tests file)"),
+    "measured": (PARAMETER_UNIT, "measured threshold (tests file)"),
+    "predicted": (PARAMETER_UNIT, "threshold the engine predicts at the fitted values"),
+    "error": ("1", "predicted / measured - 1"),
+    "role": ("–", "calibrate: used by the fit; predict: predicted with the fitted values"),
+    "lower": (PARAMETER_UNIT, "final bracket of the test's search, lower end"),
+    "upper": (PARAMETER_UNIT, "final bracket of the test's search, upper end"),
+    "lower_value": (COLUMN_UNIT, "the threshold column at lower"),
+    "upper_value": (COLUMN_UNIT, "the threshold column at upper"),
+    "steps": ("1", "values of the searched parameter the final search took"),
+    "status": ("–", "how the final search ended"),
+    "message": ("–", "why the search did not converge"),
+}
+_DESCRIPTIONS = {name: description for name, (_, description) in COLUMNS.items()}
+#: The attributes of the group ``/calibration`` and its subgroups.
+GROUP_ATTRIBUTES = {
+    "column_order": "the table's columns in order: the test's id and keys, then the columns",
+    "fitted": "JSON: each fitted key and its value",
+    "fitted_units": "JSON: each fitted key and its unit",
+    "fit_status": "how the fit ended: converged, at-bound, not-converged, failed or predict-only",
+    "fit_message": "why the fit ended so",
+    "fit_evaluations": "evaluations of the fit (each: one threshold search per calibration test)",
+    "fit_residual": "√Σ r² over the calibration tests, r = predicted / measured − 1",
+    "column": "the searched summary column ([search] column)",
+    "target": "the column's value at the threshold ([search] target, or its fitted value)",
+    "calibrate": "JSON: the [calibrate] section",
+    "search": "JSON: the [search] section",
+}
+#: The subgroups of ``/calibration``: one row per evaluation, and the kept contact solutions.
+SUBGROUPS = {
+    "evaluations": "one row per evaluation of the fit: the values tried, the calibration "
+    "tests' thresholds, Σ r²",
+    "contact": "the kept contact solutions: test, x (the searched value), the evaluation "
+    "that solved it, converged (1 or 0)",
 }
 
 
 def _units(config, rows) -> dict[str, str]:
     line = config.punch.is_line
-    parameter = column_unit(config.search.parameter, line)
+    declared = {
+        PARAMETER_UNIT: column_unit(config.search.parameter, line),
+        COLUMN_UNIT: column_unit(config.search.column, line),
+        "1": "",
+        "–": "",
+    }
     units = {}
     for name in _columns(rows):
-        if name in ("measured", "predicted", "lower", "upper"):
-            units[name] = parameter
-        elif name in _TEXT or name in ("error", "steps"):
-            units[name] = ""
-        elif name in ("lower_value", "upper_value"):
-            unit = column_unit(config.search.column, line)
-            units[name] = "" if unit == "1" else unit
+        if name in COLUMNS:
+            unit = declared[COLUMNS[name][0]]
         else:
             unit = column_unit(name, line)
-            units[name] = "" if unit == "1" else unit
+        units[name] = "" if unit == "1" else unit
     return units
 
 
