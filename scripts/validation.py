@@ -26,12 +26,26 @@ from engine.analysis.markdown import markdown_table, measured_on, read_block, re
 
 REPO = Path(__file__).resolve().parents[1]
 DOCUMENT = REPO / "docs" / "explanation" / "validation.md"
-HEADER = ("check", "tolerance and why", "measured", "test")
+HEADER = ("check", "tolerance and why", "measured")
+#: The topic of the rows each test file records, in the page's words (a file not listed is
+#: titled by its name).
+TOPICS = {
+    "test_contact.py": "Flat punch: normal and frictional contact",
+    "test_influence.py": "Influence coefficients and the DC-FFT operator",
+    "test_profiles.py": "Sphere and rounded punch",
+    "test_stress_kernels.py": "Subsurface stress coefficients",
+    "test_subsurface.py": "Subsurface stresses",
+    "test_cycle_jump_convergence.py": "Cycle jumping",
+    "test_cyclic.py": "Wear over cycles",
+    "test_fretting.py": "Fretting",
+    "test_fretting_validation.py": "Fretting loops against Mindlin–Deresiewicz",
+    "test_line_validation.py": "Line contacts (plane strain)",
+}
 
 
-def _test_name(node: str) -> str:
-    """``tests/test_contact.py::test_x[64]`` -> ``test_contact.py::test_x``."""
-    return node.split("[", 1)[0].removeprefix("tests/")
+def _test_file(node: str) -> str:
+    """``tests/test_contact.py::test_x[64]`` -> ``test_contact.py``."""
+    return node.split("::", 1)[0].removeprefix("tests/")
 
 
 def _spaced(text: str) -> str:
@@ -54,33 +68,52 @@ def run(paths: list[str]) -> list[dict]:
     return [json.loads(line) for line in lines]
 
 
+def _title(file: str) -> str:
+    return TOPICS.get(file, file)
+
+
 def _existing_rows() -> list[tuple[str, ...]]:
-    """The rows of the committed table (to keep those of files not rerun)."""
-    rows = []
+    """(test file, check, tolerance, measured) of the committed tables (to keep those of the
+    files not rerun): the file is the one whose topic heads the row's table."""
+    files = {title: file for file, title in TOPICS.items()}
+    rows, file = [], ""
     for line in read_block(DOCUMENT, "validation").splitlines():
-        if line.startswith("| ") and not line.startswith(("| check |", "| --- |")):
+        if line.startswith("**") and line.endswith("**"):
+            title = line.strip("*")
+            file = files.get(title, title)
+        elif line.startswith("| ") and not line.startswith(("| check |", "| --- |")):
             cells = [cell.strip().replace("\\|", "|") for cell in line.strip("|").split(" | ")]
-            rows.append(tuple(cells))
+            rows.append((file, *cells))
     return rows
+
+
+def tables(rows: list[tuple[str, ...]]) -> str:
+    """One table per topic, in the order the topics first appear among ``rows``."""
+    files = list(dict.fromkeys(row[0] for row in rows))
+    parts = []
+    for file in files:
+        table = markdown_table(HEADER, [row[1:] for row in rows if row[0] == file])
+        parts.append(f"**{_title(file)}**\n\n{table}")
+    return "\n".join(parts)
 
 
 def main(argv: list[str] | None = None) -> int:
     paths = list(sys.argv[1:] if argv is None else argv)
     rows = [
         (
+            _test_file(row["test"]),
             row["check"],
             _spaced(row["tolerance"]),
             _spaced(row["measured"]),
-            f"`{_test_name(row['test'])}`",
         )
         for row in run(paths or ["tests"])
     ]
     if paths:  # keep the rows of the files not rerun, in their place
         rerun = {Path(path).name for path in paths}
-        kept = [row for row in _existing_rows() if row[3].strip("`").split("::")[0] not in rerun]
+        kept = [row for row in _existing_rows() if row[0] not in rerun]
         rows = kept + rows
-    note = "`python scripts/validation.py`: every row is a test marked `validation`"
-    replace_block(DOCUMENT, "validation", measured_on(note) + "\n" + markdown_table(HEADER, rows))
+    note = "`python scripts/validation.py`"
+    replace_block(DOCUMENT, "validation", measured_on(note) + "\n\n" + tables(rows))
     print(f"{DOCUMENT.relative_to(REPO)}: {len(rows)} rows")
     return 0
 
