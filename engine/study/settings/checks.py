@@ -88,7 +88,8 @@ LIMITS = {
     "loading.steps": Limit(
         1,
         10_000,
-        "increments per half cycle, each a full contact solve: 10^4 resolve any loading path",
+        "increments per half cycle (fretting: per quarter), each a full contact solve: 10^4 "
+        "resolve any loading path",
     ),
     "loading.cycles": Limit(1, 10**9, "fretting tests run 10^7 to 10^8 cycles"),
     "loading.max_wear_fraction": Limit(
