@@ -465,6 +465,28 @@ def test_every_table_of_the_performance_and_validation_pages_is_generated(page):
     )
 
 
+def test_one_command_takes_every_measured_block_again():
+    """scripts/remeasure.py runs the producer of every measured block of the manual (or names
+    the command of one whose figures are not times), so that one command on a quiet machine
+    takes them all again."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    try:
+        import remeasure
+    finally:
+        sys.path.remove(str(REPO / "scripts"))
+    run = {part for step in remeasure.steps(long=True) for part in step.command}
+    producer = re.compile(r"(?:benchmarks|scripts)/\w+\.py|engine\.analysis\.\w+|tests/slurm")
+    for path, _, name, body in _blocks():
+        header = body.splitlines()[0] if body.strip() else ""
+        if "load average" not in header:
+            continue
+        found = producer.search(header)
+        assert found, f"{_relative(path)}, block {name}: no producer named in {header!r}"
+        assert found.group(0) in run | set(remeasure.ELSEWHERE), (
+            f"{_relative(path)}, block {name}: {found.group(0)} is not run by remeasure.py"
+        )
+
+
 def test_every_page_of_the_manual_is_linked_from_its_index():
     """No orphan pages: docs/index.md links every Markdown page under docs/."""
     index = DOCS / "index.md"
