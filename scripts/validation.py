@@ -40,6 +40,7 @@ TOPICS = {
     "test_fretting.py": "Fretting",
     "test_fretting_validation.py": "Fretting loops against Mindlin–Deresiewicz",
     "test_line_validation.py": "Line contacts (plane strain)",
+    "test_search_run.py": "Threshold searches against the slip amplitude",
 }
 
 
@@ -113,7 +114,8 @@ def main(argv: list[str] | None = None) -> int:
         kept = [row for row in _existing_rows() if row[0] not in rerun]
         rows = kept + rows
     note = "`python scripts/validation.py`"
-    replace_block(DOCUMENT, "validation", measured_on(note) + "\n\n" + tables(rows))
+    header = measured_on(note).rstrip("\n")
+    replace_block(DOCUMENT, "validation", header + "\n\n" + tables(rows))
     print(f"{DOCUMENT.relative_to(REPO)}: {len(rows)} rows")
     return 0
 

@@ -69,7 +69,8 @@ def run(study: Path, *options: str) -> subprocess.CompletedProcess:
     )
 
 
-def test_sphere_transition_amplitude_against_mindlin(tmp_path):
+@pytest.mark.validation
+def test_sphere_transition_amplitude_against_mindlin(tmp_path, validation):
     """The search finds the partial/gross boundary within 1 % of Mindlin's δ_slip at n = 32
     (see the module docstring) in 12 cases, where a uniform grid of amplitudes reaching the
     same accuracy (spacing 2 tol over the bracket) needs 715."""
@@ -88,9 +89,17 @@ def test_sphere_transition_amplitude_against_mindlin(tmp_path):
     print(f"threshold {row.threshold * 1e3:.5f} µm vs δ_slip {slip * 1e3:.5f} µm: ")
     print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
     assert row.steps == 12 and grid_cases > 50 * row.steps
+    validation.record(
+        "threshold search, sphere (R = 10 mm, P = 100 N, μ = 0.5, K = 0), 32², rtol 1e-3: the "
+        "partial/gross-slip amplitude vs Mindlin's δ_slip",
+        "1 % (the discrete model's own transition at 32²; the search's error ≤ rtol)",
+        f"{row.threshold / slip - 1.0:+.2%}; {row.steps} cases (a uniform grid of the same "
+        f"accuracy: {grid_cases})",
+    )
 
 
-def test_cylinder_transition_amplitude_against_cattaneo_mindlin(tmp_path):
+@pytest.mark.validation
+def test_cylinder_transition_amplitude_against_cattaneo_mindlin(tmp_path, validation):
     """A steel cylinder on a steel flat (R = 6 mm, P = 185 N/mm, a = 0.113 mm, μ = 0.5, line
     contact): the searched partial/gross boundary against the closed form
     δ_slip = (μ p0 a/E*)(ln(2d/a) + 1/2)
@@ -123,6 +132,17 @@ def test_cylinder_transition_amplitude_against_cattaneo_mindlin(tmp_path):
         print(f"{row.steps} cases; a uniform grid of the same accuracy: {grid_cases}")
         assert row.steps <= 13 and grid_cases > 50 * row.steps
     assert table["mesh.reference_distance"].tolist() == datums
+    for datum, row in zip(datums, table.itertuples(), strict=True):
+        slip = line_slip_displacement(185.0, 6.0, modulus, 0.5, datum)
+        grid_cases = math.ceil((6e-3 - 1.5e-3) / (2 * SEARCH["rtol"] * row.threshold)) + 1
+        validation.record(
+            f"threshold search, cylinder (R = 6 mm, P = 185 N/mm, μ = 0.5), 64 elements, datum "
+            f"d = {datum:g} mm, rtol 1e-3: the partial/gross-slip amplitude vs "
+            "Cattaneo–Mindlin's δ_slip",
+            "0.5 % (the discrete transition at 64 elements; the search's error ≤ rtol)",
+            f"{row.threshold / slip - 1.0:+.2%}; {row.steps} cases (a uniform grid of the "
+            f"same accuracy: {grid_cases})",
+        )
 
 
 def test_a_search_study_stores_every_step_and_the_thresholds_table(tmp_path):
