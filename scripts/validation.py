@@ -41,6 +41,7 @@ TOPICS = {
     "test_fretting_validation.py": "Fretting loops against Mindlin–Deresiewicz",
     "test_line_validation.py": "Line contacts (plane strain)",
     "test_search_run.py": "Threshold searches against the slip amplitude",
+    "test_fatigue_validation.py": "Fatigue criteria on a line contact against McEwen's field",
 }
 
 
