@@ -219,6 +219,20 @@ _CONTEXT = {
     "surface.pixel_size": [{"surface": {"kind": "file", "path": str(DATA / "flat_map.txt"),
                                         "pixel_size": 0.5}}],
 }  # fmt: skip
+# A calibration: a force-controlled line fretting search of Crossland's risk over two tests.
+_CALIBRATION = [
+    {**CYLINDER_ON_STEEL, "sweep": {"mu1": [0.5], "wear1": [0.0]},
+     "loading": {"kind": "fretting", "load": 185.0},
+     "fatigue": {"criteria": ["crossland"], "sigma_d": 300.0, "tau_d": 200.0}},
+    {"search": {"parameter": "loading.force_amplitude", "relative_to": "mu_load", "low": 0.2,
+                "high": 0.95, "column": "crossland_risk_critical", "target": 1.0,
+                "rtol": 2e-3},
+     "calibrate": {"tests": str(DATA / "calibration_tests.csv"), "id": "test",
+                   "measured": "Q"}},
+]  # fmt: skip
+_CONTEXT |= {
+    f"calibrate.{name}": _CALIBRATION for name in ("fit_rtol", "max_evaluations", "low", "high")
+}
 _NUMERIC = sorted(
     f"{key.section}.{key.name}"
     for key in STUDY_KEYS
