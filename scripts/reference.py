@@ -212,6 +212,16 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         if key.minimum is not None or key.maximum is not None:
             limit = checks.Limit(key.minimum, key.maximum, key.why, open_minimum=key.strict)
             rows.append((dotted, limit.accepted, key.unit, key.why or "–"))
+    from engine.surface import config as surface
+
+    for name, (low, high, why) in surface.RANGES.items():
+        open_low = (name, "minimum") in surface.OPEN_ENDS
+        open_high = (name, "maximum") in surface.OPEN_ENDS
+        if isinstance(high, str):  # relative to the mesh
+            accepted = f"{'(' if open_low else '['}{_number(low)}, {high}]"
+        else:
+            accepted = checks.Limit(low, high, why, open_low, open_high).accepted
+        rows.append((f"surface.{name}", accepted, units[f"surface.{name}"], why))
     for name, (low, high, why) in fatigue.constant_ranges(CRITERIA.builtins).items():
         rows.append((f"fatigue.{name}", f"[{_number(low)}, {_number(high)}]",
                      units[f"fatigue.{name}"], why))  # fmt: skip

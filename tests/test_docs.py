@@ -646,7 +646,7 @@ _FATIGUE = {
 
 
 _INTEGER_KEYS = {"steps", "cycles", "n", "layers", "maxiter", "threads", "max_steps"}
-_INTEGER_KEYS |= {"max_evaluations"}
+_INTEGER_KEYS |= {"max_evaluations", "seed"}
 _NUMBER = r"-?\d+(?:\.\d+)?(?:e-?\d+)?"
 
 
@@ -665,6 +665,8 @@ def _outside(key: str, accepted: str) -> list[tuple[str, float]]:
 
     if key == "loading.load":  # p0/E* on the base flat punch: 1e-20 N and 1e9 N
         return [("below", 1e-20), ("above", 1e9)]
+    if "half_width" in accepted:  # a maximum relative to the mesh: the lower end here
+        return [("below", beyond(numbers[0], -1, accepted.startswith("(")))]
     if accepted.startswith(("≥", ">")):
         return [("below", beyond(numbers[0], -1, accepted.startswith(">")))]
     if accepted.startswith(("≤", "<")):
@@ -713,6 +715,11 @@ def _study_with(key: str, value: float, unit: str) -> list[dict]:
         return [_WEAR, _SPHERE, fretting, {"search": dict(search, **{name: value})}]
     if section == "calibrate":
         return _calibration_layers() + [{"calibrate": {name: value}}]
+    if section == "surface":
+        surface = _height_map_surface() if name == "pixel_size" else dict(_SELF_AFFINE)
+        if name == "rms_slope":
+            surface["rms_height"] = None
+        return [_WEAR, _SPHERE, {"mesh": {"n": 32}, "surface": dict(surface, **{name: value})}]
     return [_WEAR, {section: {name: value}}]
 
 

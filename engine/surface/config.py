@@ -40,6 +40,24 @@ DETREND = ("none", "mean", "plane")
 DEFAULT_HURST = 0.8
 MAX_SEED = 2**32 - 1
 MAX_SLOPE = 2.0  # rms slope: the half-space (Boussinesq) model assumes small slopes
+MAX_LONG_CUTOFF = 100.0  # × the mesh's length: beyond it the spectrum on the mesh is flat
+#: The ranges of the section's numbers, as the checks below read them and the manual's limits
+#: table states them: key: (minimum, maximum, why), each end included unless named in
+#: ``OPEN_ENDS``. A bound relative to the mesh is text: "2·half_width" (the mesh's length).
+RANGES = {
+    "seed": (0, MAX_SEED, "a 32-bit seed"),
+    "hurst": (0.0, 1.0, "a self-affine surface's Hurst exponent"),
+    "short_cutoff": (0.0, "2·half_width", "the mesh's length; and at least two elements"),
+    "long_cutoff": (
+        0.0, f"{MAX_LONG_CUTOFF:g} × 2·half_width",
+        "beyond, the spectrum on the mesh is flat; and at least short_cutoff",
+    ),
+    "rms_height": (0.0, "2·half_width", "the mesh's length"),
+    "rms_slope": (0.0, MAX_SLOPE, "a small-slope surface: the half-space model's assumption"),
+    "pixel_size": (0.0, "2·half_width", "the mesh's length"),
+}  # fmt: skip
+OPEN_ENDS = {("hurst", "minimum"), ("hurst", "maximum"), ("short_cutoff", "minimum"),
+             ("long_cutoff", "minimum"), ("pixel_size", "minimum")}  # fmt: skip
 SELF_AFFINE_KEYS = (
     "kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"
 )  # fmt: skip
@@ -101,10 +119,12 @@ def _only(s, kind: str, keys: tuple[str, ...]) -> None:
 def _self_affine(s, element: float, mesh) -> SurfaceConfig:
     _only(s, "self_affine", SELF_AFFINE_KEYS)
     length = 2.0 * mesh.half_width
-    seed = s.integer("seed", 0, minimum=0, maximum=MAX_SEED, why="a 32-bit seed")
-    hurst = s.number("hurst", DEFAULT_HURST, minimum=0.0, strict=True, maximum=1.0)
-    if hurst >= 1.0:
-        raise s.error("hurst", s.table["hurst"], "must lie in (0, 1)")
+    low, high, why = RANGES["seed"]
+    seed = s.integer("seed", 0, minimum=low, maximum=high, why=why)
+    low, high, _ = RANGES["hurst"]
+    hurst = s.number("hurst", DEFAULT_HURST, minimum=low, strict=True, maximum=high)
+    if hurst >= high:
+        raise s.error("hurst", s.table["hurst"], f"must lie in ({low:g}, {high:g})")
     short = s.number(
         "short_cutoff", minimum=0.0, strict=True, unit="mm", maximum=length,
         why="the mesh's length 2·half_width",
@@ -117,8 +137,8 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
             f"([mesh] n = {mesh.n}, half_width = {mesh.half_width:.6g} mm)",
         )
     long = s.number(
-        "long_cutoff", minimum=0.0, strict=True, unit="mm", maximum=100.0 * length,
-        why="100 × the mesh's length: beyond it the spectrum on the mesh is flat",
+        "long_cutoff", minimum=0.0, strict=True, unit="mm", maximum=MAX_LONG_CUTOFF * length,
+        why=f"{MAX_LONG_CUTOFF:g} × the mesh's length: beyond it the spectrum on the mesh is flat",
     )  # fmt: skip
     if long < short:
         raise s.error("long_cutoff", long, f"must be >= short_cutoff = {short:g} mm")
@@ -133,7 +153,8 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
     if key == "rms_height":
         value = s.number(key, minimum=0.0, unit="mm", maximum=length, why="the mesh's length")
     else:  # the half-space model is one of small slopes
-        value = s.number(key, minimum=0.0, maximum=MAX_SLOPE, why="a small-slope surface")
+        low, high, _ = RANGES["rms_slope"]
+        value = s.number(key, minimum=low, maximum=high, why="a small-slope surface")
     return SurfaceConfig(
         kind="self_affine",
         seed=seed,

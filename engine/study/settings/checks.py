@@ -70,7 +70,10 @@ class Limit:
 
 def _number(value: float) -> str:
     """``1e-12``, ``10000``, ``1e9``: a bound as the manual and the messages write it."""
-    return f"{value:g}".replace("e+0", "e").replace("e+", "e")
+    text = f"{value:g}"
+    if isinstance(value, int) and float(text) != value:
+        return str(value)  # an integer :g would round (2^32 − 1)
+    return text.replace("e+0", "e").replace("e+", "e")
 
 
 _LENGTH = LENGTH_REASON
