@@ -90,8 +90,12 @@ def _existing_rows() -> list[tuple[str, ...]]:
 
 
 def tables(rows: list[tuple[str, ...]]) -> str:
-    """One table per topic, in the order the topics first appear among ``rows``."""
-    files = list(dict.fromkeys(row[0] for row in rows))
+    """One table per topic, in the order of :data:`TOPICS` (a file not listed last)."""
+    order = list(TOPICS)
+    files = sorted(
+        dict.fromkeys(row[0] for row in rows),
+        key=lambda file: order.index(file) if file in order else len(order),
+    )
     parts = []
     for file in files:
         table = markdown_table(HEADER, [row[1:] for row in rows if row[0] == file])
@@ -110,10 +114,9 @@ def main(argv: list[str] | None = None) -> int:
         )
         for row in run(paths or ["tests"])
     ]
-    if paths:  # keep the rows of the files not rerun, in their place
+    if paths:  # keep the rows of the files not rerun
         rerun = {Path(path).name for path in paths}
-        kept = [row for row in _existing_rows() if row[0] not in rerun]
-        rows = kept + rows
+        rows = [row for row in _existing_rows() if row[0] not in rerun] + rows
     note = "`python scripts/validation.py`"
     header = measured_on(note).rstrip("\n")
     replace_block(DOCUMENT, "validation", header + "\n\n" + tables(rows))
