@@ -1,5 +1,7 @@
-"""Physical checks: values the model cannot represent are input errors (moduli, the load as
-mean pressure over the contact modulus, friction and wear coefficients, solver tolerance)."""
+"""The ranges a study file's numbers must lie in, declared once (:data:`LIMITS`, read by the
+parser through :func:`bound` and written into the manual's limits table), and the physical
+checks: values the model cannot represent are input errors (moduli, the load as mean pressure
+over the contact modulus, friction and wear coefficients, solver tolerance)."""
 
 from __future__ import annotations
 
