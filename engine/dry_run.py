@@ -119,14 +119,19 @@ def _values(plan, key: str) -> list:
     return sorted(value for value in values if value is not None)
 
 
+def _shown(value, form: str = "g") -> str:
+    """A value in ``form`` (a number) or as it is (a text: a swept ``surface.path`` …)."""
+    return value if isinstance(value, str) else format(value, form)
+
+
 def _range_text(values: Sequence[float], unit: str = "", form: str = "g") -> str:
     """``"750 N"``, ``"250, 500, 750 N"`` (up to four values), ``"250 … 1000 N (7 values)"``
     (``form``: the format of each value)."""
     suffix = f" {unit}" if unit and unit != "1" else ""
     if len(values) > 4:
-        first, last = format(values[0], form), format(values[-1], form)
+        first, last = _shown(values[0], form), _shown(values[-1], form)
         return f"{first} … {last}{suffix} ({len(values)} values)"
-    return ", ".join(format(value, form) for value in values) + suffix
+    return ", ".join(_shown(value, form) for value in values) + suffix
 
 
 def loading_description(config, plan) -> str:
@@ -196,7 +201,7 @@ def case_table(plan, todo, states, swept: Sequence[str]) -> list[str]:
     columns += [(name, 10, ".4g") for name in wear]
     columns += [(name, 6, "g") for name in CASE_PARAMETERS if name == "beta"]
     columns += [
-        (key, max(len(key), *(len(f"{case.parameters()[key]:g}") for case in plan)), "g")
+        (key, max(len(key), *(len(_shown(case.parameters()[key])) for case in plan)), "g")
         for key in swept
     ]
     header = "".join(f" {name:>{width}s}" for name, width, _ in columns)
@@ -204,7 +209,7 @@ def case_table(plan, todo, states, swept: Sequence[str]) -> list[str]:
     for case in plan:
         number = order.get(case.case_id)
         values = case.parameters()
-        cells = "".join(f" {values[name]:{width}{form}}" for name, width, form in columns)
+        cells = "".join(f" {_shown(values[name], form):>{width}}" for name, width, form in columns)
         action = states[case.case_id]
         lines.append(f"{case.case_id:<40s}{cells}  {number if number else '-':>5}  {action}")
     return lines

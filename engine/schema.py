@@ -75,6 +75,7 @@ __all__ = [
     "PARAMETERS",
     "CASE_PARAMETERS",
     "SWEPT_KEY_UNITS",
+    "SWEPT_TEXT_KEYS",
     "UNITS",
     "PER_UNIT_LENGTH",
     "contact_units",
@@ -556,6 +557,10 @@ SWEPT_KEY_UNITS = {
     "surface.rms_slope": "1",
     "surface.pixel_size": "mm",
 }
+#: Text keys ``[sweep]`` may vary, as lists of strings (``"surface.path" = ["a.npy",
+#: "b.npy"]``): their summary columns and case parameters hold the text, without a unit; the
+#: section's parser checks every value (engine.surface.config).
+SWEPT_TEXT_KEYS = ("surface.kind", "surface.path", "surface.units", "surface.detrend")
 #: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
 #: study uses it) with their units.
 PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")

@@ -7,7 +7,7 @@ from __future__ import annotations
 from engine.output.summary import column_unit
 from engine.study.config.keys import STUDY_KEYS
 
-__all__ = ["key_title", "key_label"]
+__all__ = ["key_title", "key_label", "value_text"]
 
 
 def key_title(key: str) -> str:
@@ -28,3 +28,9 @@ def key_label(key: str, line: bool = False) -> str:
     unit = "°" if unit == "degree" else unit
     title = key_title(key)
     return f"{title} ({unit})" if unit and unit != "1" else title
+
+
+def value_text(value, form: str = "g") -> str:
+    """A swept value in figures and reports: a number in ``form``, a text (a swept
+    ``surface.path``, ``surface.detrend`` …) as it is."""
+    return value if isinstance(value, str) else format(value, form)

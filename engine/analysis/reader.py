@@ -25,6 +25,7 @@ from engine.output.summary import column_unit
 from engine.schema import CaseStatus, contact_units
 from engine.study.kinds import KINDS
 
+from .names import value_text
 from .results import Records, ResultCase, VariableGroup, open_results
 
 __all__ = ["CaseResults", "StressPlane", "StudyResults", "read_results"]
@@ -146,7 +147,8 @@ class CaseResults:
             return column_unit(key) if stored == "1" else stored
 
         swept = "".join(
-            f", {key.rsplit('.', 1)[-1]} = {value:g}" + (f" {unit(key)}" if unit(key) else "")
+            f", {key.rsplit('.', 1)[-1]} = {value_text(value)}"
+            + (f" {unit(key)}" if unit(key) else "")
             for key, value in self.settings.items()
         )
         if self.isotropic:

@@ -4,9 +4,12 @@
   combination of the other swept keys: the topography h (µm), the contact spots at the final
   state over it, and the radially averaged power spectrum before and after wear;
 - ``ensemble_<key>.png``, for every swept key other than ``surface.seed`` in a study that
-  sweeps it: the mean over the realisations of the rough-surface and fretting columns against
-  the key, with the 95 % confidence band of the mean (:mod:`.ensemble`), one line per
-  combination of the remaining keys.
+  sweeps it: the mean over the realisations of the rough-surface columns and of the sweep
+  figures' quantities (:data:`.sweep_figures.SWEEP_QUANTITIES`, those with a non-zero
+  value) against the key (a text key's values as categories), with the 95 % confidence band
+  of the mean (:mod:`engine.output.ensemble`), one line per combination of the remaining
+  keys. Never a curve against the seed: a seed is a realisation, not a parameter (such a
+  study has no ``sweep_*.png``).
 """
 
 from __future__ import annotations
@@ -16,7 +19,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from engine.output.ensemble import SEED, ensemble_frame
-from engine.output.summary import load_summary
+from engine.output.summary import column_unit, load_summary
+
+from .names import key_label, value_text
+from .sweep_figures import SWEEP_QUANTITIES, key_positions, text_categories
 
 __all__ = ["surface_figures"]
 
@@ -31,6 +37,25 @@ ENSEMBLE_COLUMNS = (
     ("vm_max", "σ_VM max", 1.0, "MPa"),
     ("rms_height_worn", "rms height after wear", 1e3, "µm"),
 )
+_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")  # the ensemble's key columns
+
+
+def _drawn_columns(ensemble, line: bool) -> list[tuple[str, str, float, str]]:
+    """(column, name, scale, unit) of the ensemble figures: the rough-surface columns, then
+    the sweep figures' numeric quantities, each where some mean is finite and non-zero."""
+    drawn = list(ENSEMBLE_COLUMNS)
+    named = {column for column, *_ in drawn}
+    for quantity in SWEEP_QUANTITIES:
+        if quantity.categories or quantity.column in named:
+            continue
+        unit = column_unit(quantity.column, line) if quantity.unit is None else quantity.unit
+        drawn.append((quantity.column, quantity.name, quantity.scale, unit))
+    present = []
+    for column, name, scale, unit in drawn:
+        means = ensemble.get(f"{column}_mean")
+        if means is not None and np.any(np.isfinite(means) & (means.to_numpy(float) != 0.0)):
+            present.append((column, name, scale, unit.replace("^3", "³").replace("^2", "²")))
+    return present
 
 
 def surface_figures(study):
@@ -53,8 +78,10 @@ def surface_figures(study):
             yield f"surface_{case_id}.png", _case_figure(file["cases"][case_id], case_id)
     if SEED in study.swept_keys:
         ensemble = ensemble_frame(summary)
-        for key in others:
-            yield f"ensemble_{key}.png", _ensemble_figure(ensemble, key, others, study.name)
+        line = study.profile.is_line
+        for key in others if _drawn_columns(ensemble, line) else ():
+            figure = _ensemble_figure(ensemble, key, study.name, line)
+            yield f"ensemble_{key}.png", figure
 
 
 def _case_figure(group, case_id: str):
@@ -93,9 +120,14 @@ def _case_figure(group, case_id: str):
     return figure
 
 
-def _ensemble_figure(ensemble, key: str, others: list[str], title: str):
-    columns = [c for c in ENSEMBLE_COLUMNS if f"{c[0]}_mean" in ensemble]
-    rest = [k for k in others if k != key]
+def _ensemble_figure(ensemble, key: str, title: str, line: bool = False):
+    columns = _drawn_columns(ensemble, line)
+    rest = [
+        column for column in ensemble.columns
+        if column != key and (column in _PARAMETERS or "." in column)
+        and ensemble[column].nunique() > 1
+    ]  # fmt: skip
+    categories = text_categories(ensemble[key])
     count = len(columns)
     ncols = min(count, 4)
     nrows = -(-count // ncols)
@@ -107,14 +139,17 @@ def _ensemble_figure(ensemble, key: str, others: list[str], title: str):
     for index, (values, rows) in enumerate(groups):
         rows = rows.sort_values(key)
         values = values if isinstance(values, tuple) else (values,)
-        label = ", ".join(f"{k} = {v:g}" for k, v in zip(rest, values, strict=True)) or None
+        label = ", ".join(f"{k} = {value_text(v)}" for k, v in zip(rest, values, strict=True))
+        x = key_positions(rows[key], categories)
         for axis, (column, name, scale, unit) in zip(axes.flat, columns, strict=False):
             mean = rows[f"{column}_mean"].to_numpy(float) * scale
             low = rows[f"{column}_ci_low"].to_numpy(float) * scale
             high = rows[f"{column}_ci_high"].to_numpy(float) * scale
-            axis.plot(rows[key], mean, marker="o", color=f"C{index}", label=label)
-            axis.fill_between(rows[key], low, high, color=f"C{index}", alpha=0.25)
-            axis.set(xlabel=key, ylabel=f"{name} ({unit})" if unit else name)
+            axis.plot(x, mean, marker="o", color=f"C{index}", label=label or None)
+            axis.fill_between(x, low, high, color=f"C{index}", alpha=0.25)
+            axis.set(xlabel=key_label(key, line), ylabel=f"{name} ({unit})" if unit else name)
+            if categories is not None:
+                axis.set_xticks(range(len(categories)), categories, rotation=20, ha="right")
     for axis in list(axes.flat)[count:]:
         axis.set_visible(False)
     if rest:

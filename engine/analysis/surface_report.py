@@ -12,6 +12,7 @@ from engine.output.ensemble import SEED, ensemble_frame
 from engine.output.summary import load_summary
 
 from .markdown import measured_on, replace_block
+from .names import value_text
 from .reader import read_results
 
 __all__ = ["surface_report"]
@@ -57,7 +58,7 @@ def surface_report(study) -> str:
         "|" + "---|" * len(header),
     ]
     for _, row in ensemble.sort_values(keys).iterrows():
-        cells = [f"{row[key]:g}" for key in keys] + [str(int(row["realisations"]))]
+        cells = [value_text(row[key]) for key in keys] + [str(int(row["realisations"]))]
         cells += [_cell(row, column, scale, form) for column, _, scale, form in columns]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"

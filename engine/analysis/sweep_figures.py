@@ -1,10 +1,13 @@
 """Figures of studies that sweep dotted keys (load, modulus, mesh, punch radius, amplitude …).
 
-``python -m engine plot RESULTS.h5`` draws, for every swept dotted key ``K``, the figure
-``sweep_<K>.png``: each summary quantity of the completed cases against the values of ``K``,
-one line per combination of the other swept parameters (μ, wear coefficient, β and the other
-dotted keys), in the summary's units (engine/output/summary.py) except wear depth and
-approach, drawn in µm. The quantities (those the study has values for):
+``python -m engine plot RESULTS.h5`` draws, for every swept dotted key ``K`` (a text key's
+values as categories), the figure ``sweep_<K>.png``: each summary quantity of the completed
+cases against the values of ``K``, one line per combination of the other swept parameters
+(μ, wear coefficient, β and the other dotted keys), in the summary's units
+(engine/output/summary.py) except wear depth and approach, drawn in µm. A study sweeping
+``surface.seed`` gets none: its seeds are realisations, and :mod:`.surface_figures` draws
+the means over them with their 95 % bands against the other keys. The quantities (those the
+study has values for):
 
 cyclic and static studies
     maximum wear depth, wear volume, σ_VM maximum over the x–z plane and below its surface
@@ -26,6 +29,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
+from engine.output.ensemble import SEED
 from engine.output.summary import column_unit, load_summary
 
 from .names import key_label, key_title
@@ -39,6 +43,8 @@ __all__ = [
     "key_title",
     "key_label",
     "readable_log_axis",
+    "key_positions",
+    "text_categories",
 ]
 
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
@@ -120,9 +126,26 @@ def _same_as(groups, drawn: dict[int, np.ndarray], data: np.ndarray, x: np.ndarr
     return None
 
 
+def key_positions(values: pd.Series, categories: list | None = None) -> np.ndarray:
+    """Where the values of a swept key sit on an x axis: the numbers themselves, or a text
+    key's values (a swept ``surface.path`` …) at 0, 1, 2 … in the order of ``categories``
+    (:func:`text_categories`)."""
+    if categories is None:
+        return values.astype(float).to_numpy()
+    return values.map({value: number for number, value in enumerate(categories)}).to_numpy(float)
+
+
+def text_categories(values: pd.Series) -> list | None:
+    """The sorted distinct values of a text key's column, None for a numeric one."""
+    if pd.api.types.is_numeric_dtype(values):
+        return None
+    return sorted(values.dropna().unique())
+
+
 def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, line: bool = False):
-    """One panel per quantity against ``key``; one line per combination of the others
-    (``line``: a line contact's study, its units per unit length)."""
+    """One panel per quantity against ``key`` (a text key's values as categories); one line
+    per combination of the others (``line``: a line contact's study, its units per unit
+    length)."""
     rows = _completed(summary)
     quantities = _present(rows)
     columns = min(3, max(len(quantities), 1))
@@ -131,15 +154,18 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
         count, columns, figsize=(4.4 * columns + 2.6, 3.3 * count), squeeze=False,
         layout="constrained",
     )  # fmt: skip
-    values = rows[key].astype(float)
-    logarithmic = bool((values > 0).all() and values.max() >= 10.0 * values.min())
+    categories = text_categories(rows[key])
+    values = pd.Series(key_positions(rows[key], categories))
+    logarithmic = categories is None and bool(
+        (values > 0).all() and values.max() >= 10.0 * values.min()
+    )
     groups = list(_groups(rows, key, swept))
     hidden = set()  # groups whose curve lies on an earlier one in some panel
     for axis, quantity in zip(axes.flat, quantities, strict=False):
         drawn: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         for number, (label, group) in enumerate(groups):
             data = _plotted(group[quantity.column], quantity)
-            x = group[key].astype(float).to_numpy()
+            x = key_positions(group[key], categories)
             style = {"marker": _MARKERS[number % len(_MARKERS)], "ms": 5, "lw": 1.4}
             same = _same_as(groups, drawn, data, x)
             if same is not None:  # on top of an earlier curve: dashed, hollow, larger
@@ -153,6 +179,8 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
         if logarithmic and axis.has_data():
             axis.set_xscale("log")
             readable_log_axis(axis, "x")
+        if categories is not None:
+            axis.set_xticks(range(len(categories)), categories, rotation=20, ha="right")
         axis.set_xlabel(key_label(key, line))
         axis.set_ylabel(quantity.label(line))
         axis.grid(alpha=0.3, which="both")
@@ -170,9 +198,12 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
 
 
 def sweep_figures(study: StudyResults):
-    """(file name, figure) of ``sweep_<key>.png`` for every swept dotted key, one at a time."""
+    """(file name, figure) of ``sweep_<key>.png`` for every swept dotted key, one at a time.
+    None for a study sweeping ``surface.seed``: its seeds are realisations, not a parameter,
+    and :mod:`.surface_figures` draws the means over them with their bands against the
+    other keys instead."""
     keys = study.swept_keys
-    if not keys:
+    if not keys or SEED in keys:
         return
     summary = load_summary(study.path)
     if _completed(summary).empty:

@@ -28,7 +28,7 @@ import pandas as pd
 from engine.output.summary import column_unit
 from engine.schema import PARAMETERS, SUMMARY_COLUMNS, CaseStatus, contact_units
 
-from .names import key_label, key_title
+from .names import key_label, key_title, value_text
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
@@ -52,7 +52,9 @@ def _groups(summary: pd.DataFrame, key: str, swept: Sequence[str]):
         return
     for values, rows in summary.groupby(others, sort=True):
         values = values if isinstance(values, tuple) else (values,)
-        label = ", ".join(f"{name} = {value:g}" for name, value in zip(others, values, strict=True))
+        label = ", ".join(
+            f"{name} = {value_text(value)}" for name, value in zip(others, values, strict=True)
+        )
         yield label, rows.sort_values(key)
 
 
@@ -68,7 +70,7 @@ def _named(column: str, line: bool = False) -> str:
 def _number(value) -> str:
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return "–"
-    return f"{value:.5g}"
+    return value_text(value, ".5g")
 
 
 def key_table(

@@ -16,7 +16,9 @@ adding a value to a list keeps the ids — and the completed results — of ever
     mu0.1_w1.33e-07_b0_load750_n64        # with "loading.load" and "mesh.n" swept
 
 Each swept key appends ``_<name><value>``, ``name`` being the last part of the dotted key
-(the whole key with ``-`` for ``.`` should two swept keys share it).
+(the whole key with ``-`` for ``.`` should two swept keys share it); a text value (a swept
+``surface.path``, ``surface.detrend`` …) appears as its file name without folder and suffix
+(``_pathground`` for ``"maps/ground.npy"``).
 
 Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in degrees.
 """
@@ -25,7 +27,9 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 from dataclasses import dataclass
+from pathlib import PurePath
 from typing import TYPE_CHECKING, Any
 
 from engine.schema import CASE_PARAMETERS
@@ -39,7 +43,12 @@ if TYPE_CHECKING:  # annotations only: the configuration package parses the kind
 __all__ = ["Case", "Plan", "make_plan", "case_id_for", "cost_scale", "setting_names"]
 
 
-def _format(value: float) -> str:
+def _format(value: float | int | str) -> str:
+    """A value in a case id: an integer as is, a number to 10 significant digits, a text as
+    its last path component without its suffix, with every character other than a letter,
+    digit, ``_``, ``+`` or ``-`` made ``-`` (``"maps/ground.npy"`` → ``ground``)."""
+    if isinstance(value, str):
+        return re.sub(r"[^A-Za-z0-9_+-]", "-", PurePath(value).stem) or "-"
     if isinstance(value, int):
         return str(value)
     return format(value, ".10g")
@@ -253,12 +262,14 @@ def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -
     differ only beyond the 10 significant digits of the id."""
     differing = [(key, a, b) for (key, a), (_, b) in zip(first, second, strict=True) if a != b]
     key, a, b = differing[0] if differing else (first[0][0], first[0][1], second[0][1])
+    why = (
+        "the texts differ only in their folder, suffix or characters other than letters, "
+        "digits, _, + and -"
+        if isinstance(a, str)
+        else "the values differ only beyond 10 significant digits"
+    )
     return StudyConfigError(
-        source,
-        f"sweep.{key}",
-        [a, b],
-        f"two cases get the same id {case_id!r}: the values differ only beyond 10 "
-        "significant digits",
+        source, f"sweep.{key}", [a, b], f"two cases get the same id {case_id!r}: {why}"
     )
 
 

@@ -18,7 +18,11 @@ file:
 ``units``            unit of the heights: "m", "mm" ["mm"], "um", "nm"
 ``detrend``          "none", "mean" or "plane" ["plane"]: what is removed before resampling
 
-Every numeric key is sweepable (``"surface.seed"``, ``"surface.rms_height"`` …). The checks
+Every key is sweepable: the numbers (``"surface.seed"``, ``"surface.rms_height"`` …) as lists
+of numbers, the texts (``"surface.path"``, ``"surface.units"``, ``"surface.detrend"``,
+``"surface.kind"``) as lists of strings, each value checked here as if it were written in the
+section. A study sweeping ``surface.kind`` gives the keys of both kinds in ``[surface]``; each
+case reads those of its kind. The checks
 that need the mesh (a short cutoff below two elements, a map smaller than the mesh) and the
 file's contents (missing, unreadable, NaN) are made here, while the study is parsed, so a bad
 surface exits with status 2 before anything is written.
@@ -95,15 +99,19 @@ class SurfaceConfig:
         return hashlib.sha256(Path(self.path).read_bytes()).hexdigest()
 
 
-def parse_surface(s, mesh, is_line: bool) -> SurfaceConfig:
+def parse_surface(s, mesh, is_line: bool, *, kind_swept: bool = False) -> SurfaceConfig:
     """Read ``[surface]`` (``s``: an ``engine.study.config.reader.Section``) for a study
-    whose mesh is ``mesh`` (``n``, ``half_width``, mm) and whose contact is a line one or not;
-    raises the reader's ``StudyConfigError`` naming the key and the value."""
+    whose mesh is ``mesh`` (``n``, ``half_width``, mm) and whose contact is a line one or not
+    (``kind_swept``: ``[sweep]`` varies ``surface.kind``, so the keys of the other kind are
+    allowed and left for the cases of that kind); raises the reader's ``StudyConfigError``
+    naming the key and the value."""
     s.check_known(set(SELF_AFFINE_KEYS) | set(FILE_KEYS))
     kind = s.string("kind")
     if kind not in KINDS:
         raise s.error("kind", kind, 'must be "self_affine" or "file"')
     element = 2.0 * mesh.half_width / mesh.n
+    if not kind_swept:
+        _only(s, kind, SELF_AFFINE_KEYS if kind == "self_affine" else FILE_KEYS)
     if kind == "self_affine":
         return _self_affine(s, element, mesh)
     return _file(s, mesh, is_line)
@@ -117,7 +125,6 @@ def _only(s, kind: str, keys: tuple[str, ...]) -> None:
 
 
 def _self_affine(s, element: float, mesh) -> SurfaceConfig:
-    _only(s, "self_affine", SELF_AFFINE_KEYS)
     length = 2.0 * mesh.half_width
     low, high, why = RANGES["seed"]
     seed = s.integer("seed", 0, minimum=low, maximum=high, why=why)
@@ -166,7 +173,6 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
 
 
 def _file(s, mesh, is_line: bool) -> SurfaceConfig:
-    _only(s, "file", FILE_KEYS)
     path = s.string("path")
     pixel = s.number(
         "pixel_size", minimum=0.0, strict=True, unit="mm", maximum=2.0 * mesh.half_width,

@@ -163,7 +163,7 @@ class StudyConfig:
         settings = dict(settings)
         if not settings:
             return self
-        case = _parse_tables(substituted(self.tables, settings), self.source)
+        case = _parse_tables(substituted(self.tables, settings), self.source, set(settings))
         return dataclasses.replace(
             case,
             study=self.study,
@@ -196,6 +196,8 @@ class StudyConfig:
             if field.name == "surface":
                 if self.surface is not None:
                     resolved = self.surface.resolved()
+                    if "surface.kind" in swept:  # the other kind's keys too, as given
+                        resolved = {**self.tables.get("surface", {}), **resolved}
                     out["surface"] = {
                         k: v for k, v in resolved.items() if f"surface.{k}" not in swept
                     }
@@ -246,9 +248,25 @@ class StudyConfig:
         resolved["solver"].pop("threads", None)
         if self.sweep.swept_keys:  # which keys vary is part of the study's identity
             resolved["swept_keys"] = sorted(self.sweep.swept_keys)
-        if self.surface is not None and self.surface.identity() is not None:
-            resolved["surface_file_sha256"] = self.surface.identity()  # a measured map's bytes
+        identities = self._surface_identities()
+        if identities:  # a measured map's bytes: the first case's, or every swept path's
+            resolved["surface_file_sha256"] = (
+                identities if len(identities) > 1 else next(iter(identities.values()))
+            )
         return json.dumps(resolved, sort_keys=True)
+
+    def _surface_identities(self) -> dict[str, str]:
+        """{path: SHA-256} of the measured height maps the cases read (none without one)."""
+        if self.surface is None:
+            return {}
+        paths = {self.surface.path} if self.surface.kind == "file" else set()
+        if "path" in self.tables.get("surface", {}):  # the file cases of a swept kind
+            paths.add(self.tables["surface"]["path"])
+        for axis in self.sweep.axes:
+            if "surface.path" in axis.keys:
+                paths.update(values[axis.keys.index("surface.path")] for values in axis.values)
+        template = dataclasses.replace(self.surface, kind="file")
+        return {path: dataclasses.replace(template, path=path).identity() for path in sorted(paths)}
 
 
 # A study file is a few kB (a sweep of thousands of values, a few hundred kB); its tables
@@ -336,7 +354,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
         first[search.parameter] = search.low
     swept = set(first)
     try:
-        config = _parse_tables(substituted(tables, first), source)
+        config = _parse_tables(substituted(tables, first), source, swept)
     except StudyConfigError as error:
         if search is not None and error.key == search.parameter:
             problem = f"invalid: {error.problem}"
@@ -350,7 +368,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
             settings = dict(first)
             settings.update(zip(axis.keys, axis.values[position], strict=True))
             try:
-                _parse_tables(substituted(tables, settings), source)
+                _parse_tables(substituted(tables, settings), source, swept)
             except StudyConfigError as error:
                 raise axis_error(source, axis, position, error) from None
     if search is not None:
@@ -387,14 +405,15 @@ def _check_search_end(source: str, search, tables: dict[str, Any], first: dict) 
     settings = dict(first)
     settings[search.parameter] = search.high
     try:
-        _parse_tables(substituted(tables, settings), source)
+        _parse_tables(substituted(tables, settings), source, set(settings))
     except StudyConfigError as error:
         problem = f"invalid: {error.problem}"
         raise StudyConfigError(source, "search.high", search.high, problem) from None
 
 
-def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
-    """Validate the TOML tables (``[sweep]`` without dotted keys) into a StudyConfig."""
+def _parse_tables(data: dict[str, Any], source: str, swept=frozenset()) -> StudyConfig:
+    """Validate the TOML tables (``[sweep]`` without dotted keys, ``swept`` the dotted keys
+    written into them) into a StudyConfig."""
     for name in data:
         if name not in SECTIONS_REQUIRED + SECTIONS_OPTIONAL:
             raise StudyConfigError(
@@ -423,7 +442,9 @@ def _parse_tables(data: dict[str, Any], source: str) -> StudyConfig:
     solver = _parse_solver(section("solver"), loading)
     testing = _parse_testing(section("testing"))
     fatigue = _parse_fatigue(section("fatigue"), loading) if "fatigue" in data else None
-    surface = _parse_surface(section("surface"), mesh, punch) if "surface" in data else None
+    surface = None
+    if "surface" in data:
+        surface = _parse_surface(section("surface"), mesh, punch, "surface.kind" in swept)
     check_physical_ranges(source, material, punch, loading, sweep)
     _check_line_keys(source, punch, loading, wear)
     derived = tuple(
@@ -610,9 +631,9 @@ def _parse_fatigue(s: Section, loading: LoadingConfig):
     return config
 
 
-def _parse_surface(s: Section, mesh: MeshConfig, punch: PunchConfig):
+def _parse_surface(s: Section, mesh: MeshConfig, punch: PunchConfig, kind_swept: bool):
     """The ``[surface]`` section (``engine.surface.config``): roughness on any profile."""
-    return parse_surface(s, mesh, punch.is_line)
+    return parse_surface(s, mesh, punch.is_line, kind_swept=kind_swept)
 
 
 def _parse_subsurface(s: Section) -> SubsurfaceConfig:

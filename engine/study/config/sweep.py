@@ -5,7 +5,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from engine.study.settings.sections import MISSING, SWEEPABLE, StudyConfigError, SweepAxis
+from engine.study.settings.sections import (
+    MISSING,
+    SWEEPABLE,
+    SWEEPABLE_TEXT,
+    StudyConfigError,
+    SweepAxis,
+)
 
 SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
 SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue", "surface")
@@ -78,10 +84,9 @@ def split_sweep(source: str, data: dict[str, Any]) -> tuple[tuple[SweepAxis, ...
 
 def _check_sweep_list(source: str, key: str, value: Any, data: dict[str, Any]) -> None:
     error_key = f"sweep.{key}"
-    if key not in SWEEPABLE:
-        raise StudyConfigError(
-            source, error_key, value, "not a sweepable key (known: " + ", ".join(SWEEPABLE) + ")"
-        )
+    if key not in SWEEPABLE and key not in SWEEPABLE_TEXT:
+        known = ", ".join((*SWEEPABLE, *SWEEPABLE_TEXT))
+        raise StudyConfigError(source, error_key, value, f"not a sweepable key (known: {known})")
     section, name = key.split(".", 1)
     if isinstance(data.get(section), dict) and name in data[section]:
         raise StudyConfigError(
@@ -90,14 +95,16 @@ def _check_sweep_list(source: str, key: str, value: Any, data: dict[str, Any]) -
     values = value if isinstance(value, list) else [value]
     if not values:
         raise StudyConfigError(source, error_key, value, "must list at least one value")
+    text = key in SWEEPABLE_TEXT  # a list of strings; the section's parser checks each one
     for position, item in enumerate(values):
-        if isinstance(item, bool) or not isinstance(item, (int, float)):
-            raise StudyConfigError(
-                source,
-                error_key,
-                item,
-                f"list position {position + 1} of {len(values)}: must be a number",
-            )
+        if text and not isinstance(item, str):
+            problem = "must be a text (a quoted string)"
+        elif not text and (isinstance(item, bool) or not isinstance(item, (int, float))):
+            problem = "must be a number"
+        else:
+            continue
+        where = f"list position {position + 1} of {len(values)}"
+        raise StudyConfigError(source, error_key, item, f"{where}: {problem}")
     if len(set(values)) != len(values):
         raise StudyConfigError(source, error_key, value, "values must not repeat")
 

@@ -14,7 +14,7 @@ from typing import Any
 from engine.geometry import DEFAULT_SHAPE, PROFILES, Profile, profile_for
 from engine.schema import CASE_PARAMETERS
 
-from .units import SWEEPABLE
+from .units import SWEEPABLE, SWEEPABLE_TEXT
 
 # Every name here is public and re-exported by the package (engine.study.config).
 __all__ = [
@@ -35,6 +35,7 @@ __all__ = [
     "PROPORTIONAL",
     "PUNCH_SHAPES",
     "SWEEPABLE",
+    "SWEEPABLE_TEXT",
     "WEAR_LAWS",
 ]
 
@@ -182,7 +183,7 @@ class SweepAxis:
     ``values[i]`` holds one value per key at list position i."""
 
     keys: tuple[str, ...]
-    values: tuple[tuple[float | int, ...], ...]
+    values: tuple[tuple[float | int | str, ...], ...]  # str: a text key (SWEEPABLE_TEXT)
 
     def __len__(self) -> int:
         return len(self.values)

@@ -20,6 +20,7 @@ from engine.study.fatigue import fatigue_column_specs, fatigue_sweepable
 
 __all__ = [
     "SWEEPABLE",
+    "SWEEPABLE_TEXT",
     "sweepable_keys",
     "summary_columns",
     "unit_of",
@@ -56,6 +57,9 @@ def sweepable_keys(profiles=None, criteria=None) -> dict[str, str]:
 #: Scalars that ``[sweep]`` accepts under their dotted key, with their units (the summary
 #: columns and case parameters of a swept key carry these).
 SWEEPABLE = sweepable_keys()
+#: Text keys that ``[sweep]`` accepts as lists of strings (no unit; the section's parser
+#: checks each value): :data:`engine.schema.SWEPT_TEXT_KEYS`.
+SWEEPABLE_TEXT = schema.SWEPT_TEXT_KEYS
 
 
 def summary_columns(criteria=None) -> dict[str, tuple[str, str]]:
@@ -91,5 +95,5 @@ def parameter_units(parameters, line: bool = False) -> dict[str, str]:
     """Units of a case's parameter attributes: :data:`engine.schema.PARAMETER_UNITS` and those
     of the swept dotted keys among ``parameters`` (names), in a 3-D or a line contact."""
     units = dict(schema.PARAMETER_UNITS)
-    units.update({name: SWEEPABLE[name] for name in parameters if "." in name})
+    units.update({name: SWEEPABLE.get(name, "") for name in parameters if "." in name})
     return {name: schema.contact_units(unit, line) for name, unit in units.items()}
