@@ -377,6 +377,7 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
     from engine.analysis.reader import read_results
     from engine.analysis.report import study_report
     from engine.analysis.surface_figures import surface_figures
+    from engine.analysis.sweep_figures import sweep_figures
 
     surface = {key: value for key, value in ROUGH.items() if key != "rms_height"}
     text = _rough_study(
@@ -394,5 +395,100 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
         "surface_mu0.3_w0_b0_seed1_rms_height0.0002.png",
         "ensemble_surface.rms_height.png",
     }
+    # the seeds are realisations: no figure against the seed, nor one line per seed
+    assert list(sweep_figures(read_results(run.output))) == []
     report = study_report(run.output)
     assert "| surface.rms_height | realisations |" in report
+
+
+# ------------------------------------------------------------------ text keys under [sweep]
+def _two_maps(tmp_path):
+    """Two 64 × 64 height maps (µm) in folders of their own; [surface] of kind "file"."""
+    rng = np.random.default_rng(3)
+    for folder in ("ground", "turned"):
+        (tmp_path / folder).mkdir()
+        np.save(tmp_path / folder / f"{folder}.npy", rng.standard_normal((64, 64)) * 0.2)
+    return {"kind": "file", "pixel_size": 0.01, "units": "um"}
+
+
+def test_the_text_keys_of_the_surface_are_swept(tmp_path):
+    """surface.path and surface.detrend take lists of strings: one case per map and detrend,
+    each case reading its own map, the text in the case id without folder and suffix."""
+    from engine.study.plan import make_plan
+
+    paths = [str(tmp_path / "ground" / "ground.npy"), str(tmp_path / "turned" / "turned.npy")]
+    text = _rough_study(tmp_path, "maps", surface=_two_maps(tmp_path),
+                        loading={"kind": "static", "load": 100.0})  # fmt: skip
+    sweep = f'[sweep]\n"surface.path" = {paths!r}\n"surface.detrend" = ["none", "plane"]\n'
+    text = text.replace("[sweep]\n", sweep.replace("'", '"'))
+    config = parse_study(text)
+    plan = make_plan(config)
+    assert [case.case_id.split("_b0_")[1] for case in plan] == [
+        "pathground_detrendnone", "pathground_detrendplane",
+        "pathturned_detrendnone", "pathturned_detrendplane",
+    ]  # fmt: skip
+    case = config.for_case(plan.cases[3].settings)
+    assert (case.surface.path, case.surface.detrend) == (paths[1], "plane")
+    assert case.surface.units == "um"
+    before = config.fingerprint()  # every swept map's bytes, not only the first case's
+    np.save(paths[1], np.zeros((64, 64)))
+    assert parse_study(text).fingerprint() != before
+
+
+def test_a_swept_kind_reads_the_keys_of_each_kind(tmp_path):
+    """``surface.kind`` swept: [surface] holds both kinds' keys, each case reads its own."""
+    from engine.study.plan import make_plan
+
+    surface = _two_maps(tmp_path) | ROUGH | {"path": str(tmp_path / "ground" / "ground.npy")}
+    del surface["kind"]
+    text = _rough_study(tmp_path, "kinds", surface=surface,
+                        loading={"kind": "static", "load": 100.0})  # fmt: skip
+    sweep = '[sweep]\n"surface.kind" = ["self_affine", "file"]\n'
+    config = parse_study(text.replace("[sweep]\n", sweep))
+    kinds = [config.for_case(case.settings).surface for case in make_plan(config)]
+    assert [(s.kind, s.rms_height, s.units) for s in kinds] == [
+        ("self_affine", 2e-4, None), ("file", None, "um")
+    ]  # fmt: skip
+    assert config.resolved()["surface"]["path"] == surface["path"]  # in the stored study
+
+
+@pytest.mark.parametrize(
+    ("sweep", "key", "value", "problem"),
+    [
+        ('"surface.detrend" = ["plane", "quadratic"]', "sweep.surface.detrend", "quadratic",
+         'must be "none", "mean" or "plane"'),
+        ('"surface.units" = ["um", "inch"]', "sweep.surface.units", "inch", "must be"),
+        ('"surface.path" = ["missing.npy"]', "sweep.surface.path", "missing.npy",
+         "cannot read the height map"),
+        ('"surface.path" = [1.0]', "sweep.surface.path", 1.0, "must be a text"),
+        ('"surface.pixel_size" = ["0.01"]', "sweep.surface.pixel_size", "0.01",
+         "must be a number"),
+    ],
+)  # fmt: skip
+def test_a_bad_swept_text_names_its_key_and_value(tmp_path, sweep, key, value, problem):
+    surface = _two_maps(tmp_path) | {"path": str(tmp_path / "ground" / "ground.npy")}
+    for name in ("path", "pixel_size", "units", "detrend"):
+        if f'"surface.{name}"' in sweep:
+            surface.pop(name, None)
+    text = _rough_study(tmp_path, "bad", surface=surface,
+                        loading={"kind": "static", "load": 100.0})  # fmt: skip
+    with pytest.raises(StudyConfigError) as error:
+        parse_study(text.replace("[sweep]\n", f"[sweep]\n{sweep}\n"))
+    assert (error.value.key, error.value.value) == (key, value)
+    assert problem in error.value.problem
+
+
+def test_a_bad_swept_text_exits_2_and_writes_nothing(tmp_path):
+    text = _rough_study(tmp_path, "bad", surface=_two_maps(tmp_path) | {"path": "x.npy"},
+                        loading={"kind": "static", "load": 100.0})  # fmt: skip
+    text = text.replace('path = "x.npy"\n', "")
+    (tmp_path / "bad.toml").write_text(
+        text.replace("[sweep]\n", '[sweep]\n"surface.path" = ["ground/ground.npy", "no.npy"]\n')
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "engine", "bad.toml"], cwd=tmp_path, capture_output=True,
+        text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 2, done.stderr
+    assert "[sweep] surface.path = 'no.npy'" in done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "ground", "turned"]
