@@ -42,6 +42,7 @@ TOPICS = {
     "test_line_validation.py": "Line contacts (plane strain)",
     "test_search_run.py": "Threshold searches against the slip amplitude",
     "test_fatigue_validation.py": "Fatigue criteria on a line contact against McEwen's field",
+    "test_surface.py": "Rough surfaces",
 }
 
 
