@@ -20,10 +20,14 @@ Four measurements, each in fresh child processes on one core (``OMP_NUM_THREADS=
             p̄/(E* h'_rms) = 1e-6 … 3, frictionless and at μ = 0.3: convergence, iterations.
 ``memory``  A 2048² frictionless rough solve of the same sphere (h_rms = 0.3 µm): the child's
             peak resident memory (``VmHWM``) against 2 GB.
+``study``   The bundled study ``studies/rough_fretting.toml`` run from scratch in a temporary
+            folder with ``mpiexec -n 2`` (its header's command), the wall time against 15
+            minutes; ``--study-seeds K`` keeps the first K of its 10 realisations (6 K cases)
+            and prints the time scaled to the 60 cases beside the measured one.
 
-    python benchmarks/bench_rough.py                      # all four, small sizes by default
+    python benchmarks/bench_rough.py                      # all five, small sizes by default
     python benchmarks/bench_rough.py --tamaas-n 256 --speed-n 512 --loads-n 512 \\
-        --memory-n 2048 --update-docs
+        --memory-n 2048 --study-seeds 10 --update-docs    # the figures of the manual
 """
 
 from __future__ import annotations
@@ -32,6 +36,8 @@ import argparse
 import json
 import math
 import os
+import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -45,6 +51,9 @@ REPO = Path(__file__).resolve().parents[1]
 MODULUS = 210e3 / (2 * (1 - 0.3**2))  # E* of steel on steel (MPa)
 SPHERE_RADIUS, SPHERE_LOAD = 12.7, 100.0  # mm, N
 PUNCH_RADIUS, PUNCH_HALF_WIDTH = 1.0, 1.05  # mm
+STUDY = REPO / "studies" / "rough_fretting.toml"
+STUDY_SEEDS = 10  # the realisations of the bundled study
+SPEED_LIMIT, MEMORY_LIMIT_MB, STUDY_LIMIT_S = 1.5, 2048.0, 900.0  # the targets of the manual
 
 
 # ------------------------------------------------------------------ children
@@ -274,7 +283,8 @@ def measure_speed(n: int, rounds: int) -> dict:
     )  # fmt: skip
     print(
         f"Static frictional solve n = {n} (best of {rounds}, CPU): smooth "
-        f"{best['smooth']:.1f} s, rough {best['rough']:.1f} s, ratio {row['ratio']:.2f}",
+        f"{best['smooth']:.1f} s, rough {best['rough']:.1f} s, ratio {row['ratio']:.2f} "
+        f"(target ≤ {SPEED_LIMIT:g}: {'met' if row['ratio'] <= SPEED_LIMIT else 'NOT met'})",
         flush=True,
     )
     return row
@@ -302,16 +312,59 @@ def measure_loads(n: int) -> dict:
 
 def measure_memory(n: int) -> dict:
     row = _child("memory", str(n)) | {"n": n}
+    met = "met" if row["peak_mb"] <= MEMORY_LIMIT_MB else "NOT met"
     print(
         f"Frictionless rough solve n = {n}: peak resident memory {row['peak_mb']:.0f} MB "
-        f"(after imports {row['import_mb']:.0f} MB), {row['solve_s']:.0f} s, converged "
-        f"{row['converged']}",
+        f"(after imports {row['import_mb']:.0f} MB; target ≤ {MEMORY_LIMIT_MB:.0f} MB: {met}), "
+        f"{row['solve_s']:.0f} s, converged {row['converged']}",
         flush=True,
     )
     return row
 
 
-def write_doc_block(tamaas, speed, memory, loads=None) -> None:
+def _mpiexec() -> str:
+    """The launcher beside this Python (a venv's mpiexec), else the one on the PATH."""
+    beside = Path(sys.executable).with_name("mpiexec")
+    return str(beside) if beside.exists() else (shutil.which("mpiexec") or "mpiexec")
+
+
+def measure_study(seeds: int) -> dict:
+    """The bundled study with its first ``seeds`` realisations, from scratch on 2 ranks."""
+    text = STUDY.read_text()
+    kept = ", ".join(str(seed) for seed in range(1, seeds + 1))
+    text, count = re.subn(r'^"surface\.seed" = \[.*\]$', f'"surface.seed" = [{kept}]', text,
+                          flags=re.M)  # fmt: skip
+    if count != 1:
+        raise RuntimeError(f"{STUDY}: no surface.seed list to trim")
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / STUDY.name
+        path.write_text(text)
+        command = [_mpiexec(), "-n", "2", sys.executable, "-m", "engine", str(path)]
+        environment = dict(os.environ, OMP_NUM_THREADS="1")
+        environment["PYTHONPATH"] = os.pathsep.join(
+            filter(None, [str(REPO), environment.get("PYTHONPATH")])
+        )
+        start = time.perf_counter()
+        done = subprocess.run(command, cwd=folder, env=environment, capture_output=True, text=True)
+        wall = time.perf_counter() - start
+        if done.returncode != 0:
+            raise RuntimeError(f"study failed: {done.stderr.strip()[-2000:]}")
+        last = [line for line in done.stdout.splitlines() if line.startswith("study ")][-1:]
+    cases = 6 * seeds
+    scaled = wall * STUDY_SEEDS / seeds
+    met = "met" if scaled <= STUDY_LIMIT_S else "NOT met"
+    row = dict(seeds=seeds, cases=cases, wall_s=wall, scaled_s=scaled, summary=last)
+    what = "" if seeds == STUDY_SEEDS else f"; scaled to the 60 cases {scaled / 60:.1f} min"
+    print(
+        f"Bundled study {STUDY.name} on 2 ranks, {cases} cases ({seeds} of {STUDY_SEEDS} "
+        f"realisations): wall {wall / 60:.1f} min{what} (target < {STUDY_LIMIT_S / 60:.0f} min: "
+        f"{met}); {last[0] if last else ''}",
+        flush=True,
+    )
+    return row
+
+
+def write_doc_block(tamaas, speed, memory, loads=None, study=None) -> None:
     from engine.analysis.markdown import markdown_table, measured_on, replace_block
 
     document = REPO / "docs" / "explanation" / "performance.md"
@@ -337,6 +390,15 @@ def write_doc_block(tamaas, speed, memory, loads=None) -> None:
             f"frictionless rough sphere, {memory['n']}²",
             f"peak resident memory {memory['peak_mb']:.0f} MB (limit 2048 MB)",
             f"{memory['solve_s']:.0f} s",
+        ))  # fmt: skip
+    if study:
+        scaled = "" if study["seeds"] == STUDY_SEEDS else (
+            f" (scaled to 60 cases: {study['scaled_s'] / 60:.1f} min)"
+        )  # fmt: skip
+        rows.append((
+            f"studies/{STUDY.name} on 2 ranks, {study['cases']} cases",
+            f"wall time against 15 min{scaled}",
+            f"{study['wall_s'] / 60:.1f} min",
         ))  # fmt: skip
     command = " ".join(["python benchmarks/bench_rough.py", *sys.argv[1:]])
     note = f"`{command}`, one core per process"
@@ -367,7 +429,10 @@ def main() -> None:
     parser.add_argument("--memory-n", type=int, default=256)
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--loads-n", type=int, default=128)
-    parser.add_argument("--only", choices=("tamaas", "speed", "loads", "memory"), nargs="+")
+    parser.add_argument("--study-seeds", type=int, default=1, choices=range(1, STUDY_SEEDS + 1))
+    parser.add_argument(
+        "--only", choices=("tamaas", "speed", "loads", "memory", "study"), nargs="+"
+    )
     parser.add_argument("--tamaas-python", default="/tmp/tamaas-venv/bin/python")
     parser.add_argument("--update-docs", action="store_true")
     args, rest = parser.parse_known_args()
@@ -377,8 +442,8 @@ def main() -> None:
         print(json.dumps(CHILDREN[args.child](int(n), *converted)))
         return
     print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
-    parts = args.only or ("tamaas", "speed", "loads", "memory")
-    tamaas = speed = memory = loads = None
+    parts = args.only or ("tamaas", "speed", "loads", "memory", "study")
+    tamaas = speed = memory = loads = study = None
     if "tamaas" in parts:
         if Path(args.tamaas_python).exists():
             tamaas = measure_tamaas(args.tamaas_n, args.tamaas_python)
@@ -390,9 +455,11 @@ def main() -> None:
         loads = measure_loads(args.loads_n)
     if "memory" in parts:
         memory = measure_memory(args.memory_n)
+    if "study" in parts:
+        study = measure_study(args.study_seeds)
     print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
     if args.update_docs:
-        write_doc_block(tamaas, speed, memory, loads)
+        write_doc_block(tamaas, speed, memory, loads, study)
 
 
 if __name__ == "__main__":

@@ -73,11 +73,12 @@ def study_keys() -> str:
 
 
 def sweepable_keys() -> str:
-    """The dotted keys of ``[sweep]`` with their units."""
+    """The dotted keys of ``[sweep]`` with their units, then the text keys (lists of strings)."""
     rows = [
         (_code(f'"{key}"'), _units(unit))
         for key, unit in swept_key_units(BUILT_IN["profiles"], BUILT_IN["criteria"]).items()
     ]
+    rows += [(_code(f'"{key}"'), "– (a list of texts)") for key in schema.SWEPT_TEXT_KEYS]
     return markdown_table(("dotted key", "unit"), rows)
 
 
