@@ -42,3 +42,24 @@ def test_rough_collective_equals_single(tmp_path):
     collective = run_engine(study, "--output-strategy", "mpio")
     assert collective.returncode == 0, collective.stderr
     assert_same_results(tmp_path / "rough.h5", tmp_path / "s.h5")
+
+
+def write_measured_study(folder):
+    """A measured map swept over two detrend modes: text values under [sweep]."""
+    import numpy as np
+
+    heights = np.random.default_rng(5).standard_normal((40, 40)) * 0.2  # µm
+    np.save(folder / "map.npy", heights + np.linspace(0.0, 1.0, 40)[:, None])
+    surface = {"kind": "file", "path": "map.npy", "pixel_size": 0.02, "units": "um"}  # in cwd
+    text = study_toml(
+        "rough", "rough.h5", SPHERE_ON_STEEL, mesh={"n": 16, "half_width": 0.3},
+        loading={"kind": "fretting", "load": 100.0, "amplitude": 5e-4, "cycles": 10},
+        sweep={"mu1": [0.5], "wear1": [1e-7]}, surface=surface,
+    )  # fmt: skip
+    path = folder / "rough.toml"
+    path.write_text(text.replace("[sweep]\n", '[sweep]\n"surface.detrend" = ["mean", "plane"]\n'))
+    return path
+
+
+def test_swept_texts_are_the_same_on_one_and_two_ranks(tmp_path):
+    run_on_one_and_two_ranks(tmp_path, write_measured_study)
