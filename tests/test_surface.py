@@ -409,6 +409,7 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
     import matplotlib.pyplot as plt
 
     import engine
+    from engine.analysis.names import key_title
     from engine.analysis.reader import read_results
     from engine.analysis.report import study_report
     from engine.analysis.surface_figures import surface_figures
@@ -434,6 +435,8 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
     assert list(sweep_figures(read_results(run.output))) == []
     report = study_report(run.output)
     assert "| surface.rms_height | realisations |" in report
+    assert f"#### Against {key_title('surface.rms_height')}" in report
+    assert f"#### Against {key_title('surface.seed')}" not in report
 
 
 # ------------------------------------------------------------------ text keys under [sweep]

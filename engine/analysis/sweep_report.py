@@ -25,6 +25,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
+from engine.output.ensemble import SEED
 from engine.output.summary import column_unit
 from engine.schema import PARAMETERS, SUMMARY_COLUMNS, CaseStatus, contact_units
 
@@ -207,7 +208,8 @@ def sweep_report(
     if "mesh.n" in swept:
         lines += convergence_table(summary, swept, line)
     for key in swept:
-        lines += key_table(summary, key, swept, line)
+        if key != SEED:  # realisations, not a parameter: the ensemble table gives their statistics
+            lines += key_table(summary, key, swept, line)
     return "\n".join(lines) + "\n"
 
 
