@@ -38,10 +38,12 @@ Sections and keys (``*`` = required; defaults in brackets):
                   alpha* (mm³/J) instead of wear1/wear2 with [wear] law = "energy".
                   Each is a list (a single number is accepted); every combination is a case.
                   Any scalar of the other sections is a sweep axis under its quoted dotted
-                  key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0]; swept keys must
-                  not also be set in their own section. zip = [["loading.load",
-                  "mesh.n"], ...] makes the keys of each group vary together (equal list
-                  lengths) instead of forming their product. See engine.study.plan.
+                  key (SWEEPABLE), e.g. "loading.load" = [500.0, 750.0], and the text keys
+                  of SWEEPABLE_TEXT take lists of strings, e.g. "surface.path" =
+                  ["a.npy", "b.npy"]; swept keys must not also be set in their own
+                  section. zip = [["loading.load", "mesh.n"], ...] makes the keys of each
+                  group vary together (equal list lengths) instead of forming their
+                  product. See engine.study.plan.
 ``[solver]``      tol [1e-8 static, 1e-6 cyclic], maxiter [20000] (iterations per
                   increment), threads [1]
                   (FFT threads per rank), fft_planner ["estimate"] ("estimate": the same FFTW
