@@ -417,8 +417,9 @@ def _pressure_frictionless(study: StudyResults, case: CaseResults):
     a, p0 = study.radius, study.p0
     pressure, offset = _central_row(case.fields["final"]["pressure"], study, "x")
     figure, axis = plt.subplots(figsize=(MIN_FIGURE_WIDTH, 4.6), layout="constrained")
-    s, curve = _sneddon_curve(study, offset)
-    axis.plot(s, curve, "-", color="C0", label="Sneddon, Eq. (17)")
+    unworn = _sneddon_curve(study, offset)
+    if unworn is not None:  # a profile with a closed form (the flat punch: Sneddon)
+        axis.plot(*unworn, "-", color="C0", label="Sneddon, Eq. (17)")
     axis.plot(study.grid_x / a, pressure / p0, "s", ms=4, mfc="none", color="C3", label="computed")
     axis.set_xlabel("x/a0")
     axis.set_ylabel("p / p0")
@@ -463,9 +464,10 @@ def _traction_profiles(study: StudyResults):
         fields = case.fields["final"]
         pressure, offset = _central_row(fields["pressure"], study, "x")
         traction, _ = _central_row(fields["traction_x"], study, "x")
-        s, curve = _sneddon_curve(study, offset)
+        unworn = _sneddon_curve(study, offset)
         xa = study.grid_x / a
-        axis.plot(s, curve, "-", color="0.6", lw=1, label="Sneddon (μ = 0)")
+        if unworn is not None:  # a profile with a closed form (the flat punch: Sneddon)
+            axis.plot(*unworn, "-", color="0.6", lw=1, label="Sneddon (μ = 0)")
         axis.plot(xa, pressure / p0, "s", ms=3, mfc="none", color="C3", label="p/p0")
         axis.plot(xa, traction / p0, "o", ms=3, mfc="none", color="C0", label="q_x/p0")
         if case.mu1 > 0:
