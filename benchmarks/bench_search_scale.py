@@ -58,7 +58,7 @@ def base_plan(searches: int):
     cases = []
     for i in range(searches):
         mu = round(0.1 + 0.4 * i / searches, 8)
-        cases.append(Case(i, f"mu{mu:.8g}_w0_b0", mu, mu, 0.0, 0.0, 0.0))
+        cases.append(Case(i, f"mu{mu:.8g}_w0_b0", mu, mu, (("wear1", 0.0), ("wear2", 0.0)), 0.0))
     return Plan(tuple(cases))
 
 

@@ -15,8 +15,8 @@ from pathlib import Path
 
 from engine.output.progress import plural
 from engine.output.summary import column_unit
-from engine.schema import CASE_PARAMETERS
 from engine.searching import describe_search, prepare_searches
+from engine.solvers.wear_laws import WEAR_LAWS, fixed_coefficients
 
 __all__ = [
     "DryRun",
@@ -148,7 +148,7 @@ def loading_description(config, plan) -> str:
     what = config.kind.describe(config, value)
     rules = _followers(config.sweep)
     ranges = []
-    for key in (*CASE_PARAMETERS, *config.sweep.swept_keys):
+    for key in (*_parameter_names(config), *config.sweep.swept_keys):
         values = _values(plan, key)
         if len(values) < 2:
             continue
@@ -167,28 +167,23 @@ def loading_description(config, plan) -> str:
 
 def _followers(sweep) -> dict[str, tuple[str, str]]:
     """The parameters the user did not sweep that follow another: (the one followed, the
-    rule) by name (``[sweep] mu2`` absent: mu2 = mu1; ``wear2`` absent: wear1,
+    rule) by name (``[sweep] mu2`` absent: mu2 = mu1; a wear law's derived coefficients,
+    :meth:`engine.solvers.wear.WearModel.followers`: Archard's ``wear2`` absent: wear1,
     ``"proportional"``: wear1·mu2/mu1). The dry run names them beside the parameter they
     follow, not as swept."""
     rules = {}
     if sweep.mu2 is None:
         rules["mu2"] = ("mu1", "mu1")
-    if sweep.alpha is None and sweep.wear2 is None:
-        rules["wear2"] = ("wear1", "wear1")
-    elif sweep.alpha is None and isinstance(sweep.wear2, str):  # "proportional"
-        rules["wear2"] = ("wear1", "wear1·mu2/mu1")
+    rules.update(WEAR_LAWS[sweep.law].followers(sweep.wear_lists))
     return rules
 
 
-def _wear_columns(plan) -> list[str]:
-    """The wear coefficients the cases' law uses: ``alpha`` (mm³/J) when the cases carry
-    one (the energy law; ``wear1``/``wear2`` then only where not all zero), otherwise
-    ``wear1``, ``wear2`` (1/MPa)."""
-    parameters = [case.parameters() for case in plan]
-    if all(row.get("alpha") is None for row in parameters):
-        return ["wear1", "wear2"]
-    rates = [key for key in ("wear1", "wear2") if any(row.get(key) for row in parameters)]
-    return [*rates, "alpha"]
+def _parameter_names(config) -> list[str]:
+    """The case parameters in the order of the case attributes: mu1, mu2, the default law's
+    coefficients, beta, then the study's law's own."""
+    own = [name for name in WEAR_LAWS[config.sweep.law].coefficients]
+    fixed = list(fixed_coefficients())
+    return ["mu1", "mu2", *fixed, "beta", *(name for name in own if name not in fixed)]
 
 
 def case_table(plan, todo, states, swept: Sequence[str]) -> list[str]:
@@ -196,10 +191,10 @@ def case_table(plan, todo, states, swept: Sequence[str]) -> list[str]:
     significant digits in 10 characters), β, one column per swept dotted key (headed by the
     key), the dispatch order and the action."""
     order = {case.case_id: number for number, case in enumerate(todo, start=1)}
-    wear = _wear_columns(plan)
-    columns = [(name, 6, "g") for name in CASE_PARAMETERS if name.startswith("mu")]
+    wear = list(WEAR_LAWS[plan.cases[0].law].coefficients) if len(plan) else []
+    columns = [(name, 6, "g") for name in ("mu1", "mu2")]
     columns += [(name, 10, ".4g") for name in wear]
-    columns += [(name, 6, "g") for name in CASE_PARAMETERS if name == "beta"]
+    columns += [("beta", 6, "g")]
     columns += [
         (key, max(len(key), *(len(_shown(case.parameters()[key])) for case in plan)), "g")
         for key in swept

@@ -1,7 +1,7 @@
 """The plug-in tables: built-in entries merged with those other packages register.
 
-A package adds a punch profile, a fatigue criterion or a loading kind without touching the
-engine by declaring an entry point in its ``pyproject.toml``::
+A package adds a punch profile, a fatigue criterion, a loading kind or a wear law without
+touching the engine by declaring an entry point in its ``pyproject.toml``::
 
     [project.entry-points."fretting_engine.profiles"]
     cone = "my_package.cone:ConePunch"
@@ -11,7 +11,9 @@ engine by declaring an entry point in its ``pyproject.toml``::
 - ``fretting_engine.criteria``: a :class:`engine.fatigue.FatigueCriterion` subclass, in
   ``engine.fatigue.CRITERIA``;
 - ``fretting_engine.kinds``: a ``engine.study.kinds.LoadingKind`` subclass, in
-  ``engine.study.kinds.KINDS``.
+  ``engine.study.kinds.KINDS``;
+- ``fretting_engine.wear_laws``: a :class:`engine.solvers.wear.WearModel` subclass, in
+  ``engine.solvers.wear_laws.WEAR_LAWS``.
 
 The entry point's name is the name a study file uses (``[punch] shape = "cone"``) and must
 be the class's ``name``. A ``Registry`` is a read-only mapping that imports the
@@ -46,6 +48,7 @@ GROUPS = {
     "profiles": "fretting_engine.profiles",
     "criteria": "fretting_engine.criteria",
     "kinds": "fretting_engine.kinds",
+    "wear_laws": "fretting_engine.wear_laws",
 }
 #: The distribution of the built-in entries (named in a clash).
 ENGINE_DISTRIBUTION = "fretting-engine"

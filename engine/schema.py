@@ -73,7 +73,6 @@ __all__ = [
     "DEEP_DEPTH_FRACTION",
     "PARAMETER_UNITS",
     "PARAMETERS",
-    "CASE_PARAMETERS",
     "SWEPT_KEY_UNITS",
     "SWEPT_TEXT_KEYS",
     "UNITS",
@@ -561,13 +560,11 @@ SWEPT_KEY_UNITS = {
 #: "b.npy"]``): their summary columns and case parameters hold the text, without a unit; the
 #: section's parser checks every value (engine.surface.config).
 SWEPT_TEXT_KEYS = ("surface.kind", "surface.path", "surface.units", "surface.detrend")
-#: The parameters every case stores as attributes (the energy law's ``alpha`` too, when the
-#: study uses it) with their units.
+#: The parameters every case stores as attributes, the first columns of every summary:
+#: friction, the default wear law's (Archard's) coefficients, 0 under another law, and the
+#: axes angle. A study's wear law adds its own coefficients after them (their units and
+#: meanings are the law's declaration, ``engine.solvers.wear_laws``).
 PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta")
-#: Every parameter a case may have, in the order of the ``[sweep]`` lists: the friction and
-#: wear parameters of :data:`PARAMETERS`, then the energy law's ``alpha``.
-CASE_PARAMETERS = (*PARAMETERS, "alpha")
-ALPHA_UNITS = "mm^3/J"
 PARAMETER_UNITS = {"mu1": "1", "mu2": "1", "wear1": "1/MPa", "wear2": "1/MPa", "beta": "degree"}
 
 SUMMARY_COLUMNS = [
@@ -596,7 +593,7 @@ COLUMN_UNITS = {
     # fretting cases only (extra columns, engine.solvers.fretting)
     "q_amplitude": "N", "displacement_amplitude": "mm", "energy_per_cycle": "mJ",
     "vm_cycle_max": "MPa", "vm_cycle_max_x": "mm", "vm_cycle_max_y": "mm",
-    "vm_cycle_max_z": "mm", "alpha": ALPHA_UNITS, "vm_deep_max_y": "mm",
+    "vm_cycle_max_z": "mm", "vm_deep_max_y": "mm",
     # line contacts with wear, and 3-D punches that wear too (engine.solvers.scar)
     "scar_depth": "mm", "scar_width": "mm", "scar_area": "mm^2/mm", "pad_wear_depth": "mm",
 }  # fmt: skip
@@ -699,7 +696,6 @@ COLUMN_DESCRIPTIONS = {
     "vm_cycle_max_x": "x of vm_cycle_max",
     "vm_cycle_max_y": "y of vm_cycle_max",
     "vm_cycle_max_z": "depth z of vm_cycle_max",
-    "alpha": "energy wear law: the dissipated-energy wear coefficient",
     "scar_depth": "largest wear depth of the flat (line contacts with wear; 3-D punches with "
     "`[wear] pad_coefficient`)",
     "scar_width": "line contacts: extent of the flat's scar (wear above 1 % of its depth)",
@@ -711,7 +707,7 @@ COLUMN_DESCRIPTIONS = {
 COLUMN_DESCRIPTIONS.update({column: what for column, (_, what) in SURFACE_COLUMNS.items()})
 
 #: The one units table of the results: case parameters, summary columns and swept keys.
-UNITS = {**PARAMETER_UNITS, "alpha": ALPHA_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
+UNITS = {**PARAMETER_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
 TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")

@@ -45,7 +45,7 @@ def replace_key(section_key: str, value: str, text: str = VALID) -> str:
 def test_valid_study_resolves_defaults():
     config = parse_study(VALID, source="t.toml")
     assert config.mesh.half_width == pytest.approx(1.05 * 1.8)
-    assert config.sweep.mu2 is None and config.sweep.wear2 is None
+    assert config.sweep.mu2 is None and config.sweep.wear_lists["wear2"] is None
     assert config.loading.record == (10, 100)
     assert config.is_cyclic
     # the resolved TOML reads back to the same configuration
@@ -147,7 +147,7 @@ def test_static_rejects_cyclic_keys_and_defaults_wear():
         parse_study(static)
     static = static.replace("cycles = 100\n", "").replace("record = [10, 100]\n", "")
     config = parse_study(static.replace("wear1 = [1.33e-07]\n", ""))
-    assert config.sweep.wear1 == (0.0,)
+    assert config.sweep.wear_lists["wear1"] == (0.0,)
     assert config.loading.cycles == 0
 
 

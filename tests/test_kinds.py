@@ -90,12 +90,14 @@ def test_energy_law_alpha_is_its_own_case_parameter_and_archard_ids_are_unchange
         "mu0.2_a2e-06_b0",
     ]
     for case in plan:
-        assert case.alpha in (1e-6, 2e-6)
-        assert (case.wear1, case.wear2) == (0.0, 0.0)  # the Archard slots stay empty
-        assert case.parameters()["alpha"] == case.alpha
+        assert case.coefficients["alpha"] in (1e-6, 2e-6) and list(case.coefficients) == ["alpha"]
+        parameters = case.parameters()
+        assert (parameters["wear1"], parameters["wear2"]) == (0.0, 0.0)  # Archard's columns: 0
+        assert parameters["alpha"] == case.coefficients["alpha"]
+        assert list(parameters)[-1] == "alpha"  # after beta: not one of the fixed columns
     # the Archard ids of existing studies are unchanged
-    assert case_id_for(0.1, 0.1, 1.33e-7, 1.33e-7, 0.0) == "mu0.1_w1.33e-07_b0"
-    assert case_id_for(0.1, 0.1, 0.0, 0.0, 0.0, alpha=1e-6) == "mu0.1_a1e-06_b0"
+    assert case_id_for(0.1, 0.1, {"wear1": 1.33e-7, "wear2": 1.33e-7}, 0.0) == "mu0.1_w1.33e-07_b0"
+    assert case_id_for(0.1, 0.1, {"alpha": 1e-6}, 0.0, law="energy") == "mu0.1_a1e-06_b0"
 
 
 def test_case_runners_and_the_layout_take_dataset_paths_from_the_schema():

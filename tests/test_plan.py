@@ -13,7 +13,8 @@ def test_every_combination_is_a_case_isotropic_by_default():
     plan = make_plan(parse_study(VALID))
     assert len(plan) == 2 * 1 * 2
     for case in plan:
-        assert case.mu2 == case.mu1 and case.wear2 == case.wear1
+        assert case.mu2 == case.mu1
+        assert case.coefficients["wear2"] == case.coefficients["wear1"]
     assert [case.index for case in plan] == list(range(len(plan)))
 
 
@@ -26,7 +27,7 @@ def test_orthotropic_product_and_proportional_wear():
     assert len(plan) == 3
     for case in plan:
         assert (case.mu1, case.mu2) == (0.1, 0.4)
-        assert case.wear2 == pytest.approx(1.33e-7 * 0.4 / 0.1, rel=1e-14)
+        assert case.coefficients["wear2"] == pytest.approx(1.33e-7 * 0.4 / 0.1, rel=1e-14)
     assert [case.beta for case in plan] == [0.0, 45.0, 90.0]
 
 
@@ -35,8 +36,10 @@ def test_case_ids_are_stable_when_the_sweep_grows():
     grown = make_plan(parse_study(replace_key("sweep.mu1", "[0.05, 0.1, 0.4]")))
     assert set(small.case_ids) <= set(grown.case_ids)
     assert len(set(grown.case_ids)) == len(grown)
-    assert case_id_for(0.1, 0.1, 1.33e-7, 1.33e-7, 45.0) == "mu0.1_w1.33e-07_b45"
-    assert case_id_for(0.1, 0.4, 1e-7, 4e-7, 0.0) == "mu0.1-0.4_w1e-07-4e-07_b0"
+    assert (
+        case_id_for(0.1, 0.1, {"wear1": 1.33e-7, "wear2": 1.33e-7}, 45.0) == "mu0.1_w1.33e-07_b45"
+    )
+    assert case_id_for(0.1, 0.4, {"wear1": 1e-7, "wear2": 4e-7}, 0.0) == "mu0.1-0.4_w1e-07-4e-07_b0"
 
 
 def test_dispatch_order_puts_low_friction_first_and_skips_done():

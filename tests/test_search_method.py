@@ -198,9 +198,10 @@ def campaign_plan():
     from engine.study.plan import Case, Plan
 
     loads = (100.0, 200.0, 400.0)
+    no_wear = (("wear1", 0.0), ("wear2", 0.0))  # Archard's coefficients, static cases
     return Plan(
         tuple(
-            Case(i, f"mu0.5_w0_b0_load{load:g}", 0.5, 0.5, 0.0, 0.0, 0.0, (("loading.load", load),))
+            Case(i, f"mu0.5_w0_b0_load{load:g}", 0.5, 0.5, no_wear, 0.0, (("loading.load", load),))
             for i, load in enumerate(loads)
         )
     )

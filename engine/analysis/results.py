@@ -42,14 +42,13 @@ from engine.output.owner import (
 )
 from engine.output.summary import load_summary
 from engine.schema import (
-    CASE_PARAMETERS,
     CASES_GROUP,
     GRID_GROUP,
     PLANE,
     CaseStatus,
     cycle_of_group,
 )
-from engine.study.settings.units import unit_of
+from engine.study.settings.units import case_parameters, unit_of
 
 __all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
 
@@ -397,7 +396,7 @@ class ResultCase:
             self.summary: dict[str, Any] = json.loads(summary) if summary is not None else {}
             units = attrs.get("parameter_units")
             stored = json.loads(units) if units is not None else {}
-            names = CASE_PARAMETERS
+            names = case_parameters()
             self.parameters: dict[str, Any] = {
                 key: value.item() if hasattr(value, "item") else value
                 for key, value in attrs.items()

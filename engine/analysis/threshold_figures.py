@@ -20,13 +20,14 @@ import numpy as np
 
 from engine.output.summary import column_unit, load_summary
 from engine.output.thresholds import SEARCH_COLUMNS, load_thresholds
-from engine.schema import CASE_PARAMETERS, THRESHOLDS_GROUP
+from engine.schema import THRESHOLDS_GROUP
+from engine.study.settings.units import case_parameters
 
 from .sweep_figures import key_title
 
 __all__ = ["has_thresholds", "threshold_figures", "draw_thresholds", "varying_keys"]
 
-_LISTS = CASE_PARAMETERS  # the [sweep] lists, in order
+_LISTS = case_parameters()  # the [sweep] lists, in order
 FONT_SIZE = 9.0  # points: the figures' smallest text (engine.analysis.figures.MIN_FONT_SIZE)
 
 

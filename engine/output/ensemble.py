@@ -1,7 +1,7 @@
 """Statistics over random realisations: the ensemble table of a study sweeping ``surface.seed``.
 
-For every combination of the other swept keys and parameters (mu1, mu2, wear1, wear2, beta,
-alpha and the dotted keys other than ``surface.seed``), over its completed cases:
+For every combination of the other swept keys and parameters (mu1, mu2, the wear law's
+coefficients, beta and the dotted keys other than ``surface.seed``), over its completed cases:
 
 - ``realisations``: how many completed (failed cases are left out and not counted);
 - for every numeric summary column c: ``c_mean``, ``c_std`` (sample standard deviation,
@@ -20,13 +20,15 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.study.settings.units import case_parameters
+
 from .summary import load_summary, summary_frame
 
 SEED = "surface.seed"
 STATISTICS = ("mean", "std", "ci_low", "ci_high")
 #: Columns that are not statistics of the cases (identity, the wall time).
 _SKIPPED = ("case_id", "status", SEED, "runtime_s")  # runtime_s: not reproducible
-_PARAMETERS = ("mu1", "mu2", "wear1", "wear2", "beta", "alpha")
+_PARAMETERS = case_parameters()
 
 __all__ = ["ensemble_path", "ensemble_frame", "write_ensemble", "load_ensemble", "SEED"]
 

@@ -8,12 +8,28 @@ wear norm ||Δg||_i = √((i1 Δg_e1)² + (i2 Δg_e2)²) (Eq. 13). Angles are in
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any, ClassVar
 
 import numpy as np
 
+from ..keys import Key
 from ..validation import CheckedRecord, require_finite, require_non_negative, under_key
+from .wear import WearModel
+
+#: ``[sweep] wear2 = "proportional"``: i2 = i1·μ2/μ1 (paper Section 7.3).
+PROPORTIONAL = "proportional"
+# Archard-type wear coefficients (1/MPa) of fretting tests are 1e-9 … 1e-6 (Section 7: 1.33e-7);
+# at 1e-3 a contact at 100 MPa slipping 1 µm wears 0.1 µm per cycle, 10^4 × the severest
+# measured, and the cycle jump degenerates into single cycles.
+MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
+# The energy law's α (mm³/J) wears α·τ·s·1e-3 mm per cycle where Archard's wears k·p·s: at
+# μ = 1, α = 1 mm³/J wears as fast as the Archard bound above (fretting tests: 1e-6 … 1e-4).
+MAX_ENERGY_WEAR_COEFFICIENT = 1.0  # mm^3/J
+_ARCHARD_WHY = "fretting tests: 1e-9 … 1e-6"
 
 
 def _rotation(beta: float) -> tuple[float, float]:
@@ -116,8 +132,9 @@ class FrictionLaw(CheckedRecord):
 
 
 @dataclass(frozen=True)
-class WearLaw(CheckedRecord):
-    """Principal wear coefficients i1, i2 (1/MPa) along e1, e2 rotated by β (rad)."""
+class WearLaw(CheckedRecord, WearModel):
+    """Principal wear coefficients i1, i2 (1/MPa) along e1, e2 rotated by β (rad): the
+    ``"archard"`` wear law, ``[sweep] wear1, wear2``."""
 
     i1: float
     i2: float
@@ -128,6 +145,73 @@ class WearLaw(CheckedRecord):
         "i2": under_key("wear2", require_non_negative),
         "beta": require_finite,
     }
+    name: ClassVar[str] = "archard"
+    description: ClassVar[str] = (
+        "Archard's orthotropic law (Eqs. 12–14): depth increment = p ||Δg||_i"
+    )
+    id_prefix: ClassVar[str] = "w"
+    coefficients: ClassVar[dict[str, Key]] = {
+        "wear1": Key(
+            "1/MPa", "Archard wear coefficient i1 along e1", minimum=0.0,
+            maximum=MAX_WEAR_COEFFICIENT, why=_ARCHARD_WHY, example=1.33e-7,
+        ),
+        "wear2": Key(
+            "1/MPa", 'Archard wear coefficient i2 along e2 (absent: wear1), or `"proportional"`: '
+            "wear1·mu2/mu1 (Section 7.3)", minimum=0.0, maximum=MAX_WEAR_COEFFICIENT,
+            why=_ARCHARD_WHY, example=1.33e-7,
+        ),
+    }  # fmt: skip
+
+    @classmethod
+    def from_coefficients(cls, values: Mapping[str, float], beta: float) -> WearLaw:
+        return cls(values["wear1"], values["wear2"], beta)
+
+    def scaled(self, factor: float) -> WearLaw:
+        return WearLaw(self.i1 * factor, self.i2 * factor, self.beta)
+
+    @classmethod
+    def read_sweep(cls, section, required: bool) -> dict[str, Any]:
+        """``wear1`` (required with wear, else [0]) and ``wear2``: a list, ``"proportional"``
+        (every ``mu1`` > 0) or absent (None: wear2 = wear1 element-wise)."""
+        default = {} if required else {"default": [0.0]}
+        wear1 = section.number_list("wear1", **default, minimum=0.0, unit="1/MPa")
+        wear2: tuple[float, ...] | str | None = None
+        if "wear2" in section.table:
+            given = section.table["wear2"]
+            if given == PROPORTIONAL:
+                if any(mu == 0.0 for mu in section.number_list("mu1", minimum=0.0)):
+                    raise section.error(
+                        "wear2", PROPORTIONAL, "needs every mu1 > 0 (wear1·mu2/mu1)"
+                    )
+                wear2 = PROPORTIONAL
+            elif isinstance(given, str):
+                raise section.error(
+                    "wear2", given, f'must be a list of numbers or "{PROPORTIONAL}"'
+                )
+            else:
+                wear2 = section.number_list("wear2", minimum=0.0, unit="1/MPa")
+        return {"wear1": wear1, "wear2": wear2}
+
+    @classmethod
+    def combinations(cls, lists, mu1: float, mu2: float) -> list[dict[str, float]]:
+        """wear2 absent: (w, w) for w in wear1; ``"proportional"``: (w, w·μ2/μ1); else the
+        product wear1 × wear2."""
+        wear1, wear2 = lists["wear1"], lists["wear2"]
+        if wear2 is None:
+            pairs = [(w, w) for w in wear1]
+        elif wear2 == PROPORTIONAL:
+            pairs = [(w, w * mu2 / mu1) for w in wear1]
+        else:
+            pairs = list(itertools.product(wear1, wear2))
+        return [{"wear1": w1, "wear2": w2} for w1, w2 in pairs]
+
+    @classmethod
+    def followers(cls, lists) -> dict[str, tuple[str, str]]:
+        if lists["wear2"] is None:
+            return {"wear2": ("wear1", "wear1")}
+        if lists["wear2"] == PROPORTIONAL:
+            return {"wear2": ("wear1", "wear1·mu2/mu1")}
+        return {}
 
     def norm(self, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
         """||Δg||_i of Eq. (13): mm/MPa for slips in mm."""
@@ -159,7 +243,7 @@ def frictional_work(result, previous) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class EnergyWearLaw(CheckedRecord):
+class EnergyWearLaw(CheckedRecord, WearModel):
     """Dissipated-energy wear law (Fouvry, Kapsa & Vincent, Wear 1996; Fouvry et al. 2003):
     the local wear depth increment is α times the local frictional work per area,
     Δω = α w (mm = mm³/J · J/mm² with w in mJ/mm² → α in mm³/J is scaled by 10⁻³).
@@ -169,6 +253,22 @@ class EnergyWearLaw(CheckedRecord):
     alpha: float
 
     checks = {"alpha": require_non_negative}
+    name: ClassVar[str] = "energy"
+    description: ClassVar[str] = "depth increment = α × local frictional work (Fouvry)"
+    id_prefix: ClassVar[str] = "a"
+    coefficients: ClassVar[dict[str, Key]] = {
+        "alpha": Key(
+            "mm^3/J", "dissipated-energy wear coefficient α", minimum=0.0,
+            maximum=MAX_ENERGY_WEAR_COEFFICIENT, why="fretting tests: 1e-6 … 1e-4", example=5e-6,
+        ),
+    }  # fmt: skip
+
+    @classmethod
+    def from_coefficients(cls, values: Mapping[str, float], beta: float) -> EnergyWearLaw:
+        return cls(values["alpha"])
+
+    def scaled(self, factor: float) -> EnergyWearLaw:
+        return EnergyWearLaw(self.alpha * factor)
 
     def increment(self, result, previous) -> np.ndarray:
         """Δω = α·10⁻³·w (mm), w from :func:`frictional_work` (mJ/mm²)."""

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..grid import Grid
 from ..validation import require_non_negative
-from .friction import EnergyWearLaw, WearLaw
+from .wear import WearModel
 
 __all__ = [
     "ScarMeasures",
@@ -46,15 +46,13 @@ SCAR_THRESHOLD = 0.01  # the scar is where the flat's wear exceeds 1 % of its de
 
 
 def two_body_wear_law(flat_law, pad_ratio: float):
-    """The law of the total wear h = h_flat + h_pad: ``flat_law`` (``WearLaw`` or
-    ``EnergyWearLaw``) with its coefficients times 1 + ``pad_ratio``."""
+    """The law of the total wear h = h_flat + h_pad: ``flat_law`` (a
+    :class:`engine.solvers.wear.WearModel`) wearing 1 + ``pad_ratio`` times as fast
+    (:meth:`~engine.solvers.wear.WearModel.scaled`: its coefficients times 1 + ``pad_ratio``)."""
     pad_ratio = require_non_negative("pad_ratio", pad_ratio)
-    scale = 1.0 + pad_ratio
-    if isinstance(flat_law, WearLaw):
-        return WearLaw(flat_law.i1 * scale, flat_law.i2 * scale, flat_law.beta)
-    if isinstance(flat_law, EnergyWearLaw):
-        return EnergyWearLaw(flat_law.alpha * scale)
-    raise TypeError(f"two-body wear needs a WearLaw or an EnergyWearLaw, got {flat_law!r}")
+    if not isinstance(flat_law, WearModel):
+        raise TypeError(f"two-body wear needs a wear law (WearModel), got {flat_law!r}")
+    return flat_law.scaled(1.0 + pad_ratio)
 
 
 @dataclass(frozen=True)

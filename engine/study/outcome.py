@@ -50,11 +50,12 @@ from engine.schema import (
     plane_dataset,
 )
 from engine.solvers.contact import ContactSolver
-from engine.solvers.friction import EnergyWearLaw, FrictionLaw, WearLaw
+from engine.solvers.friction import FrictionLaw
 from engine.solvers.peak import PeakTracker, first_region_change, region_name
 from engine.solvers.scar import pad_ratio as ratio
 from engine.solvers.scar import two_body_depths, two_body_wear_law
 from engine.solvers.subsurface import depth_layers
+from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.line_contact import LineContact
 from engine.study.line_contact import scar_row as line_scar_row
 from engine.surface import rough_profile
@@ -115,12 +116,11 @@ class CaseOutcome:
 
 # ---------------------------------------------------------------- laws and nominal values
 def case_wear_law(case: Case, cfg: StudyConfig):
-    """The case's wear law (``[wear] law``, kinds with wear): the orthotropic Archard law
-    (wear1, wear2 in 1/MPa, β) or the dissipated-energy law (α in mm³/J)."""
-    if cfg.wear.law == "energy":
-        law = EnergyWearLaw(case.alpha)
-    else:
-        law = WearLaw(case.wear1, case.wear2, math.radians(case.beta))
+    """The case's wear law (``[wear] law``, kinds with wear): the registered law built from
+    the case's coefficients (:meth:`engine.solvers.wear.WearModel.from_coefficients`; the
+    orthotropic Archard law with wear1, wear2 in 1/MPa and β, the dissipated-energy law with
+    α in mm³/J, …)."""
+    law = WEAR_LAWS[cfg.wear.law].from_coefficients(case.coefficients, math.radians(case.beta))
     ratio = pad_ratio(case, cfg)
     if cfg.punch.is_line or ratio > 0.0:  # the gap carries the flat's and the pad's wear
         return two_body_wear_law(law, ratio)
@@ -128,8 +128,9 @@ def case_wear_law(case: Case, cfg: StudyConfig):
 
 
 def pad_ratio(case: Case, cfg: StudyConfig) -> float:
-    """k_pad / k_flat (``[wear] pad_coefficient``; 0 without, the punch does not wear)."""
-    flat = case.alpha if cfg.wear.law == "energy" else case.wear1
+    """k_pad / k_flat (``[wear] pad_coefficient``, in the unit of the law's first
+    coefficient; 0 without, the punch does not wear)."""
+    flat = next(iter(case.coefficients.values()))
     return ratio(cfg.wear.pad_coefficient, flat)
 
 
@@ -280,8 +281,8 @@ class CaseContext:
 def parameters_row(case: Case, status: str) -> dict[str, Any]:
     """The summary row of ``case`` before (or without) results: its parameters."""
     row = pending_row(case.parameters(), status)
-    if case.alpha is not None:  # energy wear law (not a summary column of the other laws)
-        row["alpha"] = case.alpha
+    for name, value in case.coefficients.items():  # another law's (not fixed) columns
+        row.setdefault(name, value)
     return row
 
 

@@ -1,8 +1,10 @@
 """Plan of a study: the sweep of ``[sweep]`` expanded into cases with stable ids.
 
-Every combination of ``mu1 × mu2 × wear1 × wear2 × beta`` is a case (``mu2`` defaults to
-``mu1`` and ``wear2`` to ``wear1`` element-wise, i.e. isotropic laws; ``wear2 =
-"proportional"`` gives ``wear1·mu2/mu1``, paper Section 7.3).
+Every combination of ``mu1 × mu2 × <wear coefficients> × beta`` is a case (``mu2`` defaults
+to ``mu1``; the wear law combines its own coefficients,
+:meth:`engine.solvers.wear.WearModel.combinations`: Archard's ``wear2`` defaults to ``wear1``
+element-wise, i.e. isotropic laws, and ``wear2 = "proportional"`` gives ``wear1·mu2/mu1``,
+paper Section 7.3).
 
 Dotted keys swept in ``[sweep]`` (``"loading.load" = [...]``, ``"mesh.n" = [...]``, any key of
 :data:`~engine.study.config.SWEEPABLE`) add axes: the plan is the product of the friction/wear
@@ -25,6 +27,7 @@ Friction coefficients are dimensionless, wear coefficients in 1/MPa, ``beta`` in
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import re
@@ -32,10 +35,10 @@ from dataclasses import dataclass
 from pathlib import PurePath
 from typing import TYPE_CHECKING, Any
 
-from engine.schema import CASE_PARAMETERS
+from engine.solvers.wear_laws import WEAR_LAWS, fixed_coefficients
 
 from .settings.sections import MISSING as _MISSING
-from .settings.sections import PROPORTIONAL, StudyConfigError
+from .settings.sections import StudyConfigError
 
 if TYPE_CHECKING:  # annotations only: the configuration package parses the kinds' sections
     from .config import StudyConfig
@@ -64,50 +67,49 @@ def setting_names(keys: tuple[str, ...]) -> dict[str, str]:
 
 
 def case_id_for(
-    mu1: float, mu2: float, wear1: float, wear2: float, beta: float, alpha: float | None = None
+    mu1: float, mu2: float, wear: dict[str, float], beta: float, law: str = "archard"
 ) -> str:
-    """Readable id from the parameters: ``mu<mu1>-<mu2>_w<wear1>-<wear2>_b<beta>`` (Archard
-    law) or ``mu<mu1>-<mu2>_a<alpha>_b<beta>`` (energy law, ``alpha`` given)."""
+    """Readable id from the parameters: ``mu<mu1>-<mu2>_<wear>_b<beta>``, ``<wear>`` the
+    law's part (:meth:`engine.solvers.wear.WearModel.case_id_part`: ``w<wear1>-<wear2>`` for
+    Archard, ``a<alpha>`` for the energy law)."""
     mu = f"mu{_format(mu1)}" if mu1 == mu2 else f"mu{_format(mu1)}-{_format(mu2)}"
-    if alpha is not None:
-        wear = f"a{_format(alpha)}"
-    elif wear1 == wear2:
-        wear = f"w{_format(wear1)}"
-    else:
-        wear = f"w{_format(wear1)}-{_format(wear2)}"
-    return f"{mu}_{wear}_b{_format(beta)}"
+    part = WEAR_LAWS[law].case_id_part([_format(value) for value in wear.values()])
+    return f"{mu}_{part}_b{_format(beta)}"
 
 
 @dataclass(frozen=True)
 class Case:
-    """One simulation: friction (μ1, μ2), wear coefficients (i1, i2, 1/MPa), axes angle β (°)."""
+    """One simulation: friction (μ1, μ2), the wear law's coefficients (``wear``, in the law's
+    units: Archard's i1, i2 in 1/MPa), axes angle β (°)."""
 
     index: int
     case_id: str
     mu1: float
     mu2: float
-    wear1: float
-    wear2: float
+    wear: tuple[tuple[str, float], ...]
     beta: float
     settings: tuple[tuple[str, Any], ...] = ()  # swept dotted keys and their values
     cost_scale: float = 1.0  # size of the case relative to the study's first values
     mesh: tuple[int, float] | None = None  # (n, half_width mm) of the case's grid
-    alpha: float | None = None  # energy wear law (mm³/J), its own parameter; wear1 = wear2 = 0
+    law: str = "archard"  # the wear law (engine.solvers.wear_laws.WEAR_LAWS)
     line: bool = False  # a line contact: loads, energies, areas, volumes per unit length
 
+    @property
+    def coefficients(self) -> dict[str, float]:
+        """{coefficient: value} of the case's wear law."""
+        return dict(self.wear)
+
     def parameters(self) -> dict[str, float | int | str]:
-        """Case attributes and the parameter columns of its summary row."""
-        parameters: dict[str, Any] = {
-            "case_id": self.case_id,
-            "index": self.index,
-            "mu1": self.mu1,
-            "mu2": self.mu2,
-            "wear1": self.wear1,
-            "wear2": self.wear2,
-            "beta": self.beta,
-        }
-        if self.alpha is not None:
-            parameters["alpha"] = self.alpha
+        """Case attributes and the parameter columns of its summary row: mu1, mu2, the
+        default law's coefficients (0 under another law: every results file has the same
+        first columns), beta, then another law's coefficients and the swept keys."""
+        wear = self.coefficients
+        parameters: dict[str, Any] = {"case_id": self.case_id, "index": self.index}
+        parameters.update(mu1=self.mu1, mu2=self.mu2)
+        for name in fixed_coefficients():
+            parameters[name] = wear.pop(name, 0.0)
+        parameters["beta"] = self.beta
+        parameters.update(wear)
         parameters.update(self.settings)
         return parameters
 
@@ -178,25 +180,19 @@ def cost_scale(case: StudyConfig, study: StudyConfig) -> float:
 
 
 def _friction_combinations(config: StudyConfig) -> list[tuple]:
-    """(mu1, mu2, wear1, wear2, beta, alpha) in plan order (nested loops): the Archard law's
-    coefficients with alpha None, or the energy law's alpha (mm³/J) with wear1 = wear2 = 0."""
+    """(mu1, mu2, {wear coefficient: value}, beta) in plan order (nested loops), the wear
+    coefficients combined by the study's law."""
     sweep = config.sweep
+    law = WEAR_LAWS[sweep.law]
     if sweep.mu2 is None:
         mu_pairs = [(mu, mu) for mu in sweep.mu1]
     else:
         mu_pairs = list(itertools.product(sweep.mu1, sweep.mu2))
     combos = []
     for mu1, mu2 in mu_pairs:
-        if sweep.alpha is not None:  # the energy law: one coefficient, Archard's i1 = i2 = 0
-            laws = [(0.0, 0.0, alpha) for alpha in sweep.alpha]
-        elif sweep.wear2 is None:
-            laws = [(w, w, None) for w in sweep.wear1]
-        elif sweep.wear2 == PROPORTIONAL:
-            laws = [(w, w * mu2 / mu1, None) for w in sweep.wear1]
-        else:
-            laws = [(w1, w2, None) for w1, w2 in itertools.product(sweep.wear1, sweep.wear2)]
-        for (wear1, wear2, alpha), beta in itertools.product(laws, sweep.beta):
-            combos.append((mu1, mu2, wear1, wear2, beta, alpha))
+        laws = law.combinations(sweep.wear_lists, mu1, mu2)
+        for wear, beta in itertools.product(laws, sweep.beta):
+            combos.append((mu1, mu2, wear, beta))
     return combos
 
 
@@ -235,16 +231,17 @@ def make_plan(config: StudyConfig) -> Plan:
         mesh = (case_config.mesh.n, case_config.mesh.half_width)
         suffix = "".join(f"_{names[key]}{_format(value)}" for key, value in settings)
         for combo in _friction_combinations(config):
-            case_id = case_id_for(*combo) + suffix
+            case_id = case_id_for(*combo, law=config.sweep.law) + suffix
             if case_id in seen:
                 first_combo, first_settings = seen[case_id]
                 if first_combo != combo:
                     raise _collision(config.source, case_id, first_combo, combo)
                 raise _setting_collision(config.source, case_id, first_settings, settings)
             seen[case_id] = (combo, settings)
-            *friction, alpha = combo
+            mu1, mu2, wear, beta = combo
             line = config.punch.is_line
-            cases.append(Case(index, case_id, *friction, settings, scale, mesh, alpha, line))
+            case = Case(index, case_id, mu1, mu2, tuple(wear.items()), beta, settings, scale, mesh)
+            cases.append(dataclasses.replace(case, law=config.sweep.law, line=line))
             index += 1
     unknown = set(config.testing.fail_cases) - set(seen)
     if unknown:
@@ -252,9 +249,6 @@ def make_plan(config: StudyConfig) -> Plan:
             config.source, "testing.fail_cases", sorted(unknown), "not a case id of this plan"
         )
     return Plan(tuple(cases))
-
-
-_PARAMETERS = CASE_PARAMETERS
 
 
 def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:
@@ -276,14 +270,18 @@ def _setting_collision(source: str, case_id: str, first: tuple, second: tuple) -
 def _collision(source: str, case_id: str, first: tuple, second: tuple) -> StudyConfigError:
     """Two combinations with the same id: name the sweep key whose values differ only beyond
     the 10 significant digits of the id."""
-    keys = [key for key, a, b in zip(_PARAMETERS, first, second, strict=True) if a != b]
+    flat = [_flat(combo) for combo in (first, second)]
+    keys = [key for key in flat[0] if flat[0][key] != flat[1][key]]
     key = keys[0] if keys else "mu1"
-    values = [a for k, a, b in zip(_PARAMETERS, first, second, strict=True) if k == key]
-    values += [b for k, a, b in zip(_PARAMETERS, first, second, strict=True) if k == key]
     return StudyConfigError(
         source,
         f"sweep.{key}",
-        values,
+        [flat[0][key], flat[1][key]],
         f"two cases get the same id {case_id!r}: the values differ only beyond 10 "
         "significant digits",
     )
+
+
+def _flat(combo: tuple) -> dict[str, float]:
+    mu1, mu2, wear, beta = combo
+    return {"mu1": mu1, "mu2": mu2, **wear, "beta": beta}

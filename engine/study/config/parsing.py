@@ -67,8 +67,8 @@ from pathlib import Path
 from typing import Any
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES
-from engine.schema import CASE_PARAMETERS
 from engine.solvers import defaults
+from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS, wear_coefficients
 from engine.study.kinds import KINDS
 from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 from engine.study.settings.checks import LIMITS, bound, check_physical_ranges
@@ -76,8 +76,6 @@ from engine.study.settings.compat import STATIC_PLACEHOLDERS
 from engine.study.settings.reader import Section, toml_error
 from engine.study.settings.sections import (
     MISSING,
-    PROPORTIONAL,
-    WEAR_LAWS,
     LoadingConfig,
     MaterialConfig,
     MeshConfig,
@@ -605,17 +603,19 @@ def _kind(loading: LoadingConfig):
 
 def _parse_wear(s: Section, loading: LoadingConfig) -> WearConfig:
     s.check_known({"law", "pad_coefficient"})
-    law = s.string("law", "archard")
+    law = s.string("law", DEFAULT_WEAR_LAW)
     if law not in WEAR_LAWS:
-        raise s.error("law", law, 'must be "archard" or "energy"')
-    if law == "energy" and not _kind(loading).has_cycles:
+        raise s.error("law", law, "must be one of " + ", ".join(f'"{n}"' for n in WEAR_LAWS))
+    if law != DEFAULT_WEAR_LAW and not _kind(loading).has_cycles:
         with_wear = " or ".join(f'"{k.name}"' for k in _kinds().values() if k.has_cycles)
         raise s.error("law", law, f"a wear law needs kind = {with_wear}")
     pad = None
     if "pad_coefficient" in s.table:  # the pad's coefficient, in the unit of the flat's law
-        limit = bound("wear.pad_coefficient" + (".energy" if law == "energy" else ""))
-        unit = "mm³/J" if law == "energy" else "1/MPa"
-        pad = s.number("pad_coefficient", unit=unit, **limit)
+        first = next(iter(WEAR_LAWS[law].coefficients.values()))
+        dotted = "wear.pad_coefficient" + ("" if law == DEFAULT_WEAR_LAW else f".{law}")
+        given = {"maximum": first.maximum, "why": first.why, "minimum": first.minimum}
+        limit = bound(dotted) if dotted in LIMITS else given
+        pad = s.number("pad_coefficient", unit=first.unit, **limit)
     return WearConfig(law=law, pad_coefficient=pad)
 
 
@@ -647,36 +647,20 @@ def _parse_subsurface(s: Section) -> SubsurfaceConfig:
 
 
 def _parse_sweep(s: Section, loading: LoadingConfig, wear: WearConfig) -> SweepConfig:
-    s.check_known(set(CASE_PARAMETERS))
+    """``mu1``, ``mu2``, ``beta`` and the coefficients the wear law declares (read by the
+    law, :meth:`engine.solvers.wear.WearModel.read_sweep`); another law's coefficient is
+    refused naming the law that takes it."""
+    law = WEAR_LAWS[wear.law]
+    s.check_known({"mu1", "mu2", "beta", *wear_coefficients()})
+    for name in s.table:
+        if name in wear_coefficients() and name not in law.coefficients:
+            takes = ", ".join(law.coefficients)
+            raise s.error(name, s.table[name], f'[wear] law = "{wear.law}" takes {takes}')
     mu1 = s.number_list("mu1", minimum=LIMITS["sweep.mu1"].minimum)
     mu2 = s.number_list("mu2", minimum=LIMITS["sweep.mu2"].minimum) if "mu2" in s.table else None
-    if wear.law == "energy":
-        for key in ("wear1", "wear2"):
-            if key in s.table:
-                raise s.error(key, s.table[key], '[wear] law = "energy" takes alpha (mm³/J)')
-        alpha = s.number_list("alpha", minimum=LIMITS["sweep.alpha"].minimum, unit="mm^3/J")
-        beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
-        return SweepConfig(mu1=mu1, mu2=mu2, wear1=(), wear2=None, beta=beta, alpha=alpha)
-    if "alpha" in s.table:
-        raise s.error("alpha", s.table["alpha"], 'only with [wear] law = "energy"')
-    wear_default = MISSING if _kind(loading).has_cycles else [0.0]
-    wear1 = s.number_list(
-        "wear1", wear_default, minimum=LIMITS["sweep.wear1"].minimum, unit="1/MPa"
-    )
-    wear2: tuple[float, ...] | str | None = None
-    if "wear2" in s.table:
-        if s.table["wear2"] == PROPORTIONAL:
-            if any(mu == 0.0 for mu in mu1):
-                raise s.error("wear2", PROPORTIONAL, "needs every mu1 > 0 (wear1·mu2/mu1)")
-            wear2 = PROPORTIONAL
-        elif isinstance(s.table["wear2"], str):
-            raise s.error(
-                "wear2", s.table["wear2"], f'must be a list of numbers or "{PROPORTIONAL}"'
-            )
-        else:
-            wear2 = s.number_list("wear2", minimum=LIMITS["sweep.wear2"].minimum, unit="1/MPa")
+    lists = law.read_sweep(s, required=_kind(loading).has_cycles)
     beta = _axes_angles(s, s.number_list("beta", [0.0], unit="degrees"))
-    return SweepConfig(mu1=mu1, mu2=mu2, wear1=wear1, wear2=wear2, beta=beta)
+    return SweepConfig(mu1=mu1, mu2=mu2, beta=beta, law=wear.law, wear=tuple(lists.items()))
 
 
 def _parse_solver(s: Section, loading: LoadingConfig) -> SolverConfig:

@@ -7,7 +7,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from engine.keys import LENGTH_REASON, MAX_LENGTH
+from engine.keys import LENGTH_REASON, MAX_LENGTH, Key
+from engine.solvers.friction import MAX_ENERGY_WEAR_COEFFICIENT, MAX_WEAR_COEFFICIENT
+from engine.solvers.wear_laws import WEAR_LAWS
 
 from .sections import StudyConfigError, contact_modulus
 
@@ -25,13 +27,9 @@ MIN_PRESSURE_OVER_MODULUS = 1e-12
 # Friction coefficients of real contacts lie below ~2 (clean metals in vacuum up to ~5); far
 # above, the contact sticks everywhere and μ·p overflows nothing but the user's intent.
 MAX_FRICTION = 10.0
-# Archard-type wear coefficients (1/MPa) of fretting tests are 1e-9 … 1e-6 (Section 7: 1.33e-7);
-# at 1e-3 a contact at 100 MPa slipping 1 µm wears 0.1 µm per cycle, 10^4 × the severest
-# measured, and the cycle jump degenerates into single cycles.
-MAX_WEAR_COEFFICIENT = 1e-3  # 1/MPa
-# The energy law's α (mm³/J) wears α·τ·s·1e-3 mm per cycle where Archard's wears k·p·s: at
-# μ = 1, α = 1 mm³/J wears as fast as the Archard bound above (fretting tests: 1e-6 … 1e-4).
-MAX_ENERGY_WEAR_COEFFICIENT = 1.0  # mm^3/J
+# The wear coefficients' ranges are declared by the wear laws (engine.solvers.friction, the
+# [sweep] keys they read); MAX_WEAR_COEFFICIENT (Archard, 1/MPa) and
+# MAX_ENERGY_WEAR_COEFFICIENT (energy, mm³/J) also bound [wear] pad_coefficient.
 # Lengths (mm): MAX_LENGTH (engine.keys, where the punch profiles declare their lengths).
 
 
@@ -57,6 +55,11 @@ class Limit:
         above = low is None or (value > low if self.open_minimum else value >= low)
         below = high is None or (value < high if self.open_maximum else value <= high)
         return above and below
+
+    @classmethod
+    def of(cls, key: Key) -> Limit:
+        """The range a plug-in declares for one of its keys (:class:`engine.keys.Key`)."""
+        return cls(key.minimum, key.maximum, key.why, open_minimum=key.strict)
 
     @property
     def accepted(self) -> str:
@@ -84,7 +87,8 @@ _ANGLE = "angles in degrees, one turn either way"
 #: Every range a number of the host's sections must lie in ("section.key": Limit), read by the
 #: checks (:func:`bound`) and written in the manual's limits table. A key beyond the maximum
 #: is a typo or a unit slip, and would otherwise run for days or fail late. The plug-ins
-#: declare their own keys' ranges (``engine.keys.Key``; the fatigue criteria's constants).
+#: declare their own keys' ranges (``engine.keys.Key``: the profiles' [punch] keys, the wear
+#: laws' coefficients; the fatigue criteria's constants).
 LIMITS = {
     "material.E_A": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
     "material.E_B": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
@@ -158,9 +162,6 @@ LIMITS = {
     ),
     "sweep.mu1": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
     "sweep.mu2": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
-    "sweep.wear1": Limit(0.0, MAX_WEAR_COEFFICIENT, "fretting tests: 1e-9 … 1e-6"),
-    "sweep.wear2": Limit(0.0, MAX_WEAR_COEFFICIENT, "fretting tests: 1e-9 … 1e-6"),
-    "sweep.alpha": Limit(0.0, MAX_ENERGY_WEAR_COEFFICIENT, "fretting tests: 1e-6 … 1e-4"),
     "sweep.beta": Limit(-360.0, 360.0, f"{_ANGLE}; taken modulo 180°"),
     "solver.tol": Limit(
         0.0,
@@ -241,26 +242,15 @@ def check_physical_ranges(source, material, punch, loading, sweep) -> None:
                     value,
                     f"friction coefficient must lie in {limit.accepted} (real contacts: below ~2)",
                 )
-    for key in ("wear1", "wear2"):
-        limit = LIMITS[f"sweep.{key}"]
-        values = getattr(sweep, key, None)
+    law = WEAR_LAWS[sweep.law]
+    for name, values in sweep.wear:
+        key = law.coefficients[name]
+        limit = Limit.of(key)
         for value in values if isinstance(values, tuple) else ():
             if not limit.holds(value):
                 raise StudyConfigError(
                     source,
-                    f"sweep.{key}",
+                    f"sweep.{name}",
                     value,
-                    f"wear coefficient must lie in {limit.accepted} 1/MPa "
-                    "(fretting tests: 1e-9 … 1e-6)",
+                    f"wear coefficient must lie in {limit.accepted} {key.unit} ({key.why})",
                 )
-    limit = LIMITS["sweep.alpha"]
-    for value in getattr(sweep, "alpha", None) or ():
-        if not limit.holds(value):
-            raise StudyConfigError(
-                source,
-                "sweep.alpha",
-                value,
-                f"energy wear coefficient must lie in {limit.accepted} "
-                "mm^3/J (fretting tests: 1e-6 … 1e-4; 1 mm^3/J at μ = 1 wears as fast as "
-                f"Archard's {MAX_WEAR_COEFFICIENT:g} 1/MPa)",
-            )

@@ -12,7 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES, Profile, profile_for
-from engine.schema import CASE_PARAMETERS
+from engine.solvers.friction import PROPORTIONAL
+from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
 
 from .units import SWEEPABLE, SWEEPABLE_TEXT
 
@@ -38,8 +39,6 @@ __all__ = [
     "SWEEPABLE_TEXT",
     "WEAR_LAWS",
 ]
-
-PROPORTIONAL = "proportional"
 
 PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFILES)
 
@@ -164,10 +163,11 @@ class LoadingConfig:
 
 @dataclass(frozen=True)
 class WearConfig:
-    """``law``: "archard" (the paper's orthotropic law, Eq. 12–14, coefficients wear1/wear2
-    in 1/MPa) or "energy" (dissipated-energy law, coefficient alpha in mm³/J)."""
+    """``law``: a name of :data:`engine.solvers.wear_laws.WEAR_LAWS`: "archard" (the paper's
+    orthotropic law, Eq. 12–14, coefficients wear1/wear2 in 1/MPa), "energy"
+    (dissipated-energy law, coefficient alpha in mm³/J) or a registered plug-in's."""
 
-    law: str = "archard"
+    law: str = DEFAULT_WEAR_LAW
     pad_coefficient: float | None = None  # line contacts: the pad's wear coefficient
 
 
@@ -191,13 +191,22 @@ class SweepAxis:
 
 @dataclass(frozen=True)
 class SweepConfig:
+    """The ``[sweep]`` lists: friction coefficients ``mu1``, ``mu2`` (None: mu2 = mu1), the
+    coefficients of the wear law ``law`` as its ``read_sweep`` returns them (``wear``:
+    ((coefficient, list or a rule's text or None), ...) in the law's order), the axes angles
+    ``beta`` (degrees) and the axes of swept dotted keys."""
+
     mu1: tuple[float, ...]
     mu2: tuple[float, ...] | None
-    wear1: tuple[float, ...]
-    wear2: tuple[float, ...] | str | None
     beta: tuple[float, ...]
     axes: tuple[SweepAxis, ...] = ()
-    alpha: tuple[float, ...] | None = None  # energy wear law only (mm³/J)
+    law: str = DEFAULT_WEAR_LAW
+    wear: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def wear_lists(self) -> dict[str, Any]:
+        """{coefficient: its list (or rule)} of the wear law."""
+        return dict(self.wear)
 
     @property
     def swept_keys(self) -> tuple[str, ...]:
@@ -206,11 +215,17 @@ class SweepConfig:
 
     def resolved(self) -> dict[str, Any]:
         """TOML-able: the friction/wear lists, then every dotted key, then the zip groups."""
-        out: dict[str, Any] = {}
-        for name in CASE_PARAMETERS:
-            value = getattr(self, name)
-            if value is not None:
-                out[name] = list(value) if isinstance(value, tuple) else value
+        out: dict[str, Any] = {"mu1": list(self.mu1)}
+        if self.mu2 is not None:
+            out["mu2"] = list(self.mu2)
+        # the default law's coefficients before beta, another law's after it (the order of
+        # the case parameters)
+        coefficients = WEAR_LAWS[self.law].resolved(self.wear_lists)
+        if self.law == DEFAULT_WEAR_LAW:
+            out.update(coefficients)
+        out["beta"] = list(self.beta)
+        if self.law != DEFAULT_WEAR_LAW:
+            out.update(coefficients)
         for axis in self.axes:
             for position, key in enumerate(axis.keys):
                 out[key] = [values[position] for values in axis.values]
@@ -237,9 +252,6 @@ class SolverConfig:
 @dataclass(frozen=True)
 class TestingConfig:
     fail_cases: tuple[str, ...]
-
-
-WEAR_LAWS = ("archard", "energy")
 
 
 def contact_modulus(material: MaterialConfig) -> float:

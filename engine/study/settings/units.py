@@ -16,11 +16,13 @@ from __future__ import annotations
 from engine import schema
 from engine.geometry import PROFILES
 from engine.keys import merge_units
+from engine.solvers.wear_laws import WEAR_LAWS, fixed_coefficients, wear_coefficients
 from engine.study.fatigue import fatigue_column_specs, fatigue_sweepable
 
 __all__ = [
     "SWEEPABLE",
     "SWEEPABLE_TEXT",
+    "case_parameters",
     "sweepable_keys",
     "summary_columns",
     "unit_of",
@@ -62,19 +64,42 @@ SWEEPABLE = sweepable_keys()
 SWEEPABLE_TEXT = schema.SWEPT_TEXT_KEYS
 
 
-def summary_columns(criteria=None) -> dict[str, tuple[str, str]]:
+def case_parameters(laws=None) -> tuple[str, ...]:
+    """Every parameter a case may store, in the order of its attributes: mu1, mu2, the
+    default wear law's coefficients, beta, then every other law's of ``laws`` (default: the
+    registered ones)."""
+    fixed = fixed_coefficients()
+    others = [name for name in wear_coefficients(laws) if name not in fixed]
+    return ("mu1", "mu2", *fixed, "beta", *others)
+
+
+def summary_columns(criteria=None, laws=None) -> dict[str, tuple[str, str]]:
     """{column: (unit, meaning)} of every summary column: the results schema's
-    (:data:`engine.schema.COLUMN_DESCRIPTIONS`), then every fatigue criterion's of
-    ``criteria`` (default: the registered ones;
-    :func:`engine.study.fatigue.fatigue_column_specs`)."""
-    columns = {
-        column: (schema.unit_of(column), meaning)
-        for column, meaning in schema.COLUMN_DESCRIPTIONS.items()
+    (:data:`engine.schema.COLUMN_DESCRIPTIONS`) with the wear coefficients of every law of
+    ``laws`` (default: the registered ones; the default law's before ``beta``, the others'
+    after the schema's columns), then every fatigue criterion's of ``criteria`` (default: the
+    registered ones; :func:`engine.study.fatigue.fatigue_column_specs`)."""
+    laws = WEAR_LAWS if laws is None else laws
+    coefficients = {
+        name: (key.unit, f"{_law_of(name, laws)}: {key.meaning}")
+        for name, key in wear_coefficients(laws).items()
     }
+    columns: dict[str, tuple[str, str]] = {}
+    for column, meaning in schema.COLUMN_DESCRIPTIONS.items():
+        if column == "beta":
+            columns.update({name: coefficients[name] for name in fixed_coefficients()})
+        columns[column] = (schema.unit_of(column), meaning)
+    columns.update(coefficients)
     specs = fatigue_column_specs() if criteria is None else fatigue_column_specs(criteria)
     for column, spec in specs.items():
         columns[column] = (spec.units, f"fatigue: {spec.description} (last recorded cycle)")
     return columns
+
+
+def _law_of(coefficient: str, laws) -> str:
+    """ "the <name> wear law" for the laws that declare ``coefficient``."""
+    names = [name for name, law in laws.items() if coefficient in law.coefficients]
+    return " and ".join(f"`{name}`" for name in names) + " wear law"
 
 
 _FATIGUE_COLUMN_UNITS = {column: spec.units for column, spec in fatigue_column_specs().items()}
@@ -88,6 +113,9 @@ def unit_of(name: str, line: bool = False) -> str:
         return schema.contact_units(SWEEPABLE[name], line)
     if name in _FATIGUE_COLUMN_UNITS:
         return schema.contact_units(_FATIGUE_COLUMN_UNITS[name], line)
+    coefficients = wear_coefficients()
+    if name in coefficients:
+        return coefficients[name].unit
     return schema.unit_of(name, line)
 
 
