@@ -35,13 +35,18 @@ from engine import exit_codes, schema
 from engine.analysis.markdown import markdown_table, read_block, replace_block
 from engine.fatigue import CRITERIA
 from engine.geometry import PROFILES
+from engine.solvers.wear_laws import WEAR_LAWS, wear_coefficients
 from engine.study.config.keys import SECTIONS, STUDY_KEYS
 from engine.study.fatigue import fatigue_history, fatigue_map_specs
 from engine.study.settings.units import summary_columns as described_columns
 from engine.study.settings.units import sweepable_keys as swept_key_units
 
 # The manual describes the engine: its own profiles and criteria, whatever else is installed.
-BUILT_IN = {"profiles": PROFILES.builtins, "criteria": CRITERIA.builtins}
+BUILT_IN = {
+    "profiles": PROFILES.builtins,
+    "criteria": CRITERIA.builtins,
+    "wear_laws": WEAR_LAWS.builtins,
+}
 
 REPO = Path(__file__).resolve().parents[1]
 STUDY_FILE = REPO / "docs" / "reference" / "study-file.md"
@@ -85,7 +90,7 @@ def sweepable_keys() -> str:
 def summary_columns() -> str:
     """Every summary column: the common ones, then the fretting, energy-law and fatigue
     criteria's ones (the criteria's from their declarations)."""
-    described = described_columns(BUILT_IN["criteria"])
+    described = described_columns(BUILT_IN["criteria"], BUILT_IN["wear_laws"])
     common = list(schema.SUMMARY_COLUMNS)
     extra = [column for column in described if column not in common]
     rows = [
@@ -197,6 +202,10 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
     )]  # fmt: skip
     for dotted, limit in checks.LIMITS.items():
         key = dotted.removesuffix(".energy")
+        if key == "sweep.beta":  # the wear laws' coefficients before: their declared ranges
+            for name, declared in wear_coefficients(BUILT_IN["wear_laws"]).items():
+                rows.append((f"sweep.{name}", checks.Limit.of(declared).accepted, declared.unit,
+                             declared.why))  # fmt: skip
         if key == "loading.bulk_stress":
             rows.append(("loading.bulk_stress_max, bulk_stress_min", limit.accepted, "MPa",
                          limit.why))  # fmt: skip

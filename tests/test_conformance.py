@@ -1,6 +1,6 @@
 """Conformance suites: one parametrised class per plug-in protocol, run over every registered
 plug-in (the built-in ones and those other packages register, such as the example package of
-``examples/plugins/``). A new profile, criterion or loading kind is tested by being
+``examples/plugins/``). A new profile, criterion, loading kind or wear law is tested by being
 registered; no test here lists their names."""
 
 from __future__ import annotations
@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -18,11 +19,15 @@ from engine.geometry import PROFILES, Profile, profile_for, profile_from_table
 from engine.keys import Key, examples
 from engine.material import MaterialPair
 from engine.schema import DatasetSpec, fatigue_specs
-from engine.study.config import SWEEPABLE, parse_study
-from engine.study.config.keys import punch_keys
+from engine.solvers.wear import WearModel
+from engine.solvers.wear_laws import WEAR_LAWS
+from engine.study.config import SWEEPABLE, dump_toml, parse_study
+from engine.study.config.keys import punch_keys, wear_keys
 from engine.study.examples import study_toml
 from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
 from engine.study.kinds import KINDS, LoadingKind
+from engine.study.plan import make_plan
+from engine.study.settings.units import case_parameters, summary_columns, unit_of
 
 E_STAR = 200e3 / (2 * (1 - 0.3**2))  # MPa, two steel bodies
 
@@ -227,3 +232,78 @@ class TestLoadingKind:
         for reference in (kind.report, kind.figures):
             assert reference.startswith("engine.analysis.") or "." in reference
             assert callable(_function(reference))
+
+
+def _slipping_increment(points: int = 4):
+    """A sliding increment on ``points`` elements, and the state before it: pressure p
+    (MPa), slips Δs (mm) in several directions, tractions −0.3 p Δs/|Δs| opposing the slip
+    at the increment and the one before (positive frictional work everywhere)."""
+    angle = np.linspace(0.0, 2.0 * np.pi, points, endpoint=False).reshape(points, 1)
+    pressure = np.linspace(100.0, 400.0, points).reshape(points, 1)
+    slip_x, slip_y = 1e-3 * np.cos(angle), 1e-3 * np.sin(angle)
+    traction_x, traction_y = -0.3 * pressure * np.cos(angle), -0.3 * pressure * np.sin(angle)
+    state = {"pressure": pressure, "traction_x": traction_x, "traction_y": traction_y}
+    result = SimpleNamespace(**state, slip_x=slip_x, slip_y=slip_y)
+    return result, SimpleNamespace(**state)
+
+
+def _coefficients(cls: type[WearModel]) -> dict[str, float]:
+    return {name: key.example for name, key in cls.coefficients.items()}
+
+
+@pytest.mark.parametrize("name", list(WEAR_LAWS))
+class TestWearLaw:
+    """The protocol of :class:`engine.solvers.wear.WearModel` (engine/solvers/wear.py)."""
+
+    def test_is_registered_under_its_name_and_declares_its_coefficients(self, name):
+        cls = WEAR_LAWS[name]
+        assert issubclass(cls, WearModel) and cls.name == name and cls.description
+        assert cls.id_prefix.isalpha() and cls.coefficients
+        assert cls.increment is not WearModel.increment
+        assert cls.from_coefficients is not WearModel.from_coefficients
+        for coefficient, key in cls.coefficients.items():
+            assert isinstance(key, Key) and key.unit and key.meaning, coefficient
+            assert key.minimum is not None and key.example is not None, coefficient
+            assert key.check(coefficient, key.example) == key.example
+            assert unit_of(coefficient) == key.unit  # summary columns, case attributes
+            assert coefficient in case_parameters()
+            assert summary_columns()[coefficient][0] == key.unit
+
+    def test_wears_where_it_slips_and_nowhere_else(self, name):
+        """Δω ≥ 0, finite, with the grid's shape where the surface slips against friction;
+        0 without slip; the law scaled by 2 wears twice as deep (two bodies), when it offers
+        scaling."""
+        cls = WEAR_LAWS[name]
+        law = cls.from_coefficients(_coefficients(cls), beta=math.radians(30.0))
+        result, previous = _slipping_increment()
+        depth = law.increment(result, previous)
+        assert depth.shape == result.pressure.shape
+        assert np.all(np.isfinite(depth)) and np.all(depth >= 0.0) and np.any(depth > 0.0)
+        still = SimpleNamespace(**{**vars(result), "slip_x": 0.0 * result.slip_x,
+                                   "slip_y": 0.0 * result.slip_y})  # fmt: skip
+        assert np.all(law.increment(still, previous) == 0.0)
+        try:
+            doubled = law.scaled(2.0)
+        except NotImplementedError:
+            return
+        # twice the coefficients: the same products times 2, to a few roundings
+        np.testing.assert_allclose(doubled.increment(result, previous), 2.0 * depth, rtol=1e-14)
+
+    def test_a_study_file_sweeps_its_coefficients_and_stores_a_readable_study(self, name):
+        """``[wear] law = name`` with its coefficients in ``[sweep]`` parses into one case per
+        combination, named by the law's id prefix, each storing its coefficients; the
+        resolved study (what a results file stores) parses again to the same plan; the
+        manual's key table describes every coefficient with its unit."""
+        cls = WEAR_LAWS[name]
+        sweep = {"mu1": [0.3]} | {c: [value] for c, value in _coefficients(cls).items()}
+        text = study_toml(name, f"{name}.h5", wear={"law": name}, sweep=sweep)
+        config = parse_study(text)
+        plan = make_plan(config)
+        assert len(plan) == 1 and plan.case_ids[0].split("_")[1].startswith(cls.id_prefix)
+        parameters = plan.cases[0].parameters()
+        assert all(parameters[c] == v for c, v in _coefficients(cls).items())
+        again = parse_study(dump_toml(config.resolved()))
+        assert make_plan(again).case_ids == plan.case_ids
+        described = {key.name: key for key in wear_keys()[1]}
+        assert all(described[c].unit == key.unit for c, key in cls.coefficients.items())
+        assert f'`"{name}"`' in wear_keys()[0].meaning

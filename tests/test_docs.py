@@ -276,6 +276,7 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
     parser's too, and described by that package."""
     from engine.fatigue import CRITERIA
     from engine.geometry import PROFILES
+    from engine.solvers.wear_laws import WEAR_LAWS
     from engine.study.config import StudyConfigError, parse_study
     from engine.study.config.keys import SECTIONS, STUDY_KEYS
     from engine.study.examples import study_toml
@@ -289,6 +290,7 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
     foreign_keys = {
         "punch": foreign(PROFILES, lambda cls: cls.keys()),
         "fatigue": foreign(CRITERIA, lambda cls: cls.constants),
+        "sweep": foreign(WEAR_LAWS, lambda cls: cls.coefficients),
     }
     text = study_toml("keys", "keys.h5", {"sweep": {"wear1": [1.33e-7]}, "not_a_section": {}})
     with pytest.raises(StudyConfigError) as error:
@@ -810,7 +812,8 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
     checked |= {"loading.bulk_stress_max", "loading.bulk_stress_min", "wear.pad_coefficient"}
     # mu2 = mu1, wear2 = wear1 in every case
     for case in make_plan(parsed()).cases:
-        assert (case.mu2, case.wear2) == (case.mu1, case.wear1)
+        wear = case.coefficients
+        assert (case.mu2, wear["wear2"]) == (case.mu1, wear["wear1"])
     checked |= {"sweep.mu2", "sweep.wear2"}
     # search.method: bisection for a text column, illinois for a number
     search = {"parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2, "rtol": 1e-3}

@@ -8,8 +8,10 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
+import engine
 from engine import plugins
 from engine.fatigue import CRITERIA
 from engine.geometry import PROFILES, Profile, profile_for
@@ -17,9 +19,11 @@ from engine.grid import Grid
 from engine.material import MaterialPair
 from engine.solvers.contact import ContactSolver
 from engine.solvers.friction import FrictionLaw
+from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.config import SWEEPABLE, StudyConfigError, parse_study
 from engine.study.examples import study_toml
 from engine.study.plan import make_plan
+from engine.study.settings.units import unit_of
 
 EXAMPLE = "fretting-engine-cone"
 PAPER = MaterialPair(200e3, 0.3, 200e5, 0.3)
@@ -170,3 +174,78 @@ def test_the_environment_can_leave_the_plug_ins_out(monkeypatch):
     monkeypatch.setenv(plugins.BUILT_IN_ONLY, "1")
     table = plugins.Registry("fretting_engine.profiles", PROFILES.builtins, what="punch profile")
     assert dict(table) == PROFILES.builtins
+
+
+# ---------------------------------------------------------------------- the example wear law
+def _threshold_study(output: str, **sweep) -> str:
+    return study_toml(
+        "threshold",
+        output,
+        wear={"law": "threshold"},
+        sweep={"mu1": [0.3]} | sweep,
+    )
+
+
+def test_the_example_wear_law_is_registered_and_its_coefficients_sweep():
+    _example()
+    assert WEAR_LAWS.owner("threshold") == EXAMPLE
+    assert WEAR_LAWS.owner("archard") == plugins.ENGINE_DISTRIBUTION
+    text = _threshold_study("t.h5", wear_rate=[1e-7, 2e-7], threshold_pressure=[50.0])
+    plan = make_plan(parse_study(text))
+    assert plan.case_ids == ("mu0.3_t1e-07-50_b0", "mu0.3_t2e-07-50_b0")
+    parameters = plan.cases[0].parameters()
+    assert list(parameters)[2:] == [
+        "mu1", "mu2", "wear1", "wear2", "beta", "wear_rate", "threshold_pressure"
+    ]  # fmt: skip
+    assert (parameters["wear1"], parameters["wear2"]) == (0.0, 0.0)  # not Archard's
+    assert unit_of("wear_rate") == "1/MPa" and unit_of("threshold_pressure") == "MPa"
+    with pytest.raises(StudyConfigError, match=r"\[sweep\] threshold_pressure = -1.0"):
+        parse_study(_threshold_study("t.h5", wear_rate=[1e-7], threshold_pressure=[-1.0]))
+    with pytest.raises(StudyConfigError, match=r"\[sweep\] wear_rate = 0.5: wear coefficient"):
+        parse_study(_threshold_study("t.h5", wear_rate=[0.5], threshold_pressure=[0.0]))
+    with pytest.raises(StudyConfigError, match=r'\[sweep\] wear1 = .*law = "threshold" takes'):
+        parse_study(_threshold_study("t.h5", wear1=[1e-7]))
+
+
+def test_the_example_wear_law_against_a_hand_computed_depth():
+    """Δω = k ⟨p − p_th⟩ |Δs| on four elements, k = 2e-7 1/MPa, p_th = 100 MPa, computed by
+    hand: (300 − 100)·2e-7·5e-3 = 2e-7 mm (slip 3-4-5 µm), 0 below and at the threshold,
+    (150 − 100)·2e-7·1e-3 = 1e-8 mm; to 1e-15 relative (a few roundings of float64)."""
+    _example()
+    law = WEAR_LAWS["threshold"].from_coefficients(
+        {"wear_rate": 2e-7, "threshold_pressure": 100.0}, beta=0.7
+    )
+    result = SimpleNamespace(
+        pressure=np.array([[300.0, 50.0], [100.0, 150.0]]),  # MPa
+        slip_x=np.array([[3e-3, 1e-3], [1e-3, 0.0]]),  # mm
+        slip_y=np.array([[4e-3, 0.0], [0.0, -1e-3]]),
+    )
+    expected = np.array([[2e-7, 0.0], [0.0, 1e-8]])  # mm
+    np.testing.assert_allclose(law.increment(result, None), expected, rtol=1e-15, atol=0.0)
+    twice = law.scaled(2.0).increment(result, None)  # two bodies: the rate doubles
+    np.testing.assert_allclose(twice, 2.0 * expected, rtol=1e-15, atol=0.0)
+
+
+def test_the_example_wear_law_in_a_study_against_archard(tmp_path, monkeypatch):
+    """A cyclic study (flat punch, 16², 200 cycles): with p_th = 0 the law is Archard's with
+    i1 = i2 = k, the same wear depth to 1e-12 relative (|Δs| computed as hypot(k Δs1, k Δs2)
+    by Archard, k hypot(Δs_x, Δs_y) here: the last bits differ and the solver's iterations
+    follow them); with p_th above every pressure nothing wears."""
+    _example()
+    monkeypatch.chdir(tmp_path)
+    rate = 1.33e-7
+    archard = engine.run_study(
+        study_toml("archard", "archard.h5", sweep={"mu1": [0.3], "wear1": [rate]}),
+        progress=False,
+    )
+    threshold = engine.run_study(
+        _threshold_study("threshold.h5", wear_rate=[rate], threshold_pressure=[0.0, 1e4]),
+        progress=False,
+    )
+    assert archard.status == threshold.status == "completed"
+    depth = archard.summary["max_wear_depth"].iloc[0]
+    worn, unworn = threshold.summary["max_wear_depth"]
+    assert depth > 0.0
+    assert worn == pytest.approx(depth, rel=1e-12)
+    assert unworn == 0.0
+    assert list(threshold.summary.columns[-2:]) == ["wear_rate", "threshold_pressure"]

@@ -150,14 +150,15 @@ class WearLaw(CheckedRecord, WearModel):
         "Archard's orthotropic law (Eqs. 12–14): depth increment = p ||Δg||_i"
     )
     id_prefix: ClassVar[str] = "w"
+    rules: ClassVar[dict[str, str]] = {"wear2": PROPORTIONAL}
     coefficients: ClassVar[dict[str, Key]] = {
         "wear1": Key(
             "1/MPa", "Archard wear coefficient i1 along e1", minimum=0.0,
             maximum=MAX_WEAR_COEFFICIENT, why=_ARCHARD_WHY, example=1.33e-7,
         ),
         "wear2": Key(
-            "1/MPa", 'Archard wear coefficient i2 along e2 (absent: wear1), or `"proportional"`: '
-            "wear1·mu2/mu1 (Section 7.3)", minimum=0.0, maximum=MAX_WEAR_COEFFICIENT,
+            "1/MPa", 'Archard wear coefficient i2 along e2, or `"proportional"`: wear1·mu2/mu1 '
+            "(Section 7.3)", minimum=0.0, maximum=MAX_WEAR_COEFFICIENT,
             why=_ARCHARD_WHY, example=1.33e-7,
         ),
     }  # fmt: skip

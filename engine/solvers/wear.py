@@ -10,6 +10,7 @@ A wear law is one class, registered in :data:`engine.solvers.wear_laws.WEAR_LAWS
   is the same;
 - ``id_prefix``: the letter of the case id before the coefficients (``w`` for Archard's
   ``mu0.5_w1e-07_b0``);
+- ``rules`` (optional): {coefficient: a text it accepts instead of a list};
 - ``from_coefficients(values, beta)``: the law of one case, ``values`` {name: value} in the
   declared units, ``beta`` the angle of the tribological axes (rad);
 - ``increment(result, previous)``: the wear depth Δω (mm, shape of the grid) of one load
@@ -44,6 +45,9 @@ class WearModel:
     description: ClassVar[str]
     coefficients: ClassVar[dict[str, Key]]
     id_prefix: ClassVar[str]
+    #: {coefficient: the text it accepts instead of a list} (a rule, e.g. Archard's
+    #: ``wear2 = "proportional"``).
+    rules: ClassVar[dict[str, str]] = {}
 
     @classmethod
     def keys(cls) -> dict[str, Key]:

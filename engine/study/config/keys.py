@@ -11,8 +11,10 @@ section, next to its line in the parser.
 
 The keys a plug-in owns are described by the plug-in: the ``[punch]`` keys are derived from
 the built-in profiles' declarations (:data:`engine.geometry.PROFILES`, :meth:`Profile.keys`),
-never written in ``keys.toml``; a profile another package registers describes its keys the
-same way (:func:`punch_keys`).
+``[wear] law`` and the wear coefficients of ``[sweep]`` from the built-in wear laws'
+(:data:`engine.solvers.wear_laws.WEAR_LAWS`, ``coefficients``), never written in
+``keys.toml``; a profile or a law another package registers describes its keys the same way
+(:func:`punch_keys`, :func:`wear_keys`).
 
 Units are those of the paper: mm, N, MPa, wear coefficients in 1/MPa, angles in degrees; "1"
 is dimensionless and "–" marks a text or a list that has no unit.
@@ -20,13 +22,15 @@ is dimensionless and "–" marks a text or a list that has no unit.
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from dataclasses import dataclass
 from importlib.resources import files
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES
+from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
 
-__all__ = ["REQUIRED", "SECTIONS", "StudyKey", "STUDY_KEYS"]
+__all__ = ["REQUIRED", "SECTIONS", "StudyKey", "STUDY_KEYS", "punch_keys", "wear_keys"]
 
 REQUIRED = "required"
 
@@ -78,16 +82,27 @@ def _read_table() -> tuple[dict[str, str], tuple[StudyKey, ...]]:
     """The sections (name: what they describe) and the keys of ``keys.toml``, in its order."""
     table = tomllib.loads(files(__package__).joinpath("keys.toml").read_text(encoding="utf-8"))
     sections = {section: entries["about"] for section, entries in table.items()}
-    keys = tuple(
-        key
-        for section, entries in table.items()
-        for key in (
-            punch_keys(PROFILES.builtins)
-            if section == "punch"
-            else [StudyKey(section, name, **fields) for name, fields in entries["keys"].items()]
-        )
-    )
-    return sections, keys
+    keys: list[StudyKey] = []
+    for section, entries in table.items():
+        if section == "punch":
+            keys += punch_keys(PROFILES.builtins)
+            continue
+        described = [StudyKey(section, name, **fields) for name, fields in entries["keys"].items()]
+        if section == "wear":  # the law first, then the pad's coefficient in the law's unit
+            law, sweep = wear_keys(WEAR_LAWS.builtins)
+            units = {
+                next(iter(cls.coefficients.values())).unit for cls in WEAR_LAWS.builtins.values()
+            }
+            described = [law] + [
+                dataclasses.replace(key, unit=" or ".join(sorted(units)))
+                if key.name == "pad_coefficient" else key
+                for key in described
+            ]  # fmt: skip
+        if section == "sweep":  # the wear coefficients after the friction coefficients
+            at = [key.name for key in described].index("mu2") + 1
+            described[at:at] = sweep
+        keys += described
+    return sections, tuple(keys)
 
 
 def _quoted(names) -> str:
@@ -119,6 +134,36 @@ def punch_keys(profiles=None) -> list[StudyKey]:
         unit = declared[0][1].unit
         keys.append(StudyKey("punch", key, "number", default, unit, meaning, label))
     return keys
+
+
+def wear_keys(laws=None) -> tuple[StudyKey, list[StudyKey]]:
+    """``[wear] law`` (one of ``laws``, default the registered ones, each with its summary
+    and coefficients) and the ``[sweep]`` keys of every law's coefficients, with their
+    units, the law that takes each, and its default (required with the law, or the
+    coefficient it follows)."""
+    laws = WEAR_LAWS if laws is None else laws
+    summaries = "; ".join(
+        f'`"{name}"`: {cls.description}, `[sweep]` '
+        + ", ".join(f"`{key}` in {declared.unit}" for key, declared in cls.coefficients.items())
+        for name, cls in laws.items()
+    )
+    law = StudyKey("wear", "law", "text", f'"{DEFAULT_WEAR_LAW}"', "–", summaries)
+    keys: dict[str, StudyKey] = {}
+    for name, cls in laws.items():
+        follows = cls.followers(dict.fromkeys(cls.coefficients))
+        for key, declared in cls.coefficients.items():
+            if key in keys:
+                continue
+            if key in follows:
+                default = follows[key][0]
+            elif name == DEFAULT_WEAR_LAW:
+                default = "required (cyclic, fretting); [0] static"
+            else:
+                default = f'required with `law = "{name}"`'
+            meaning = declared.meaning + (f" (`{name}` law)" if name != DEFAULT_WEAR_LAW else "")
+            kind = "list of numbers" + (" or text" if key in cls.rules else "")
+            keys[key] = StudyKey("sweep", key, kind, default, declared.unit, meaning)
+    return law, list(keys.values())
 
 
 #: Sections in the order of the reference, each with what it describes; and every key of a
