@@ -812,8 +812,8 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
     checked |= {"loading.bulk_stress_max", "loading.bulk_stress_min", "wear.pad_coefficient"}
     # mu2 = mu1, wear2 = wear1 in every case
     for case in make_plan(parsed()).cases:
-        wear = case.coefficients
-        assert (case.mu2, wear["wear2"]) == (case.mu1, wear["wear1"])
+        coefficients = case.coefficients
+        assert (case.mu2, coefficients["wear2"]) == (case.mu1, coefficients["wear1"])
     checked |= {"sweep.mu2", "sweep.wear2"}
     # search.method: bisection for a text column, illinois for a number
     search = {"parameter": "loading.amplitude", "low": 1e-4, "high": 1e-2, "rtol": 1e-3}

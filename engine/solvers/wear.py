@@ -56,26 +56,77 @@ class WearModel:
 
     @classmethod
     def from_coefficients(cls, values: Mapping[str, float], beta: float) -> WearModel:
-        """The law of one case: ``values`` {coefficient: value}, ``beta`` (rad) the angle of
-        the tribological axes (an isotropic law ignores it)."""
+        """The law of one case.
+
+        Parameters
+        ----------
+        values : mapping of str to float
+            {coefficient: value} in the declared units, every declared coefficient.
+        beta : float
+            Angle of the tribological axes e1, e2 from x (rad); an isotropic law ignores it.
+
+        Returns
+        -------
+        WearModel
+            The law, ready for :meth:`increment`.
+        """
         raise NotImplementedError
 
     def increment(self, result, previous) -> np.ndarray:
-        """Wear depth Δω (mm) of one increment, shape (n_x, n_y)."""
+        """The wear depth of one load increment.
+
+        Parameters
+        ----------
+        result : engine.solvers.increment.IncrementResult
+            The solved increment: ``pressure`` (MPa), ``slip_x``, ``slip_y`` (mm, the slip
+            increments), ``traction_x``, ``traction_y`` (MPa), each of shape (n_x, n_y).
+        previous : engine.solvers.increment.IncrementResult
+            The state before it (its tractions; a law of the frictional work needs them).
+
+        Returns
+        -------
+        numpy.ndarray
+            Δω (mm), shape (n_x, n_y).
+        """
         raise NotImplementedError
 
     def scaled(self, factor: float) -> WearModel:
-        """The law wearing ``factor`` times as fast (two bodies wearing together)."""
+        """The law wearing ``factor`` times as fast (two bodies wearing together,
+        ``[wear] pad_coefficient``).
+
+        Parameters
+        ----------
+        factor : float
+            1 + k_pad / k_flat (≥ 1).
+
+        Returns
+        -------
+        WearModel
+            The scaled law; the base class raises NotImplementedError (no pad wear).
+        """
         raise NotImplementedError(
             f"the wear law {self.name!r} cannot wear two bodies ([wear] pad_coefficient)"
         )
 
     @classmethod
     def read_sweep(cls, section, required: bool) -> dict[str, Any]:
-        """{coefficient: tuple of values} read from ``[sweep]`` (an
-        ``engine.study.settings.reader.Section``): each declared coefficient as a list of
-        numbers ≥ its minimum; absent, its default (a list of one), or, when not
-        ``required`` (a kind without wear), [0]."""
+        """The law's ``[sweep]`` lists.
+
+        Parameters
+        ----------
+        section : engine.study.settings.reader.Section
+            The ``[sweep]`` table; ``section.number_list`` reads a list, ``section.error``
+            makes the error naming a key and its value.
+        required : bool
+            The loading kind wears (a coefficient without a default must be given);
+            otherwise an absent coefficient is [0].
+
+        Returns
+        -------
+        dict
+            {coefficient: tuple of values}, each ≥ its declared minimum, in the declared
+            order.
+        """
         lists: dict[str, Any] = {}
         for name, key in cls.coefficients.items():
             default: Any = [key.default] if key.default is not None else None
@@ -90,9 +141,22 @@ class WearModel:
     def combinations(
         cls, lists: Mapping[str, Any], mu1: float, mu2: float
     ) -> list[dict[str, float]]:
-        """Every combination of the coefficients' lists, first coefficient outermost, as
-        {coefficient: value} (``mu1``, ``mu2``: the friction coefficients of the cases, for a
-        law deriving one coefficient from them)."""
+        """The coefficients of the cases for one pair of friction coefficients.
+
+        Parameters
+        ----------
+        lists : mapping
+            What :meth:`read_sweep` returned.
+        mu1, mu2 : float
+            The friction coefficients of the cases (for a law deriving a coefficient from
+            them).
+
+        Returns
+        -------
+        list of dict
+            {coefficient: value} per case, in plan order: the product of the lists, first
+            coefficient outermost.
+        """
         names = list(cls.coefficients)
         return [
             dict(zip(names, values, strict=True))
@@ -101,8 +165,19 @@ class WearModel:
 
     @classmethod
     def followers(cls, lists: Mapping[str, Any]) -> dict[str, tuple[str, str]]:
-        """{coefficient: (the coefficient it follows, the rule)} of the coefficients not
-        swept but derived from another (the dry run names them beside it)."""
+        """The coefficients not swept but derived from another.
+
+        Parameters
+        ----------
+        lists : mapping
+            What :meth:`read_sweep` returned (a coefficient's entry None when absent).
+
+        Returns
+        -------
+        dict
+            {coefficient: (the coefficient it follows, the rule in words)}; the dry run
+            names them beside the one they follow. None by default.
+        """
         return {}
 
     @classmethod
@@ -116,7 +191,18 @@ class WearModel:
 
     @classmethod
     def case_id_part(cls, values: Sequence[str]) -> str:
-        """The case id's part of the coefficients: ``id_prefix`` and the formatted values,
-        one value when they are all equal (``w1e-07``), else joined by ``-``."""
+        """The case id's part of the coefficients.
+
+        Parameters
+        ----------
+        values : sequence of str
+            The coefficients' values of one case as the id writes them, in declared order.
+
+        Returns
+        -------
+        str
+            ``id_prefix`` and the values, one value when they are all equal (``w1e-07``),
+            else joined by ``-`` (``w1e-07-4e-07``).
+        """
         shown = values[:1] if len(set(values)) == 1 else values
         return cls.id_prefix + "-".join(shown)
