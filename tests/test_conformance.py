@@ -22,7 +22,7 @@ from engine.schema import DatasetSpec, fatigue_specs
 from engine.solvers.wear import WearModel
 from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.config import SWEEPABLE, dump_toml, parse_study
-from engine.study.config.keys import punch_keys, wear_keys
+from engine.study.config.keys import fatigue_keys, punch_keys, wear_keys
 from engine.study.examples import study_toml
 from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
 from engine.study.kinds import KINDS, LoadingKind
@@ -145,8 +145,16 @@ class TestCriterion:
         assert cls.column and cls.unit and cls.description
         assert set(cls.constant_units) == set(cls.constants)
         assert set(cls.constant_ranges) <= set(cls.constants)
+        assert set(cls.constant_meanings) == set(cls.constants)
         for constant, unit in cls.constant_units.items():
             assert SWEEPABLE[f"fatigue.{constant}"] == unit
+        # the manual's key table: the criterion named, each constant with a unit and meaning
+        listed, constants = fatigue_keys()
+        assert f'`"{name}"`' in listed.meaning
+        described = {key.name: key for key in constants}
+        for constant in cls.constants:
+            assert described[constant].unit and described[constant].meaning, constant
+            assert name in described[constant].default, constant
 
     def test_evaluates_a_field_per_point_with_its_angle_and_life(self, name):
         cls = CRITERIA[name]

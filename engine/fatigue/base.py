@@ -10,7 +10,8 @@ A criterion is a class with four class attributes and one method:
 - ``constants``: the names of its material constants, all required (no defaults), and
   ``constant_units`` their units ({name: "MPa" | "1"}); ``constant_ranges`` [{}] the range a
   constant of a real material lies in ({name: (low, high, why)}; a study-file value outside
-  is refused, naming the key and why);
+  is refused, naming the key and why); ``constant_meanings`` {name: what the constant is},
+  one phrase each (the study-file reference of the manual);
 - ``description`` [its name]: what its value is, one phrase (the results' descriptions of
   its columns and datasets, the reference of the manual);
 - ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
@@ -114,6 +115,7 @@ class FatigueCriterion:
     constants: ClassVar[tuple[str, ...]]
     constant_units: ClassVar[dict[str, str]]
     constant_ranges: ClassVar[dict[str, tuple[float, float, str]]] = {}
+    constant_meanings: ClassVar[dict[str, str]] = {}
     description: ClassVar[str] = ""
     reports_angle: ClassVar[bool] = False
     reports_life: ClassVar[bool] = False
@@ -183,6 +185,10 @@ class FatigueLimitCriterion(FatigueCriterion):
     constants = ("sigma_d", "tau_d")
     constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
     constant_ranges = {"sigma_d": STRENGTH, "tau_d": STRENGTH}
+    constant_meanings = {
+        "sigma_d": "fully reversed tension–compression fatigue limit",
+        "tau_d": "fully reversed torsion fatigue limit",
+    }
 
     def check(self) -> None:
         self._require_positive("sigma_d", "tau_d")

@@ -51,6 +51,14 @@ class FatemiSocie(FatigueCriterion):
         "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
         "sigma_y": STRENGTH,
     }
+    constant_meanings = {
+        "tau_f": "shear fatigue strength coefficient τ'_f",
+        "gamma_f": "shear fatigue ductility coefficient γ'_f",
+        "b0": "shear fatigue strength exponent (< 0)",
+        "c0": "shear fatigue ductility exponent (< 0)",
+        "k": "normal-stress sensitivity of Fatemi–Socie",
+        "sigma_y": "yield strength",
+    }
 
     def check(self) -> None:
         self._require_positive("tau_f", "gamma_f", "sigma_y")

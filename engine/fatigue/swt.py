@@ -40,6 +40,12 @@ class SmithWatsonTopper(FatigueCriterion):
         "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
         "c": COFFIN_MANSON,
     }
+    constant_meanings = {
+        "sigma_f": "fatigue strength coefficient σ'_f (Basquin)",
+        "b": "fatigue strength exponent (< 0)",
+        "eps_f": "fatigue ductility coefficient ε'_f (Coffin–Manson)",
+        "c": "fatigue ductility exponent (< 0)",
+    }
 
     def check(self) -> None:
         self._require_positive("sigma_f", "eps_f")

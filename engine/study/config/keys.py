@@ -12,9 +12,11 @@ section, next to its line in the parser.
 The keys a plug-in owns are described by the plug-in: the ``[punch]`` keys are derived from
 the built-in profiles' declarations (:data:`engine.geometry.PROFILES`, :meth:`Profile.keys`),
 ``[wear] law`` and the wear coefficients of ``[sweep]`` from the built-in wear laws'
-(:data:`engine.solvers.wear_laws.WEAR_LAWS`, ``coefficients``), never written in
-``keys.toml``; a profile or a law another package registers describes its keys the same way
-(:func:`punch_keys`, :func:`wear_keys`).
+(:data:`engine.solvers.wear_laws.WEAR_LAWS`, ``coefficients``), ``[fatigue] criteria`` and
+the criteria's constants from the built-in criteria's (:data:`engine.fatigue.CRITERIA`,
+``constant_units``, ``constant_meanings``), never written in ``keys.toml``; a profile, a law
+or a criterion another package registers describes its keys the same way
+(:func:`punch_keys`, :func:`wear_keys`, :func:`fatigue_keys`).
 
 Units are those of the paper: mm, N, MPa, wear coefficients in 1/MPa, angles in degrees; "1"
 is dimensionless and "–" marks a text or a list that has no unit.
@@ -27,10 +29,19 @@ import tomllib
 from dataclasses import dataclass
 from importlib.resources import files
 
+from engine.fatigue import CRITERIA
 from engine.geometry import DEFAULT_SHAPE, PROFILES
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
 
-__all__ = ["REQUIRED", "SECTIONS", "StudyKey", "STUDY_KEYS", "punch_keys", "wear_keys"]
+__all__ = [
+    "REQUIRED",
+    "SECTIONS",
+    "StudyKey",
+    "STUDY_KEYS",
+    "punch_keys",
+    "wear_keys",
+    "fatigue_keys",
+]
 
 REQUIRED = "required"
 
@@ -98,6 +109,9 @@ def _read_table() -> tuple[dict[str, str], tuple[StudyKey, ...]]:
                 if key.name == "pad_coefficient" else key
                 for key in described
             ]  # fmt: skip
+        if section == "fatigue":  # the criteria, then their constants, then the options
+            criteria, constants = fatigue_keys(CRITERIA.builtins)
+            described = [criteria, *constants] + [k for k in described if k.name != "criteria"]
         if section == "sweep":  # the wear coefficients after the friction coefficients
             at = [key.name for key in described].index("mu2") + 1
             described[at:at] = sweep
@@ -164,6 +178,34 @@ def wear_keys(laws=None) -> tuple[StudyKey, list[StudyKey]]:
             kind = "list of numbers" + (" or text" if key in cls.rules else "")
             keys[key] = StudyKey("sweep", key, kind, default, declared.unit, meaning)
     return law, list(keys.values())
+
+
+def fatigue_keys(criteria=None) -> tuple[StudyKey, list[StudyKey]]:
+    """``[fatigue] criteria`` (names of ``criteria``, default the registered ones, with what
+    each evaluates) and one key per constant: the criteria that need it, its unit and
+    meaning (the first criterion's that declares it)."""
+    criteria = CRITERIA if criteria is None else criteria
+    names = "; ".join(f'`"{name}"`: {cls.description}' for name, cls in criteria.items())
+    meaning = f"{names}. Each needs its constants below, which have no defaults"
+    listed = StudyKey("fatigue", "criteria", "list of texts", REQUIRED, "–", meaning)
+    needed: dict[str, list[str]] = {}
+    for name, cls in criteria.items():
+        for constant in cls.constants:
+            needed.setdefault(constant, []).append(name)
+    constants = []
+    for constant, users in needed.items():
+        first = criteria[users[0]]
+        constants.append(
+            StudyKey(
+                "fatigue",
+                constant,
+                "number",
+                f"required ({', '.join(users)})",
+                first.constant_units[constant],
+                first.constant_meanings.get(constant, ""),
+            )
+        )
+    return listed, constants
 
 
 #: Sections in the order of the reference, each with what it describes; and every key of a

@@ -25,6 +25,7 @@ class ShearAmplitude(FatigueCriterion):
     constants = ("tau_a",)
     constant_units = {"tau_a": "MPa"}
     constant_ranges = {"tau_a": STRENGTH}
+    constant_meanings = {"tau_a": "fully reversed torsion fatigue limit τ_a"}
 
     def check(self) -> None:
         self._require_positive("tau_a")
