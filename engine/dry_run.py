@@ -3,8 +3,9 @@ and one row per case with its parameters, its place in the dispatch order and it
 
 :func:`plan_report` builds the text from what :func:`engine.run.run_study` found out before
 anything is written (the configuration, the plan, the look at the existing file); it reads,
-never writes. The case table's columns are the case parameters of the results schema
-(:data:`engine.schema.PARAMETERS`), then one per key the plan sweeps.
+never writes. The case table's columns are the friction coefficients, the coefficients the
+study's wear law declares (:data:`engine.solvers.wear_laws.WEAR_LAWS`), β, then one per key
+the plan sweeps.
 """
 
 from __future__ import annotations
