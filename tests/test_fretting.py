@@ -253,7 +253,7 @@ def test_study_keys_and_sweeps():
     config = study(sweep={"wear1": [1e-7], "loading.amplitude": [0.001, 0.002]}, loading={})
     assert config.is_fretting and config.is_cyclic
     energy = study(wear={"law": "energy"}, sweep={"alpha": [1e-3]})
-    assert energy.wear.law == "energy" and energy.sweep.alpha == (1e-3,)
+    assert energy.wear.law == "energy" and energy.sweep.wear_lists == {"alpha": (1e-3,)}
     forced = study(loading={"force_amplitude": 20.0, "direction": 30.0})
     assert forced.loading.force_amplitude == 20.0 and forced.loading.direction == 30.0
 
