@@ -157,9 +157,8 @@ class WearLaw(CheckedRecord, WearModel):
             maximum=MAX_WEAR_COEFFICIENT, why=_ARCHARD_WHY, example=1.33e-7,
         ),
         "wear2": Key(
-            "1/MPa", 'Archard wear coefficient i2 along e2, or `"proportional"`: wear1·mu2/mu1 '
-            "(Section 7.3)", minimum=0.0, maximum=MAX_WEAR_COEFFICIENT,
-            why=_ARCHARD_WHY, example=1.33e-7,
+            "1/MPa", "Archard wear coefficient i2 along e2", minimum=0.0,
+            maximum=MAX_WEAR_COEFFICIENT, why=_ARCHARD_WHY, example=1.33e-7,
         ),
     }  # fmt: skip
 

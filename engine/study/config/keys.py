@@ -175,6 +175,10 @@ def wear_keys(laws=None) -> tuple[StudyKey, list[StudyKey]]:
             else:
                 default = f'required with `law = "{name}"`'
             meaning = declared.meaning + (f" (`{name}` law)" if name != DEFAULT_WEAR_LAW else "")
+            if key in cls.rules:  # the text it takes instead of a list, and what it means
+                rule = cls.followers({**dict.fromkeys(cls.coefficients), key: cls.rules[key]})
+                meaning += f', or `"{cls.rules[key]}"`: {rule[key][1]}'
+
             kind = "list of numbers" + (" or text" if key in cls.rules else "")
             keys[key] = StudyKey("sweep", key, kind, default, declared.unit, meaning)
     return law, list(keys.values())
