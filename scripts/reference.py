@@ -228,7 +228,8 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         open_low = (name, "minimum") in surface.OPEN_ENDS
         open_high = (name, "maximum") in surface.OPEN_ENDS
         if isinstance(high, str):  # relative to the mesh
-            accepted = f"{'(' if open_low else '['}{_number(low)}, {high}]"
+            low = low if isinstance(low, str) else _number(low)
+            accepted = f"{'(' if open_low else '['}{low}, {high}]"
         else:
             accepted = checks.Limit(low, high, why, open_low, open_high).accepted
         rows.append((f"surface.{name}", accepted, units[f"surface.{name}"], why))

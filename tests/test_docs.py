@@ -670,7 +670,9 @@ def _outside(key: str, accepted: str) -> list[tuple[str, float]]:
 
     if key == "loading.load":  # p0/E* on the base flat punch: 1e-20 N and 1e9 N
         return [("below", 1e-20), ("above", 1e9)]
-    if "half_width" in accepted:  # a maximum relative to the mesh: the lower end here
+    if "half_width" in accepted.split(",")[0]:  # both ends on the mesh: _MESH_BOUNDS below
+        return []
+    if "half_width" in accepted:  # a maximum relative to the mesh (_MESH_BOUNDS): the lower end
         return [("below", beyond(numbers[0], -1, accepted.startswith("(")))]
     if accepted.startswith(("≥", ">")):
         return [("below", beyond(numbers[0], -1, accepted.startswith(">")))]
@@ -767,6 +769,64 @@ def test_every_limit_is_tested_at_both_ends_and_inside():
         if limit.maximum is not None:
             assert (key, "above") in cases, dotted
             assert limit.holds(limit.maximum) != limit.open_maximum, dotted
+
+
+# The [surface] bounds that depend on the mesh, on a 32² mesh of half-width 0.5 mm: an element
+# of 1/32 mm, a mesh 1 mm long. Each: (key, the bound as the limits table states it, the value
+# at the bound, accepted, and the value just beyond it, refused; the other keys of [surface]).
+_ELEMENT, _LENGTH = 2 * 0.5 / 32, 1.0
+_MESH_BOUNDS = [
+    ("short_cutoff", "[4·half_width/n,", 2 * _ELEMENT, 2 * _ELEMENT * (1 - 1e-3), {}),
+    ("short_cutoff", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {"long_cutoff": 2.0}),
+    ("long_cutoff", "at least short_cutoff", 0.15, 0.15 * (1 - 1e-3), {}),
+    ("long_cutoff", "100 × 2·half_width]", 100 * _LENGTH, 100 * _LENGTH * (1 + 1e-3), {}),
+    ("rms_height", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
+    ("pixel_size", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
+    ("pixel_size", "samples × pixel_size", _LENGTH / 16, _LENGTH / 16 * (1 - 1e-3), {}),
+]  # fmt: skip
+
+
+def _surface_bound_study(key: str, value: float, others: dict, mesh_folder: Path) -> str:
+    from engine.study.examples import study_toml
+
+    if key == "pixel_size":  # a flat 16 × 16 map: it spans 16 pixel sizes
+        import numpy as np
+
+        np.save(mesh_folder / "heights.npy", np.zeros((16, 16)))
+        surface = {"kind": "file", "path": str(mesh_folder / "heights.npy"), key: value}
+    else:
+        surface = dict(_SELF_AFFINE, **others, **{key: value})
+    layers = [_WEAR, _SPHERE, {"mesh": {"n": 32, "half_width": 0.5}, "surface": surface}]
+    return study_toml("bounds", "bounds.h5", *layers)
+
+
+@pytest.mark.parametrize(
+    ("key", "stated", "bound", "beyond", "others"),
+    _MESH_BOUNDS,
+    ids=[f"{row[0]}-{index}" for index, row in enumerate(_MESH_BOUNDS)],
+)
+def test_every_surface_bound_on_the_mesh_is_stated_and_holds_at_both_sides(
+    key, stated, bound, beyond, others, tmp_path
+):
+    """The limits table states the bound; a study at the bound is accepted; just beyond it,
+    ``python -m engine`` exits 2 with one line naming the key and the value, and writes
+    nothing (the map's folder holds only the map)."""
+    from engine.study.config import parse_study
+
+    rows = {row[0]: row for row in _limit_rows()}
+    assert stated in " ".join(rows[f"surface.{key}"][1:]), rows[f"surface.{key}"]
+    parse_study(_surface_bound_study(key, bound, others, tmp_path))
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "bounds.toml").write_text(_surface_bound_study(key, beyond, others, tmp_path))
+    done = subprocess.run(
+        [sys.executable, "-m", "engine", "bounds.toml"], cwd=folder, capture_output=True,
+        text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 2, done.stdout + done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"[surface] {key} = {beyond!r}" in lines[0], done.stderr
+    assert [path.name for path in folder.iterdir()] == ["bounds.toml"]
 
 
 def test_every_default_stated_in_words_is_what_the_parser_does():

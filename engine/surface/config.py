@@ -47,21 +47,29 @@ MAX_SLOPE = 2.0  # rms slope: the half-space (Boussinesq) model assumes small sl
 MAX_LONG_CUTOFF = 100.0  # × the mesh's length: beyond it the spectrum on the mesh is flat
 #: The ranges of the section's numbers, as the checks below read them and the manual's limits
 #: table states them: key: (minimum, maximum, why), each end included unless named in
-#: ``OPEN_ENDS``. A bound relative to the mesh is text: "2·half_width" (the mesh's length).
+#: ``OPEN_ENDS``. A bound relative to the mesh is text: "2·half_width" (the mesh's length),
+#: "4·half_width/n" (two elements of 2·half_width/n).
 RANGES = {
     "seed": (0, MAX_SEED, "a 32-bit seed"),
     "hurst": (0.0, 1.0, "a self-affine surface's Hurst exponent"),
-    "short_cutoff": (0.0, "2·half_width", "the mesh's length; and at least two elements"),
+    "short_cutoff": (
+        "4·half_width/n", "2·half_width",
+        "two elements, the shortest wavelength the mesh carries; at most the mesh's length",
+    ),
     "long_cutoff": (
         0.0, f"{MAX_LONG_CUTOFF:g} × 2·half_width",
         "beyond, the spectrum on the mesh is flat; and at least short_cutoff",
     ),
     "rms_height": (0.0, "2·half_width", "the mesh's length"),
     "rms_slope": (0.0, MAX_SLOPE, "a small-slope surface: the half-space model's assumption"),
-    "pixel_size": (0.0, "2·half_width", "the mesh's length"),
+    "pixel_size": (
+        0.0, "2·half_width",
+        "the mesh's length; and the map, samples × pixel_size along its shorter side, at least "
+        "2·half_width: it covers the mesh",
+    ),
 }  # fmt: skip
-OPEN_ENDS = {("hurst", "minimum"), ("hurst", "maximum"), ("short_cutoff", "minimum"),
-             ("long_cutoff", "minimum"), ("pixel_size", "minimum")}  # fmt: skip
+OPEN_ENDS = {("hurst", "minimum"), ("hurst", "maximum"), ("long_cutoff", "minimum"),
+             ("pixel_size", "minimum")}  # fmt: skip
 SELF_AFFINE_KEYS = (
     "kind", "seed", "hurst", "long_cutoff", "short_cutoff", "rms_height", "rms_slope"
 )  # fmt: skip
