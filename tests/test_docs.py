@@ -771,24 +771,32 @@ def test_every_limit_is_tested_at_both_ends_and_inside():
             assert limit.holds(limit.maximum) != limit.open_maximum, dotted
 
 
-# The [surface] bounds that depend on the mesh, on a 32² mesh of half-width 0.5 mm: an element
-# of 1/32 mm, a mesh 1 mm long. Each: (key, the bound as the limits table states it, the value
-# at the bound, accepted, and the value just beyond it, refused; the other keys of [surface]).
+# The bounds that depend on the mesh or the contact. [surface] on a 32² mesh of half-width
+# 0.5 mm: an element of 1/32 mm, a mesh 1 mm long; [mesh] under a flat punch of radius 1 mm
+# (a0 = 1 mm exactly). Each: (key, the bound as the limits table states it, the value at the
+# bound, accepted, and the value just beyond it, refused; the other keys of the section).
 _ELEMENT, _LENGTH = 2 * 0.5 / 32, 1.0
 _MESH_BOUNDS = [
-    ("short_cutoff", "[4·half_width/n,", 2 * _ELEMENT, 2 * _ELEMENT * (1 - 1e-3), {}),
-    ("short_cutoff", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {"long_cutoff": 2.0}),
-    ("long_cutoff", "at least short_cutoff", 0.15, 0.15 * (1 - 1e-3), {}),
-    ("long_cutoff", "100 × 2·half_width]", 100 * _LENGTH, 100 * _LENGTH * (1 + 1e-3), {}),
-    ("rms_height", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
-    ("pixel_size", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
-    ("pixel_size", "samples × pixel_size", _LENGTH / 16, _LENGTH / 16 * (1 - 1e-3), {}),
+    ("mesh.half_width", "at least the contact length a0", 1.0, 1.0 * (1 - 1e-3), {"n": 32}),
+    ("mesh.n", "at least 4 elements across the contact", 16, 15, {"half_width": 4.0}),
+    ("surface.short_cutoff", "[4·half_width/n,", 2 * _ELEMENT, 2 * _ELEMENT * (1 - 1e-3), {}),
+    ("surface.short_cutoff", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3),
+     {"long_cutoff": 2.0}),
+    ("surface.long_cutoff", "at least short_cutoff", 0.15, 0.15 * (1 - 1e-3), {}),
+    ("surface.long_cutoff", "100 × 2·half_width]", 100 * _LENGTH, 100 * _LENGTH * (1 + 1e-3), {}),
+    ("surface.rms_height", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
+    ("surface.pixel_size", ", 2·half_width]", _LENGTH, _LENGTH * (1 + 1e-3), {}),
+    ("surface.pixel_size", "samples × pixel_size", _LENGTH / 16, _LENGTH / 16 * (1 - 1e-3), {}),
 ]  # fmt: skip
 
 
-def _surface_bound_study(key: str, value: float, others: dict, mesh_folder: Path) -> str:
+def _bound_study(dotted: str, value: float, others: dict, mesh_folder: Path) -> str:
     from engine.study.examples import study_toml
 
+    section, key = dotted.split(".")
+    if section == "mesh":
+        flat = {"punch": {"shape": "flat", "radius": 1.0}, "mesh": dict(others, **{key: value})}
+        return study_toml("bounds", "bounds.h5", _WEAR, flat)
     if key == "pixel_size":  # a flat 16 × 16 map: it spans 16 pixel sizes
         import numpy as np
 
@@ -805,7 +813,7 @@ def _surface_bound_study(key: str, value: float, others: dict, mesh_folder: Path
     _MESH_BOUNDS,
     ids=[f"{row[0]}-{index}" for index, row in enumerate(_MESH_BOUNDS)],
 )
-def test_every_surface_bound_on_the_mesh_is_stated_and_holds_at_both_sides(
+def test_every_bound_on_the_mesh_or_contact_is_stated_and_holds_at_both_sides(
     key, stated, bound, beyond, others, tmp_path
 ):
     """The limits table states the bound; a study at the bound is accepted; just beyond it,
@@ -814,18 +822,19 @@ def test_every_surface_bound_on_the_mesh_is_stated_and_holds_at_both_sides(
     from engine.study.config import parse_study
 
     rows = {row[0]: row for row in _limit_rows()}
-    assert stated in " ".join(rows[f"surface.{key}"][1:]), rows[f"surface.{key}"]
-    parse_study(_surface_bound_study(key, bound, others, tmp_path))
+    assert stated in " ".join(rows[key][1:]), rows[key]
+    parse_study(_bound_study(key, bound, others, tmp_path))
     folder = tmp_path / "run"
     folder.mkdir()
-    (folder / "bounds.toml").write_text(_surface_bound_study(key, beyond, others, tmp_path))
+    (folder / "bounds.toml").write_text(_bound_study(key, beyond, others, tmp_path))
     done = subprocess.run(
         [sys.executable, "-m", "engine", "bounds.toml"], cwd=folder, capture_output=True,
         text=True, timeout=120,
     )  # fmt: skip
     assert done.returncode == 2, done.stdout + done.stderr
     lines = done.stderr.strip().splitlines()
-    assert len(lines) == 1 and f"[surface] {key} = {beyond!r}" in lines[0], done.stderr
+    section, name = key.split(".")
+    assert len(lines) == 1 and f"[{section}] {name} = {beyond!r}" in lines[0], done.stderr
     assert [path.name for path in folder.iterdir()] == ["bounds.toml"]
 
 
