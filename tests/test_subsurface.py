@@ -204,6 +204,8 @@ def test_line_through_the_axis_folds_the_grid(shape, axis):
             rtol=0,
             atol=1e-12 * scale,
         )
+    assert line.cache_bytes == 0  # kept from the second evaluation on
+    stress.plane(**tractions, angle=axis * math.pi / 2, half_length=1.2)
     assert 0 < line.cache_bytes <= 0.5 * lattice.cache_bytes * (1 + 1 / min(shape))
 
 
@@ -234,37 +236,52 @@ def test_line_streams_its_rows_in_blocks(monkeypatch, axis):
     whole = plane(None)[1]  # 6 rows across: one block
     monkeypatch.setattr(lattice, "ROW_BLOCK", 2)
     streamed = {}
-    for limit in (None, 0, 40_000):
-        stress, streamed[limit] = plane(limit)
-        assert stress.kernel_cache_bytes <= (limit if limit is not None else math.inf)
+    for limit in (None, 0, "part"):
+        stress, streamed[limit] = plane(None if limit == "part" else limit)
         (line,) = stress._lattices.values()
         assert len(line._blocks) == 3
-    assert 0 < stress.kernel_cache_bytes < plane(None)[0].kernel_cache_bytes
+        if limit == "part":  # the line itself keeps what a limit allows, block by block
+            stress, _ = plane(0)
+            (line,) = stress._lattices.values()
+            line.cache_limit = line.kernel_bytes(depths.size) // 3
+            streamed[limit] = stress.plane(**tractions, angle=angle)
+            assert 0 < stress.kernel_cache_bytes <= line.cache_limit
+        elif limit is None:
+            assert stress.kernel_cache_bytes == line.kernel_bytes(depths.size)
+        else:
+            assert stress.kernel_cache_bytes == 0
     for c in COMPONENTS:
         scale = np.abs(whole.components[c]).max()
         np.testing.assert_allclose(
             streamed[None].components[c], whole.components[c], rtol=0, atol=1e-13 * scale
         )
-        for limit in (0, 40_000):
+        for limit in (0, "part"):
             np.testing.assert_array_equal(
                 streamed[limit].components[c], streamed[None].components[c]
             )
 
 
-def test_prepared_plane_keeps_what_the_limit_allows():
-    # The set-up of a plane (prepare_plane) builds the kernel spectra its cache keeps and no
-    # more; a plane evaluated afterwards equals that of a fresh evaluator bit for bit.
+def test_prepared_plane_keeps_all_its_kernels_or_none():
+    # The set-up of a plane (prepare_plane) builds every kernel spectrum of the plane when
+    # they all fit in the limit, and none when they do not (a part would hold memory for a
+    # part of the time); a plane evaluated afterwards equals that of a fresh evaluator bit
+    # for bit, and keeps no more than the set-up did.
     grid = Grid.square(12, 0.6)
     depths = np.array([0.01, 0.1, 0.2, 0.4])
     pressure = _sneddon(grid, 10.0, 0.4)
     fresh = SubsurfaceStress(grid, NU, depths).plane(pressure, 0.2 * pressure)
     unlimited = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=None)
     unlimited.prepare_plane()
-    limit = unlimited.kernel_cache_bytes // 3
-    limited = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=limit)
+    whole = unlimited.kernel_cache_bytes
+    (line,) = unlimited._lattices.values()
+    assert whole == line.kernel_bytes(depths.size) > 0
+    fits = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=whole)
+    fits.prepare_plane()
+    assert fits.kernel_cache_bytes == whole
+    limited = SubsurfaceStress(grid, NU, depths, kernel_cache_limit=whole - 1)
     limited.prepare_plane()
-    assert 0 < limited.kernel_cache_bytes <= limit
-    for stress in (unlimited, limited):
+    assert limited.kernel_cache_bytes == 0
+    for stress in (unlimited, fits, limited):
         kept = stress.kernel_cache_bytes
         field = stress.plane(pressure, 0.2 * pressure)
         assert stress.kernel_cache_bytes == kept

@@ -198,8 +198,10 @@ class LineConvolution:
     summed into the line spectra of every layer (``n_z · 6 · (N/2 + 1)`` complex values);
     so no field of the whole grid is held per layer, and the memory of a call is the line's
     plus one block's. Kernel spectra are kept between calls up to ``cache_limit`` bytes
-    (None: all of them; 0: none, every call computes them again); the values do not depend
-    on it, since every block is computed and summed the same way whether kept or not.
+    (None: all of them; 0: none, every call computes them again), from the second call of
+    ``evaluate`` on (a line evaluated once, a one-case static study's, keeps nothing) or
+    when ``prepare`` asks for them; the values do not depend on it, since every block is
+    computed and summed the same way whether kept or not.
     """
 
     def __init__(
@@ -261,10 +263,18 @@ class LineConvolution:
         self._parity_axis = 1 - axis
         self._kernels: dict[tuple[int, str, int], dict[str, np.ndarray]] = {}
         self._cache_bytes = 0
+        self._evaluated = False  # kernels are kept from the second evaluation on
 
     @property
     def cache_bytes(self) -> int:
         return self._cache_bytes
+
+    def kernel_bytes(self, layers: int, loads: int = len(LOADS)) -> int:
+        """Bytes of every kernel spectrum of ``layers`` depths and ``loads`` load types: six
+        components of (rows, N/2 + 1) complex values per layer and load, rows = ceil(n_across
+        / 2) (what a cache without limit keeps once every call has asked for them)."""
+        rows = sum(block.stop - block.start for block in self._blocks)
+        return rows * (self.padded // 2 + 1) * 16 * len(COMPONENTS) * int(layers) * int(loads)
 
     def _transform(self, rows: np.ndarray) -> np.ndarray:
         """Forward FFT along the line of ``rows`` (at most one block of rows, length <= N,
@@ -293,9 +303,12 @@ class LineConvolution:
             for parity in (1, -1)
         }
 
-    def kernel_spectra(self, layer: int, depth: float, load: str, index: int = 0) -> dict:
+    def kernel_spectra(
+        self, layer: int, depth: float, load: str, index: int = 0, keep: bool = True
+    ) -> dict:
         """Spectra along the line of the element coefficients at one depth, for the rows of
-        block ``index``, per component: (rows, N/2 + 1)."""
+        block ``index``, per component: (rows, N/2 + 1); kept for later calls when ``keep``
+        and the cache has room."""
         key = (layer, load, index)
         if key in self._kernels:
             return self._kernels[key]
@@ -311,7 +324,7 @@ class LineConvolution:
             spectra[component] = self._transform(wrap_kernel(rows, shape, negative))
         size = sum(spectrum.nbytes for spectrum in spectra.values())
         limit = self.cache_limit
-        if self.cache and (limit is None or self._cache_bytes + size <= limit):
+        if keep and self.cache and (limit is None or self._cache_bytes + size <= limit):
             self._kernels[key] = spectra
             self._cache_bytes += size
         return spectra
@@ -319,7 +332,7 @@ class LineConvolution:
     def prepare(self, depths: np.ndarray, loads=LOADS) -> None:
         """Compute the kernel spectra that the cache keeps (in the order ``evaluate`` asks
         for them), so that later calls find them; nothing beyond ``cache_limit``."""
-        if not self.cache:
+        if not self.cache or self.cache_limit == 0:
             return
         for index in range(len(self._blocks)):
             for layer, depth in enumerate(depths):
@@ -336,11 +349,13 @@ class LineConvolution:
         loads = sorted(tractions, key=LOADS.index)
         width = self.padded // 2 + 1
         sums = np.zeros((depths.size, len(COMPONENTS), width), dtype=complex)
+        keep, self._evaluated = self._evaluated, self._evaluated or bool(loads)
         for index, block in enumerate(self._blocks if loads else ()):
             traction = self.traction_spectra({load: tractions[load] for load in loads}, block)
             for k, depth in enumerate(depths):
                 kernels = {
-                    load: self.kernel_spectra(k, float(depth), load, index) for load in loads
+                    load: self.kernel_spectra(k, float(depth), load, index, keep)
+                    for load in loads
                 }
                 for c, component in enumerate(COMPONENTS):
                     for load in loads:

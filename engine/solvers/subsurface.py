@@ -25,11 +25,14 @@ line) and store ``ceil(n/2) · (N/2 + 1) · 16`` bytes per spectrum, 0.13 MB at 
 2-D lattice's; a plane then costs six 1-D inverse FFTs per layer (7 ms for 16 layers and three
 loads at 128², against 20 ms for the 2-D lattice). Measured at 128² with 16 layers and three
 loads: 38 MB for the x–z plane (77 MB before the fold). The line streams its rows in blocks
-(``ROW_BLOCK``) and keeps kernel spectra only up to ``kernel_cache_limit`` (64 MiB by
-default), computing the others at each call with the same values: a plane costs the line's
-memory plus one block's, not a field of the grid per layer. ``kernel_cache_bytes`` reports the
-current size; ``cache_kernels=False`` recomputes the kernels at every call (about 0.1 s for
-16 layers and three loads on the x–z plane at 128²).
+(``ROW_BLOCK``) and keeps its kernel spectra only when all of them fit in what is left of
+``kernel_cache_limit`` (64 MiB by default: the x–z plane at 128² with up to 28 layers);
+otherwise it keeps none and computes them at each call, with the same values. A part kept
+would save only that part of the time (measured at 256² with 16 layers: 0.29 s a call with
+the 44 % that fit, 0.36 s with none), and it holds memory beside the solver's at the case's
+peak: a plane costs the line's memory plus one block's, not a field of the grid per layer.
+``kernel_cache_bytes`` reports the current size; ``cache_kernels=False`` recomputes the
+kernels at every call (about 0.1 s for 16 layers and three loads on the x–z plane at 128²).
 
 Conventions (package wide): lengths mm, stresses MPa, tension positive. z > 0 points into the
 half-space. ``pressure`` >= 0 pushes into the half-space (σzz → −p at the surface);
@@ -53,8 +56,9 @@ from ..validation import require_poisson, require_positive
 
 DEFAULT_KERNEL_CACHE_LIMIT = 64 * 2**20
 """Bytes of subsurface kernel spectra a ``SubsurfaceStress`` keeps for its planes through the
-axis (64 MiB: every layer of the x–z plane at 128² with 16 layers and three loads, 38 MB;
-beyond it the kernels are computed at each call instead of held, module docstring)."""
+axis (64 MiB: every layer of the x–z plane at 128² with 16 layers and three loads, 38 MB);
+a plane whose spectra do not all fit keeps none and computes them at each call instead
+(module docstring)."""
 
 # --- depth layers ------------------------------------------------------------------------------
 
@@ -230,9 +234,10 @@ class PlaneStresses:
     def _plane(self, pressure, traction_x, traction_y, angle, half_length, bulk_stress):
         raise NotImplementedError
 
-    def prepare_plane(self, angle: float = 0.0) -> None:
+    def prepare_plane(self, angle: float = 0.0, kernels: bool = True) -> None:
         """Build what ``plane`` at ``angle`` (rad) keeps between calls (its kernels), so that
-        it counts as set-up: here by one evaluation of unit tractions."""
+        it counts as set-up: here by one evaluation of unit tractions, whatever ``kernels``
+        (which a contact may use to defer its kernels to the evaluations)."""
         ones = np.ones(self.grid.shape)
         self.plane(ones, ones, None if self.grid.is_line else ones, angle=float(angle))
 
@@ -248,8 +253,10 @@ class SubsurfaceStress(PlaneStresses):
     threads : FFTW threads.
     cache_kernels : keep kernel spectra between calls (memory: see the module docstring).
     kernel_cache_limit : bytes of kernel spectra the x–z and y–z planes keep between calls
-        (default ``DEFAULT_KERNEL_CACHE_LIMIT``; None: no limit); the rest are computed at
-        each call, block by block, with the same values (``LineConvolution``).
+        (default ``DEFAULT_KERNEL_CACHE_LIMIT``; None: no limit): a plane keeps all of its
+        spectra if they fit in what the planes built before left of it, else none, and
+        computes them at each call, block by block, with the same values
+        (``LineConvolution``).
     planner_effort : FFTW planner flag, ``"FFTW_ESTIMATE"`` (default: bit-reproducible across
         processes, see ``engine.kernels.fft``) or ``"FFTW_MEASURE"``.
     """
@@ -293,10 +300,13 @@ class SubsurfaceStress(PlaneStresses):
             axis = line_axis(grid, origin, counts)
             if axis is not None:
                 line = (axis, origin[axis], counts[axis])
+                convolution = LineConvolution(grid, nu, *line, *options, None)
                 limit = self.kernel_cache_limit
-                if limit is not None:  # what the lattices built before left of it
-                    limit = max(limit - self.kernel_cache_bytes, 0)
-                self._lattices[key] = LineConvolution(grid, nu, *line, *options, limit)
+                if limit is not None:  # what the lattices built before left of it: all or none
+                    left = max(limit - self.kernel_cache_bytes, 0)
+                    whole = convolution.kernel_bytes(self.depths.size)
+                    convolution.cache_limit = whole if whole <= left else 0
+                self._lattices[key] = convolution
             else:
                 self._lattices[key] = LatticeConvolution(grid, nu, origin, counts, *options)
         return self._lattices[key]
@@ -410,12 +420,16 @@ class SubsurfaceStress(PlaneStresses):
         counts = (2 * half_counts[0] + 1, 2 * half_counts[1] + 1)
         return s, fractional, half_counts, self._lattice(origin, counts)
 
-    def prepare_plane(self, angle: float = 0.0) -> None:
+    def prepare_plane(self, angle: float = 0.0, kernels: bool = True) -> None:
         """Build the plane's lattice and the kernel spectra its cache keeps: those of a
-        line through the axis up to ``kernel_cache_limit``, all of any other lattice."""
+        line through the axis if all fit in ``kernel_cache_limit``, all of any other
+        lattice. ``kernels=False``: a line's lattice and FFT plans only; it keeps its
+        kernels from its second evaluation on (``LineConvolution``), so a plane evaluated
+        once holds none."""
         lattice = self._plane_lattice(angle, None)[3]
         if isinstance(lattice, LineConvolution):
-            lattice.prepare(self.depths)
+            if kernels:
+                lattice.prepare(self.depths)
         else:
             ones = np.ones(self.grid.shape)
             self.plane(ones, ones, ones, angle=angle)

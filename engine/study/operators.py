@@ -82,9 +82,12 @@ class OperatorCache:
         angle: float = 0.0,
     ) -> SubsurfaceStress:
         """The subsurface stress evaluator (its kernel spectra are kept between cases); the
-        kernels of the vertical plane through the axis at ``angle`` (rad; 0: the x–z plane,
-        which cyclic and static cases evaluate; a fretting case's sliding direction) are
-        built on the first request for that plane and counted as set-up."""
+        lattice of the vertical plane through the axis at ``angle`` (rad; 0: the x–z plane,
+        which cyclic and static cases evaluate; a fretting case's sliding direction) is
+        built on the first request for that plane and counted as set-up; an oblique plane's
+        kernels too, while the plane through the axis keeps its kernels from its second
+        evaluation on (``SubsurfaceStress.prepare_plane``): a one-case static study, which
+        evaluates it once, never holds them."""
         key = (grid, float(poisson_ratio), tuple(float(d) for d in depths), threads, planner_effort)
         if (key, float(angle)) in self._planes:
             return self._stresses[key]
@@ -101,7 +104,7 @@ class OperatorCache:
                 threads,
                 planner_effort=planner_effort,
             )
-        self._stresses[key].prepare_plane(float(angle))
+        self._stresses[key].prepare_plane(float(angle), kernels=False)
         self._planes.add((key, float(angle)))
         self.setup_s += time.perf_counter() - start
         return self._stresses[key]

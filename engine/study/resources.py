@@ -6,7 +6,7 @@ Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -
 kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
 
     memory ≈ 80 MB + n² · (830 + cycled) + plane bytes
-    plane  = min(145 · n² · layers, 64 MiB) + 60 kB · n
+    plane  = kept + 60 kB · n,   kept = 145 · n² · layers if that is <= 64 MiB, else 0
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
 The 830 B per element are the contact solver: the kernel spectra it needs (the real half of
@@ -14,8 +14,8 @@ an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary hal
 two odd ones, as much; one to three frictionless and six frictional), one pair of
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
 arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
-components and three loads per layer on the folded line lattice, up to the evaluator's
-``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB) and one block of rows streamed through it
+components and three loads per layer on the folded line lattice, all of them if they fit
+in the evaluator's ``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB, else none) and one block of rows streamed through it
 (``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner functions, coefficients and
 their spectra, ~60 kB per element along the line); the cycled term the
 histories, records and the warm start, which keeps the pressure and both tractions of every
@@ -63,7 +63,7 @@ __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_mem
 
 BASE_BYTES = 80e6
 BYTES_PER_ELEMENT = 830.0
-BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, up to the cache limit
+BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, if all fit the cache
 STREAM_BYTES_PER_COLUMN = 60e3  # one block of the plane's rows, per element along the line
 BYTES_PER_ELEMENT_CYCLED = 600.0
 BYTES_PER_ELEMENT_AND_INCREMENT = 48.0  # warm start: 2 cycles × 3 fields × 8 B
@@ -96,7 +96,8 @@ def case_memory_bytes(
         per_element = BYTES_PER_ELEMENT
         if increments:
             per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
-        kept = min(BYTES_PER_ELEMENT_AND_LAYER * elements * layers, DEFAULT_KERNEL_CACHE_LIMIT)
+        kept = BYTES_PER_ELEMENT_AND_LAYER * elements * layers
+        kept = kept if kept <= DEFAULT_KERNEL_CACHE_LIMIT else 0.0  # all of them or none
         plane = kept + STREAM_BYTES_PER_COLUMN * n
         memory = BASE_BYTES + elements * per_element + plane
     if fatigue:
