@@ -297,11 +297,12 @@ def test_memory_estimate_refuses_a_mesh_the_machine_cannot_hold():
     small, _ = study()
     check_memory(small, ranks_on_node=2, limit=16 * 2**30)  # n = 32: ~0.1 GB, fine
     # the fit against measured peaks (resources.py), erring high, by at most 20 % (one
-    # solver cost per element, the largest grid's): n = 128 static with 16 layers, 129 MB
-    # measured; n = 256 with 32 layers, 196 MB; n = 512 with 16 layers, 331 MB
-    assert 129e6 < case_memory_bytes(128, 16) < 1.2 * 129e6
-    assert 196e6 < case_memory_bytes(256, 32) < 1.2 * 196e6
-    assert 331e6 < case_memory_bytes(512, 16) < 1.2 * 331e6
+    # solver cost per element, the largest grid's): n = 128 static with 16 layers, two cases
+    # (the second keeps the plane's kernels), 119 MB measured; n = 256 with 32 layers, 131 MB;
+    # n = 512 with 16 layers, 318 MB
+    assert 119e6 < case_memory_bytes(128, 16) < 1.2 * 119e6
+    assert 131e6 < case_memory_bytes(256, 32) < 1.2 * 131e6
+    assert 318e6 < case_memory_bytes(512, 16) < 1.2 * 318e6
     assert case_memory_bytes(2048, 16) > 3458e6  # the 2048² frictional solve alone
     # the largest case of the plan decides: a swept mesh, and the steps of a cyclic study
     swept_n = VALID.replace("[mesh]\nn = 32\n", "[mesh]\n")

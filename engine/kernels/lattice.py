@@ -354,8 +354,7 @@ class LineConvolution:
             traction = self.traction_spectra({load: tractions[load] for load in loads}, block)
             for k, depth in enumerate(depths):
                 kernels = {
-                    load: self.kernel_spectra(k, float(depth), load, index, keep)
-                    for load in loads
+                    load: self.kernel_spectra(k, float(depth), load, index, keep) for load in loads
                 }
                 for c, component in enumerate(COMPONENTS):
                     for load in loads:

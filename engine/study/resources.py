@@ -15,17 +15,19 @@ two odd ones, as much; one to three frictionless and six frictional), one pair o
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
 arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
 components and three loads per layer on the folded line lattice, all of them if they fit
-in the evaluator's ``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB, else none) and one block of rows streamed through it
-(``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner functions, coefficients and
-their spectra, ~60 kB per element along the line); the cycled term the
-histories, records and the warm start, which keeps the pressure and both tractions of every
+in the evaluator's ``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB, else none) and one block of
+rows streamed through it (``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner
+functions, coefficients and their spectra, ~60 kB per element along the line); the cycled
+term the histories, records and the warm start, which keeps the pressure and both tractions of every
 increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
 has 2·steps increments when cyclic, 4·steps when fretting). The solver's cost per element grows
 with n (a frictional solve: 700 B at 512², 825 B at 2048², where it peaks at 3.46 GB,
 ``benchmarks/bench_memory.py``), so the one figure taken from the largest grid errs high on
-the small ones, by 8–19 % on the measured points (static, μ = 0.3, 2026-11-28, after the
-plane streamed its rows): n = 128 with 16 layers 139 MB estimated, 129 MB measured; n = 256
-with 32 layers 217 MB, 196 MB; n = 512 with 16 layers 395 MB, 331 MB.
+the small ones, by 3–17 % on the measured points (static, μ = 0.3, 2026-11-28, after a
+plane kept its kernels whole or not at all, ``/usr/bin/time`` on the loaded 2-core
+machine): n = 128 with 16 layers, two cases (the second keeps the plane's kernels), 139 MB
+estimated, 119 MB measured (one case, which keeps none: 86 MB); n = 256 with 32 layers
+150 MB, 131 MB; n = 512 with 16 layers 328 MB, 318 MB.
 
 A line contact (plane strain, ``[punch] shape`` cylinder or pad) has n elements, not n²,
 and its memory grows linearly in n::
