@@ -151,13 +151,21 @@ _UNSUPPORTED = (errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL, errno.ENODEV)
 
 
 def _libc_fallocate():
-    """``fallocate(2)`` of the C library, or None where there is none (not Linux)."""
+    """``fallocate(2)`` of the C library, or None where there is none (not Linux). glibc's
+    ``libc.so.6`` is opened by name first: ``ctypes.util.find_library`` runs
+    ``ldconfig -p`` in a child process (about 10 ms of every command's start)."""
     if not sys.platform.startswith("linux"):
         return None
-    try:
-        library = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        function = library.fallocate
-    except (OSError, AttributeError):
+    function = None
+    for name in ("libc.so.6", None):
+        try:
+            name = name or ctypes.util.find_library("c")
+            function = ctypes.CDLL(name, use_errno=True).fallocate if name else None
+        except (OSError, AttributeError):
+            continue
+        if function is not None:
+            break
+    if function is None:
         return None
     function.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int64, ctypes.c_int64]
     function.restype = ctypes.c_int
