@@ -284,6 +284,18 @@ class LineConvolution:
         self._forward.execute()
         return self._row_spectra[: rows.shape[0]].copy()
 
+    def _transform_kernel(self, rows: np.ndarray) -> np.ndarray:
+        """Forward FFT along the line of kernel ``rows`` (rows, offsets −(n − 1) … m − 1 along
+        it) in circulant order, offset k at index k mod N (``wrap_kernel``'s layout, written
+        straight into the transform's buffer by two slices): (rows, N/2 + 1)."""
+        negative, count = self._negative, rows.shape[1] - self._negative
+        self._rows[...] = 0.0
+        self._rows[: rows.shape[0], :count] = rows[:, negative:]
+        if negative:
+            self._rows[: rows.shape[0], self.padded - negative :] = rows[:, :negative]
+        self._forward.execute()
+        return self._row_spectra[: rows.shape[0]].copy()
+
     def _fold(self, values: np.ndarray, parity: int, block: slice) -> np.ndarray:
         """τ(upper) + parity · τ(lower) for the rows of ``block``, as (rows, n along the line)."""
         rows = values.T if self.axis == 0 else values  # (across, along)
@@ -320,8 +332,7 @@ class LineConvolution:
         for component in COMPONENTS:
             rows = coefficients.pop(component)
             rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
-            shape, negative = (rows.shape[0], self.padded), (0, self._negative)
-            spectra[component] = self._transform(wrap_kernel(rows, shape, negative))
+            spectra[component] = self._transform_kernel(rows)
         size = sum(spectrum.nbytes for spectrum in spectra.values())
         limit = self.cache_limit
         if keep and self.cache and (limit is None or self._cache_bytes + size <= limit):
