@@ -14,8 +14,9 @@ lattices (block, vertical planes), checks the tractions and assembles the fields
 Cost and memory. The three traction fields are transformed once per call and reused for all
 layers; each layer then costs one inverse real FFT per stress component (six) plus the
 spectral products. pyfftw plans are built once per lattice and reused. Kernel spectra are
-computed once per (lattice, layer, load) and cached when ``cache_kernels=True``; six per
-layer and load type. For the block, field points coincide with the sources, the kernels are
+computed once per (lattice, layer, load) and cached when ``cache_kernels=True`` (a line
+through the axis: from its second call on, within the limit below); six per layer and load
+type. For the block, field points coincide with the sources, the kernels are
 even or odd and their spectra real or imaginary, so only that half is stored:
 ``N_x · (N_y/2 + 1) · 8`` bytes, 0.26 MB per spectrum at 128² (N = 256). Other lattices
 (oblique planes, blocks with a margin) store complex spectra. The x–z and y–z planes
