@@ -27,6 +27,8 @@ from engine.study.examples import study_toml
 from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
 from engine.study.kinds import KINDS, LoadingKind
 from engine.study.plan import make_plan
+from engine.study.settings.checks import LIMITS
+from engine.study.settings.sections import LoadingConfig
 from engine.study.settings.units import case_parameters, summary_columns, unit_of
 
 E_STAR = 200e3 / (2 * (1 - 0.3**2))  # MPa, two steel bodies
@@ -223,6 +225,22 @@ class TestLoadingKind:
         if kind.has_cycles:  # a kind with cycles can be stopped and resumed
             assert type(kind).save_state is not LoadingKind.save_state
             assert type(kind).load_state is not LoadingKind.load_state
+
+    def test_its_loading_section_is_a_dataclass_declaring_its_keys(self, name):
+        kind = KINDS[name]
+        assert dataclasses.is_dataclass(kind.config) and issubclass(kind.config, LoadingConfig)
+        assert kind.config.__dataclass_params__.frozen
+        assert kind.keys == {field.name for field in dataclasses.fields(kind.config)}
+        declared = kind.declared_keys()
+        assert {"load", "steps"} <= declared.keys()
+        for key, declaration in declared.items():
+            assert isinstance(declaration, Key) and declaration.meaning
+            # the unit the results files give the swept key is the one the kind declares
+            assert SWEEPABLE[f"loading.{key}"] == declaration.unit
+            if declaration.default is not None:  # a default the parser's bounds accept
+                limit = LIMITS.get(f"loading.{key}") or LIMITS[f"loading.{key.rsplit('_', 1)[0]}"]
+                assert limit.minimum <= declaration.default
+                assert limit.maximum is None or declaration.default <= limit.maximum
 
     def test_its_datasets_are_described_in_the_schema_tables(self, name):
         kind = KINDS[name]

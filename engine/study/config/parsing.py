@@ -564,8 +564,8 @@ def _check_line_keys(source, punch: PunchConfig, loading: LoadingConfig, wear: W
     if punch.is_line:
         return
     for key, value in (
-        ("loading.bulk_stress_max", loading.bulk_stress_max),
-        ("loading.bulk_stress_min", loading.bulk_stress_min),
+        ("loading.bulk_stress_max", getattr(loading, "bulk_stress_max", None)),
+        ("loading.bulk_stress_min", getattr(loading, "bulk_stress_min", None)),
     ):
         if value is not None:
             raise StudyConfigError(

@@ -7,7 +7,9 @@ layer asks the kind, never branches on its name:
 ==========================  ==============================================================
 what                        member
 ==========================  ==============================================================
-configuration section       :attr:`~LoadingKind.keys` (the ``[loading]`` keys it accepts),
+configuration section       :attr:`~LoadingKind.config` (its ``[loading]`` section, a
+                            frozen dataclass whose fields are the keys it accepts, each
+                            number declaring its :class:`engine.keys.Key`),
                             :meth:`~LoadingKind.parse` (read and check them),
                             :attr:`~LoadingKind.has_cycles` (cycles, wear, cycle jumps),
                             :attr:`~LoadingKind.default_tolerance`
@@ -37,27 +39,49 @@ module: what two kinds share lives here or in :mod:`engine.study.outcome`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from engine import schema
+from engine.keys import Key, declared_keys
 from engine.schema import DatasetSpec
 from engine.solvers import defaults
 from engine.study.outcome import INTERRUPTED, CaseContext, CaseOutcome
 from engine.study.plan import Case
 from engine.study.settings.checks import bound
-from engine.study.settings.sections import LoadingConfig
+from engine.study.settings.sections import LoadingConfig, loading_key
 
 if TYPE_CHECKING:  # annotations only
     from engine.study.config import StudyConfig
     from engine.study.settings.reader import Section
 
-__all__ = ["LoadingKind", "CycledKind", "parse_cycles", "CYCLE_KEYS"]
+__all__ = ["LoadingKind", "CycledKind", "CycledLoading", "parse_cycles", "CYCLE_KEYS"]
+
+
+@dataclass(frozen=True)
+class CycledLoading(LoadingConfig):
+    """The ``[loading]`` keys of every kind with load cycles (:func:`parse_cycles`), after
+    those of every kind."""
+
+    cycles: int = loading_key("1", "load cycles N to simulate, with cycle jumping")
+    #: cycles at which the surface fields and stresses are stored (0 = unworn; default the
+    #: last), sorted: a list, not a sweepable number
+    record: tuple[int, ...]
+    max_wear_fraction: float = loading_key(
+        "1",
+        "cycle-jump control: the largest wear per jump as a fraction of the peak elastic approach",
+        default=defaults.MAX_WEAR_FRACTION,
+    )
+
 
 #: [loading] keys of every kind with load cycles (parsed by :func:`parse_cycles`).
-CYCLE_KEYS = frozenset({"cycles", "record", "max_wear_fraction"})
+CYCLE_KEYS = frozenset(field.name for field in dataclasses.fields(CycledLoading)) - frozenset(
+    field.name for field in dataclasses.fields(LoadingConfig)
+)
 
 
 class LoadingKind:
@@ -69,8 +93,10 @@ class LoadingKind:
     name: ClassVar[str] = ""
     #: One line for the study-file reference.
     summary: ClassVar[str] = ""
-    #: ``[loading]`` keys this kind accepts (``kind``, ``load`` and ``steps`` included).
-    keys: ClassVar[frozenset[str]] = frozenset({"kind", "load", "steps"})
+    #: Its ``[loading]`` section: a frozen dataclass whose fields are the keys it accepts
+    #: (``kind``, ``load`` and ``steps`` of :class:`LoadingConfig` first), each number
+    #: declaring its :class:`engine.keys.Key` (unit, meaning, default) in the field's metadata.
+    config: ClassVar[type[LoadingConfig]] = LoadingConfig
     #: Load cycles with wear, records and cycle jumps (a wear law applies).
     has_cycles: ClassVar[bool] = False
     #: Increments of one simulated cycle per ``[loading] steps`` (0: no cycles).
@@ -91,6 +117,17 @@ class LoadingKind:
     figures_per_case: ClassVar[bool] = False
 
     # ------------------------------------------------------------ configuration
+    @property
+    def keys(self) -> frozenset[str]:
+        """The ``[loading]`` keys this kind accepts: the fields of :attr:`config`."""
+        return frozenset(field.name for field in dataclasses.fields(self.config))
+
+    @classmethod
+    def declared_keys(cls) -> dict[str, Key]:
+        """{key: :class:`engine.keys.Key`} of the numbers of its ``[loading]`` section, in
+        the order of :attr:`config`'s fields."""
+        return declared_keys(cls.config)
+
     def parse(self, s: Section, load: float, steps: int) -> LoadingConfig:
         """The ``[loading]`` section (``s``, unknown keys already refused) with its checks;
         ``load`` (N) and ``steps`` are read already."""
@@ -172,13 +209,13 @@ class CycledKind(LoadingKind):
     the last), the cyclic solvers' tolerance and a cost growing like the logarithm of the
     cycles (cycle jumps)."""
 
-    keys = LoadingKind.keys | CYCLE_KEYS
+    config = CycledLoading
     has_cycles = True
     default_tolerance = defaults.CYCLIC_TOLERANCE
 
     def parse(self, s: Section, load: float, steps: int) -> LoadingConfig:
         s.check_known(self.keys)
-        return parse_cycles(s, self.name, load, steps)
+        return self.config(**parse_cycles(s, self.name, load, steps))
 
     def recorded_cycles(self, config: StudyConfig) -> list[int]:
         return sorted({int(c) for c in config.loading.record} | {int(config.loading.cycles)})
@@ -204,9 +241,10 @@ class CycledKind(LoadingKind):
         return CaseOutcome(case, INTERRUPTED, message=message)
 
 
-def parse_cycles(s: Section, kind: str, load: float, steps: int) -> LoadingConfig:
+def parse_cycles(s: Section, kind: str, load: float, steps: int) -> dict[str, Any]:
     """The keys of every kind with cycles: ``cycles``, ``record`` (cycle numbers, default
-    the last) and ``max_wear_fraction`` (cycle-jump bound)."""
+    the last) and ``max_wear_fraction`` (cycle-jump bound), with ``kind``, ``load`` and
+    ``steps``: the fields of a :class:`CycledLoading` ({field: value})."""
     cycles = s.integer("cycles", **bound("loading.cycles"))
     record_raw = s.raw("record", [cycles])
     record_list = record_raw if isinstance(record_raw, list) else [record_raw]
@@ -223,7 +261,14 @@ def parse_cycles(s: Section, kind: str, load: float, steps: int) -> LoadingConfi
         raise s.error("record", record_raw, "cycles must not repeat")
     max_wear_fraction = s.number(
         "max_wear_fraction",
-        defaults.MAX_WEAR_FRACTION,
+        declared_keys(CycledLoading)["max_wear_fraction"].default,
         **bound("loading.max_wear_fraction"),
     )
-    return LoadingConfig(kind, load, steps, cycles, tuple(sorted(record)), max_wear_fraction)
+    return {
+        "kind": kind,
+        "load": load,
+        "steps": steps,
+        "cycles": cycles,
+        "record": tuple(sorted(record)),
+        "max_wear_fraction": max_wear_fraction,
+    }

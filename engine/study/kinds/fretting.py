@@ -35,8 +35,8 @@ cycle; ``vm_max`` and the other stress columns are at the increment of the large
 
 from __future__ import annotations
 
-import dataclasses
 import math
+from dataclasses import dataclass
 from typing import Any
 
 from engine import schema
@@ -47,9 +47,33 @@ from engine.study.checkpoint import load_extra, load_fretting_state, save_fretti
 from engine.study.fatigue import FatigueAnalysis
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
 from engine.study.settings.checks import MAX_FRICTION, bound
-from engine.study.settings.sections import MISSING
+from engine.study.settings.sections import MISSING, loading_key
 
-from .base import CycledKind, parse_cycles
+from .base import CycledKind, CycledLoading, parse_cycles
+
+
+@dataclass(frozen=True)
+class FrettingLoading(CycledLoading):
+    """The ``[loading]`` section of a fretting study: the cycles, then the tangential signal
+    (exactly one of ``amplitude`` and ``force_amplitude``; the other None) and a line
+    contact's bulk stresses (None: none given)."""
+
+    amplitude: float | None = loading_key(
+        "mm", "rigid tangential displacement amplitude δ* (displacement control)", optional=True
+    )
+    force_amplitude: float | None = loading_key(
+        "N", "tangential force amplitude Q* (force control); must be below μP", optional=True
+    )
+    direction: float = loading_key("degree", "sliding direction, from x", default=0.0)
+    bulk_stress_max: float | None = loading_key(
+        "MPa",
+        "line fretting: bulk stress along x in the flat at +Q* (or +δ*), in phase with the signal",
+        optional=True,
+    )
+    bulk_stress_min: float | None = loading_key(
+        "MPa", "line fretting: bulk stress along x in the flat at −Q* (or −δ*)", optional=True
+    )
+
 
 #: [loading] keys of the tangential signal, and a line contact's bulk stresses (MPa).
 FRETTING_KEYS = frozenset({"amplitude", "force_amplitude", "direction"})
@@ -62,7 +86,7 @@ class FrettingKind(CycledKind):
 
     name = "fretting"
     summary = "tangential fretting: a held load, an oscillating tangential motion, wear"
-    keys = CycledKind.keys | FRETTING_KEYS | BULK_STRESS_KEYS
+    config = FrettingLoading
     increments_per_step = 4  # four quarter cycles
     history = (schema.FRETTING_HISTORY, schema.HISTORY)
     records = schema.FRETTING_RECORDS
@@ -76,7 +100,7 @@ class FrettingKind(CycledKind):
         XOR ``force_amplitude`` (N, tangential force), ``direction`` [0] (degrees from x),
         and a line contact's bulk stresses (MPa)."""
         s.check_known(self.keys)
-        loading = parse_cycles(s, self.name, load, steps)
+        cycled = parse_cycles(s, self.name, load, steps)
         given = [key for key in ("amplitude", "force_amplitude") if key in s.table]
         if len(given) != 1:
             shown = {key: s.table[key] for key in given} if given else MISSING
@@ -88,9 +112,12 @@ class FrettingKind(CycledKind):
             )
         unit = "mm" if given[0] == "amplitude" else ""  # a force's bound is 0: no unit
         value = s.number(given[0], unit=unit, **bound(f"loading.{given[0]}"))
-        if given[0] == "force_amplitude" and not value < loading.load * MAX_FRICTION:
+        if given[0] == "force_amplitude" and not value < load * MAX_FRICTION:
             raise s.error(given[0], value, "must be below the friction bound μP (the load's unit)")
-        direction = s.number("direction", 0.0, unit="degrees", **bound("loading.direction"))
+        declared = self.declared_keys()
+        direction = s.number(
+            "direction", declared["direction"].default, unit="degrees", **bound("loading.direction")
+        )
         bulk = {
             key: s.number(key, unit="MPa", **bound("loading.bulk_stress"))
             for key in sorted(BULK_STRESS_KEYS)
@@ -98,7 +125,7 @@ class FrettingKind(CycledKind):
         }
         if bulk:
             bulk = {key: bulk.get(key, 0.0) for key in BULK_STRESS_KEYS}
-        return dataclasses.replace(loading, **{given[0]: value}, direction=direction, **bulk)
+        return self.config(**cycled, **{given[0]: value}, direction=direction, **bulk)
 
     def check_case(self, case, config):
         fretting = settings(config)

@@ -18,7 +18,6 @@ from engine.study.outcome import (
     history_datasets,
 )
 from engine.study.settings.compat import STATIC_PLACEHOLDERS
-from engine.study.settings.sections import LoadingConfig
 
 from .base import LoadingKind
 
@@ -33,7 +32,7 @@ class StaticKind(LoadingKind):
         # the placeholders that results files of earlier versions stored: they parse back
         former = {key for key, value in STATIC_PLACEHOLDERS.items() if s.table.get(key) == value}
         s.check_known(self.keys | former)
-        return LoadingConfig(self.name, load, steps, 0, (), None)
+        return self.config(self.name, load=load, steps=steps)
 
     def run(self, context, case, config, should_stop):
         solver, grid, material = context.solver(case, config)

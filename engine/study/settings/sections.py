@@ -7,11 +7,12 @@ coefficients in 1/MPa, angles in degrees.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES, Profile, profile_for
+from engine.keys import Key
 from engine.solvers.friction import PROPORTIONAL
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
 
@@ -25,6 +26,7 @@ __all__ = [
     "PunchConfig",
     "MeshConfig",
     "LoadingConfig",
+    "loading_key",
     "WearConfig",
     "SubsurfaceConfig",
     "SweepAxis",
@@ -143,22 +145,39 @@ class MeshConfig:
     reference_distance: float | None = None  # line contacts: the displacement datum (mm)
 
 
+def loading_key(unit: str, meaning: str, *, default: Any = None, optional: bool = False) -> Any:
+    """A field of a loading kind's ``[loading]`` dataclass declaring its key
+    (:class:`engine.keys.Key` in the field's metadata: ``unit``, ``meaning``, ``default``).
+
+    The bounds are those of :func:`engine.study.settings.checks.bound` (``"loading.<key>"``).
+    ``default`` is the key's value when absent (also the field's default); ``optional``
+    gives the field the default None (a key that may stay unset, e.g. one of two controls).
+    The field is keyword-only, so that a kind's dataclass may add required keys after those
+    with defaults.
+    """
+    key = Key(unit, meaning, default=default)
+    if optional:
+        return field(default=None, kw_only=True, metadata={"key": key})
+    if default is not None:
+        return field(default=default, kw_only=True, metadata={"key": key})
+    return field(kw_only=True, metadata={"key": key})
+
+
 @dataclass(frozen=True)
 class LoadingConfig:
+    """The ``[loading]`` keys every kind reads: ``kind`` (the name of the kind), the load and
+    the increments of a loading. A kind with more keys extends this dataclass with its own
+    fields (:attr:`engine.study.kinds.LoadingKind.config`); the static kind reads just these.
+    """
+
     kind: str
-    load: float
-    steps: int
-    cycles: int
-    record: tuple[int, ...]
-    max_wear_fraction: float | None  # None for static loading (no cycle jumps)
-    # fretting only (None otherwise): exactly one of amplitude (mm) and force_amplitude (N);
-    # direction in degrees from x (engine.solvers.fretting)
-    amplitude: float | None = None
-    force_amplitude: float | None = None
-    direction: float | None = None
-    # line fretting only: the flat's bulk stress (MPa) at +A and at −A (fretting fatigue)
-    bulk_stress_max: float | None = None
-    bulk_stress_min: float | None = None
+    load: float = loading_key("N", "peak normal load P")
+    steps: int = loading_key(
+        "1",
+        "load increments: static, of the loading; cyclic, per half cycle; fretting, per "
+        "quarter tangential cycle and of the normal loading",
+        default=10,
+    )
 
 
 @dataclass(frozen=True)
