@@ -22,7 +22,7 @@ from engine.schema import DatasetSpec, fatigue_specs
 from engine.solvers.wear import WearModel
 from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.config import SWEEPABLE, dump_toml, parse_study
-from engine.study.config.keys import fatigue_keys, punch_keys, wear_keys
+from engine.study.config.keys import STUDY_KEYS, fatigue_keys, punch_keys, wear_keys
 from engine.study.examples import study_toml
 from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
 from engine.study.kinds import KINDS, LoadingKind
@@ -31,6 +31,8 @@ from engine.study.settings.checks import LIMITS
 from engine.study.settings.sections import LoadingConfig
 from engine.study.settings.units import case_parameters, summary_columns, unit_of
 
+#: The keys the manual describes, by (section, key).
+BY_NAME = {(key.section, key.name): key for key in STUDY_KEYS}
 E_STAR = 200e3 / (2 * (1 - 0.3**2))  # MPa, two steel bodies
 
 
@@ -237,6 +239,8 @@ class TestLoadingKind:
             assert isinstance(declaration, Key) and declaration.meaning
             # the unit the results files give the swept key is the one the kind declares
             assert SWEEPABLE[f"loading.{key}"] == declaration.unit
+            if name in KINDS.builtins:  # the manual describes it with the declared unit
+                assert BY_NAME[("loading", key)].unit == declaration.unit
             if declaration.default is not None:  # a default the parser's bounds accept
                 limit = LIMITS.get(f"loading.{key}") or LIMITS[f"loading.{key.rsplit('_', 1)[0]}"]
                 assert limit.minimum <= declaration.default

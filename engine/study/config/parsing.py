@@ -67,12 +67,12 @@ from pathlib import Path
 from typing import Any
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES
+from engine.keys import declared_keys
 from engine.solvers import defaults
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS, wear_coefficients
 from engine.study.kinds import KINDS
 from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 from engine.study.settings.checks import LIMITS, bound, check_physical_ranges
-from engine.study.settings.compat import STATIC_PLACEHOLDERS
 from engine.study.settings.reader import Section, toml_error
 from engine.study.settings.sections import (
     MISSING,
@@ -218,9 +218,7 @@ class StudyConfig:
             items = record.resolved() if field.name == "punch" else dataclasses.asdict(record)
             for key, value in items.items():
                 if value is None or f"{field.name}.{key}" in swept:
-                    continue  # TOML has no null: None is "not applicable" (static loading)
-                if field.name == "loading" and key in STATIC_PLACEHOLDERS and not self.is_cyclic:
-                    continue  # no cycles in a static study (older files: fill_former_defaults)
+                    continue  # TOML has no null: None is "not given" (fretting's other control)
                 if isinstance(value, Path):
                     value = str(value)
                 if isinstance(value, tuple):
@@ -587,7 +585,9 @@ def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
         names = [f'"{name}"' for name in KINDS]
         raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
     load = s.number("load", minimum=0.0, strict=True, unit=load_unit)
-    steps = s.integer("steps", 10, **bound("loading.steps"))
+    steps = s.integer(
+        "steps", declared_keys(LoadingConfig)["steps"].default, **bound("loading.steps")
+    )
     return KINDS[kind].parse(s, load, steps)
 
 
