@@ -483,6 +483,7 @@ def _run_with_progress(
         measured=measured,
         bar=options.progress_bar,
         interval=options.progress_interval,
+        searches=None if searches is None else searches.counts,
     )
     channel = ProgressChannel(comm, progress)
     runner.on_progress = channel.local

@@ -71,6 +71,12 @@ class SearchRun:
     plan: Plan
     todo: list[Case]
 
+    @property
+    def counts(self) -> tuple[int, int]:
+        """(ended, searches): how many searches have ended, of how many."""
+        searches = self.campaign.searches
+        return sum(search.finished for search in searches), len(searches)
+
     def run(self, scheduler, writer, progress, on_outcome: Callable[[Any], None], on_poll=None):
         """Hand out the steps until every search has ended (or a stop): each outcome goes to
         its search, then to ``on_outcome`` (the writer, the progress display, which counts
@@ -84,8 +90,7 @@ class SearchRun:
             created = []
             if outcome.status in (CaseStatus.COMPLETED, CaseStatus.FAILED):
                 created = campaign.record(outcome.case_id, outcome.row)
-            ended = sum(search.finished for search in campaign.searches)
-            progress.count_searches(ended, len(campaign.searches))  # [k/N] counts searches
+            progress.count_searches(*self.counts)  # [k/N] counts searches
             on_outcome(outcome)
             for case in created:
                 writer.add_case(case)
@@ -94,10 +99,7 @@ class SearchRun:
             if campaign.finished:
                 queue.close()
 
-        progress.count_searches(
-            sum(search.finished for search in campaign.searches), len(campaign.searches)
-        )
-
+        progress.count_searches(*self.counts)
         return scheduler.run(queue, handle, on_poll=on_poll)
 
     def finish(self, writer) -> str:

@@ -502,3 +502,38 @@ def test_reports_name_swept_keys_not_dotted_keys():
     assert "swept: displacement amplitude δ*." in text
     assert "#### Against displacement amplitude δ*" in text
     assert "| displacement amplitude δ* (mm) |" in text
+
+
+def test_a_search_progress_bar_counts_searches(tmp_path):
+    """Two searches of the transition amplitude (μ = 0.4, 0.5) on an 8² sphere: the bar
+    counts searches (0/2 … 2/2) from its first frame; it counted cases, and its total grew
+    as the searches proposed steps (0/4, 2/5, 4/6 …)."""
+    text = study_toml(
+        "bar",
+        "bar.h5",
+        {"material": {"E_A": 210e3, "nu_A": 0.3, "E_B": 210e3, "nu_B": 0.3}},
+        punch={"shape": "sphere", "radius": 10.0},
+        mesh={"n": 8},
+        loading={"kind": "fretting", "load": 100.0, "cycles": 1, "record": [1], "steps": 4},
+        sweep={"mu1": [0.4, 0.5], "wear1": [0.0]},
+        search={
+            "parameter": "loading.amplitude", "low": 1e-3, "high": 4e-3,
+            "column": "slip_regime", "target": "gross", "rtol": 0.1,
+        },
+    )  # fmt: skip
+    (tmp_path / "bar.toml").write_text(text)
+    result = _python(
+        """
+        import engine
+        run = engine.run_study("bar.toml", progress=True)
+        print(run.status, len(run.summary))
+        """,
+        tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    status, cases = result.stdout.split()[-2:]
+    assert status == "completed" and int(cases) > 4  # more steps than searches
+    frames = re.findall(r"\|\s*(\d+)/(\d+) \[", result.stderr.replace("\r", "\n"))
+    assert frames, result.stderr
+    assert {total for _, total in frames} == {"2"}
+    assert frames[0][0] == "0" and frames[-1][0] == "2"

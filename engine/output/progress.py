@@ -125,6 +125,8 @@ class ProgressReporter:
     ``expected_cost``); ``measured``: (runtime in s, expected cost) of cases completed by
     earlier runs of the study; ``ranks``: how many ranks compute. ``bar``: None draws a tqdm
     bar when stderr is a terminal; ``interval`` 0 turns the periodic status lines off.
+    ``searches``: (ended, searches) of a ``[search]`` study, whose ``[k/N]`` and bar count
+    searches (:meth:`count_searches`) from the start.
     """
 
     def __init__(
@@ -140,6 +142,7 @@ class ProgressReporter:
         bar: bool | None = None,
         interval: float = 30.0,
         clock: Callable[[], float] = time.monotonic,
+        searches: tuple[int, int] | None = None,
     ) -> None:
         self.total = total
         self.done = done  # finished cases, whatever their status (earlier runs: completed)
@@ -163,13 +166,18 @@ class ProgressReporter:
             self._measure(runtime, cost)
         use_bar = sys.stderr.isatty() if bar is None else bar
         self._bar = None
-        if use_bar and total > done:
+        counted, count, unit = (
+            (total, done, "case") if searches is None else (*searches[::-1], "search")
+        )
+        if use_bar and counted > count:
             from tqdm import tqdm
 
             self._bar = tqdm(
-                total=total, initial=done, unit="case", dynamic_ncols=True, file=sys.stderr,
+                total=counted, initial=count, unit=unit, dynamic_ncols=True, file=sys.stderr,
                 bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
             )  # fmt: skip
+        if searches is not None:
+            self.count_searches(*searches)
 
     # ------------------------------------------------------------------ reports
     def started(self, case_id: str, rank: int) -> None:
@@ -206,15 +214,20 @@ class ProgressReporter:
         if outcome.status == CaseStatus.FAILED and outcome.message:
             text += f": {outcome.message.splitlines()[0]}"
         self.line(text)
-        if self._bar is not None and status == CaseStatus.COMPLETED:
+        if self._bar is not None and self._searches is None and status == CaseStatus.COMPLETED:
             self._bar.update(1)  # the bar counts completed cases; the others are in its postfix
         self._show_status(force=True)
 
     def count_searches(self, ended: int, searches: int) -> None:
         """A ``[search]`` study: ``ended`` of its ``searches`` have ended. The ``[k/N]`` of
         each case line and the status lines then count searches (their number is known from
-        the start; the steps each takes are not)."""
+        the start; the steps each takes are not), and so does the bar."""
         self._searches = (int(ended), int(searches))
+        if self._bar is not None:
+            self._bar.unit = "search"
+            self._bar.total = self._searches[1]
+            self._bar.n = self._searches[0]
+            self._bar.refresh()
 
     def add(self, case) -> None:
         """A case created while the run goes on (a step of a threshold search): one more to
@@ -223,7 +236,7 @@ class ProgressReporter:
         self._costs[case.case_id] = float(case.expected_cost)
         self._waiting[case.case_id] = None
         self._waiting_cost += self._costs[case.case_id]
-        if self._bar is not None:
+        if self._bar is not None and self._searches is None:  # a search's bar counts searches
             self._bar.total = self.total
             self._bar.refresh()
 
