@@ -160,7 +160,7 @@ def test_proportional_wear_needs_positive_friction():
 
 
 def test_load_study_reports_missing_file(tmp_path: Path):
-    with pytest.raises(StudyConfigError, match="not found"):
+    with pytest.raises(StudyConfigError, match="nope.toml: no such study file"):
         load_study(tmp_path / "nope.toml")
 
 

@@ -113,8 +113,27 @@ def test_run_study_raises_in_a_notebook(tmp_path, change, shown):
 
 
 def test_run_study_on_a_missing_file_raises(tmp_path):
-    with pytest.raises(engine.StudyError, match="nothing.toml"):
+    """The message names the file as given and, for a relative path, where it was looked
+    for (a notebook's working directory is not always the one meant); no ``[study]``: no
+    section of the file is to blame. The command line prints the same line, exit 2."""
+    with pytest.raises(engine.StudyError) as error:
         engine.run_study(tmp_path / "nothing.toml", progress=False)
+    assert str(error.value) == f"{tmp_path / 'nothing.toml'}: no such study file"
+    result = _python(
+        """
+        import engine
+        try:
+            engine.run_study("studies/nothing.toml", progress=False)
+        except engine.StudyError as error:
+            print(error)
+        """,
+        tmp_path,
+    )
+    looked = tmp_path / "studies" / "nothing.toml"
+    line = f"studies/nothing.toml: no such study file (looked for {looked})"
+    assert result.stdout.strip() == line, result.stdout + result.stderr
+    command = _engine("studies/nothing.toml", cwd=tmp_path)
+    assert command.returncode == 2 and command.stderr.strip() == f"error: {line}"
 
 
 def test_the_readme_api_line_names_real_fields(study_folder):

@@ -282,14 +282,15 @@ def load_study(path: str | Path) -> StudyConfig:
         size = path.stat().st_size
         if path.is_file() and size > MAX_STUDY_BYTES:
             raise StudyConfigError(
-                source, "study", MISSING,
+                source, "", MISSING,
                 f"file of {size} bytes: a study file is at most {MAX_STUDY_BYTES >> 20} MiB",
             )  # fmt: skip
         text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark is not TOML
     except FileNotFoundError:
-        raise StudyConfigError(source, "study", MISSING, "study file not found") from None
+        where = "" if path.is_absolute() else f" (looked for {path.absolute()})"
+        raise StudyConfigError(source, "", MISSING, f"no such study file{where}") from None
     except (OSError, UnicodeDecodeError) as error:
-        raise StudyConfigError(source, "study", MISSING, f"cannot read: {error}") from None
+        raise StudyConfigError(source, "", MISSING, f"cannot read: {error}") from None
     return parse_study(text, source=source)
 
 
@@ -310,7 +311,7 @@ def _depth(value) -> int:
 
 def _too_deep(source: str) -> StudyConfigError:
     return StudyConfigError(
-        source, "study", MISSING,
+        source, "", MISSING,
         f"tables or arrays nested more than {MAX_NESTING} levels deep: not a study file",
     )  # fmt: skip
 
@@ -325,7 +326,7 @@ def parse_study(text: str, *, source: str = "<string>") -> StudyConfig:
     """
     if len(text) > MAX_STUDY_BYTES:
         raise StudyConfigError(
-            source, "study", MISSING,
+            source, "", MISSING,
             f"text of {len(text)} characters: a study is at most {MAX_STUDY_BYTES >> 20} MiB",
         )  # fmt: skip
     try:

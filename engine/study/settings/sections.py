@@ -46,7 +46,8 @@ PUNCH_SHAPES = tuple(PROFILES)  # the contact geometries (engine.geometry.PROFIL
 
 
 class StudyConfigError(ValueError):
-    """Bad study file: carries the file, the dotted key and the value it refers to."""
+    """Bad study file: carries the file, the dotted key and the value it refers to (key
+    ``""``: the file as a whole, e.g. not found or not TOML)."""
 
     def __init__(self, source: str, key: str, value: Any, problem: str) -> None:
         self.source = source
@@ -56,6 +57,9 @@ class StudyConfigError(ValueError):
         section, _, name = key.partition(".")
         where = f"[{section}] {name}" if name else f"[{section}]"
         shown = "" if value is MISSING else f" = {_shown(value)}"
+        if not key:
+            super().__init__(f"{source}: {problem}")
+            return
         super().__init__(f"{source}: {where}{shown}: {problem}")
 
 
