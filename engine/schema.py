@@ -576,6 +576,7 @@ SUMMARY_COLUMNS = [
     "vm_deep_max", "vm_deep_max_x", "vm_deep_max_z", "vm_axis_max", "vm_axis_max_z",
     "contact_radius", "centre_pressure", "elastic_approach", "wear_severity",
     "peak_region", "peak_region_change_cycle", "deep_region",
+    "vm_max_on_edge", "vm_sub_max_on_edge",
 ]  # fmt: skip
 
 COLUMN_UNITS = {
@@ -668,6 +669,11 @@ COLUMN_DESCRIPTIONS = {
     "vm_sub_max_x": "x of vm_sub_max",
     "vm_sub_max_y": "y of vm_sub_max",
     "vm_sub_max_z": "depth z of vm_sub_max",
+    "vm_max_on_edge": "where vm_max touches the computed plane's boundary: `inside` (it does "
+    "not), `side` (the plane's end, the mesh's edge), `bottom` (its deepest layer) or `side "
+    "and bottom`; on the boundary the maximum may lie beyond the domain (widen `[mesh] "
+    "half_width` or deepen `[subsurface] depth`)",
+    "vm_sub_max_on_edge": "the same for vm_sub_max",
     "stick_fraction": "stick area / contact area at peak load of the last simulated cycle",
     "load_steps": "load increments solved, over resumed runs too",
     "matvecs": "influence-operator applications",
@@ -710,7 +716,10 @@ COLUMN_DESCRIPTIONS.update({column: what for column, (_, what) in SURFACE_COLUMN
 UNITS = {**PARAMETER_UNITS, **COLUMN_UNITS, **SWEPT_KEY_UNITS}
 
 INTEGER_COLUMNS = ("cycles", "load_steps", "matvecs", "peak_region_change_cycle")
-TEXT_COLUMNS = ("case_id", "status", "peak_region", "deep_region", "slip_regime")
+TEXT_COLUMNS = (
+    "case_id", "status", "peak_region", "deep_region", "slip_regime",
+    "vm_max_on_edge", "vm_sub_max_on_edge",
+)  # fmt: skip
 
 
 def pending_row(parameters: dict[str, Any], status: str = CaseStatus.PENDING) -> dict[str, Any]:

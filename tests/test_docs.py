@@ -857,8 +857,8 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
         if not key.default.startswith("required") and not _is_json(key.default)
     }
     checked = set()
-    # half_width: flat 1.05·radius; rounded 1.05·(radius + edge_radius); sphere 1.5 Hertz radii
-    assert parsed(mesh={"half_width": None}).mesh.half_width == pytest.approx(1.05 * 1.8)
+    # half_width: flat 1.5·radius; rounded 1.05·(radius + edge_radius); sphere 1.5 Hertz radii
+    assert parsed(mesh={"half_width": None}).mesh.half_width == pytest.approx(1.5 * 1.8)
     rounded = parsed(punch={"shape": "rounded", "radius": 1.0, "edge_radius": 0.2})
     assert rounded.mesh.half_width == pytest.approx(1.05 * 1.2)
     for shape in (SPHERE_ON_STEEL, CYLINDER_ON_STEEL, {"punch": {"shape": "pad", "radius": 0.1,

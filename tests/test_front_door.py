@@ -446,40 +446,33 @@ def test_case_figures_draw_the_fields_of_every_kind_and_geometry(shape, tmp_path
         assert not _white_half(path), name
 
 
-def test_the_slip_stick_state_at_plus_q_star_is_drawn(tmp_path):
-    """The state map of a partial-slip sphere: stick inside, slip around (Mindlin), in the
-    map's data; and its title counts them."""
-    import matplotlib.pyplot as plt
-
-    from engine.analysis.case_fields import case_field_figures
-    from engine.analysis.reader import read_results
-
-    (tmp_path / "study.toml").write_text(FIELD_STUDIES["sphere"])
-    assert _engine("study.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
-    study = read_results(tmp_path / "sphere.h5")
-    study = study.for_case(study.cases[0].case_id)  # δ* = 0.5 µm: partial slip
-    drawn = dict(case_field_figures(study))
-    figure = drawn["surface_N4.png"]
-    state_axis = figure.axes[2]
-    states = np.asarray(state_axis.collections[0].get_array()).ravel()
-    assert {1, 2} <= set(states.astype(int).tolist())  # stick and slip both present
-    assert "stick" in state_axis.get_title() and "slip" in state_axis.get_title()
-    for figure in drawn.values():
-        plt.close(figure)
-
-
-def test_a_peak_on_the_domains_edge_is_flagged_in_the_report(tmp_path):
-    """A flat punch on its default 16 × 16 mesh (±1.05 a0): the σ_VM peak of the sharp
-    edge's singularity sits on the plane's outermost column, and the report says so; a
-    plane whose peak lies inside is not flagged (StressPlane.on_edge on a synthetic one)."""
+def test_a_peak_on_the_domains_edge_is_flagged_in_the_summary_and_report(tmp_path):
+    """The reproducer: a flat punch on a 16 × 16 mesh over ±1.05 a0 (the former default) puts
+    the outer edge of the last loaded element on the mesh's edge, and the σ_VM peak of the
+    sharp edge's singularity there: the summary's vm_max_on_edge and vm_sub_max_on_edge say
+    ``side`` and the report warns. The default mesh (±1.5 a0) holds the peak inside (at
+    r = 0.94 a0, measured), with neither. A plane whose peak lies inside is not flagged
+    (StressPlane.on_edge on a synthetic one)."""
     from engine.analysis.reader import StressPlane
 
+    narrow = FIELD_STUDIES["flat"].replace("n = 16", "n = 16\nhalf_width = 1.89")
+    (tmp_path / "narrow").mkdir()
+    (tmp_path / "narrow" / "study.toml").write_text(narrow)
     (tmp_path / "study.toml").write_text(FIELD_STUDIES["flat"])
-    assert _engine("study.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
-    report = _engine("report", "flat.h5", cwd=tmp_path)
-    assert report.returncode == 0, report.stderr
-    flagged = [line for line in report.stdout.splitlines() if "domain's edge" in line]
-    assert flagged and all("half_width" in line for line in flagged)
+    for folder, flagged in ((tmp_path / "narrow", True), (tmp_path, False)):
+        assert _engine("study.toml", "--no-progress-bar", cwd=folder).returncode == 0
+        summary = engine.load_summary(folder / "flat.h5")
+        expected = ["side"] * 2 if flagged else ["inside"] * 2
+        assert summary.vm_max_on_edge.tolist() == expected
+        assert summary.vm_sub_max_on_edge.tolist() == expected
+        half_width = engine.open_results(folder / "flat.h5").study["mesh"]["half_width"]
+        assert half_width == pytest.approx(1.89 if flagged else 2.7)  # 1.05 a0 | 1.5 a0
+        if not flagged:
+            assert (summary.vm_max_x.abs() < 0.99 * half_width).all()
+        report = _engine("report", "flat.h5", cwd=folder)
+        assert report.returncode == 0, report.stderr
+        lines = [line for line in report.stdout.splitlines() if "domain's edge" in line]
+        assert bool(lines) == flagged and all("half_width" in line for line in lines)
     x, z = np.meshgrid(np.linspace(-1.0, 1.0, 5), np.linspace(0.0, 1.0, 4), indexing="ij")
     inside = StressPlane(x, z, np.exp(-(x**2) - (z - 0.5) ** 2))
     assert inside.on_edge() == ""

@@ -22,7 +22,7 @@ E_STAR = 200e3 / (2 * (1 - 0.3**2))  # MPa, two steel bodies
 @pytest.mark.parametrize(
     ("shape", "radius", "edge", "load", "a0", "p0", "half_width", "line"),
     [  # a0 (mm), p0 (MPa) and the default mesh half-width (mm) from their closed forms
-        ("flat", 1.8, None, 750.0, 1.8, 750.0 / (math.pi * 1.8**2), 1.05 * 1.8, False),
+        ("flat", 1.8, None, 750.0, 1.8, 750.0 / (math.pi * 1.8**2), 1.5 * 1.8, False),
         ("rounded", 1.8, 0.2, 750.0, 1.8, 750.0 / (math.pi * 1.8**2), 1.05 * 2.0, False),
         ("sphere", 10.0, None, 100.0, "hertz", "hertz", "hertz", False),
         ("cylinder", 6.0, None, 185.0, "line", "line", "line", True),

@@ -36,6 +36,7 @@ from .fatigue import fatigue_facts, fatigue_table, has_fatigue
 from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
 from .names import key_title
 from .reader import CaseResults, StudyResults
+from .report import edge_facts
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
 
@@ -237,7 +238,7 @@ def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) ->
     ]
     lines += fretting_table(study, cycles)
     lines += ["", "Measured:", ""]
-    lines += [f"- {fact}" for fact in fretting_facts(study)]
+    lines += [f"- {fact}" for fact in fretting_facts(study) + edge_facts(study)]
     if has_fatigue(study):
         lines += ["", _fatigue_header(study), "", *fatigue_table(study), ""]
         lines += [f"- {fact}" for fact in fatigue_facts(study)]

@@ -79,7 +79,8 @@ def _plane_columns(study: StudyResults, plane: StressPlane | None) -> list[str]:
 
 def edge_facts(study: StudyResults) -> list[str]:
     """One warning per case and stress plane whose σ_VM peak (over the plane, or below its
-    surface layer) sits on the edge of the computed domain (:meth:`StressPlane.on_edge`)."""
+    surface layer) sits on the edge of the computed domain (:meth:`StressPlane.on_edge`; the
+    final state's are the summary's ``vm_max_on_edge`` and ``vm_sub_max_on_edge``)."""
     facts = []
     for case in study.cases:
         for key, plane in case.planes.items():
@@ -419,6 +420,9 @@ def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
     from .sweep_report import sweep_report  # pandas: only for a sweep
 
     text = sweep_report(load_summary(study.path), study.swept_keys, study.name, line)
+    edges = [f"- {fact}" for fact in edge_facts(study)]
+    if edges:
+        text += "\n".join(["", *edges]) + "\n"
     if set(study.swept_keys) & _STUDY_WIDE:
         return text
     lines = ["", *(cyclic_table(study, cycles) if study.is_cyclic else static_table(study))]

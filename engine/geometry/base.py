@@ -53,8 +53,9 @@ __all__ = [
     "check_covers",
 ]
 
-#: Default mesh half-width / contact length of the shapes whose contact grows with the load
-#: (sphere, cylinder, pad).
+#: Default mesh half-width / contact length a0 of the flat punch and of the shapes whose
+#: contact grows with the load (sphere, cylinder, pad): the contact and half of a0 beyond
+#: its edge, where the stresses that start fretting cracks are.
 HERTZ_MARGIN = 1.5
 
 

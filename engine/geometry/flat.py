@@ -11,10 +11,7 @@ from engine.grid import Grid
 from engine.keys import length
 from engine.reference.flat_punch import sneddon_pressure
 
-from .base import Profile, check_covers
-
-#: Default mesh half-width / outer radius of a punch with a face (flat, rounded).
-FACE_MARGIN = 1.05
+from .base import HERTZ_MARGIN, Profile, check_covers
 
 
 @dataclass(frozen=True)
@@ -30,8 +27,9 @@ class FlatPunch(Profile):
         return self.radius
 
     def default_half_width(self, load: float, contact_modulus: float) -> float:
-        """1.05 a: the face and a margin."""
-        return FACE_MARGIN * self.radius
+        """1.5 a (:data:`HERTZ_MARGIN`, as the Hertz shapes): the face and half a radius
+        beyond its edge, where the edge's stress peak and the cracks of fretting start."""
+        return HERTZ_MARGIN * self.radius
 
     def check_grid(self, grid: Grid) -> None:
         """The grid must cover the whole punch face, and resolve it with a few elements."""

@@ -12,7 +12,9 @@ from engine.grid import Grid
 from engine.keys import length
 
 from .base import Profile, check_covers
-from .flat import FACE_MARGIN
+
+#: Default mesh half-width / outer radius b + ρ of the rounded punch.
+FACE_MARGIN = 1.05
 
 
 @dataclass(frozen=True)

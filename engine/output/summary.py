@@ -18,6 +18,9 @@ vm_max             MPa     maximum von Mises stress in the x–z plane (surface 
 vm_max_x/_y/_z     mm      its location (z into the half-space)
 vm_sub_max         MPa     maximum von Mises stress below the surface layer
 vm_sub_max_x/_y/_z mm      its location
+vm_max_on_edge     –       inside | side | bottom | side and bottom: where vm_max touches the
+                           plane's boundary (side: the mesh's edge; the maximum may lie beyond)
+vm_sub_max_on_edge –       the same for vm_sub_max
 stick_fraction     –       stick area / contact area at peak load of the last cycle
 vm_deep_max        MPa     maximum von Mises stress at depth z >= 0.1 a0 (cyclic cases)
 vm_deep_max_x/_z   mm      its location

@@ -156,6 +156,24 @@ class StressField:
             label=f"z >= {min_depth:g} mm",
         )
 
+    def on_edge(self, min_depth: float = 0.0) -> str:
+        """Where the largest σ_VM over z >= ``min_depth`` (mm) of a vertical plane (shape
+        ``(n_s, n_z)``) touches the computed domain's boundary: ``"side"`` (an outermost
+        column, |s| at the plane's end: the mesh's edge), ``"bottom"`` (the deepest layer),
+        ``"side and bottom"``, or ``"inside"``. On the boundary, the maximum of the field may
+        lie beyond the domain: widen ``[mesh] half_width`` or deepen ``[subsurface] depth``.
+        """
+        if self.von_mises.ndim != 2:
+            raise ValueError(f"on_edge needs a vertical plane (n_s, n_z), got {self.z.shape}")
+        candidates = np.where(self.z >= min_depth, self.von_mises, -np.inf)
+        column, layer = np.unravel_index(np.argmax(candidates), candidates.shape)
+        places = []
+        if column in (0, candidates.shape[0] - 1):
+            places.append("side")
+        if layer == candidates.shape[1] - 1:
+            places.append("bottom")
+        return " and ".join(places) or "inside"
+
     def peaks(self) -> dict[str, Peak]:
         """Peak over all layers and peak below the surface layer, labelled.
 

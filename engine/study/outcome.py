@@ -385,6 +385,8 @@ def final_row(case, cfg, final, stress, depths, datasets, angle: float = 0.0) ->
         vm_sub_max_x=float(sub_peak.x),
         vm_sub_max_y=float(sub_peak.y),
         vm_sub_max_z=float(sub_peak.z),
+        vm_max_on_edge=plane.on_edge(),
+        vm_sub_max_on_edge=plane.on_edge(below_surface),
         stick_fraction=stick / contact if contact else math.nan,
     )
     return row

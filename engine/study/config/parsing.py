@@ -18,7 +18,7 @@ Sections and keys (``*`` = required; defaults in brackets):
 ``[material]``    E_A*, nu_A* (half-space), E_B*, nu_B* (punch)                          MPa
 ``[punch]``       shape ["flat"] (a name of engine.geometry.PROFILES) and the keys its
                   profile declares as dataclass fields (radius, edge_radius …)         mm
-``[mesh]``        n* (elements per side), half_width [flat: 1.05·radius; rounded:
+``[mesh]``        n* (elements per side), half_width [flat: 1.5·radius; rounded:
                   1.05·(radius + edge_radius); sphere: HERTZ_MARGIN·a_Hertz at the load] mm
 ``[loading]``     kind* ("static" | "cyclic" | "fretting"), load* (N), steps [10] (increments
                   per half cycle; for static: load increments; fretting: per quarter
