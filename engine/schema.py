@@ -368,6 +368,11 @@ FRETTING_RECORDS = {
         "location: value, x, y, z",
         "vm, x, y, z",
     ),
+    "status_minus_q": DatasetSpec(
+        "1",
+        "contact status at −Q*, the increment of the largest |Q| on the negative half of the "
+        "loop (the other fields are at +Q*): 0 no contact, 1 stick, 2 slip; shape (n_x, n_y)",
+    ),
 }
 
 

@@ -428,7 +428,7 @@ def _white_half(path: Path) -> bool:
 def test_case_figures_draw_the_fields_of_every_kind_and_geometry(shape, tmp_path, small_text):
     """``plot --case`` of a fretting sphere (3-D), a fretting cylinder and a cyclic pad (line
     contacts) and a cyclic flat punch draws the surface fields (maps or profiles; a fretting case's
-    slip/stick state at +Q*) and the σ_VM plane: each file written, non-blank, no half of it
+    slip/stick state at ±Q*) and the σ_VM plane: each file written, non-blank, no half of it
     empty, no text cut by the edge or too small (the checks of tests/test_figures.py)."""
     (tmp_path / "study.toml").write_text(FIELD_STUDIES[shape])
     run = _engine("study.toml", "--no-progress-bar", cwd=tmp_path)
@@ -444,6 +444,43 @@ def test_case_figures_draw_the_fields_of_every_kind_and_geometry(shape, tmp_path
         path = out / name
         assert path.stat().st_size > 5_000, name
         assert not _white_half(path), name
+
+
+def test_the_slip_stick_state_at_plus_and_minus_q_star_is_drawn(tmp_path):
+    """The state maps of a partial-slip sphere at +Q* and −Q*: stick inside, slip around
+    (Mindlin), in the maps' data, each title counting them. The −Q* state is stored
+    (``status_minus_q``) and is the +Q* one turned by 180° about the axis: the sphere, the
+    isotropic friction and the grid are symmetric under (x, y) → (−x, −y), which turns Q
+    into −Q. A line contact draws the two states as strips along x."""
+    import matplotlib.pyplot as plt
+
+    from engine.analysis.case_fields import case_field_figures
+    from engine.analysis.reader import read_results
+
+    for name in ("sphere", "cylinder"):
+        (tmp_path / f"{name}.toml").write_text(FIELD_STUDIES[name])
+        assert _engine(f"{name}.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
+    study = read_results(tmp_path / "sphere.h5")
+    study = study.for_case(study.cases[0].case_id)  # δ* = 0.5 µm: partial slip
+    fields = study.cases[0].fields[4]
+    plus, minus = fields["status"], fields["status_minus_q"]
+    assert minus.dtype == np.int8 and minus.shape == plus.shape
+    np.testing.assert_array_equal(minus, plus[::-1, ::-1])
+    drawn = dict(case_field_figures(study))
+    figure = drawn["surface_N4.png"]
+    for axis, where, status in ((figure.axes[2], "+Q*", plus), (figure.axes[3], "−Q*", minus)):
+        states = np.asarray(axis.collections[0].get_array()).ravel().astype(int)
+        assert {1, 2} <= set(states.tolist())  # stick and slip both present
+        np.testing.assert_array_equal(np.sort(states), np.sort(status.ravel()))
+        stick, slip = np.count_nonzero(status == 1), np.count_nonzero(status == 2)
+        assert axis.get_title() == f"state at {where}: {stick} stick, {slip} slip elements"
+    for figure in drawn.values():
+        plt.close(figure)
+    line = read_results(tmp_path / "cylinder.h5")
+    line = line.for_case(line.cases[0].case_id)
+    strips = dict(case_field_figures(line))["surface_N4.png"].axes[2]
+    assert [label.get_text() for label in strips.get_yticklabels()] == ["at +Q*", "at −Q*"]
+    plt.close("all")
 
 
 def test_a_peak_on_the_domains_edge_is_flagged_in_the_summary_and_report(tmp_path):

@@ -3,11 +3,13 @@
 A fretting case stores, at every recorded cycle N, its surface fields at the increment of
 the largest |Q| on the +Q* side of the loop (``engine.solvers.fretting``): wear depth,
 pressure, tractions and each element's state (no contact, stick, slip), and the x–z stress
-plane there. For one case these figures show them:
+plane there; and each element's state at −Q* (``status_minus_q``). For one case these
+figures show them:
 
 - ``surface_N<N>.png`` — a 3-D contact (punch, sphere): maps over the mesh of the wear depth
-  (µm), p/p0 and the slip/stick state at +Q*; a line contact (cylinder, pad): profiles along
-  x/a of the wear depth, p/p0 and q_x/p0 with the stick zone shaded, and the state;
+  (µm), p/p0 at +Q* and the slip/stick state at +Q* and at −Q*; a line contact (cylinder,
+  pad): profiles along x/a of the wear depth, p/p0 and q_x/p0 at +Q* with the stick zone
+  shaded, and strips of the state at +Q* and −Q*;
 - ``von_mises_N<N>.png`` — σ_VM/p0 on the x–z plane at +Q*
   (:func:`engine.analysis.figures.von_mises_plane_figure`).
 
@@ -64,40 +66,53 @@ def _state_map():
     return cmap, BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
 
 
+def _state_counts(status: np.ndarray) -> str:
+    counts = [int(np.count_nonzero(status == code)) for code in range(3)]
+    return f"{counts[1]} stick, {counts[2]} slip elements"
+
+
+def _state_handles(alpha: float = 1.0) -> list[Patch]:
+    return [
+        Patch(color=colour, alpha=alpha, label=name)
+        for colour, name in zip(_STATE_COLOURS, STATE_NAMES, strict=True)
+    ]
+
+
 def _surface_maps(study: StudyResults, fields: dict, cycle: int):
-    """Wear depth, p/p0 and the stick/slip state over the mesh, side by side."""
+    """Wear depth and p/p0 (top), the stick/slip state at +Q* and at −Q* (bottom) over the
+    mesh; a file without the −Q* state (``status_minus_q``) leaves its panel out."""
     a, p0 = study.radius, study.p0
     x, y = study.grid_x / a, study.grid_y / a
+    states = [("+Q*", fields["status"])]
+    if "status_minus_q" in fields:
+        states.append(("−Q*", fields["status_minus_q"]))
     figure, axes = plt.subplots(
-        1, 3, figsize=(max(MIN_FIGURE_WIDTH, 13.0), 4.4), layout="constrained", squeeze=False
+        2, 2, figsize=(MIN_FIGURE_WIDTH + 1.5, 9.0), layout="constrained", squeeze=False
     )
     wear = fields["wear"] * 1e3  # µm
     panels = (
         (wear, "viridis", "wear depth (µm)", "wear depth"),
         (fields["pressure"] / p0, "magma", "p / p0", "pressure at +Q*"),
     )
-    for axis, (values, cmap, label, title) in zip(axes[0], panels, strict=False):
+    for axis, (values, cmap, label, title) in zip(axes[0], panels, strict=True):
         top = float(np.max(values)) or 1.0
         mesh = axis.pcolormesh(x, y, values.T, cmap=cmap, vmin=0.0, vmax=top, shading="nearest")
         figure.colorbar(mesh, ax=axis, label=label, shrink=0.85)
         axis.set_title(title)
     cmap, norm = _state_map()
-    axis = axes[0, 2]
-    axis.pcolormesh(x, y, fields["status"].T, cmap=cmap, norm=norm, shading="nearest")
-    counts = [int(np.count_nonzero(fields["status"] == code)) for code in range(3)]
-    axis.set_title(f"state at +Q*: {counts[1]} stick, {counts[2]} slip elements")
-    handles = [
-        Patch(color=colour, label=name)
-        for colour, name in zip(_STATE_COLOURS, STATE_NAMES, strict=True)
-    ]
-    axis.legend(
-        handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=9, ncols=3
-    )
-    for axis in axes[0]:
+    for axis, (where, status) in zip(axes[1], states, strict=False):
+        axis.pcolormesh(x, y, status.T, cmap=cmap, norm=norm, shading="nearest")
+        axis.set_title(f"state at {where}: {_state_counts(status)}")
+    if len(states) == 1:
+        axes[1, 1].set_visible(False)
+    figure.legend(handles=_state_handles(), loc="outside lower center", ncols=3, fontsize=9)
+    for axis in axes.ravel():
         axis.set_aspect("equal")
         axis.set_xlabel("x/a")
         axis.set_ylabel("y/a")
-    figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles, fields at +Q*"))
+    figure.suptitle(
+        _title(study, f"surface after N = {cycle:,} cycles: fields at +Q*, state at ±Q*")
+    )
     return figure
 
 
@@ -105,8 +120,13 @@ def _line_profiles(study: StudyResults, fields: dict, cycle: int):
     """Wear depth, p/p0 and q_x/p0 along x/a with the stick zone shaded (a line contact)."""
     a, p0 = study.radius, study.p0
     x = study.grid_x / a
-    figure, (wear_axis, stress_axis) = plt.subplots(
-        2, 1, figsize=(MIN_FIGURE_WIDTH, 6.4), sharex=True, layout="constrained"
+    figure, (wear_axis, stress_axis, state_axis) = plt.subplots(
+        3,
+        1,
+        figsize=(MIN_FIGURE_WIDTH, 7.6),
+        sharex=True,
+        layout="constrained",
+        height_ratios=[3, 3, 1.2],
     )
     wear_axis.plot(x, fields["wear"][:, 0] * 1e3, color="C2", lw=1.6)
     wear_axis.set_ylabel("wear depth (µm)")
@@ -131,11 +151,26 @@ def _line_profiles(study: StudyResults, fields: dict, cycle: int):
     stress_axis.axhline(0.0, color="k", lw=0.6)
     stress_axis.set_ylabel("stress / p0")
     stress_axis.set_title("pressure and shear traction at +Q*; shaded: stick and slip zones")
-    stress_axis.set_xlabel("x/a")
+    _state_strips(state_axis, x, fields)
+    state_axis.set_xlabel("x/a")
     for axis in (wear_axis, stress_axis):
         axis.grid(alpha=0.3)
     figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles"))
     return figure
+
+
+def _state_strips(axis, x: np.ndarray, fields: dict) -> None:
+    """The element states along x/a at +Q* and (when stored) −Q*, one strip each."""
+    cmap, norm = _state_map()
+    rows = [("+Q*", fields["status"][:, 0])]
+    if "status_minus_q" in fields:
+        rows.append(("−Q*", fields["status_minus_q"][:, 0]))
+    states = np.array([status for _, status in rows])
+    axis.pcolormesh(x, np.arange(len(rows)), states, cmap=cmap, norm=norm, shading="nearest")
+    axis.set_yticks(range(len(rows)), [f"at {where}" for where, _ in rows])
+    axis.invert_yaxis()
+    counts = "; ".join(f"{where}: {_state_counts(status)}" for where, status in rows)
+    axis.set_title(f"state: {counts}", fontsize=10)
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

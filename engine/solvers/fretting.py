@@ -53,7 +53,10 @@ largest relative residual) of the cycle's increment solves. The "peak" of a cycl
 the cyclic history's columns, the recorded fields) is the increment of the largest |Q|, taken
 on the +Q* half of the loop (signal > 0) whenever that half reaches within ``PEAK_TIE``
 (10⁻⁴, relative) of the largest |Q|: a symmetric loop reaches ±Q* equally up to the solver's
-tolerance (10⁻⁶), and round-off must not decide which end the fields show.
+tolerance (10⁻⁶), and round-off must not decide which end the fields show. A recorded cycle
+also keeps the element states at −Q* (``status_minus_q``: the increment of the largest |Q|
+on the −Q* half, signal < 0, the first of equal ones), so that the slip/stick map is known at
+both ends of the loop.
 
 Energy consistency (exact to round-off, tested): per increment, with the trapezoidal rule,
 ½(Q_k + Q_{k−1})·Δδ_k = Σ_e ½(q_k + q_{k−1})·(Δu_k − Δs_k) ΔA, and Σ_e ½(q_k + q_{k−1})·Δu_k ΔA
@@ -352,6 +355,7 @@ class _FrettingCycle:
     evaluations: int
     peak_index: int
     cycle_vm: np.ndarray | None = None
+    status_minus_q: np.ndarray | None = None  # element states at −Q* (recorded cycles)
     matvecs: int = 0  # operator applications of the cycle's increment solves
     residual: float = 0.0  # the largest relative residual of the cycle's increment solves
 
@@ -499,6 +503,7 @@ class FrettingAnalysis(CyclicAnalysis):
         wear_increment, increments, zeros = np.zeros_like(wear), [], np.zeros_like(wear)
         along, evaluations, peak, peak_norm, cycle_vm = [], 0, None, -1.0, None
         positive, positive_norm, positive_index = None, -1.0, -1
+        negative, negative_norm = None, -1.0  # the −Q* half: its largest |Q|, first if tied
         peak_bulk_stress = positive_bulk_stress = 0.0
         matvecs, largest_residual = 0, 0.0
         warm_rigid = fretting.rigid_warm if len(fretting.rigid_warm) else None
@@ -526,6 +531,8 @@ class FrettingAnalysis(CyclicAnalysis):
             if value > 0.0 and norm > positive_norm:  # the +Q* half of the loop
                 positive, positive_norm, positive_index = result, norm, index
                 positive_bulk_stress = self.settings.bulk_stress(value)
+            if value < 0.0 and norm > negative_norm:  # the −Q* half of the loop
+                negative, negative_norm = result, norm
             if (recorded or self.probe_every_cycle) and self.increment_probe is not None:
                 self._announce_bulk_stress(self.settings.bulk_stress(value))
                 probe = np.asarray(self.increment_probe(*_tractions(result)), dtype=float)
@@ -540,6 +547,8 @@ class FrettingAnalysis(CyclicAnalysis):
         self.peak_bulk_stress = peak_bulk_stress
         self._cycle = _FrettingCycle(np.asarray(rows), np.asarray(along), evaluations, peak_index)
         self._cycle.cycle_vm = cycle_vm
+        if recorded and negative is not None:
+            self._cycle.status_minus_q = np.array(negative.status, copy=True)
         self._cycle.matvecs, self._cycle.residual = matvecs, largest_residual
         return _CycleOutcome(
             peak=peak, wear_increment=wear_increment, end_state=state, increments=increments
@@ -582,6 +591,8 @@ class FrettingAnalysis(CyclicAnalysis):
         fields["loop"] = self._cycle.loop
         if self._cycle.cycle_vm is not None:
             fields["vm_cycle"] = self._cycle.cycle_vm
+        if self._cycle.status_minus_q is not None:
+            fields["status_minus_q"] = self._cycle.status_minus_q
         return fields
 
 

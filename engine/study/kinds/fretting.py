@@ -26,7 +26,8 @@ cycle (of every simulated cycle with ``every_cycle``) on the same plane, from th
 ``history/<column>`` with ``every_cycle``, the criteria's summary columns
 (``crossland_risk`` …); an interrupted case's checkpoint keeps the evaluated cycles.
 
-The recorded surface fields of a fretting cycle are those of its increment of largest |Q|.
+The recorded surface fields of a fretting cycle are those of its increment of largest |Q|
+(+Q*), and ``fields/cycle_NNNNNNN/status_minus_q`` the element states at −Q*.
 Summary columns: ``q_amplitude`` (N), ``displacement_amplitude`` (mm), ``energy_per_cycle``
 (mJ), ``slip_regime`` ("partial" | "gross") of the last simulated cycle, and ``vm_cycle_max``
 (MPa) with ``vm_cycle_max_x/_y/_z`` (mm), the largest σ_VM over the increments of the last
@@ -158,7 +159,12 @@ class FrettingKind(CycledKind):
 
     def record_shapes(self, config):
         rows = self.increments(config.loading.steps) + 1  # the cycle's start, then each
-        return {"loop": ((rows, 4), "float64"), "vm_cycle": ((4,), "float64")}
+        grid = config.punch.profile().grid(config.mesh.n, config.mesh.half_width)
+        return {
+            "loop": ((rows, 4), "float64"),
+            "vm_cycle": ((4,), "float64"),
+            "status_minus_q": (grid.shape, "int8"),
+        }
 
     # ------------------------------------------------------------ checkpoint
     def save_state(self, state, path, extra=None):
