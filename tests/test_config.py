@@ -44,7 +44,7 @@ def replace_key(section_key: str, value: str, text: str = VALID) -> str:
 
 def test_valid_study_resolves_defaults():
     config = parse_study(VALID, source="t.toml")
-    assert config.mesh.half_width == pytest.approx(1.05 * 1.8)
+    assert config.mesh.half_width == pytest.approx(1.5 * 1.8)  # flat punch: 1.5 a0
     assert config.sweep.mu2 is None and config.sweep.wear_lists["wear2"] is None
     assert config.loading.record == (10, 100)
     assert config.is_cyclic
@@ -195,6 +195,8 @@ _FATIGUE = {
     }
 }  # fmt: skip
 DATA = Path(__file__).parent / "data"
+# The surfaces below (cut-offs of 0.5 mm, a 5 mm map) fit a 16² mesh of half-width 1.89 mm.
+_SURFACE_MESH = {"mesh": {"half_width": 1.89}}
 _CONTEXT = {
     "punch.edge_radius": [{"punch": {"shape": "rounded", "edge_radius": 0.1}}],
     "mesh.reference_distance": [_LINE_FRETTING],
@@ -212,14 +214,14 @@ _CONTEXT = {
     ],
     "sweep.alpha": [{"wear": {"law": "energy"}, "sweep": {"wear1": None, "alpha": [1e-5]}}],
     **{
-        f"surface.{name}": [{"surface": {"kind": "self_affine", "long_cutoff": 1.0,
-                                         "short_cutoff": 0.5, "rms_height": 1e-3}}]
+        f"surface.{name}": [_SURFACE_MESH, {"surface": {"kind": "self_affine", "long_cutoff": 1.0,
+                                                        "short_cutoff": 0.5, "rms_height": 1e-3}}]
         for name in ("seed", "hurst", "long_cutoff", "short_cutoff", "rms_height")
     },
-    "surface.rms_slope": [{"surface": {"kind": "self_affine", "long_cutoff": 1.0,
-                                       "short_cutoff": 0.5, "rms_slope": 0.1}}],
-    "surface.pixel_size": [{"surface": {"kind": "file", "path": str(DATA / "flat_map.txt"),
-                                        "pixel_size": 0.5}}],
+    "surface.rms_slope": [_SURFACE_MESH, {"surface": {"kind": "self_affine", "long_cutoff": 1.0,
+                                                      "short_cutoff": 0.5, "rms_slope": 0.1}}],
+    "surface.pixel_size": [_SURFACE_MESH, {"surface": {"kind": "file", "pixel_size": 0.5,
+                                                       "path": str(DATA / "flat_map.txt")}}],
 }  # fmt: skip
 # A calibration: a force-controlled line fretting search of Crossland's risk over two tests.
 _CALIBRATION = [

@@ -8,7 +8,12 @@ fresh interpreter, and the commands on results files run as subprocesses.
   line saying what the file is;
 - ``plot``, ``report`` and ``verify`` on a study file, a CSV, a non-HDF5 file or another
   program's HDF5 file exit 2 with what the file is and what to pass; ``verify`` gives 4 for
-  a damaged results file only.
+  a damaged results file only;
+- ``plot --case`` draws the fields of every kind and geometry, a fretting case's slip/stick
+  state at +Q* and −Q*;
+- a flat punch's default mesh reaches 1.5 a0, and a σ_VM peak on the computed plane's edge
+  is flagged in the summary and the report;
+- a search's progress bar counts searches.
 """
 
 from __future__ import annotations

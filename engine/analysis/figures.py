@@ -88,6 +88,7 @@ MAX_COLUMNS = 3  # panels (cases) per row in the multi-case figures
 # in: a figure of one or two panels is at least this wide, so that its title (study name,
 # case, mesh and load) and the legend row below fit on it (the figures of one case)
 MIN_FIGURE_WIDTH = 8.5
+MIN_PANEL_HEIGHT = 3.2  # inches: a σ_VM plane panel with its titles and axis labels
 
 _STYLE = {
     "font.size": 10.0,
@@ -330,7 +331,8 @@ def _draw_von_mises(axis, study: StudyResults, plane_xz, title: str, levels, pea
         axis.plot(xa, za, **_PEAK_MARKERS[mark], clip_on=False)
         title += f"\n{mark} {what} {value:.2f} at ({xa:+.2f}, {za:.3f})"
     axis.set_ylim(float(np.max(z)) / a, 0.0)
-    axis.set_xticks([-1.0, -0.5, 0.0, 0.5, 1.0])
+    reach = int(np.floor(float(np.max(np.abs(x))) / a / 0.5 + 1e-9))  # ticks 0.5 a0 apart
+    axis.set_xticks(0.5 * np.arange(-reach, reach + 1))
     axis.set_xlabel("x/a0")
     axis.set_ylabel("z/a0 (depth)")
     axis.set_title(title, fontsize=MIN_FONT_SIZE)
@@ -371,7 +373,10 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
     plane = panels[0].planes[key]
     span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
     width = 4.6 if count > 1 else MIN_FIGURE_WIDTH - 1.5  # one panel: as wide as the title
-    figure, axes = _panel_grid(count, width=width, height=(width - 1.1) / span + 1.6)
+    # the height of an equal-aspect plane and its titles; a wide, shallow plane still gets
+    # room for the axis labels beside it
+    height = max((width - 1.1) / span + 1.6, MIN_PANEL_HEIGHT)
+    figure, axes = _panel_grid(count, width=width, height=height)
     peaks = {case.case_id: _von_mises_peaks(study, case.planes[key]) for case in panels}
     top = max(value for marked in peaks.values() for _, _, (value, _, _) in marked)
     levels = von_mises_levels(top)
