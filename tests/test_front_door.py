@@ -522,6 +522,24 @@ def test_a_peak_on_the_domains_edge_is_flagged_in_the_summary_and_report(tmp_pat
     assert StressPlane(x, z, -(x**2) + z).on_edge() == "bottom"
 
 
+def test_a_fretting_report_flags_a_peak_on_the_bottom(tmp_path):
+    """A partial-slip sphere whose plane stops at 0.3 a: the subsurface σ_VM maximum of a
+    Hertz contact lies near z = 0.48 a (Johnson, Contact Mechanics, 1985), below the plane,
+    so the peak below the surface layer sits on its deepest layer: ``bottom`` in the summary
+    and a warning in the fretting report; the gross-slip case's peak is at the surface."""
+    text = FIELD_STUDIES["sphere"].replace("depth = 1.5", "depth = 0.3")
+    (tmp_path / "study.toml").write_text(text)
+    assert _engine("study.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
+    summary = engine.load_summary(tmp_path / "sphere.h5")
+    assert summary.vm_sub_max_on_edge.tolist() == ["bottom", "inside"]  # δ* = 0.5, 4 µm
+    assert summary.vm_max_on_edge.tolist() == ["inside", "inside"]
+    report = _engine("report", "sphere.h5", cwd=tmp_path)
+    assert report.returncode == 0, report.stderr
+    flagged = [line for line in report.stdout.splitlines() if "domain's edge" in line]
+    assert len(flagged) == 2  # N = 4 and the final state of the partial-slip case
+    assert all("amplitude = 0.0005 mm" in line and "bottom" in line for line in flagged)
+
+
 def test_equal_fretting_loops_stay_visible():
     """The N = 1 loop under an equal N = 10 loop (a stabilised gross-slip case): the first
     is a wide pale band, the later a thinner dashed line with markers, and the title says
