@@ -44,9 +44,9 @@ __all__ = [
 #: Where each public name lives: imported on first use (PEP 562), so that ``import engine``
 #: loads none of the layers a script does not use.
 _PUBLIC = {
-    "RUN_STATUSES": "engine.run",
-    "StudyRun": "engine.run",
-    "StudyError": "engine.run",
+    "RUN_STATUSES": "engine.run_outcome",
+    "StudyRun": "engine.run_outcome",
+    "StudyError": "engine.run_outcome",
     "WrongFileError": "engine.commands",
     "run_study": "engine.run",
     "open_results": "engine.analysis.results",

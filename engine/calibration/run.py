@@ -21,9 +21,9 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import logging
 import math
 import shutil
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,6 +43,11 @@ from .fit import FitFailed, FitResult, fit_values
 from .search import ContactStore, Stopped, TestSearches
 
 __all__ = ["CalibrationProblem", "CalibrationResult", "run_calibration", "contact_dir"]
+
+#: Where a calibration reports (rank 0): INFO each fit evaluation, the dry run's line and the
+#: closing lines; WARNING a stop. Quiet unless the caller configures logging (the command
+#: line shows INFO on stdout, WARNING on stderr).
+LOGGER = logging.getLogger(__name__)
 
 #: Fits after which a run counts as completed (an "at-bound" fit is printed as a warning).
 FIT_OK = ("converged", "at-bound", "predict-only")
@@ -229,8 +234,7 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
         log.append(entry)
         if rank == 0:
             shown = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
-            print(f"fit evaluation {number}: {shown}: Σ r² = {entry['sum_squares']:.4g}",
-                  flush=True)  # fmt: skip
+            LOGGER.info(f"fit evaluation {number}: {shown}: Σ r² = {entry['sum_squares']:.4g}")
         return found
 
     fit = fit_values(
@@ -265,10 +269,6 @@ def describe(outcome: CalibrationResult) -> str:
     return text + f"\n{outcome.solves} contact solutions computed this run"
 
 
-def _print(text: str) -> None:
-    print(text, file=sys.stdout, flush=True)
-
-
 def calibrate(comm, config, run, options, stop_event):
     """The :class:`~engine.run.StudyRun` of a calibration (:func:`engine.run.run_study`):
     ``"completed"`` when every test's final search converged, ``"failed"`` otherwise (the
@@ -278,7 +278,7 @@ def calibrate(comm, config, run, options, stop_event):
     spec = config.calibrate
     if options.dry_run:
         if rank == 0:
-            _print(
+            LOGGER.info(
                 f"calibration {config.study.name!r}: {len(spec.tests)} tests "
                 f"({len(spec.calibrate_on)} calibrate, "
                 f"{len(spec.tests) - len(spec.calibrate_on)} predict), fit "
@@ -291,10 +291,10 @@ def calibrate(comm, config, run, options, stop_event):
     except Stopped:
         message = "stopped: the contact solutions so far are kept; rerun to resume"
         if rank == 0:
-            print(message, file=sys.stderr, flush=True)
+            LOGGER.warning(message)
         return dataclasses.replace(run, status="interrupted", message=message)
     if rank == 0:
-        _print(describe(outcome))
+        LOGGER.info(describe(outcome))
     converged = sum(row["status"] == SearchStatus.CONVERGED for row in outcome.rows)
     ok = converged == len(outcome.rows) and outcome.fit.status in FIT_OK
     return dataclasses.replace(

@@ -19,6 +19,7 @@ file is kept beside the output as ``<output>.damaged`` (for inspection; delete i
 
 from __future__ import annotations
 
+import logging
 import os
 import shutil
 import struct
@@ -36,6 +37,9 @@ from .hdf5 import ResultsMismatch, StudyMetadata, reattach_grid_scales, write_ro
 from .identity import ExistingResults, check_identity, damaged_path, verdict
 from .isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated, time_limit_for
 from .space import MARGIN, OutputFull, ensure_space, free_bytes, is_no_space
+
+#: Where the salvage reports (INFO): a salvage abandoned for a fresh start.
+LOGGER = logging.getLogger(__name__)
 
 __all__ = ["scan_damaged", "apply_existing", "readable_copy"]
 
@@ -145,7 +149,7 @@ def apply_existing(
             temporary.unlink(missing_ok=True)
             copied = []
             existing.kind, existing.problem = "start-over", f"{existing.problem}; copying: {error}"
-            print(f"note: salvage abandoned ({error}); the study starts over", flush=True)
+            LOGGER.info(f"note: salvage abandoned ({error}); the study starts over")
         except IsolatedCallStopped:
             temporary.unlink(missing_ok=True)
             raise
