@@ -27,13 +27,13 @@ from engine.analysis.fretting import (
     setting,
     wear_energy_ratios,
 )
-from engine.analysis.reader import read_results
+from engine.analysis.results import open_results
 
 
 def main(path: str) -> int:
-    study = read_results(path)
+    study = open_results(path)
     wrong, ratios, worst, sampled, widest = [], [], {"partial": 0.0, "gross": 0.0}, 0.0, 0.0
-    for case in study.cases:
+    for case in study.completed:
         check = check_case(study, case)
         if check is not None:
             if not check.regime_holds:
@@ -45,7 +45,7 @@ def main(path: str) -> int:
         load = float(setting(study, case, "loading.load"))
         a = case_profile(study, case).contact_length(load, material(study, case).contact_modulus)
         widest = max(widest, case.summary["contact_radius"] / a)
-    print("\n".join(wrong) or f"slip regimes: all {len(study.cases)} on Mindlin's side")
+    print("\n".join(wrong) or f"slip regimes: all {len(study.completed)} on Mindlin's side")
     print(f"energy vs Mindlin: partial {worst['partial']:.2%}, gross {worst['gross']:.2%}; "
           f"gross vs the sampled analytic loop {sampled:.2%}")  # fmt: skip
     ratio = np.concatenate(ratios) if ratios else np.zeros(0)

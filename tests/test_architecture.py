@@ -7,7 +7,7 @@ unit is in and which layers it may import. Every ``import``/``from … import`` 
 module
 level or inside a function, must respect it. Also: only engine/cli.py touches
 ``MPI.COMM_WORLD``; the analysis layer imports no writer; ``engine.analysis.report`` (and the
-reader) import without matplotlib.
+results reader) import without matplotlib.
 """
 
 from __future__ import annotations
@@ -194,7 +194,7 @@ def test_only_the_entry_point_touches_comm_world():
     "module",
     [
         "engine.analysis.report",
-        "engine.analysis.reader",
+        "engine.analysis.results",
         "engine.analysis.fretting",
         "engine.analysis.fretting_report",
     ],

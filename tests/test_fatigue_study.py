@@ -256,19 +256,19 @@ def test_report_and_figures_say_whether_and_where_a_crack_is_predicted(tmp_path)
     import engine
     from engine.analysis.fatigue import case_verdicts
     from engine.analysis.figures import plot_study
-    from engine.analysis.reader import read_results
     from engine.analysis.report import study_report
+    from engine.analysis.results import open_results
     from engine.fatigue import Elasticity, SmithWatsonTopper
 
     config = _line_config(tmp_path, SWEPT_SIGMA_D)
     run = engine.run_study(config, progress=False)
     assert run.status == "completed", run
-    study = read_results(tmp_path / "fatigue.h5")
+    study = open_results(tmp_path / "fatigue.h5")
     report = study_report(study)
     swt = SmithWatsonTopper(
         {k: TABLE[k] for k in ("sigma_f", "b", "eps_f", "c")}, Elasticity(2e5, 0.3)
     )
-    for case in study.cases:
+    for case in study.completed:
         verdicts = {v.name: v for v in case_verdicts(study, case)}
         crossland, smith = verdicts["crossland"], verdicts["swt"]
         assert crossland.critical == case.summary["crossland_risk_critical"]
@@ -282,7 +282,7 @@ def test_report_and_figures_say_whether_and_where_a_crack_is_predicted(tmp_path)
     assert {"fretting_map.png", "fatigue_maps.png", "fatigue_history.png"} <= set(names)
     # The public reading layer gives the same maps, on the stress plane's dimensions.
     results = engine.open_results(tmp_path / "fatigue.h5")
-    for case in study.cases:
+    for case in study.completed:
         maps = results[case.case_id].fatigue
         assert list(maps) == list(case.fatigue) and maps.cycles
         for cycle, group in maps.items():

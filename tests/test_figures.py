@@ -21,7 +21,7 @@ import pytest
 from matplotlib import image
 
 from engine.analysis.figures import MAX_WIDTH_PX, case_styles
-from engine.analysis.reader import CaseResults
+from engine.analysis.results import ResultCase
 from engine.study.examples import study_toml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -126,7 +126,10 @@ def test_cases_differing_only_in_beta_share_a_colour_but_not_a_line_style():
     # The demo's shape: μ = 0.1, 0.4 at β = 0°, 90°; isotropic, so the β = 0° and 90° curves
     # coincide and must differ in style to stay visible.
     cases = [
-        CaseResults(f"c{mu}-{beta}", 0, mu, mu, 1.33e-7, 1.33e-7, beta, {})
+        ResultCase.from_values(
+            f"c{mu}-{beta}",
+            {"mu1": mu, "mu2": mu, "wear1": 1.33e-7, "wear2": 1.33e-7, "beta": beta},
+        )
         for mu in (0.1, 0.4)
         for beta in (0.0, 90.0)
     ]
@@ -141,5 +144,10 @@ def test_cases_differing_only_in_beta_share_a_colour_but_not_a_line_style():
         )
     assert styles["c0.1-0.0"]["color"] != styles["c0.4-0.0"]["color"]
     # a study where only β varies (Section 7.3): colours differ too
-    orthotropic = [CaseResults(f"o{b}", 0, 0.1, 0.4, 1e-7, 4e-7, b, {}) for b in (0, 45, 90)]
+    orthotropic = [
+        ResultCase.from_values(
+            f"o{b}", {"mu1": 0.1, "mu2": 0.4, "wear1": 1e-7, "wear2": 4e-7, "beta": b}
+        )
+        for b in (0, 45, 90)
+    ]
     assert len({style["color"] for style in case_styles(orthotropic).values()}) == 3

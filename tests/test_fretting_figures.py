@@ -20,7 +20,7 @@ from matplotlib import image
 from engine.analysis import figures
 from engine.analysis.figures import MAX_WIDTH_PX
 from engine.analysis.fretting_figures import _regime, cumulated_energy, read_loops
-from engine.analysis.reader import CaseResults, read_results
+from engine.analysis.results import ResultCase, open_results
 from engine.material import MaterialPair
 from engine.reference import mindlin
 from engine.study.examples import study_toml
@@ -103,8 +103,8 @@ def test_plot_draws_the_fretting_figures(synthetic_results, small_text, tmp_path
 def test_adapter_reads_loops_and_cumulates_energy(synthetic_results):
     """Loops by cycle from fields/cycle_N/loop; cumulated energy Σ_(j<k) e_j (N_(j+1) − N_j)
     in J (1e-12: rounding), equal to e·(N − N_0) for a constant e."""
-    study = read_results(synthetic_results)
-    case = study.cases[0]
+    study = open_results(synthetic_results)
+    case = study.completed[0]
     assert sorted(read_loops(synthetic_results, case.case_id)) == list(RECORD)
     energy = float(case.history["energy"][0])
     expected = energy * (CYCLES - CYCLES[0]) / 1e3
@@ -116,8 +116,8 @@ def test_map_energy_ratio_of_analytic_cases_lies_on_the_master_curve(synthetic_r
     mindlin.energy_ratio (1e-12: rounding), so the right panel's markers sit on its curve."""
     from engine.analysis.fretting_figures import _computed_energy_ratio
 
-    study = read_results(synthetic_results)
-    for case in study.cases:
+    study = open_results(synthetic_results)
+    for case in study.completed:
         load, amplitude = case.settings["loading.load"], case.settings["loading.amplitude"]
         ratio = amplitude / mindlin.slip_displacement(load, RADIUS, MATERIAL, MU)
         expected = float(mindlin.energy_ratio(ratio))
@@ -144,7 +144,8 @@ def test_wear_energy_without_coefficient_fits_the_line_through_the_origin():
 
 def test_regime_mixed_when_the_history_changes():
     def case(history):
-        return CaseResults("c", 0, MU, MU, 0.0, 0.0, 0.0, {}, {"slip_regime": np.array(history)})
+        parameters = {"mu1": MU, "mu2": MU, "wear1": 0.0, "wear2": 0.0, "beta": 0.0}
+        return ResultCase.from_values("c", parameters, history={"slip_regime": np.array(history)})
 
     assert _regime(case([0, 0])) == "partial"
     assert _regime(case([1, 1])) == "gross"
@@ -187,8 +188,8 @@ def test_plot_reads_a_real_fretting_results_file(tmp_path):
     assert figures.main([str(results), "--out", str(tmp_path / "figures")]) == 0
     sweeps = ["sweep_loading.amplitude.png", "sweep_loading.load.png"]  # the swept keys'
     assert sorted(p.name for p in (tmp_path / "figures").glob("*.png")) == sorted(FIGURES + sweeps)
-    study = read_results(results)
-    for case in study.cases:
+    study = open_results(results)
+    for case in study.completed:
         assert sorted(read_loops(results, case.case_id)) == [1, 4]
         load, amplitude = case.settings["loading.load"], case.settings["loading.amplitude"]
         slip = mindlin.slip_displacement(load, 12.7, MATERIAL, 0.6)

@@ -28,7 +28,7 @@ from pathlib import Path
 import pytest
 
 from engine.analysis.fretting import check_case, unchecked_reason
-from engine.analysis.reader import read_results
+from engine.analysis.results import open_results
 from engine.material import MaterialPair
 from engine.reference import line_contact
 from engine.study.examples import CYLINDER_ON_STEEL, study_toml
@@ -86,8 +86,8 @@ def reports(tmp_path_factory) -> dict[str, tuple[Path, str]]:
 
 
 def _checks(path: Path):
-    study = read_results(path)
-    return study, [check_case(study, case) for case in study.cases]
+    study = open_results(path)
+    return study, [check_case(study, case) for case in study.completed]
 
 
 def test_displacement_control_against_the_cylinder_closed_forms(reports):
@@ -132,6 +132,6 @@ def test_a_profile_without_closed_forms_says_so_by_name(reports):
     path, text = reports["pad"]
     study, (check,) = _checks(path)
     assert check is None
-    assert unchecked_reason(study, study.cases[0]) == "no closed form for the pad profile"
+    assert unchecked_reason(study, study.completed[0]) == "no closed form for the pad profile"
     assert "- not checked, no closed form for the pad profile: " in text
     assert "slip regime of the first cycle" not in text

@@ -15,7 +15,7 @@ import h5py
 import pandas as pd
 import pytest
 
-from engine.analysis.reader import read_results
+from engine.analysis.results import open_results
 from engine.cli import main
 from engine.study.examples import SPHERE_ON_STEEL, study_toml
 
@@ -90,8 +90,8 @@ def test_the_plane_angle_is_recorded(studies):
 
 
 def test_reader_measures_along_the_plane(studies):
-    """engine.analysis.reader: the 90° plane's peak at s = the 0° peak's x (the report's r)."""
-    planes = {d: read_results(path).cases[0].planes[4] for d, path in studies.items()}
+    """engine.analysis.results: the 90° plane's peak at s = the 0° peak's x (the report's r)."""
+    planes = {d: open_results(path).completed[0].planes[4] for d, path in studies.items()}
     assert planes[90].angle == 90.0 and planes[0].angle == 0.0
     value, s, z = planes[90].peak()
     assert (value, s, z) == pytest.approx(planes[0].peak(), rel=ROUND_OFF, abs=ROUND_OFF)

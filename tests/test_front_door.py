@@ -460,14 +460,14 @@ def test_the_slip_stick_state_at_plus_and_minus_q_star_is_drawn(tmp_path):
     import matplotlib.pyplot as plt
 
     from engine.analysis.case_fields import case_field_figures
-    from engine.analysis.reader import read_results
+    from engine.analysis.results import open_results
 
     for name in ("sphere", "cylinder"):
         (tmp_path / f"{name}.toml").write_text(FIELD_STUDIES[name])
         assert _engine(f"{name}.toml", "--no-progress-bar", cwd=tmp_path).returncode == 0
-    study = read_results(tmp_path / "sphere.h5")
-    study = study.for_case(study.cases[0].case_id)  # δ* = 0.5 µm: partial slip
-    fields = study.cases[0].fields[4]
+    study = open_results(tmp_path / "sphere.h5")
+    study = study.for_case(study.completed[0].case_id)  # δ* = 0.5 µm: partial slip
+    fields = study.completed[0].fields[4]
     plus, minus = fields["status"], fields["status_minus_q"]
     assert minus.dtype == np.int8 and minus.shape == plus.shape
     np.testing.assert_array_equal(minus, plus[::-1, ::-1])
@@ -481,8 +481,8 @@ def test_the_slip_stick_state_at_plus_and_minus_q_star_is_drawn(tmp_path):
         assert axis.get_title() == f"state at {where}: {stick} stick, {slip} slip elements"
     for figure in drawn.values():
         plt.close(figure)
-    line = read_results(tmp_path / "cylinder.h5")
-    line = line.for_case(line.cases[0].case_id)
+    line = open_results(tmp_path / "cylinder.h5")
+    line = line.for_case(line.completed[0].case_id)
     strips = dict(case_field_figures(line))["surface_N4.png"].axes[2]
     assert [label.get_text() for label in strips.get_yticklabels()] == ["at +Q*", "at −Q*"]
     plt.close("all")
@@ -494,8 +494,8 @@ def test_a_peak_on_the_domains_edge_is_flagged_in_the_summary_and_report(tmp_pat
     sharp edge's singularity there: the summary's vm_max_on_edge and vm_sub_max_on_edge say
     ``side`` and the report warns. The default mesh (±1.5 a0) holds the peak inside (at
     r = 0.94 a0, measured), with neither. A plane whose peak lies inside is not flagged
-    (StressPlane.on_edge on a synthetic one)."""
-    from engine.analysis.reader import StressPlane
+    (Plane.on_edge on a synthetic one)."""
+    from engine.analysis.results import Plane
 
     narrow = FIELD_STUDIES["flat"].replace("n = 16", "n = 16\nhalf_width = 1.89")
     (tmp_path / "narrow").mkdir()
@@ -516,10 +516,10 @@ def test_a_peak_on_the_domains_edge_is_flagged_in_the_summary_and_report(tmp_pat
         lines = [line for line in report.stdout.splitlines() if "domain's edge" in line]
         assert bool(lines) == flagged and all("half_width" in line for line in lines)
     x, z = np.meshgrid(np.linspace(-1.0, 1.0, 5), np.linspace(0.0, 1.0, 4), indexing="ij")
-    inside = StressPlane(x, z, np.exp(-(x**2) - (z - 0.5) ** 2))
+    inside = Plane.from_arrays(x, z, np.exp(-(x**2) - (z - 0.5) ** 2))
     assert inside.on_edge() == ""
-    assert StressPlane(x, z, x + 0.1 * z).on_edge() == "side and bottom"
-    assert StressPlane(x, z, -(x**2) + z).on_edge() == "bottom"
+    assert Plane.from_arrays(x, z, x + 0.1 * z).on_edge() == "side and bottom"
+    assert Plane.from_arrays(x, z, -(x**2) + z).on_edge() == "bottom"
 
 
 def test_a_fretting_report_flags_a_peak_on_the_bottom(tmp_path):

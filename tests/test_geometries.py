@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.analysis.reader import StudyResults
+from engine.analysis.results import Results
 from engine.geometry import PROFILES, profile_for
 from engine.reference.hertz import hertz_contact_radius
 from engine.reference.line_contact import hertz_line_half_width, pad_half_width
@@ -78,7 +78,7 @@ def test_the_reader_takes_a0_and_p0_from_the_profile_of_a_line_contact():
         "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e3, "nu_B": 0.3},
         "mesh": {"n": 64},
     }
-    study = StudyResults(Path("x.h5"), "x", config, np.zeros(1), np.zeros(1), [])
+    study = Results.from_values("x", config, [], np.zeros(1), np.zeros(1))
     a0 = hertz_line_half_width(185.0, 6.0, study.material.contact_modulus)
     assert study.radius == a0
     assert study.p0 == 185.0 / (2.0 * a0)

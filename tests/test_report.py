@@ -12,38 +12,31 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.analysis.reader import CaseResults, StudyResults
 from engine.analysis.report import cyclic_facts, cyclic_table, study_report
+from engine.analysis.results import ResultCase, Results
 
 CYCLES = (1000, 10000)
 
 
-def _case(index, mu1, beta, depth_um, volume, mu2=None, wear2=1.33e-7) -> CaseResults:
+def _case(index, mu1, beta, depth_um, volume, mu2=None, wear2=1.33e-7) -> ResultCase:
     """A completed case whose wear at N = 1,000 and 10,000 is depth·(1, 5) and volume·(1, 5)."""
     mu2 = mu1 if mu2 is None else mu2
     grid = np.zeros((8, 8))
     grid[6, 4] = 100.0  # pressure maximum off the axis, so its polar angle is defined
-    case = CaseResults(
-        case_id=f"case{index}",
-        index=index,
-        mu1=mu1,
-        mu2=mu2,
-        wear1=1.33e-7,
-        wear2=wear2,
-        beta=beta,
-        summary={},
-    )
-    case.history = {
+    parameters = {"mu1": mu1, "mu2": mu2, "wear1": 1.33e-7, "wear2": wear2, "beta": beta}
+    history = {
         "cycle": np.array(CYCLES, dtype=float),
         "max_wear_depth": np.array([1.0, 5.0]) * depth_um * 1e-3,  # mm
         "wear_volume": np.array([1.0, 5.0]) * volume,
         "peak_pressure": np.array([300.0, 200.0]),
     }
-    case.fields = {cycle: {"pressure": grid, "wear": grid * 0.0} for cycle in CYCLES}
-    return case
+    fields = {cycle: {"pressure": grid, "wear": grid * 0.0} for cycle in CYCLES}
+    return ResultCase.from_values(
+        f"case{index}", parameters, index=index, history=history, fields=fields
+    )
 
 
-def _study(cases) -> StudyResults:
+def _study(cases) -> Results:
     config = {
         "loading": {"kind": "cyclic", "load": 750.0, "cycles": 10000},
         "punch": {"radius": 1.8},
@@ -52,7 +45,7 @@ def _study(cases) -> StudyResults:
         "material": {"E_A": 200e3, "nu_A": 0.3, "E_B": 200e5, "nu_B": 0.3},
     }
     x = np.linspace(-1.8, 1.8, 8)
-    return StudyResults(Path("synthetic.h5"), "synthetic", config, x, x, list(cases))
+    return Results.from_values("synthetic", config, list(cases), x, x, Path("synthetic.h5"))
 
 
 def test_duplicated_mu_at_two_angles_is_checked_per_angle():

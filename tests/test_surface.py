@@ -411,8 +411,8 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
     import engine
     from engine.analysis.figures import study_figures
     from engine.analysis.names import key_title
-    from engine.analysis.reader import read_results
     from engine.analysis.report import study_report
+    from engine.analysis.results import open_results
 
     surface = {key: value for key, value in ROUGH.items() if key != "rms_height"}
     text = _rough_study(
@@ -422,7 +422,7 @@ def test_plot_and_report_draw_the_surfaces_and_the_ensemble(tmp_path):
     run = engine.run_study(text.replace("[sweep]\n", sweep))
     assert run.ok, run
     names = set()
-    for name, figure in study_figures(read_results(run.output)):  # the static sphere's too
+    for name, figure in study_figures(open_results(run.output)):  # the static sphere's too
         names.add(name)
         plt.close(figure)
     assert {name for name in names if name.startswith(("surface_", "ensemble_"))} == {

@@ -18,7 +18,7 @@ import pytest
 
 from engine import load_summary
 from engine.analysis import figures
-from engine.analysis.reader import read_results
+from engine.analysis.results import open_results
 from engine.analysis.sweep_figures import sweep_figure
 from engine.study.examples import study_toml
 from tests.test_figures import _engine
@@ -89,10 +89,12 @@ def test_case_option_draws_the_field_figures_with_the_cases_own_load(results, tm
     """One case's figures: its own load, and nothing cut by the edge of a one-panel figure
     (its title and the legend row once reached beyond it)."""
     assert figures.main([str(results), "--case", "nope", "--out", str(tmp_path)]) == 2
-    study = read_results(results).for_case(CASES[2])
-    assert study.load == 300.0 and [c.case_id for c in study.cases] == [CASES[2]]
+    study = open_results(results).for_case(CASES[2])
+    assert study.load == 300.0 and [c.case_id for c in study.completed] == [CASES[2]]
     out = tmp_path / "one"
-    assert figures.main([str(results), "--case", study.cases[0].case_id, "--out", str(out)]) == 0
+    assert (
+        figures.main([str(results), "--case", study.completed[0].case_id, "--out", str(out)]) == 0
+    )
     assert {p.name for p in out.iterdir()} == {
         "stiffness_ratio.png",
         "traction_profiles.png",
@@ -108,10 +110,10 @@ def test_von_mises_figure_scale_markers_and_legend(results):
     """The colour levels reach above every titled peak; each ★/○ is drawn where its title
     says, the ★ at the summary's own vm_max location (signed x/a0); the black line and both
     markers are named in the legend."""
-    full = read_results(results)
+    full = open_results(results)
     for case_id in (CASES[1], CASES[2]):
         study = full.for_case(case_id)
-        case = study.cases[0]
+        case = study.completed[0]
         figure = figures._von_mises_figure(study, "final", "t", analytic=True)
         top = max(figure.axes[-1].get_ylim()[1], 0.0)  # the colour bar's axis: its top level
         marked = 0

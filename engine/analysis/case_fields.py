@@ -26,7 +26,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.patches import Patch
 
 from .figures import MIN_FIGURE_WIDTH, von_mises_plane_figure
-from .reader import StudyResults
+from .results import Results
 
 __all__ = ["case_field_figures", "STATE_NAMES"]
 
@@ -35,12 +35,12 @@ STATE_NAMES = ("no contact", "stick", "slip")
 _STATE_COLOURS = ("#d9d9d9", "#2166ac", "#d6604d")
 
 
-def case_field_figures(study: StudyResults):
+def case_field_figures(study: Results):
     """(file name, figure) of the field figures of the one case of ``study`` (nothing for a
     study of several cases: their figures compare cases; ``--case`` selects one)."""
-    if len(study.cases) != 1:
+    if len(study.completed) != 1:
         return
-    case = study.cases[0]
+    case = study.completed[0]
     cycles = case.recorded_cycles
     if not cycles:
         return
@@ -56,8 +56,8 @@ def case_field_figures(study: StudyResults):
             yield f"von_mises_N{cycle}.png", von_mises_plane_figure(study, cycle, title)
 
 
-def _title(study: StudyResults, what: str) -> str:
-    case = study.cases[0]  # the name of a one-case study names the case
+def _title(study: Results, what: str) -> str:
+    case = study.completed[0]  # the name of a one-case study names the case
     return f"{study.name}: {what}\n{case.label}, {study.mesh_label}"
 
 
@@ -78,7 +78,7 @@ def _state_handles(alpha: float = 1.0) -> list[Patch]:
     ]
 
 
-def _surface_maps(study: StudyResults, fields: dict, cycle: int):
+def _surface_maps(study: Results, fields: dict, cycle: int):
     """Wear depth and p/p0 (top), the stick/slip state at +Q* and at −Q* (bottom) over the
     mesh; a file without the −Q* state (``status_minus_q``) leaves its panel out."""
     a, p0 = study.radius, study.p0
@@ -116,7 +116,7 @@ def _surface_maps(study: StudyResults, fields: dict, cycle: int):
     return figure
 
 
-def _line_profiles(study: StudyResults, fields: dict, cycle: int):
+def _line_profiles(study: Results, fields: dict, cycle: int):
     """Wear depth, p/p0 and q_x/p0 along x/a with the stick zone shaded (a line contact)."""
     a, p0 = study.radius, study.p0
     x = study.grid_x / a

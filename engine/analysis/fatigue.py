@@ -27,7 +27,7 @@ import numpy as np
 from engine.fatigue import CRITERIA, Elasticity, FatigueOptions, build_criteria
 
 from .fretting import setting
-from .reader import CaseResults, StudyResults
+from .results import ResultCase, Results
 
 __all__ = [
     "CriterionVerdict",
@@ -75,15 +75,15 @@ class CriterionVerdict:
         return self.ratio >= 1.0
 
 
-def has_fatigue(study: StudyResults) -> bool:
+def has_fatigue(study: Results) -> bool:
     """True when the study has a ``[fatigue]`` section and some case stored its results."""
-    return "fatigue" in study.config and any(case.fatigue for case in study.cases)
+    return "fatigue" in study.study and any(case.fatigue for case in study.completed)
 
 
-def _criteria(study: StudyResults, case: CaseResults) -> list:
+def _criteria(study: Results, case: ResultCase) -> list:
     """The case's criteria: the study's ``[fatigue]`` with the case's swept constants, on
     the flat's E and ν (its swept values too)."""
-    table = dict(study.config["fatigue"])
+    table = dict(study.study["fatigue"])
     for key, value in case.settings.items():
         if key.startswith("fatigue."):
             table[key.split(".", 1)[1]] = value
@@ -101,7 +101,7 @@ def _criteria(study: StudyResults, case: CaseResults) -> list:
 
 
 def case_verdicts(
-    study: StudyResults, case: CaseResults, cycle: int | None = None
+    study: Results, case: ResultCase, cycle: int | None = None
 ) -> list[CriterionVerdict]:
     """The verdict of every criterion of ``case`` at recorded cycle ``cycle`` (default: the
     last one with fatigue results); empty without any."""
@@ -139,14 +139,14 @@ def case_verdicts(
     return verdicts
 
 
-def crack_ratio(study: StudyResults, case: CaseResults) -> float:
+def crack_ratio(study: Results, case: ResultCase) -> float:
     """The largest crack ratio of the case's criteria at its last recorded cycle (NaN
     without fatigue results)."""
     ratios = [verdict.ratio for verdict in case_verdicts(study, case)]
     return max(ratios) if ratios else math.nan
 
 
-def hot_spot_history(case: CaseResults, column: str) -> tuple[np.ndarray, np.ndarray]:
+def hot_spot_history(case: ResultCase, column: str) -> tuple[np.ndarray, np.ndarray]:
     """(cycles, hot-spot values) of a criterion's value column: per simulated cycle
     (``history/<column>``, ``every_cycle``) or else per recorded cycle."""
     if column in case.history and "cycle" in case.history:
@@ -156,7 +156,7 @@ def hot_spot_history(case: CaseResults, column: str) -> tuple[np.ndarray, np.nda
     return np.asarray(cycles, dtype=float), np.asarray(values, dtype=float)
 
 
-def _edge(case: CaseResults, x: float) -> str:
+def _edge(case: ResultCase, x: float) -> str:
     """x over the contact half-width a (summary ``contact_radius``), "" without it."""
     half = float(case.summary.get("contact_radius") or math.nan)
     return f"{x / half:+.2f}" if math.isfinite(half) and half > 0 else ""
@@ -166,10 +166,10 @@ def _life(value: float) -> str:
     return "–" if math.isnan(value) else ("∞" if math.isinf(value) else f"{value:.3g}")
 
 
-def fatigue_table(study: StudyResults) -> list[str]:
+def fatigue_table(study: Results) -> list[str]:
     """Markdown rows: per case and criterion, the last recorded cycle's hot spot (value, x, z,
     plane angle, life), the critical value and its life, and the verdict."""
-    config = study.config["fatigue"]
+    config = study.study["fatigue"]
     length = f", ℓ = {config['length']:g} mm" if "length" in config else ""
     header = [
         "case", "N", "criterion", "hot spot", "at (x, z) (mm)", "x/a", "plane (°)",
@@ -177,7 +177,7 @@ def fatigue_table(study: StudyResults) -> list[str]:
         "below x (mm)", "critical life (cycles)", "crack",
     ]  # fmt: skip
     lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
-    for case in study.cases:
+    for case in study.completed:
         for v in case_verdicts(study, case):
             unit = "" if v.unit == "1" else f" {v.unit}"
             angle = "–" if math.isnan(v.angle) else f"{v.angle:g}"
@@ -191,10 +191,10 @@ def fatigue_table(study: StudyResults) -> list[str]:
     return lines
 
 
-def fatigue_facts(study: StudyResults) -> list[str]:
+def fatigue_facts(study: Results) -> list[str]:
     """Per case, in words: whether a crack is predicted, by which criteria, and where."""
     facts = []
-    for case in study.cases:
+    for case in study.completed:
         verdicts = case_verdicts(study, case)
         if not verdicts:
             continue

@@ -25,7 +25,7 @@ from matplotlib.tri import Triangulation
 
 from .fatigue import case_verdicts, crack_ratio, has_fatigue, hot_spot_history
 from .fretting import direction
-from .reader import CaseResults, StudyResults
+from .results import ResultCase, Results
 
 __all__ = ["fatigue_figures", "draw_crack_boundary", "MAX_MAP_CASES"]
 
@@ -33,11 +33,11 @@ MAX_MAP_CASES = 4
 STICK, CONTACT_COLOUR, STICK_COLOUR = 1, "0.15", "gold"
 
 
-def _last_cycle(case: CaseResults) -> int:
+def _last_cycle(case: ResultCase) -> int:
     return max(case.fatigue)
 
 
-def _along_plane(study: StudyResults, case: CaseResults, values: np.ndarray, s: np.ndarray):
+def _along_plane(study: Results, case: ResultCase, values: np.ndarray, s: np.ndarray):
     """A surface field (grid shape) at the plane's points s (mm) along the sliding direction:
     the nearest element's value."""
     theta = direction(study, case)
@@ -60,7 +60,7 @@ def _zone(axis, s: np.ndarray, mask: np.ndarray, colour: str, width: float, labe
     )  # fmt: skip
 
 
-def _map_panel(axis, study: StudyResults, case: CaseResults, verdict, figure) -> None:
+def _map_panel(axis, study: Results, case: ResultCase, verdict, figure) -> None:
     cycle = verdict.cycle
     plane = case.planes[cycle]
     values = case.fatigue[cycle][verdict.column]
@@ -93,8 +93,8 @@ def _map_panel(axis, study: StudyResults, case: CaseResults, verdict, figure) ->
     axis.set_title(f"{case.label}, N = {cycle:,}\n{verdict.name}: {crack}", fontsize=9)
 
 
-def _maps_figure(study: StudyResults):
-    every = [case for case in study.cases if case.fatigue]
+def _maps_figure(study: Results):
+    every = [case for case in study.completed if case.fatigue]
     picks = np.linspace(0, len(every) - 1, min(MAX_MAP_CASES, len(every))).round()
     cases = [every[int(i)] for i in sorted(set(picks.tolist()))]  # spread over the sweep
     verdicts = [case_verdicts(study, case) for case in cases]
@@ -121,8 +121,8 @@ def _maps_figure(study: StudyResults):
     return figure
 
 
-def _history_figure(study: StudyResults):
-    cases = [case for case in study.cases if case.fatigue]
+def _history_figure(study: Results):
+    cases = [case for case in study.completed if case.fatigue]
     columns = [(v.column, v.name, v.unit) for v in case_verdicts(study, cases[0])]
     figure, axes = plt.subplots(
         1, len(columns), figsize=(5.0 * len(columns), 3.8), squeeze=False, layout="constrained"
@@ -195,7 +195,7 @@ def _draw_boundary(axis, x: np.ndarray, y: np.ndarray, ratio: np.ndarray) -> Non
             draw(crossing, color="m", lw=1.4, label="crack-nucleation boundary (ratio = 1)")
 
 
-def fatigue_figures(study: StudyResults) -> list[tuple[str, object]]:
+def fatigue_figures(study: Results) -> list[tuple[str, object]]:
     """(file name, figure) of the fatigue figures (none without fatigue results)."""
     if not has_fatigue(study):
         return []
@@ -205,6 +205,6 @@ def fatigue_figures(study: StudyResults) -> list[tuple[str, object]]:
     ]
 
 
-def crack_points(study: StudyResults, x_of, y_of) -> list[tuple[float, float, float]]:
+def crack_points(study: Results, x_of, y_of) -> list[tuple[float, float, float]]:
     """(x, y, crack ratio) of every case with fatigue results, for :func:`draw_crack_boundary`."""
-    return [(x_of(case), y_of(case), crack_ratio(study, case)) for case in study.cases]
+    return [(x_of(case), y_of(case), crack_ratio(study, case)) for case in study.completed]

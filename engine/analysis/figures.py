@@ -66,8 +66,8 @@ from engine.reference.flat_punch import (  # noqa: E402
 
 from .calibration_report import calibration_figures, has_calibration  # noqa: E402
 from .levels import VM_LEVEL_MAX, von_mises_levels  # noqa: E402
-from .reader import CaseResults, StudyResults, read_results  # noqa: E402
 from .report import _STUDY_WIDE, stiffness_ratios  # noqa: E402
+from .results import ResultCase, Results, open_results  # noqa: E402
 from .surface_figures import surface_figures  # noqa: E402
 from .sweep_figures import sweep_figures  # noqa: E402
 from .threshold_figures import has_thresholds, threshold_figures
@@ -111,14 +111,14 @@ _MARKERS = ("s", "o", "^", "D", "v", "P", "X", "<", ">")
 
 
 # ----------------------------------------------------------------------------- entry points
-def varies_normalisation(study: StudyResults) -> bool:
+def varies_normalisation(study: Results) -> bool:
     """True when a swept key changes a0, P, the grid or the material from case to case, so
     that the per-case figures cannot share one normalisation (fretting studies excepted:
     their figures are per case)."""
-    return bool(set(study.swept_keys) & _STUDY_WIDE) and not study.kind.figures_per_case
+    return bool(set(study.swept_keys) & _STUDY_WIDE) and not study.loading_kind.figures_per_case
 
 
-def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
+def study_figures(study: Results) -> Iterator[tuple[str, object]]:
     """(file name, figure) of every figure of ``study``, drawn one at a time."""
     yield from sweep_figures(study)
     yield from surface_figures(study)  # [surface]: topography, spots, spectra, ensemble
@@ -128,7 +128,7 @@ def study_figures(study: StudyResults) -> Iterator[tuple[str, object]]:
 
 
 def plot_study(
-    results: str | Path | StudyResults,
+    results: str | Path | Results,
     out_dir: str | Path,
     *,
     case: str | None = None,
@@ -139,10 +139,10 @@ def plot_study(
     ``case``: only the per-case figures of that case id, normalised by its own a0, p0 and grid
     (for studies whose swept keys change them). ``on_figure(path)`` is called after each file.
     """
-    study = results if isinstance(results, StudyResults) else read_results(results)
+    study = results if isinstance(results, Results) else open_results(results)
     if case is not None:
         study = study.for_case(case)
-    if not study.cases:
+    if not study.completed:
         raise ValueError(f"{study.path}: no completed case to plot")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -158,7 +158,7 @@ def plot_study(
     return written
 
 
-def case_styles(cases: Sequence[CaseResults]) -> dict[str, dict]:
+def case_styles(cases: Sequence[ResultCase]) -> dict[str, dict]:
     """Line style of each case (by case id) for the curves of several cases in one axis.
 
     Cases that differ only in β share a colour and get the β style of ``_BETA_STYLES`` (wide
@@ -222,11 +222,11 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         for number, path in enumerate(threshold_figures(args.results, out), start=1):
             print(f"plot: [{number}] {path}", flush=True)
         return 0
-    study = read_results(args.results)
+    study = open_results(args.results)
     try:
         if args.case is not None:
             study = study.for_case(args.case)
-        if not study.cases:
+        if not study.completed:
             raise ValueError(f"{args.results}: no completed case to plot")
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
@@ -234,7 +234,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     out = args.out or args.results.with_name(
         f"{args.results.stem}_figures" + (f"_{args.case}" if args.case else "")
     )
-    count = len(study.cases)
+    count = len(study.completed)
     completed = f"{count} completed case{'s' if count != 1 else ''}"
     print(f"plot: {study.name}, {completed} -> {out}/", flush=True)
     count = 0
@@ -246,7 +246,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
     plot_study(study, out, on_figure=announce)
     if varies_normalisation(study):
-        first = study.cases[0].case_id
+        first = study.completed[0].case_id
         keys = sorted(set(study.swept_keys) & _STUDY_WIDE)
         print(
             f"plot: swept {', '.join(keys)} {'changes' if len(keys) == 1 else 'change'} a0, "
@@ -258,11 +258,11 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
 
 
 # ----------------------------------------------------------------------------- helpers
-def _title(study: StudyResults, what: str) -> str:
+def _title(study: Results, what: str) -> str:
     return f"{study.name}: {what} ({study.mesh_label}, P = {study.load:g} {study.load_unit})"
 
 
-def _central_row(values: np.ndarray, study: StudyResults, axis: str) -> tuple[np.ndarray, float]:
+def _central_row(values: np.ndarray, study: Results, axis: str) -> tuple[np.ndarray, float]:
     """Profile along ``axis`` ('x' or 'y') on the grid line nearest to the other axis = 0.
 
     Returns (profile, offset in mm of that grid line from the axis).
@@ -274,7 +274,7 @@ def _central_row(values: np.ndarray, study: StudyResults, axis: str) -> tuple[np
     return values[i, :], float(study.grid_x[i])
 
 
-def _sneddon_curve(study: StudyResults, offset: float) -> tuple[np.ndarray, np.ndarray] | None:
+def _sneddon_curve(study: Results, offset: float) -> tuple[np.ndarray, np.ndarray] | None:
     """The profile's unworn pressure p/p0 along a line at distance ``offset`` (mm) from the
     axis (a flat punch: Sneddon, Eq. 17), or None when the profile has no closed form."""
     a = study.radius
@@ -300,7 +300,7 @@ def _panel_grid(count: int, width: float = 4.2, height: float = 3.4, max_columns
     return figure, list(axes.flat[:count])
 
 
-def _von_mises_peaks(study: StudyResults, plane) -> list[tuple[str, str, tuple]]:
+def _von_mises_peaks(study: Results, plane) -> list[tuple[str, str, tuple]]:
     """(marker, what, (σ_VM/p0, x/a0, z/a0)) of the overall peak and the peak below the
     surface layer, at their own signed positions (as the summary's vm_max_x, vm_sub_max_x)."""
     a, p0 = study.radius, study.p0
@@ -317,7 +317,7 @@ _PEAK_MARKERS = {
 }
 
 
-def _draw_von_mises(axis, study: StudyResults, plane_xz, title: str, levels, peaks=None):
+def _draw_von_mises(axis, study: Results, plane_xz, title: str, levels, peaks=None):
     """Filled σ_VM/p0 contours in the x–z plane (``plane_xz``: x, z, σ_VM in mm, mm, MPa),
     the σ_VM/p0 = 1 line and, with ``peaks`` (:func:`_von_mises_peaks`), the peaks."""
     x, z, von_mises = plane_xz
@@ -350,7 +350,7 @@ def _von_mises_legend(figure) -> None:
     figure.legend(handles=handles, loc="outside lower center", ncols=3)
 
 
-def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]:
+def _analytic_plane(study: Results, plane) -> tuple[np.ndarray, np.ndarray]:
     """A fine (x, z) grid (mm) over the extent of a computed plane, for Appendix A.
 
     Same depth of the surface layer as the computed plane, so that the peaks compare.
@@ -361,14 +361,14 @@ def _analytic_plane(study: StudyResults, plane) -> tuple[np.ndarray, np.ndarray]
     return np.meshgrid(x, np.unique(z), indexing="ij")
 
 
-def von_mises_plane_figure(study: StudyResults, key, suptitle: str):
+def von_mises_plane_figure(study: Results, key, suptitle: str):
     """σ_VM/p0 on the x–z plane ``key`` (a recorded cycle N or "final") of every case that
     has it, the peaks marked (the figure of ``von_mises_N<N>.png``)."""
     return _von_mises_figure(study, key, suptitle)
 
 
-def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = False):
-    panels = [case for case in study.cases if key in case.planes]
+def _von_mises_figure(study: Results, key, suptitle: str, analytic: bool = False):
+    panels = [case for case in study.completed if key in case.planes]
     count = len(panels) + int(analytic)
     plane = panels[0].planes[key]
     span = float(np.ptp(plane.x)) / max(float(np.max(plane.z)), 1e-300)  # width / depth
@@ -384,7 +384,7 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
     axes_iter = iter(axes)
     if analytic:  # no peak marked: the analytic edge is singular (values above: top colour)
         x, z = _analytic_plane(study, panels[0].planes[key])
-        nu = study.config["material"]["nu_A"]
+        nu = study.study["material"]["nu_A"]
         stress = flat_punch_stress(np.abs(x), z, study.load, study.radius, nu)
         filled = _draw_von_mises(
             next(axes_iter), study, (x, z, von_mises_cylindrical(stress)),
@@ -408,8 +408,8 @@ def _von_mises_figure(study: StudyResults, key, suptitle: str, analytic: bool = 
 
 
 # ----------------------------------------------------------------------------- static study
-def static_figures(study: StudyResults):
-    frictionless = [case for case in study.cases if case.mu1 == 0.0 and case.mu2 == 0.0]
+def static_figures(study: Results):
+    frictionless = [case for case in study.completed if case.mu1 == 0.0 and case.mu2 == 0.0]
     if frictionless:
         yield "pressure_frictionless.png", _pressure_frictionless(study, frictionless[0])
     yield "stiffness_ratio.png", _stiffness_ratio(study)
@@ -418,7 +418,7 @@ def static_figures(study: StudyResults):
     yield "von_mises_final.png", _von_mises_figure(study, "final", title, analytic=True)
 
 
-def _pressure_frictionless(study: StudyResults, case: CaseResults):
+def _pressure_frictionless(study: Results, case: ResultCase):
     a, p0 = study.radius, study.p0
     pressure, offset = _central_row(case.fields["final"]["pressure"], study, "x")
     figure, axis = plt.subplots(figsize=(MIN_FIGURE_WIDTH, 4.6), layout="constrained")
@@ -438,7 +438,7 @@ def _pressure_frictionless(study: StudyResults, case: CaseResults):
     return figure
 
 
-def _stiffness_ratio(study: StudyResults):
+def _stiffness_ratio(study: Results):
     mu, ratio, limit, what = stiffness_ratios(study)
     figure, axis = plt.subplots(figsize=(MIN_FIGURE_WIDTH, 4.6), layout="constrained")
     axis.plot(mu, ratio, "s-", color="C3", label=f"computed, k = P/g_n (k_0: {what})")
@@ -461,9 +461,9 @@ def _stiffness_ratio(study: StudyResults):
     return figure
 
 
-def _traction_profiles(study: StudyResults):
+def _traction_profiles(study: Results):
     a, p0 = study.radius, study.p0
-    cases = sorted(study.cases, key=lambda case: case.mu1)
+    cases = sorted(study.completed, key=lambda case: case.mu1)
     figure, axes = _panel_grid(len(cases), width=4.3, height=3.3)
     for axis, case in zip(axes, cases, strict=True):
         fields = case.fields["final"]
@@ -491,10 +491,10 @@ def _traction_profiles(study: StudyResults):
 
 
 # ----------------------------------------------------------------------------- cyclic study
-def cyclic_figures(study: StudyResults):
+def cyclic_figures(study: Results):
     yield "wear_history.png", _wear_history(study)
     yield "pressure_profiles.png", _pressure_profiles(study)
-    cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    cycles = sorted({n for case in study.completed for n in case.recorded_cycles})
     if cycles and study.profile.is_line:  # a map of one row of elements shows nothing
         last = cycles[-1]
         yield f"surface_N{last}.png", _line_surface(study, last)
@@ -509,12 +509,12 @@ def cyclic_figures(study: StudyResults):
     yield from regime_figures(study)
 
 
-def _wear_history(study: StudyResults):
+def _wear_history(study: Results):
     figure, (depth_axis, volume_axis) = plt.subplots(
         1, 2, figsize=(13.0, 4.6), layout="constrained"
     )
-    styles = case_styles(study.cases)
-    for case in study.cases:
+    styles = case_styles(study.completed)
+    for case in study.completed:
         cycles = np.asarray(case.history["cycle"], dtype=float)
         depth = np.asarray(case.history["max_wear_depth"]) * 1e3  # mm -> µm
         volume = np.asarray(case.history["wear_volume"])
@@ -527,19 +527,19 @@ def _wear_history(study: StudyResults):
     for axis in (depth_axis, volume_axis):
         axis.set_xlabel("load cycles N")
         axis.grid(alpha=0.3, which="both")
-    _legend_beside(figure, volume_axis, len(study.cases))
+    _legend_beside(figure, volume_axis, len(study.completed))
     figure.suptitle(_title(study, "wear history (markers: simulated cycles, cycle jumping)"))
     return figure
 
 
-def _profile_axes(study: StudyResults) -> list[str]:
+def _profile_axes(study: Results) -> list[str]:
     """Along x only for isotropic studies; along x and y when the axes β matter."""
     return ["x"] if study.isotropic else ["x", "y"]
 
 
-def _pressure_profiles(study: StudyResults):
+def _pressure_profiles(study: Results):
     a, p0 = study.radius, study.p0
-    cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    cycles = sorted({n for case in study.completed for n in case.recorded_cycles})
     directions = _profile_axes(study)
     columns = max(len(cycles), 1)
     width = min(4.4, (MAX_WIDTH_PX / DPI - 3.0) / columns)  # room for the legend beside
@@ -548,13 +548,13 @@ def _pressure_profiles(study: StudyResults):
         figsize=(max(width * columns + 3.0, MIN_FIGURE_WIDTH + 1.5), 3.6 * len(directions)),
         squeeze=False, layout="constrained", sharey=True,
     )  # fmt: skip
-    styles = case_styles(study.cases)
+    styles = case_styles(study.completed)
     for row, direction in enumerate(directions):
         coordinate = study.grid_x if direction == "x" else study.grid_y
         for column, cycle in enumerate(cycles):
             axis = axes[row, column]
             offset = 0.0
-            for case in study.cases:
+            for case in study.completed:
                 if cycle not in case.fields:
                     continue
                 pressure, offset = _central_row(case.fields[cycle]["pressure"], study, direction)
@@ -570,12 +570,12 @@ def _pressure_profiles(study: StudyResults):
             axis.set_ylabel("p / p0")
             axis.set_ylim(0.0, 4.0)
             axis.grid(alpha=0.3)
-    _legend_beside(figure, axes[0, -1], len(study.cases) + 1)
+    _legend_beside(figure, axes[0, -1], len(study.completed) + 1)
     figure.suptitle(_title(study, "pressure at peak load of recorded cycles"))
     return figure
 
 
-def _draw_axes_of_anisotropy(axis, case: CaseResults) -> None:
+def _draw_axes_of_anisotropy(axis, case: ResultCase) -> None:
     """Tribological axes e1 (solid) and e2 (dashed) at angle β, through the punch centre."""
     beta = np.radians(case.beta)
     for angle, style, name in ((beta, "-", "e1"), (beta + np.pi / 2, "--", "e2")):
@@ -604,15 +604,15 @@ def _columns_for(count: int, max_columns: int = MAX_COLUMNS) -> int:
     )
 
 
-def _line_surface(study: StudyResults, cycle: int):
+def _line_surface(study: Results, cycle: int):
     """A line contact's surface after N = ``cycle``: wear depth (µm) and p/p0 along x/a0,
     one line per case."""
     a, p0 = study.radius, study.p0
     figure, (wear_axis, pressure_axis) = plt.subplots(
         2, 1, figsize=(MIN_FIGURE_WIDTH + 1.5, 6.4), sharex=True, layout="constrained"
     )
-    styles = case_styles(study.cases)
-    for case in study.cases:
+    styles = case_styles(study.completed)
+    for case in study.completed:
         if cycle not in case.fields:
             continue
         style = {**styles[case.case_id], "label": case.label}
@@ -625,18 +625,18 @@ def _line_surface(study: StudyResults, cycle: int):
     pressure_axis.set_xlabel("x/a0")
     for axis in (wear_axis, pressure_axis):
         axis.grid(alpha=0.3)
-    _legend_beside(figure, wear_axis, len(study.cases))
+    _legend_beside(figure, wear_axis, len(study.completed))
     figure.suptitle(_title(study, f"surface after N = {cycle:,} cycles"))
     return figure
 
 
-def _surface_maps(study: StudyResults, cycle: int):
+def _surface_maps(study: Results, cycle: int):
     """Wear depth and p/p0 of every case, in blocks of two rows (wear above pressure) of up
     to ``MAX_COLUMNS`` cases. Each wear panel has its own colour scale (between μ = 0.1 and
     0.4 the wear differs by an order of magnitude, and a shared scale hides the small one);
     the pressure panels share one scale (same magnitude; the edge elements set its top)."""
     a, p0 = study.radius, study.p0
-    cases = [case for case in study.cases if cycle in case.fields]
+    cases = [case for case in study.completed if cycle in case.fields]
     extent = study.grid_x / a, study.grid_y / a
     pressure = [case.fields[cycle]["pressure"] / p0 for case in cases]
     pressure_max = max(float(np.max(p)) for p in pressure) or 1.0

@@ -38,7 +38,7 @@ from engine.geometry import profile_from_table
 from engine.material import MaterialPair
 from engine.schema import CASES_GROUP
 
-from .reader import CaseResults, StudyResults
+from .results import ResultCase, Results
 
 __all__ = [
     "FrettingCheck",
@@ -59,20 +59,20 @@ K_EXACT = 1e-12  # |K| below which the closed forms are exact (uncoupled materia
 _CYCLE = re.compile(r"cycle_(\d+)$")
 
 
-def setting(study: StudyResults, case: CaseResults, dotted: str, default=None):
+def setting(study: Results, case: ResultCase, dotted: str, default=None):
     """A case's value of a dotted key: its swept setting, else the study file's value."""
     if dotted in case.settings:
         return case.settings[dotted]
     section, key = dotted.split(".", 1)
-    return study.config.get(section, {}).get(key, default)
+    return study.study.get(section, {}).get(key, default)
 
 
-def direction(study: StudyResults, case: CaseResults) -> float:
+def direction(study: Results, case: ResultCase) -> float:
     """The sliding direction θ (rad from x)."""
     return float(np.radians(float(setting(study, case, "loading.direction", 0.0) or 0.0)))
 
 
-def amplitude(study: StudyResults, case: CaseResults) -> float:
+def amplitude(study: Results, case: ResultCase) -> float:
     """The displacement amplitude δ* (mm): prescribed, else the last measured one."""
     prescribed = setting(study, case, "loading.amplitude")
     if prescribed is not None:
@@ -81,7 +81,7 @@ def amplitude(study: StudyResults, case: CaseResults) -> float:
     return float(measured[-1]) if measured is not None and len(measured) else float("nan")
 
 
-def regime(case: CaseResults) -> str:
+def regime(case: ResultCase) -> str:
     """ "partial", "gross" or "mixed" (the per-cycle history holds both regimes)."""
     history = case.history.get("slip_regime")
     if history is not None and len(history):
@@ -92,7 +92,7 @@ def regime(case: CaseResults) -> str:
     return str(case.summary.get("slip_regime", "partial"))
 
 
-def slip_boundary(study: StudyResults, case: CaseResults):
+def slip_boundary(study: Results, case: ResultCase):
     """δ_slip(P) (mm) of the case's geometry as a function of the load P, or None where no
     closed form applies (it needs isotropic friction μ1 = μ2 = μ > 0): Mindlin's
     3μP S/(16a) for a sphere (P in N), the cylinder's (μ p0 a/E*)(ln(2d/a) + 1/2) with the
@@ -106,14 +106,14 @@ def slip_boundary(study: StudyResults, case: CaseResults):
     return lambda load: profile.slip_displacement(load, pair, case.mu1, datum)
 
 
-def case_profile(study: StudyResults, case: CaseResults):
+def case_profile(study: Results, case: ResultCase):
     """The punch profile (engine.geometry) of a case, with its swept values."""
-    punch = dict(study.config.get("punch", {}))
+    punch = dict(study.study.get("punch", {}))
     punch.update({key[6:]: v for key, v in case.settings.items() if key.startswith("punch.")})
     return profile_from_table(punch)
 
 
-def material(study: StudyResults, case: CaseResults) -> MaterialPair:
+def material(study: Results, case: ResultCase) -> MaterialPair:
     return MaterialPair(
         *(float(setting(study, case, f"material.{key}")) for key in ("E_A", "nu_A", "E_B", "nu_B"))
     )
@@ -137,7 +137,7 @@ def read_loops(path, case_id: str) -> dict[int, np.ndarray]:
     return loops
 
 
-def cumulated_energy(case: CaseResults) -> np.ndarray:
+def cumulated_energy(case: ResultCase) -> np.ndarray:
     """Cumulated dissipated energy E_d (J) at each history row, the companion of the row's
     ``wear_volume``.
 
@@ -155,27 +155,27 @@ def cumulated_energy(case: CaseResults) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(steps)]) / 1e3
 
 
-def energy_coefficient(study: StudyResults, case: CaseResults) -> float | None:
+def energy_coefficient(study: Results, case: ResultCase) -> float | None:
     """The energy law's α (mm³/J) of a case; None under Archard's law."""
-    if study.config.get("wear", {}).get("law", "archard") != "energy":
+    if study.study.get("wear", {}).get("law", "archard") != "energy":
         return None
     for source in (case.settings, case.summary):
         for key in ("alpha", "sweep.alpha", "wear.alpha"):
             if key in source:
                 return float(source[key])
-    sweep = study.config.get("sweep", {}).get("alpha")
+    sweep = study.study.get("sweep", {}).get("alpha")
     if isinstance(sweep, list):
         return float(sweep[0]) if len(sweep) == 1 else None
     return None if sweep is None else float(sweep)
 
 
-def _datum(study: StudyResults, case: CaseResults) -> float | None:
+def _datum(study: Results, case: ResultCase) -> float | None:
     """A line contact's displacement datum d (mm, ``[mesh] reference_distance``); None in 3-D."""
     datum = setting(study, case, "mesh.reference_distance")
     return None if datum is None else float(datum)
 
 
-def case_reference(study: StudyResults, case: CaseResults):
+def case_reference(study: Results, case: ResultCase):
     """(the case's closed forms, "") or (None, why there are none): its profile's
     :class:`~engine.reference.masing.FrettingReference` at the case's load and μ, which needs
     a fretting history, isotropic friction μ1 = μ2 = μ > 0, a profile with closed forms and,
@@ -198,7 +198,7 @@ def case_reference(study: StudyResults, case: CaseResults):
     return reference, ""
 
 
-def unchecked_reason(study: StudyResults, case: CaseResults) -> str:
+def unchecked_reason(study: Results, case: ResultCase) -> str:
     """Why :func:`check_case` has no check for the case ("" when it has one)."""
     return case_reference(study, case)[1]
 
@@ -241,14 +241,14 @@ class FrettingCheck:
         return self.energy / self.sampled - 1.0 if self.sampled > 0 else math.nan
 
 
-def _first_row(case: CaseResults) -> int:
+def _first_row(case: ResultCase) -> int:
     """History row of the loop recorded at N = 1 (row 0 when there is no cycle-1 row)."""
     cycles = np.asarray(case.history.get("cycle", []))
     hits = np.flatnonzero(cycles == 1)
     return int(hits[0]) if hits.size else 0
 
 
-def check_case(study: StudyResults, case: CaseResults) -> FrettingCheck | None:
+def check_case(study: Results, case: ResultCase) -> FrettingCheck | None:
     """The case against its profile's closed forms, or None where there are none
     (:func:`unchecked_reason` says why: not a profile with closed forms, orthotropic
     friction, μ = 0, Q* ≥ μP, no history)."""
@@ -292,7 +292,7 @@ def check_case(study: StudyResults, case: CaseResults) -> FrettingCheck | None:
     return check
 
 
-def wear_energy_ratios(study: StudyResults, case: CaseResults) -> np.ndarray:
+def wear_energy_ratios(study: Results, case: ResultCase) -> np.ndarray:
     """V/(α E_d) over the history rows after the first (energy law; empty otherwise)."""
     alpha = energy_coefficient(study, case)
     if not alpha or "wear_volume" not in case.history:

@@ -45,7 +45,7 @@ from .fatigue import has_fatigue
 from .fatigue_figures import crack_points, draw_crack_boundary, fatigue_figures
 from .figures import MIN_FIGURE_WIDTH
 from .fretting import case_profile, cumulated_energy, read_loops
-from .reader import CaseResults, StudyResults
+from .results import ResultCase, Results
 
 __all__ = [
     "FrettingCase",
@@ -372,14 +372,14 @@ _regime, _material = _shared.regime, _shared.material
 _energy_coefficient = _shared.energy_coefficient
 
 
-def _isotropic_friction(case: CaseResults) -> bool:
+def _isotropic_friction(case: ResultCase) -> bool:
     """μ1 = μ2 (the wear coefficients do not matter here; they are NaN under the energy law)."""
     return case.mu1 == case.mu2
 
 
-def _map_figure(study: StudyResults):
+def _map_figure(study: Results):
     cases, boundaries = [], {}
-    for case in study.cases:
+    for case in study.completed:
         load, amplitude = float(_setting(study, case, "loading.load")), _amplitude(study, case)
         item = FrettingCase(amplitude, load, _regime(case), case.mu1)
         boundary = _shared.slip_boundary(study, case)
@@ -395,7 +395,7 @@ def _map_figure(study: StudyResults):
     lines = {mu: (boundary(span), span) for mu, boundary in boundaries.items()}
     title = f"{study.name}: running-condition fretting map\n({study.mesh_label})"
     if study.profile.is_line:
-        datum = study.config.get("mesh", {}).get("reference_distance")
+        datum = study.study.get("mesh", {}).get("reference_distance")
         figure = draw_fretting_map(
             cases, lines, title, load_unit=study.load_unit,
             boundary_label=f"cylinder δ_slip(P), datum {datum:g} mm",
@@ -414,7 +414,7 @@ def _map_figure(study: StudyResults):
     return figure
 
 
-def _computed_energy_ratio(case: CaseResults) -> float:
+def _computed_energy_ratio(case: ResultCase) -> float:
     """A = W/(4 δ* Q*) of the first simulated cycle (history row 0), NaN without history."""
     history = case.history
     if not all(key in history for key in ("energy", "q_amplitude", "displacement_amplitude")):
@@ -423,11 +423,11 @@ def _computed_energy_ratio(case: CaseResults) -> float:
     return float(history["energy"][0] / denominator) if denominator > 0 else float("nan")
 
 
-def _loop_cases(study: StudyResults) -> list[CaseResults]:
+def _loop_cases(study: Results) -> list[ResultCase]:
     """Up to six cases: at the middle load, spread over the amplitudes."""
-    loads = sorted({float(_setting(study, case, "loading.load")) for case in study.cases})
+    loads = sorted({float(_setting(study, case, "loading.load")) for case in study.completed})
     middle = loads[len(loads) // 2]
-    chosen = [c for c in study.cases if float(_setting(study, c, "loading.load")) == middle]
+    chosen = [c for c in study.completed if float(_setting(study, c, "loading.load")) == middle]
     chosen.sort(key=lambda case: _amplitude(study, case))
     if len(chosen) > MAX_LOOP_PANELS:
         picks = np.linspace(0, len(chosen) - 1, MAX_LOOP_PANELS).round().astype(int)
@@ -435,7 +435,7 @@ def _loop_cases(study: StudyResults) -> list[CaseResults]:
     return chosen
 
 
-def _reference_loop(study: StudyResults, case: CaseResults):
+def _reference_loop(study: Results, case: ResultCase):
     """The analytic stabilised loop of a case, or None where it does not apply: Mindlin's
     for a sphere, the cylinder's (``engine.reference.line_contact.line_fretting_loop``)."""
     if not _isotropic_friction(case) or case.mu1 <= 0:
@@ -455,7 +455,7 @@ def _reference_loop(study: StudyResults, case: CaseResults):
     return profile.fretting_loop(load, material, case.mu1, datum, **amplitudes)
 
 
-def _loops_figure(study: StudyResults):
+def _loops_figure(study: Results):
     panels = []
     for case in _loop_cases(study):
         theta = _direction(study, case)
@@ -488,9 +488,9 @@ def _loops_figure(study: StudyResults):
     return draw_fretting_loops(panels, title, study.load_unit)
 
 
-def _wear_energy_figure(study: StudyResults):
+def _wear_energy_figure(study: Results):
     series = []
-    for case in study.cases:
+    for case in study.completed:
         if "wear_volume" not in case.history or "energy" not in case.history:
             continue
         load = float(_setting(study, case, "loading.load"))
@@ -505,12 +505,12 @@ def _wear_energy_figure(study: StudyResults):
                 _regime(case),
             )
         )
-    law = study.config.get("wear", {}).get("law", "archard")
+    law = study.study.get("wear", {}).get("law", "archard")
     title = f"{study.name}: wear volume vs dissipated energy ({law} wear law)"
     return draw_wear_energy(series, title, study.profile.is_line)
 
 
-def fretting_figures(study: StudyResults) -> list[tuple[str, object]]:
+def fretting_figures(study: Results) -> list[tuple[str, object]]:
     """(file name, figure) of every fretting figure of ``study`` (for one case, ``--case``,
     its field figures: ``engine.analysis.case_fields``; with ``[fatigue]``, the fatigue
     figures too: ``engine.analysis.fatigue_figures``)."""

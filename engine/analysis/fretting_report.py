@@ -35,8 +35,8 @@ import numpy as np
 from .fatigue import fatigue_facts, fatigue_table, has_fatigue
 from .fretting import FrettingCheck, check_case, material, unchecked_reason, wear_energy_ratios
 from .names import key_title
-from .reader import CaseResults, StudyResults
 from .report import edge_facts
+from .results import ResultCase, Results
 
 __all__ = ["fretting_report", "fretting_table", "fretting_facts"]
 
@@ -49,7 +49,7 @@ REGIME_WORDS = {0: "partial", 1: "gross"}
 _PER_CONTACT = re.compile(r"\((N|mJ|mm³)\)")  # the units of COLUMNS a line contact divides
 
 
-def table_columns(study: StudyResults) -> list[str]:
+def table_columns(study: Results) -> list[str]:
     """:data:`COLUMNS` in the study's units (a line contact's forces, energies, volumes per
     unit length)."""
     return [
@@ -71,7 +71,7 @@ def _point(*coordinates: float) -> str:
     return "(" + ", ".join(f"{value:.4g}" for value in shown) + ")"
 
 
-def _stress_columns(case: CaseResults, cycle: int) -> list[str]:
+def _stress_columns(case: ResultCase, cycle: int) -> list[str]:
     """σ_VM at the largest |Q| (the recorded plane) and the cycle maximum, with locations."""
     columns = ["–", "–", "–", "–"]
     plane = case.planes.get(cycle)
@@ -85,12 +85,12 @@ def _stress_columns(case: CaseResults, cycle: int) -> list[str]:
     return columns
 
 
-def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> list[str]:
+def fretting_table(study: Results, cycles: Sequence[int] | None = None) -> list[str]:
     """The fretting columns per case and cycle (module docstring)."""
     if cycles is None:
-        cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+        cycles = sorted({n for case in study.completed for n in case.recorded_cycles})
     lines = [_row(table_columns(study)), "|" + "|".join("---" for _ in COLUMNS) + "|"]
-    for case in study.cases:
+    for case in study.completed:
         for cycle in cycles:
             energy = case.history_at("energy", cycle)
             if math.isnan(energy):
@@ -111,7 +111,7 @@ def fretting_table(study: StudyResults, cycles: Sequence[int] | None = None) -> 
     return lines
 
 
-def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck) -> str:
+def _reference_fact(study: Results, case: ResultCase, check: FrettingCheck) -> str:
     """One case against its closed forms: regime, energy, energy ratio."""
     if check.control == "displacement":
         where = f"δ*/δ_slip = {check.ratio:.3g}"
@@ -141,7 +141,7 @@ def _reference_fact(study: StudyResults, case: CaseResults, check: FrettingCheck
     return text
 
 
-def _coupling(study: StudyResults, case: CaseResults) -> float:
+def _coupling(study: Results, case: ResultCase) -> float:
     return float(material(study, case).coupling)
 
 
@@ -152,11 +152,11 @@ def _worst(checks: Sequence[FrettingCheck], regime: str | None, error: str) -> s
     return f"{max(errors):.2%}" if errors else "–"
 
 
-def fretting_facts(study: StudyResults) -> list[str]:
+def fretting_facts(study: Results) -> list[str]:
     """The checks against the closed forms and the energy wear law (module docstring): the
     totals first (the figures of scripts/check_fretting_map.py), then one line per case, then
     the cases without a check, by reason."""
-    checks = [(case, check_case(study, case)) for case in study.cases]
+    checks = [(case, check_case(study, case)) for case in study.completed]
     applicable = [(case, check) for case, check in checks if check is not None]
     facts = []
     if applicable:
@@ -170,7 +170,7 @@ def fretting_facts(study: StudyResults) -> list[str]:
             f"gross slip {_worst(found, 'gross', 'energy_error')} (against the analytic loop "
             f"at the solver's increments {_worst(found, None, 'sampled_error')})"
         )
-    ratios = [wear_energy_ratios(study, case) for case in study.cases]
+    ratios = [wear_energy_ratios(study, case) for case in study.completed]
     ratios = np.concatenate(ratios) if ratios else np.zeros(0)
     if ratios.size:
         facts.append(
@@ -186,18 +186,18 @@ def fretting_facts(study: StudyResults) -> list[str]:
     return facts
 
 
-def _value(study: StudyResults, key: str, unit: str, default=None) -> str:
+def _value(study: Results, key: str, unit: str, default=None) -> str:
     """``loading.<key>`` of the study file with its unit, or "swept" when it is swept."""
     if f"loading.{key}" in study.swept_keys:
         return "swept"
-    value = study.config["loading"].get(key)
+    value = study.study["loading"].get(key)
     value = default if value is None else value
     return "–" if value is None else f"{float(value):g}{unit}"
 
 
-def _signal(study: StudyResults) -> str:
+def _signal(study: Results) -> str:
     """The tangential signal: control mode, amplitude and direction."""
-    loading = study.config["loading"]
+    loading = study.study["loading"]
     if loading.get("force_amplitude") is not None or "loading.force_amplitude" in study.swept_keys:
         signal = f"force control, Q* = {_value(study, 'force_amplitude', ' ' + study.load_unit)}"
     else:
@@ -205,8 +205,8 @@ def _signal(study: StudyResults) -> str:
     return f"{signal} along {_value(study, 'direction', '°', 0.0)} from x"
 
 
-def _fatigue_header(study: StudyResults) -> str:
-    config = study.config["fatigue"]
+def _fatigue_header(study: Results) -> str:
+    config = study.study["fatigue"]
     length = f", ℓ = {config['length']:g} mm" if "length" in config else ""
     return (
         f"Fatigue at the last recorded cycle ({', '.join(config['criteria'])}; critical "
@@ -217,9 +217,9 @@ def _fatigue_header(study: StudyResults) -> str:
     )
 
 
-def fretting_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
+def fretting_report(study: Results, cycles: Sequence[int] | None = None) -> str:
     """The Markdown table and checks of a fretting study."""
-    loading, config = study.config["loading"], study.config
+    loading, config = study.study["loading"], study.study
     names = ", ".join(key_title(key) for key in study.swept_keys)
     swept = f"; swept: {names}" if study.swept_keys else ""
     law = config.get("wear", {}).get("law", "archard")

@@ -37,7 +37,7 @@ from matplotlib.colors import BoundaryNorm
 from engine.solvers.peak import AXIS_RADIUS_FRACTION, DEEP_DEPTH_FRACTION, region_name
 
 from .levels import VM_LEVEL_MAX, von_mises_levels
-from .reader import CaseResults, StudyResults
+from .results import ResultCase, Results
 
 __all__ = ["regime_figures", "has_peak_history", "wear_severity_history"]
 
@@ -51,43 +51,43 @@ FRICTION_COLOURS = ("k", "#0072B2", "#D55E00", "#009E73", "#CC79A7")  # per μ i
 PAPER_DEPTH_BAND = (0.6, 0.8)  # z/a0 of the paper's μ = 0.1 peak after 10⁵ cycles (Fig. 8b)
 
 
-def has_peak_history(study: StudyResults) -> bool:
+def has_peak_history(study: Results) -> bool:
     """True for a cyclic study whose cases hold the peak history and that sweeps wear."""
-    if not study.is_cyclic or not study.cases:
+    if not study.is_cyclic or not study.completed:
         return False
-    if not all("peak_region" in case.history for case in study.cases):
+    if not all("peak_region" in case.history for case in study.completed):
         return False
-    return len({case.wear1 for case in study.cases}) >= 2
+    return len({case.wear1 for case in study.completed}) >= 2
 
 
-def wear_severity_history(case: CaseResults) -> np.ndarray:
+def wear_severity_history(case: ResultCase) -> np.ndarray:
     """ω_max/δ0 per history row: max wear depth over the approach of the unworn punch."""
     return np.asarray(case.history["max_wear_depth"]) / float(case.history["approach"][0])
 
 
-def regime_figures(study: StudyResults) -> list:
+def regime_figures(study: Results) -> list:
     """(file name, figure) pairs; empty unless :func:`has_peak_history`."""
     if not has_peak_history(study):
         return []
     figures = [("peak_regime_map.png", _regime_map(study))]
-    lowest = min(case.mu1 for case in study.cases)
+    lowest = min(case.mu1 for case in study.completed)
     case = _most_worn(study, lowest)
-    if case.change_planes:
+    if case.peak_changes:
         figures.append((f"peak_regime_von_mises_mu{lowest:g}.png", _change_maps(study, case)))
     return figures
 
 
 # ----------------------------------------------------------------------------- helpers
-def _frictions(study: StudyResults) -> list[float]:
-    return sorted({case.mu1 for case in study.cases})
+def _frictions(study: Results) -> list[float]:
+    return sorted({case.mu1 for case in study.completed})
 
 
-def _most_worn(study: StudyResults, mu: float) -> CaseResults:
-    cases = [case for case in study.cases if case.mu1 == mu]
+def _most_worn(study: Results, mu: float) -> ResultCase:
+    cases = [case for case in study.completed if case.mu1 == mu]
     return max(cases, key=lambda case: wear_severity_history(case)[-1])
 
 
-def _final_severity(case: CaseResults) -> float:
+def _final_severity(case: ResultCase) -> float:
     return float(wear_severity_history(case)[-1])
 
 
@@ -111,7 +111,7 @@ def _positive_floor(values: np.ndarray) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- the map
-def _regime_map(study: StudyResults):
+def _regime_map(study: Results):
     figure, (map_axis, depth_axis, peak_axis) = plt.subplots(
         1, 3, figsize=(16.4, 5.4), layout="constrained"
     )
@@ -121,13 +121,13 @@ def _regime_map(study: StudyResults):
     figure.suptitle(
         f"{study.name}: where the σ_VM peak goes as the surface wears "
         f"({study.mesh_label}, P = {study.load:g} {study.load_unit}, "
-        f"{int(study.config['loading']['cycles']):,} cycles)",
+        f"{int(study.study['loading']['cycles']):,} cycles)",
         fontsize=12,
     )
     return figure
 
 
-def _draw_map(axis, study: StudyResults) -> None:
+def _draw_map(axis, study: Results) -> None:
     frictions = _frictions(study)
     for mu in frictions:  # tracks: the region along the most worn case's history
         case = _most_worn(study, mu)
@@ -140,7 +140,7 @@ def _draw_map(axis, study: StudyResults) -> None:
                 severity[rows], np.full(rows.sum(), mu), ls="none", marker=marker,
                 ms=3.5, color=colour, alpha=0.45, zorder=2,
             )  # fmt: skip
-    for case in study.cases:  # final states
+    for case in study.completed:  # final states
         marker, colour = REGION_STYLE[str(case.summary["peak_region"])]
         severity = _final_severity(case)
         axis.plot(severity, case.mu1, marker=marker, color=colour, ms=13, mec="k", zorder=3)
@@ -151,7 +151,7 @@ def _draw_map(axis, study: StudyResults) -> None:
             textcoords="offset points", ha="center", va="bottom", fontsize=8,
         )  # fmt: skip
     axis.set_xscale("log")
-    finals = [_final_severity(case) for case in study.cases]
+    finals = [_final_severity(case) for case in study.completed]
     axis.set_xlim(min(finals) / 4.0, max(finals) * 2.0)
     axis.set_yscale("log")
     axis.set_yticks(frictions, [f"{mu:g}" for mu in frictions])
@@ -169,7 +169,7 @@ def _draw_map(axis, study: StudyResults) -> None:
     _legend_handles(axis)
 
 
-def _draw_deep_depth(axis, study: StudyResults) -> None:
+def _draw_deep_depth(axis, study: Results) -> None:
     colours = [FRICTION_COLOURS[i % len(FRICTION_COLOURS)] for i in range(len(_frictions(study)))]
     right = _settled_severity(study)
     axis.axhspan(*PAPER_DEPTH_BAND, color="0.85", zorder=0)
@@ -187,7 +187,7 @@ def _draw_deep_depth(axis, study: StudyResults) -> None:
         axis.plot(severity[on_axis], depth[on_axis], "o", color=colour, ms=5)
         axis.plot(severity[~on_axis], depth[~on_axis], "o", mfc="none", mec=colour, ms=5)
     axis.set_xlim(0.0, right)
-    if right < max(_final_severity(case) for case in study.cases):
+    if right < max(_final_severity(case) for case in study.completed):
         axis.text(
             0.98, 0.03, "beyond the right edge: every deep peak\nstays where it is, to the end",
             transform=axis.transAxes, ha="right", va="bottom", fontsize=8,
@@ -200,7 +200,7 @@ def _draw_deep_depth(axis, study: StudyResults) -> None:
     axis.legend(fontsize=9, loc="lower left")
 
 
-def _settled_severity(study: StudyResults) -> float:
+def _settled_severity(study: Results) -> float:
     """Right end of panel (b): the whole range, unless every track has long since settled
     (same deep region and depth to its end); then 1.3 × the last severity where any track
     still changes, so that the transition is not squeezed into a corner."""
@@ -216,7 +216,7 @@ def _settled_severity(study: StudyResults) -> float:
     return end if last_change <= 0.0 else min(end, 1.3 * last_change)
 
 
-def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
+def _draw_peaks(axis, study: Results, mu: float) -> None:
     case = _most_worn(study, mu)
     severity = wear_severity_history(case)
     p0 = study.p0
@@ -243,13 +243,13 @@ def _draw_peaks(axis, study: StudyResults, mu: float) -> None:
 
 
 # ----------------------------------------------------------------------------- σ_VM maps
-def _row_at(case: CaseResults, cycle: int) -> int:
+def _row_at(case: ResultCase, cycle: int) -> int:
     hits = np.flatnonzero(np.asarray(case.history["cycle"]) == cycle)
     return int(hits[0])
 
 
-def _change_maps(study: StudyResults, case: CaseResults):
-    cycles = sorted(case.change_planes)
+def _change_maps(study: Results, case: ResultCase):
+    cycles = sorted(case.peak_changes)
     columns = min(len(cycles), 3)
     rows = -(-len(cycles) // columns)
     figure, axes = plt.subplots(
@@ -260,7 +260,7 @@ def _change_maps(study: StudyResults, case: CaseResults):
     a, p0 = study.radius, study.p0
     severity = wear_severity_history(case)
     for axis, cycle in zip(axes.flat, cycles, strict=False):
-        plane = case.change_planes[cycle]
+        plane = case.peak_changes[cycle]
         row = _row_at(case, cycle)
         ratio = plane.von_mises / p0
         overall = np.unravel_index(np.argmax(ratio), ratio.shape)

@@ -37,7 +37,7 @@ from engine.schema import PARAMETERS
 
 from .calibration_report import calibration_report, has_calibration
 from .markdown import replace_block
-from .reader import CaseResults, StressPlane, StudyResults, read_results
+from .results import Plane, ResultCase, Results, open_results
 from .surface_report import surface_report
 
 __all__ = ["study_report", "main", "INTERIOR_DEPTH"]
@@ -45,13 +45,13 @@ __all__ = ["study_report", "main", "INTERIOR_DEPTH"]
 INTERIOR_DEPTH = 0.1  # z/a0 below which the surface edge singularity dominates the σ_VM peak
 
 
-def stiffness_ratios(study: StudyResults) -> tuple[np.ndarray, np.ndarray, float, str]:
+def stiffness_ratios(study: Results) -> tuple[np.ndarray, np.ndarray, float, str]:
     """(μ, k_μ/k_0, Mossakovskii's ratio, what k_0 is) with k = P/g_n at peak load.
 
     k_0 is the computed frictionless stiffness when the study has a μ = 0 case (so the
     discretisation error of the stiffness cancels), else Sneddon's 2E*a0 (Eq. 18).
     """
-    isotropic = [case for case in study.cases if case.isotropic]
+    isotropic = [case for case in study.completed if case.isotropic]
     mu = np.array([case.mu1 for case in isotropic])
     stiffness = np.array([case.summary["load"] / case.summary["approach"] for case in isotropic])
     frictionless = [k for m, k in zip(mu, stiffness, strict=True) if m == 0.0]
@@ -65,24 +65,24 @@ def stiffness_ratios(study: StudyResults) -> tuple[np.ndarray, np.ndarray, float
     return mu[order], stiffness[order] / reference, limit, what
 
 
-def _format_peak(study: StudyResults, peak: tuple[float, float, float]) -> tuple[str, str]:
+def _format_peak(study: Results, peak: tuple[float, float, float]) -> tuple[str, str]:
     value, x, z = peak
     a = study.radius
     return f"{value / study.p0:.2f}", f"({abs(x) / a:.2f}, {z / a:.3f})"
 
 
-def _plane_columns(study: StudyResults, plane: StressPlane | None) -> list[str]:
+def _plane_columns(study: Results, plane: Plane | None) -> list[str]:
     if plane is None:
         return ["–"] * 4
     return [*_format_peak(study, plane.peak()), *_format_peak(study, plane.subsurface_peak())]
 
 
-def edge_facts(study: StudyResults) -> list[str]:
+def edge_facts(study: Results) -> list[str]:
     """One warning per case and stress plane whose σ_VM peak (over the plane, or below its
-    surface layer) sits on the edge of the computed domain (:meth:`StressPlane.on_edge`; the
+    surface layer) sits on the edge of the computed domain (:meth:`Plane.on_edge`; the
     final state's are the summary's ``vm_max_on_edge`` and ``vm_sub_max_on_edge``)."""
     facts = []
-    for case in study.cases:
+    for case in study.completed:
         for key, plane in case.planes.items():
             below = float(plane.depths[1]) if len(plane.depths) > 1 else 0.0
             for what, depth in (("peak", 0.0), ("peak below the surface layer", below)):
@@ -109,9 +109,9 @@ def _row(values: list[str]) -> str:
 _PEAK_COLUMNS = ["σ_VM/p0 max", "at (r/a0, z/a0)", "σ_VM/p0 below surface", "at (r/a0, z/a0)"]
 
 
-def cyclic_table(study: StudyResults, cycles: Sequence[int] | None = None) -> list[str]:
+def cyclic_table(study: Results, cycles: Sequence[int] | None = None) -> list[str]:
     if cycles is None:
-        cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+        cycles = sorted({n for case in study.completed for n in case.recorded_cycles})
     lines = _header(
         [
             "case",
@@ -122,7 +122,7 @@ def cyclic_table(study: StudyResults, cycles: Sequence[int] | None = None) -> li
             *_PEAK_COLUMNS,
         ]
     )
-    for case in study.cases:
+    for case in study.completed:
         for cycle in cycles:
             depth = case.history_at("max_wear_depth", cycle) * 1e3
             volume = case.history_at("wear_volume", cycle)
@@ -144,11 +144,11 @@ def cyclic_table(study: StudyResults, cycles: Sequence[int] | None = None) -> li
     return lines
 
 
-def static_table(study: StudyResults) -> list[str]:
+def static_table(study: Results) -> list[str]:
     mu, ratios, limit, what = stiffness_ratios(study)
     ratio_of = dict(zip(mu.tolist(), ratios.tolist(), strict=True))
     lines = _header(["case", "g_n (µm)", "k_μ/k_0", "stick fraction", *_PEAK_COLUMNS])
-    for case in sorted(study.cases, key=lambda case: case.mu1):
+    for case in sorted(study.completed, key=lambda case: case.mu1):
         ratio = ratio_of.get(case.mu1, float("nan")) if case.isotropic else float("nan")
         lines.append(
             _row(
@@ -166,13 +166,13 @@ def static_table(study: StudyResults) -> list[str]:
 
 
 # ----------------------------------------------------------------------------- measured facts
-def static_facts(study: StudyResults) -> list[str]:
+def static_facts(study: Results) -> list[str]:
     mu, ratios, limit, _ = stiffness_ratios(study)
     facts = [
         f"stiffness ratio k_μ/k_0 = {ratios[-1]:.5f} at μ = {mu[-1]:g} vs Mossakovskii "
         f"{limit:.5f} (reached to {100 * (ratios[-1] - 1) / (limit - 1):.0f} % of the rise)"
     ]
-    full = [case for case in study.cases if case.summary["stick_fraction"] >= 0.999]
+    full = [case for case in study.completed if case.summary["stick_fraction"] >= 0.999]
     first = min((case.mu1 for case in full), default=None)
     facts.append(
         "full stick (stick fraction ≥ 0.999) first at μ = "
@@ -180,13 +180,13 @@ def static_facts(study: StudyResults) -> list[str]:
         + "; stick fractions: "
         + ", ".join(
             f"{case.label.replace(' = ', '=')}: {case.summary['stick_fraction']:.3f}"
-            for case in sorted(study.cases, key=lambda case: (case.mu1, case.beta))
+            for case in sorted(study.completed, key=lambda case: (case.mu1, case.beta))
         )
     )
-    for case in sorted(study.cases, key=lambda case: (case.mu1, case.beta)):
+    for case in sorted(study.completed, key=lambda case: (case.mu1, case.beta)):
         if case.mu1 > 0 and "final" in case.fields:
             facts.append(f"{case.label}: {_slip_zone(study, case)}")
-    frictionless = [case for case in study.cases if case.mu1 == 0.0]
+    frictionless = [case for case in study.completed if case.mu1 == 0.0]
     if frictionless:
         expected = sneddon_approach(study.load, study.radius, study.material.contact_modulus)
         computed = frictionless[0].summary["approach"]
@@ -197,7 +197,7 @@ def static_facts(study: StudyResults) -> list[str]:
     return facts
 
 
-def _slip_zone(study: StudyResults, case: CaseResults) -> str:
+def _slip_zone(study: Results, case: ResultCase) -> str:
     """Where the slipping elements are (radii of their centres / a0) and how many rings."""
     status = case.fields["final"]["status"]
     X, Y = np.meshgrid(study.grid_x, study.grid_y, indexing="ij")
@@ -212,7 +212,7 @@ def _slip_zone(study: StudyResults, case: CaseResults) -> str:
     )
 
 
-def _pressure_peak_angle(study: StudyResults, case: CaseResults, cycle) -> tuple[float, float]:
+def _pressure_peak_angle(study: Results, case: ResultCase, cycle) -> tuple[float, float]:
     """(r/a0, polar angle in degrees within [0, 180)) of the pressure maximum."""
     pressure = case.fields[cycle]["pressure"]
     i, j = np.unravel_index(np.argmax(pressure), pressure.shape)
@@ -220,7 +220,7 @@ def _pressure_peak_angle(study: StudyResults, case: CaseResults, cycle) -> tuple
     return float(np.hypot(x, y) / study.radius), float(np.degrees(np.arctan2(y, x)) % 180.0)
 
 
-def _groups(cases: Sequence[CaseResults], key) -> list[list[CaseResults]]:
+def _groups(cases: Sequence[ResultCase], key) -> list[list[ResultCase]]:
     """Cases sharing ``key(case)``, in order of first appearance."""
     groups: dict = {}
     for case in cases:
@@ -228,7 +228,7 @@ def _groups(cases: Sequence[CaseResults], key) -> list[list[CaseResults]]:
     return list(groups.values())
 
 
-def _group_label(case: CaseResults, names: Sequence[str], varying: set[str]) -> str:
+def _group_label(case: ResultCase, names: Sequence[str], varying: set[str]) -> str:
     """``"β = 90°"``-style label of the parameters ``names`` that take several values in the
     study (``varying``); empty when none does (one group, nothing to tell apart)."""
     units = {"beta": "°", "wear1": " 1/MPa", "wear2": " 1/MPa"}
@@ -241,7 +241,7 @@ def _group_label(case: CaseResults, names: Sequence[str], varying: set[str]) -> 
     return ", ".join(parts)
 
 
-def _varying_parameters(cases: Sequence[CaseResults]) -> set[str]:
+def _varying_parameters(cases: Sequence[ResultCase]) -> set[str]:
     names = PARAMETERS
     return {name for name in names if len({getattr(case, name) for case in cases}) > 1}
 
@@ -303,7 +303,7 @@ def _spread_fact(cycle, cases, label: str) -> str | None:
     )
 
 
-def wear_trend_facts(study: StudyResults, cycle: int) -> list[str]:
+def wear_trend_facts(study: Results, cycle: int) -> list[str]:
     """The wear facts at one recorded cycle, each within a group of comparable cases.
 
     - isotropic cases (μ1 = μ2, i1 = i2), grouped by β and i: trend with μ (Section 7.2);
@@ -313,7 +313,7 @@ def wear_trend_facts(study: StudyResults, cycle: int) -> list[str]:
     Duplicates of a μ at other angles β (the demo's β = 0°, 90°) therefore never enter one
     comparison together.
     """
-    cases = [case for case in study.cases if cycle in case.fields]
+    cases = [case for case in study.completed if cycle in case.fields]
     varying = _varying_parameters(cases)
     volume_unit = study.per_contact("mm³")
     facts: list[str | None] = []
@@ -331,14 +331,14 @@ def wear_trend_facts(study: StudyResults, cycle: int) -> list[str]:
     return [fact for fact in facts if fact is not None]
 
 
-def cyclic_facts(study: StudyResults) -> list[str]:
+def cyclic_facts(study: Results) -> list[str]:
     facts = []
-    cycles = sorted({n for case in study.cases for n in case.recorded_cycles})
+    cycles = sorted({n for case in study.completed for n in case.recorded_cycles})
     for cycle in cycles:
         facts += wear_trend_facts(study, cycle)
     if cycles:
         last = cycles[-1]
-        for case in study.cases:
+        for case in study.completed:
             if last not in case.fields:
                 continue
             plane = case.planes.get(last)
@@ -363,19 +363,19 @@ def cyclic_facts(study: StudyResults) -> list[str]:
     return facts
 
 
-def study_report(results: str | Path | StudyResults, cycles: Sequence[int] | None = None) -> str:
+def study_report(results: str | Path | Results, cycles: Sequence[int] | None = None) -> str:
     """The Markdown tables and measured facts of a study."""
-    study = results if isinstance(results, StudyResults) else read_results(results)
+    study = results if isinstance(results, Results) else open_results(results)
     return study.kind_hook("report")(study, cycles) + surface_report(study)  # [surface]
 
 
-def standard_report(study: StudyResults, cycles: Sequence[int] | None = None) -> str:
+def standard_report(study: Results, cycles: Sequence[int] | None = None) -> str:
     """The report of a static or cyclic study (the loading kinds' ``report`` hook): the
     tables of the recorded cycles (or the static tables) and the measured facts, or the
     sweep report when dotted keys are swept."""
     if study.swept_keys:
         return _swept_report(study, cycles)
-    config = study.config
+    config = study.study
     lines = [
         f"### {study.name}",
         "",
@@ -413,7 +413,7 @@ def swept_keys(settings: dict) -> list[str]:
     return [key for key in settings.get("sweep", {}) if "." in key]
 
 
-def _swept_report(study: StudyResults, cycles: Sequence[int] | None) -> str:
+def _swept_report(study: Results, cycles: Sequence[int] | None) -> str:
     """Studies with swept dotted keys (engine.analysis.sweep_report); the per-case tables too
     when no swept key changes the study-wide normalisation (a0, P, mesh, material)."""
     line = study.profile.is_line
@@ -463,7 +463,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         if has_calibration(path) and args.update is None:  # a [calibrate] study
             print(calibration_report(path))
             continue
-        study = read_results(path)
+        study = open_results(path)
         report = study_report(study, args.cycles)
         if args.update is None:
             print(report)

@@ -1,5 +1,10 @@
 """A study's results file as objects: :func:`engine.open_results` → :class:`Results`.
 
+The one model of a results file: what a user reads, and what the figures and the report read
+(``python -m engine plot`` and ``report``). Beside the stored values it gives what the
+analyses derive from the study: the profile, the material, a0 and p0 (Eq. 19), case labels and
+the stress planes' peaks (:class:`Plane`).
+
 The file's layout is ``engine.schema``'s; every dataset comes back as a :class:`Variable`
 carrying its values, its units and description (the dataset's ``units`` and ``description``
 attributes) and the names and coordinates of its dimensions. Surface fields take their
@@ -24,33 +29,50 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import copy
+import importlib
 import json
 import re
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
+from numpy.lib.mixins import NDArrayOperatorsMixin
 
+from engine.geometry import profile_from_table
+from engine.material import MaterialPair
 from engine.output.owner import (
     check_not_being_written,
     is_locked_error,
     locked_by_another_program,
 )
-from engine.output.summary import load_summary
+from engine.output.summary import column_unit, load_summary
 from engine.schema import (
     CASES_GROUP,
     GRID_GROUP,
     PLANE,
     CaseStatus,
+    contact_units,
     cycle_of_group,
 )
+from engine.study.kinds import KINDS
 from engine.study.settings.units import case_parameters, unit_of
 
-__all__ = ["open_results", "Results", "ResultCase", "Variable", "VariableGroup", "Records"]
+from .names import value_text
+
+__all__ = [
+    "open_results",
+    "Results",
+    "ResultCase",
+    "Variable",
+    "VariableGroup",
+    "Plane",
+    "Records",
+]
 
 
 def open_results(path: str | Path) -> Results:
@@ -115,13 +137,39 @@ def _opened(path: Path) -> h5py.File:
         raise
 
 
+#: The files held open by a ``with open_results(path) as results:`` block, by path: the reads
+#: made meanwhile (by any object of that file) share them.
+_HELD: dict[Path, h5py.File] = {}
+
+
+def _reading(path: Path):
+    """A context giving the file ``path`` open for reading: the one a ``with`` block holds,
+    else opened now and closed at its end."""
+    held = _HELD.get(Path(path))
+    return contextlib.nullcontext(held) if held is not None else _opened(Path(path))
+
+
 def _text(value: Any) -> str:
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-@dataclass
-class Variable:
+@dataclass(frozen=True)
+class _Source:
+    """Where an object's data are: the results file ``path`` and the ``name`` of the group or
+    dataset inside it (a pickled object reads the file by this path)."""
+
+    path: Path
+    name: str
+
+    def child(self, name: str) -> _Source:
+        return _Source(self.path, f"{self.name}/{name}")
+
+
+class Variable(NDArrayOperatorsMixin):
     """One dataset of a results file: values with units, a description and named dimensions.
+
+    In NumPy expressions and functions a Variable stands for its values (``variable * 1e3``,
+    ``numpy.max(variable)``, ``variable[i, j]`` give arrays and numbers).
 
     Parameters
     ----------
@@ -129,48 +177,113 @@ class Variable:
         The dataset's name (``pressure``, ``von_mises``, ``max_wear_depth``, …).
     values : numpy.ndarray
         The stored values.
-    units : str
+    units : str, optional
         UDUNITS string ("1": dimensionless; a loop's "mm, mm, N, N" names one unit per column).
-        Read from the file, as ``description`` and ``attrs``, when first asked for.
-    description : str
+        Without it (and without ``description`` and ``attrs``) they are read from the
+        dataset ``source`` when first asked for.
+    description : str, optional
         What the values are (the schema's description, with the instant they belong to).
     dims : tuple of str
         One name per axis of ``values``.
-    coords : dict
+    coords : dict, optional
         Coordinates: name → (dims, values, units) of each coordinate.
-    attrs : dict
+    attrs : dict, optional
         Any other attribute of the dataset (``columns``, ``plane_angle``).
+    source : _Source, optional
+        The dataset in its file (None: values in memory, units and description "").
     """
 
-    name: str
-    values: np.ndarray
-    units: str
-    description: str
-    dims: tuple[str, ...]
-    coords: dict[str, tuple[tuple[str, ...], np.ndarray, str]] = field(default_factory=dict)
-    attrs: dict[str, Any] = field(default_factory=dict)
+    def __init__(
+        self,
+        name: str,
+        values: np.ndarray,
+        units: str | None = None,
+        description: str | None = None,
+        dims: tuple[str, ...] = (),
+        coords: dict[str, tuple[tuple[str, ...], np.ndarray, str]] | None = None,
+        attrs: dict[str, Any] | None = None,
+        *,
+        source: _Source | None = None,
+    ) -> None:
+        self.name = name
+        self.values = values
+        self.dims = tuple(dims)
+        self.coords = dict(coords or {})
+        self.source = source
+        given = {"units": units, "description": description, "attrs": attrs}
+        self.__dict__.update({key: value for key, value in given.items() if value is not None})
+
+    @cached_property
+    def _stored(self) -> dict[str, Any]:
+        """The dataset's attributes, read all at once on the first need."""
+        if self.source is None:
+            return {}
+        with _reading(self.source.path) as file:
+            stored = file[self.source.name].attrs
+            return {key: stored[key] for key in stored if key not in _LINKS}
+
+    @cached_property
+    def units(self) -> str:
+        """UDUNITS string of the values (the dataset's ``units``)."""
+        return _text(self._stored.get("units", ""))
+
+    @cached_property
+    def description(self) -> str:
+        """What the values are (the dataset's ``description``)."""
+        return _text(self._stored.get("description", ""))
+
+    @cached_property
+    def attrs(self) -> dict[str, Any]:
+        """The dataset's other attributes (``columns``, ``plane_angle``)."""
+        return {
+            key: _attribute(value) for key, value in self._stored.items() if key not in _NOT_ATTRS
+        }
 
     @property
     def shape(self) -> tuple[int, ...]:
         """Shape of ``values``."""
         return tuple(np.shape(self.values))
 
+    @property
+    def ndim(self) -> int:
+        return np.ndim(self.values)
+
+    @property
+    def size(self) -> int:
+        return np.size(self.values)
+
+    @property
+    def dtype(self) -> np.dtype:
+        return np.asarray(self.values).dtype
+
     def __array__(self, dtype=None, copy=None):
         return np.asarray(self.values, dtype=dtype)
+
+    def __array_ufunc__(self, ufunc, method, *inputs, **kwargs):
+        """A ufunc on the values (the result an array or a number, not a Variable)."""
+        inputs = tuple(_plain(value) for value in inputs)
+        if "out" in kwargs:
+            kwargs["out"] = tuple(_plain(value) for value in kwargs["out"])
+        return getattr(ufunc, method)(*inputs, **kwargs)
+
+    def __getitem__(self, key):
+        return self.values[key]
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+    def __iter__(self):
+        return iter(self.values)
+
+    def __float__(self) -> float:
+        return float(self.values)
+
+    def __int__(self) -> int:
+        return int(self.values)
 
     def __repr__(self) -> str:
         sizes = ", ".join(f"{dim}: {size}" for dim, size in zip(self.dims, self.shape, strict=True))
         return f"<Variable {self.name!r} ({sizes}) [{self.units}]: {self.description}>"
-
-    def __getstate__(self) -> dict[str, Any]:
-        """The state with ``units``, ``description`` and ``attrs`` read (copies and pickles
-        hold no link to the file)."""
-        return {
-            **self.__dict__,
-            **{
-                f"_stored_{name}": getattr(self, name) for name in ("units", "description", "attrs")
-            },
-        }
 
     def _attrs(self) -> dict[str, Any]:
         return {"units": self.units, "description": self.description, **self.attrs}
@@ -193,52 +306,22 @@ class Variable:
         )
 
 
-class _Attributes:
-    """The attributes of the dataset at ``path`` of the file ``results`` opens, read all at
-    once when a :class:`Variable`'s ``units``, ``description`` or ``attrs`` is first asked
-    for (until then the Variable holds this in their place)."""
-
-    __slots__ = ("results", "path", "stored")
-
-    def __init__(self, results: Results, path: str) -> None:
-        self.results, self.path = results, path
-        self.stored: dict[str, Any] | None = None
-
-    def value(self, name: str) -> Any:
-        """The Variable's field ``name`` (``units``, ``description`` or ``attrs``)."""
-        if self.stored is None:
-            with self.results._open() as file:
-                stored = file[self.path].attrs
-                self.stored = {key: stored[key] for key in stored if key not in _LINKS}
-        if name == "attrs":
-            return {
-                key: _attribute(value)
-                for key, value in self.stored.items()
-                if key not in _NOT_ATTRS
-            }
-        return _text(self.stored.get(name, ""))
+def _plain(value):
+    return value.values if isinstance(value, Variable) else value
 
 
-class _FromFile:
-    """A field of :class:`Variable` that may stand as :class:`_Attributes` until first read."""
+def _values_method(name: str):
+    def method(self, *args, **kwargs):
+        return getattr(np.asarray(self.values), name)(*args, **kwargs)
 
-    def __init__(self, name: str) -> None:
-        self.name, self.slot = name, f"_stored_{name}"
-
-    def __get__(self, variable, owner=None):
-        if variable is None:
-            raise AttributeError(self.name)
-        value = variable.__dict__[self.slot]
-        if isinstance(value, _Attributes):
-            value = variable.__dict__[self.slot] = value.value(self.name)
-        return value
-
-    def __set__(self, variable, value) -> None:
-        variable.__dict__[self.slot] = value
+    method.__name__ = name
+    method.__doc__ = f"``values.{name}(…)``."
+    return method
 
 
-for _name in ("units", "description", "attrs"):  # read lazily (the dataclass's fields still)
-    setattr(Variable, _name, _FromFile(_name))
+for _name in ("all", "any", "argmax", "argmin", "astype", "copy", "item", "max", "mean", "min",
+              "ravel", "reshape", "sum", "tolist"):  # fmt: skip
+    setattr(Variable, _name, _values_method(_name))
 
 
 class _Table(Mapping):
@@ -300,6 +383,117 @@ class VariableGroup(_Table):
             if name not in coordinate_names
         }
         return xarray.Dataset(arrays, attrs={"group": self.name, **self.attrs})
+
+
+class Plane(VariableGroup):
+    """A stored stress plane: the vertical plane through the punch axis at ``angle`` φ
+    (degrees from x; 0: the x–z plane y = 0; a fretting case's plane contains its sliding
+    direction, attribute ``plane_angle``), its datasets on the dimensions ``s`` and ``depth``.
+
+    ``x``, ``y``, ``z``: coordinates (mm), shape ``(n_s, n_z)``, z into the half-space (``y``
+    None when the file holds none: zeros); ``von_mises`` (MPa), same shape. ``s`` =
+    x cos φ + y sin φ: the signed distance along the plane (= x on the x–z plane). ``depths``:
+    the evaluated depths (mm); ``depths[0]`` is the surface layer (see
+    :func:`engine.solvers.subsurface.depth_layers`).
+    """
+
+    @classmethod
+    def from_arrays(
+        cls,
+        x: np.ndarray,
+        z: np.ndarray,
+        von_mises: np.ndarray,
+        y: np.ndarray | None = None,
+        angle: float = 0.0,
+        name: str = "plane",
+    ) -> Plane:
+        """A plane of values in memory (``x``, ``z``, ``von_mises`` and ``y``: shape
+        ``(n_s, n_z)``, mm and MPa; ``angle``: φ, degrees)."""
+        arrays = {"x": x, "y": y, "z": z, "von_mises": von_mises}
+        variables = {
+            key: Variable(key, np.asarray(values), PLANE[key].units, "", ("s", "depth"))
+            for key, values in arrays.items()
+            if values is not None
+        }
+        return cls(name, variables, {"plane_angle": float(angle)})
+
+    @property
+    def x(self) -> np.ndarray:
+        return self["x"].values
+
+    @property
+    def y(self) -> np.ndarray | None:
+        return self["y"].values if "y" in self else None
+
+    @property
+    def z(self) -> np.ndarray:
+        return self["z"].values
+
+    @property
+    def von_mises(self) -> np.ndarray:
+        return self["von_mises"].values
+
+    @property
+    def angle(self) -> float:
+        """φ (degrees from x): the group's ``plane_angle``."""
+        return float(self.attrs.get("plane_angle", 0.0))
+
+    @property
+    def depths(self) -> np.ndarray:
+        return self.z[0]
+
+    @property
+    def s(self) -> np.ndarray:
+        """Signed along-plane coordinate (mm); exactly ``x`` on the x–z plane."""
+        if self.angle == 0.0 or self.y is None:
+            return self.x
+        phi = np.radians(self.angle)
+        return self.x * np.cos(phi) + self.y * np.sin(phi)
+
+    def _index(self, min_depth: float):
+        candidates = np.where(self.z >= min_depth, self.von_mises, -np.inf)
+        return np.unravel_index(np.argmax(candidates), candidates.shape)
+
+    def on_edge(self, min_depth: float = 0.0) -> str:
+        """Where the largest σ_VM over z >= ``min_depth`` touches the computed domain's
+        boundary: "side" (the plane's outermost column, the mesh's edge), "bottom" (its
+        deepest layer) or "" (inside). A peak there may lie beyond the domain: the real
+        maximum is not known (widen ``[mesh] half_width`` or deepen ``[subsurface] depth``)."""
+        column, layer = self._index(min_depth)
+        places = []
+        if column in (0, self.von_mises.shape[0] - 1):
+            places.append("side")
+        if layer == self.von_mises.shape[1] - 1:
+            places.append("bottom")
+        return " and ".join(places)
+
+    def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
+        """(σ_VM, s, z) of the largest von Mises stress over the points with z >= min_depth
+        (s: along the plane, = x on the x–z plane)."""
+        index = self._index(min_depth)
+        return float(self.von_mises[index]), float(self.s[index]), float(self.z[index])
+
+    def peak_point(self, min_depth: float = 0.0) -> tuple[float, float, float, float]:
+        """(σ_VM, x, y, z) of the largest von Mises stress over the points with z >= min_depth."""
+        index = self._index(min_depth)
+        y = 0.0 if self.y is None else float(self.y[index])
+        return float(self.von_mises[index]), float(self.x[index]), y, float(self.z[index])
+
+    def axis_peak(self) -> tuple[float, float, float]:
+        """(σ_VM, s, z) of the largest von Mises stress on the punch axis (the column s ≈ 0)."""
+        along = self.s
+        column = int(np.argmin(np.abs(along[:, 0])))
+        depth = int(np.argmax(self.von_mises[column]))
+        return (
+            float(self.von_mises[column, depth]),
+            float(along[column, depth]),
+            float(self.z[column, depth]),
+        )
+
+    def subsurface_peak(self) -> tuple[float, float, float]:
+        """Peak over the layers strictly below the surface layer (z >= depths[1])."""
+        depths = self.depths
+        return self.peak(float(depths[1]) if len(depths) > 1 else 0.0)
 
 
 class Records(_Table):
@@ -420,6 +614,111 @@ class ResultCase:
         """Whether the case completed (only completed cases hold datasets)."""
         return self.status == CaseStatus.COMPLETED
 
+    @classmethod
+    def from_values(
+        cls,
+        case_id: str,
+        parameters: dict[str, Any],
+        *,
+        index: int = 0,
+        summary: dict[str, Any] | None = None,
+        history: dict[str, np.ndarray] | None = None,
+        fields: dict[Any, dict[str, np.ndarray]] | None = None,
+        planes: dict[Any, Plane] | None = None,
+        results: Results | None = None,
+    ) -> ResultCase:
+        """A completed case of values in memory (no file), as the figures and the report
+        take it: ``parameters`` (``mu1``, ``mu2``, ``wear1``, ``wear2``, ``beta`` and any
+        swept dotted key), the ``history`` arrays by name, the ``fields`` arrays by instant
+        and name, the ``planes`` by instant (:meth:`Plane.from_arrays`)."""
+        case = cls.__new__(cls)
+        case.results, case.case_id, case.index = results, case_id, index
+        case.status, case.message = CaseStatus.COMPLETED.value, ""
+        case.summary = dict(summary or {})
+        case.parameters = dict(parameters)
+        case.parameter_units = {key: unit_of(key) for key in case.parameters}
+        case.history = _in_memory(f"cases/{case_id}/history", history or {})
+        case.fields = Records(
+            "fields",
+            {
+                key: _in_memory(f"cases/{case_id}/fields/{key}", group)
+                for key, group in (fields or {}).items()
+            },
+        )
+        case.planes = Records("planes", dict(planes or {}))
+        case.peak_changes = Records("peak_changes", {})
+        case.fatigue = Records("fatigue", {})
+        return case
+
+    def _parameter(self, name: str) -> float:
+        return float(self.parameters[name])
+
+    @property
+    def mu1(self) -> float:
+        """Friction coefficient μ1 (along x)."""
+        return self._parameter("mu1")
+
+    @property
+    def mu2(self) -> float:
+        """Friction coefficient μ2 (along y)."""
+        return self._parameter("mu2")
+
+    @property
+    def wear1(self) -> float:
+        """Wear coefficient k1 (1/MPa)."""
+        return self._parameter("wear1")
+
+    @property
+    def wear2(self) -> float:
+        """Wear coefficient k2 (1/MPa)."""
+        return self._parameter("wear2")
+
+    @property
+    def beta(self) -> float:
+        """Angle β of the orthotropic axes (degrees)."""
+        return self._parameter("beta")
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """The case's values of the swept dotted keys (``loading.load``, ``mesh.n``, …)."""
+        return {key: value for key, value in self.parameters.items() if "." in key}
+
+    @property
+    def isotropic(self) -> bool:
+        return self.mu1 == self.mu2 and self.wear1 == self.wear2
+
+    @property
+    def label(self) -> str:
+        """Short name of the case for legends and titles (μ, and μ2, β when orthotropic, and
+        every other swept key with its unit)."""
+
+        def unit(key: str) -> str:  # the file's unit (a line contact's per unit length)
+            stored = self.parameter_units.get(key, "1")
+            return column_unit(key) if stored == "1" else stored
+
+        swept = "".join(
+            f", {key.rsplit('.', 1)[-1]} = {value_text(value)}"
+            + (f" {unit(key)}" if unit(key) else "")
+            for key, value in self.settings.items()
+        )
+        if self.isotropic:
+            text = f"μ = {self.mu1:g}"
+            return text + (f", β = {self.beta:g}°" if self.beta else "") + swept
+        return f"μ1 = {self.mu1:g}, μ2 = {self.mu2:g}, β = {self.beta:g}°" + swept
+
+    @property
+    def recorded_cycles(self) -> list[int]:
+        """The cycles N whose surface fields are recorded, ascending."""
+        return sorted(key for key in self.fields if isinstance(key, int))
+
+    def history_at(self, name: str, cycle: int) -> float:
+        """History value ``name`` after exactly ``cycle`` real cycles (NaN if not simulated)."""
+        cycles = self.history.get("cycle")
+        if cycles is None:
+            return float("nan")
+        hits = np.flatnonzero(np.asarray(cycles) == cycle)
+        return float(self.history[name][hits[-1]]) if len(hits) else float("nan")
+
     def __repr__(self) -> str:
         parameters = ", ".join(f"{key} = {value:g}" for key, value in self._numbers().items())
         text = f"<ResultCase {self.case_id!r} {self.status}: {parameters}"
@@ -444,7 +743,7 @@ class ResultCase:
         """The case's element-centre coordinates ``x`` and ``y`` (mm)."""
         with self._group() as group:
             source = group[GRID_GROUP] if GRID_GROUP in group else group.file.get(GRID_GROUP)
-            return _grid_group(f"cases/{self.case_id}/grid", source, self.results)
+            return _grid_group(f"cases/{self.case_id}/grid", source, self.results.path)
 
     @cached_property
     def history(self) -> VariableGroup:
@@ -455,7 +754,7 @@ class ResultCase:
             coords = {}
             if "cycle" in history:
                 coords["cycle"] = (("step",), _read(history["cycle"]), "1")
-            source = _Source(self.results, f"{self._path}/history")
+            source = _Source(self.results.path, f"{self._path}/history")
             variables = {
                 name: _variable(name, dataset, ("step",), coords, source)
                 for name, dataset in history.items()
@@ -491,13 +790,13 @@ class ResultCase:
         (``<column>_hot_spot``, its columns as a coordinate)."""
         planes = self.planes
 
-        def read(name, group, source):
+        def read(name, group, source, scales):
             plane = planes.get(cycle_of_group(name.rsplit("/", 1)[-1]))
             coords = next(iter(plane.values())).coords if plane else {}
             variables = {
                 key: _variable(key, dataset, ("s", "depth"), coords, source)
                 if dataset.ndim == 2 and "columns" not in dataset.attrs
-                else _field(key, dataset, source)
+                else _field(key, dataset, source, scales)
                 for key, dataset in group.items()
             }
             return VariableGroup(name, variables)
@@ -512,7 +811,8 @@ class ResultCase:
                 groups[name if cycle is None else cycle] = read(
                     f"cases/{self.case_id}/{section}/{name}",
                     sub,
-                    _Source(self.results, f"{self._path}/{section}/{name}", self.results._scales),
+                    _Source(self.results.path, f"{self._path}/{section}/{name}"),
+                    self.results._scales,
                 )
         ordered = {key: groups[key] for key in sorted(groups, key=_instant_order)}
         return Records("planes" if section == "subsurface" else section, ordered)
@@ -531,6 +831,16 @@ class _CaseGroup:
 
     def __exit__(self, *exc) -> None:
         self.opened.__exit__(*exc)
+
+
+def _in_memory(name: str, arrays: dict[str, np.ndarray], units: str = "") -> VariableGroup:
+    """A group of values in memory: name → array (each on dimensions named after it)."""
+    variables = {}
+    for key, values in arrays.items():
+        values = np.asarray(values)
+        dims = tuple(f"{key}_{axis}" for axis in range(values.ndim))
+        variables[key] = Variable(key, values, units, "", dims)
+    return VariableGroup(name, variables)
 
 
 def _instant_order(key) -> tuple[int, int]:
@@ -559,16 +869,7 @@ def _variable(
     values = _read(dataset)
     if len(dims) != values.ndim:
         dims = tuple(f"{name}_{axis}" for axis in range(values.ndim))
-    attributes = _Attributes(source.results, f"{source.path}/{name}")
-    return Variable(
-        name=name,
-        values=values,
-        units=attributes,  # type: ignore[arg-type]  # read when first asked for
-        description=attributes,  # type: ignore[arg-type]
-        dims=dims,
-        coords=dict(coords or {}),
-        attrs=attributes,  # type: ignore[arg-type]
-    )
+    return Variable(name, values, dims=dims, coords=coords, source=source.child(name))
 
 
 def _read(dataset) -> np.ndarray:
@@ -577,25 +878,15 @@ def _read(dataset) -> np.ndarray:
     return np.asarray(dataset[()])
 
 
-@dataclass(frozen=True)
-class _Source:
-    """Where a group's datasets are: the file ``results`` opens, the group's ``path``; and
-    the dimension scales read so far (h5py id → (label, coordinate)): the group's own, or
-    (``results._scales``) those of every group read while the file stays open."""
-
-    results: Results
-    path: str
-    scales: dict = field(default_factory=dict, compare=False)
-
-
 def _attribute(value: Any) -> Any:
     return _text(value) if isinstance(value, (bytes, str)) else value
 
 
-def _grid_group(name: str, group, results: Results) -> VariableGroup:
-    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none) of ``results``."""
+def _grid_group(name: str, group, path: Path) -> VariableGroup:
+    """The coordinates ``x`` and ``y`` (mm) of a grid group (None: none) of the file
+    ``path``."""
     axes = [axis for axis in ("x", "y") if group is not None and axis in group]
-    source = _Source(results, group.name) if axes else None
+    source = _Source(path, group.name) if axes else None
     return VariableGroup(
         name, {axis: _variable(axis, group[axis], (axis,), None, source) for axis in axes}
     )
@@ -607,11 +898,13 @@ def _basename(dataset) -> str:
     return dataset.name.rsplit("/", 1)[-1]
 
 
-def _field(name: str, dataset, source: _Source) -> Variable:
+def _field(name: str, dataset, source: _Source, scales: dict) -> Variable:
     """A surface field on the dimensions named by its attached scales (x, y), with the
     scales' values as coordinates; a dataset without scales (a fretting loop, vm_cycle) on
-    dimensions named after it, its ``columns`` attribute as the last one's coordinate."""
-    dims, coords, scales = [], {}, source.scales
+    dimensions named after it, its ``columns`` attribute as the last one's coordinate.
+    ``scales``: the dimension scales read so far (h5py id → (label, coordinate)), shared by
+    the groups read while the file stays open."""
+    dims, coords = [], {}
     for dimension in dataset.dims:
         if len(dimension):
             scale = dimension[0]
@@ -635,11 +928,13 @@ def _field(name: str, dataset, source: _Source) -> Variable:
     return _variable(name, dataset, tuple(dims), coords, source)
 
 
-def _field_group(name: str, group, source: _Source) -> VariableGroup:
-    return VariableGroup(name, {key: _field(key, data, source) for key, data in group.items()})
+def _field_group(name: str, group, source: _Source, scales: dict) -> VariableGroup:
+    return VariableGroup(
+        name, {key: _field(key, data, source, scales) for key, data in group.items()}
+    )
 
 
-def _plane_group(name: str, group, source: _Source) -> VariableGroup:
+def _plane_group(name: str, group, source: _Source, scales: dict) -> Plane:
     """A stored stress plane: the data on (s, depth); x, y, z (mm) as 2-D coordinates; ``s``
     (the signed distance along the plane, x cos φ + y sin φ) and ``depth`` as 1-D ones when
     the points form a grid of columns and layers (as the engine writes them). Datasets the
@@ -649,7 +944,7 @@ def _plane_group(name: str, group, source: _Source) -> VariableGroup:
     variables = {
         key: _variable(key, dataset, dims, None, source)
         if key in PLANE
-        else _field(key, dataset, source)
+        else _field(key, dataset, source, scales)
         for key, dataset in group.items()
     }
     x, z = variables["x"].values, variables["z"].values
@@ -667,7 +962,7 @@ def _plane_group(name: str, group, source: _Source) -> VariableGroup:
     for key, variable in variables.items():  # the plane's coordinates, read once
         if key in PLANE:
             variable.coords.update(coords)
-    return VariableGroup(name, variables, {"plane_angle": angle})
+    return Plane(name, variables, {"plane_angle": angle})
 
 
 class Results(_Table):
@@ -708,10 +1003,13 @@ class Results(_Table):
         cases (each read otherwise opens and closes it)."""
         if self._file is None:
             self._file = _opened(self.path)
+            _HELD.setdefault(self.path, self._file)
         return self
 
     def __exit__(self, *exc) -> None:
         if self._file is not None:
+            if _HELD.get(self.path) is self._file:
+                del _HELD[self.path]
             self._file.close()
             self._file = None
             self._scales_read = {}
@@ -727,7 +1025,7 @@ class Results(_Table):
         and closed at its end."""
         if self._file is not None:
             return contextlib.nullcontext(self._file)
-        return _opened(self.path)
+        return _reading(self.path)
 
     @property
     def kind(self) -> str:
@@ -749,7 +1047,7 @@ class Results(_Table):
             if source is None:
                 holding = (group for _, group in sorted(file[CASES_GROUP].items()))
                 source = next((group[GRID_GROUP] for group in holding if GRID_GROUP in group), None)
-            return _grid_group("grid", source, self)
+            return _grid_group("grid", source, self.path)
 
     @property
     def case_ids(self) -> list[str]:
@@ -766,6 +1064,156 @@ class Results(_Table):
         """The summary table (:func:`engine.load_summary`): a :class:`pandas.DataFrame`, one
         row per case, units in ``docs/reference/outputs.md``."""
         return load_summary(self.path)
+
+    @classmethod
+    def from_values(
+        cls,
+        name: str,
+        study: dict,
+        cases: list[ResultCase],
+        grid_x: np.ndarray | None = None,
+        grid_y: np.ndarray | None = None,
+        path: str | Path = "memory.h5",
+    ) -> Results:
+        """Results of values in memory (no file), as the figures and the report take them:
+        the resolved ``study`` (a dict of sections), the completed ``cases``
+        (:meth:`ResultCase.from_values`) and the grid's coordinates (mm)."""
+        results = cls(Path(path), name, study, "", {case.case_id: case.status for case in cases})
+        results._items = {case.case_id: case for case in cases}
+        for case in cases:
+            case.results = results
+        axes = {"x": grid_x, "y": grid_y}
+        results.grid = _in_memory(
+            "grid", {axis: values for axis, values in axes.items() if values is not None}, "mm"
+        )
+        for case in cases:
+            case.__dict__.setdefault("grid", results.grid)
+        return results
+
+    # ---------------------------------------------------------- what the analyses derive
+    @property
+    def skipped(self) -> list[tuple[str, str]]:
+        """(case id, status) of every case that did not complete, by case id."""
+        return sorted(
+            (case_id, status)
+            for case_id, status in self.statuses.items()
+            if status != CaseStatus.COMPLETED
+        )
+
+    @property
+    def grid_x(self) -> np.ndarray:
+        """x of the element centres (mm): ``grid["x"]``'s values (empty without a grid)."""
+        return self.grid["x"].values if "x" in self.grid else np.zeros(0)
+
+    @property
+    def grid_y(self) -> np.ndarray:
+        """y of the element centres (mm): ``grid["y"]``'s values (empty without a grid)."""
+        return self.grid["y"].values if "y" in self.grid else np.zeros(0)
+
+    @property
+    def loading_kind(self):
+        """The study's loading kind (:data:`engine.study.kinds.KINDS`)."""
+        return KINDS[self.kind]
+
+    def kind_hook(self, name: str):
+        """The analysis function the loading kind names for ``name`` ("report",
+        "figures"): its ``"module:function"`` attribute, imported now."""
+        module, _, function = getattr(self.loading_kind, name).partition(":")
+        return getattr(importlib.import_module(module), function)
+
+    @property
+    def is_cyclic(self) -> bool:
+        """The radial cyclic kind (``kind = "cyclic"``); fretting studies: :attr:`is_fretting`."""
+        return self.kind == "cyclic"
+
+    @property
+    def is_fretting(self) -> bool:
+        """Tangential fretting (``kind = "fretting"``): load cycles and wear too."""
+        return self.kind == "fretting"
+
+    @property
+    def load_unit(self) -> str:
+        """Unit of the load and the tangential force: N (a line contact's: N/mm)."""
+        return self.profile.load_unit
+
+    def per_contact(self, unit: str) -> str:
+        """``unit`` (N, mJ, mm³ …) in this study's contact: a line contact's forces,
+        energies, areas and volumes per unit length (:func:`engine.schema.contact_units`)."""
+        return contact_units(unit, self.profile.is_line)
+
+    @property
+    def profile(self):
+        """The punch profile (:data:`engine.geometry.PROFILES`) of the study."""
+        return profile_from_table(self.study["punch"])
+
+    @property
+    def radius(self) -> float:
+        """a0 (mm), the profile's contact length at the load: the punch radius (rounded: of
+        the flat face); for a sphere, Hertz's contact radius; for a line contact the nominal
+        half-width (the summary's p0 uses the same a0)."""
+        return float(self.profile.contact_length(self.load, self.material.contact_modulus))
+
+    @property
+    def load(self) -> float:
+        """Peak normal load P (N)."""
+        return float(self.study["loading"]["load"])
+
+    @property
+    def p0(self) -> float:
+        """The summary's mean pressure p0 (MPa): P/(π a0²), Eq. (19); a line contact's
+        P/(2 a0)."""
+        return float(self.profile.mean_pressure(self.load, self.radius))
+
+    @property
+    def material(self) -> MaterialPair:
+        """The material pair of ``[material]`` (moduli in MPa)."""
+        m = self.study["material"]
+        return MaterialPair(m["E_A"], m["nu_A"], m["E_B"], m["nu_B"])
+
+    @property
+    def mesh_label(self) -> str:
+        n = self.study["mesh"]["n"]
+        if self.profile.is_line:
+            return f"{n} elements along x"  # a line contact (plane strain)
+        return f"{n}×{n} mesh"
+
+    @property
+    def isotropic(self) -> bool:
+        """Whether every completed case is isotropic (μ1 = μ2, k1 = k2)."""
+        return all(case.isotropic for case in self.completed)
+
+    def for_case(self, case_id: str) -> Results:
+        """The study reduced to the completed case ``case_id``, with that case's values of the
+        swept dotted keys in ``study`` (so a0, P, p0 and the mesh are its own) and its grid.
+
+        Raises
+        ------
+        ValueError
+            Naming the case and the completed ones when it is not among them.
+        """
+        if self.statuses.get(case_id) != CaseStatus.COMPLETED:
+            skipped = dict(self.skipped)
+            why = f"its status is {skipped[case_id]!r}" if case_id in skipped else "no such case"
+            completed = [key for key, status in self.statuses.items() if status == "completed"]
+            known = ", ".join(completed[:8])
+            more = ", …" if len(completed) > 8 else ""
+            raise ValueError(
+                f"{self.path}: case {case_id!r} cannot be plotted ({why}); completed cases: "
+                f"{known}{more}"
+            )
+        case = self[case_id]
+        study = copy.deepcopy(self.study)
+        for key, value in case.settings.items():
+            section, name = key.split(".", 1)
+            study.setdefault(section, {})[name] = value
+            study.get("sweep", {}).pop(key, None)
+        view = copy.copy(self)
+        view.__dict__.pop("summary", None)
+        view.name, view.study, view._file = f"{self.name} {case_id}", study, None
+        view.statuses, view._items = {case_id: self.statuses[case_id]}, {case_id: case}
+        if case.grid:
+            view.grid = case.grid
+        return view
 
     def __getitem__(self, case_id: str) -> ResultCase:
         if case_id not in self.statuses:

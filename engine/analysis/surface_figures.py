@@ -61,7 +61,7 @@ def _drawn_columns(ensemble, line: bool) -> list[tuple[str, str, float, str]]:
 def surface_figures(study):
     """(file name, figure) of the figures of the module docstring; nothing without
     ``[surface]``."""
-    if "surface" not in study.config:
+    if "surface" not in study.study:
         return
 
     summary = load_summary(study.path)

@@ -13,7 +13,7 @@ from engine.output.summary import load_summary
 
 from .markdown import measured_on, replace_block
 from .names import value_text
-from .reader import read_results
+from .results import open_results
 
 __all__ = ["surface_report"]
 
@@ -42,7 +42,7 @@ def _cell(row, column: str, scale: float, form: str) -> str:
 
 def surface_report(study) -> str:
     """The Markdown table (empty text when the study does not sweep ``surface.seed``)."""
-    if "surface" not in study.config or SEED not in study.swept_keys:
+    if "surface" not in study.study or SEED not in study.swept_keys:
         return ""
 
     ensemble = ensemble_frame(load_summary(study.path))
@@ -71,7 +71,7 @@ def main(argv=None) -> int:
     parser.add_argument("results")
     parser.add_argument("--update", metavar="DOC.md")
     args = parser.parse_args(argv)
-    study = read_results(args.results)
+    study = open_results(args.results)
     text = surface_report(study)
     if not text:
         parser.error(f"{args.results}: the study does not sweep {SEED}")

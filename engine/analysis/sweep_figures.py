@@ -33,7 +33,7 @@ from engine.output.ensemble import SEED
 from engine.output.summary import column_unit, load_summary
 
 from .names import key_label, key_title
-from .reader import StudyResults
+from .results import Results
 from .sweep_report import _completed, _groups
 
 __all__ = [
@@ -197,7 +197,7 @@ def sweep_figure(summary: pd.DataFrame, key: str, swept: list[str], title: str, 
     return figure
 
 
-def sweep_figures(study: StudyResults):
+def sweep_figures(study: Results):
     """(file name, figure) of ``sweep_<key>.png`` for every swept dotted key, one at a time.
     None for a study sweeping ``surface.seed``: its seeds are realisations, not a parameter,
     and :mod:`.surface_figures` draws the means over them with their bands against the

@@ -110,7 +110,7 @@ class LoadingKind:
 
     #: ``"module:function"`` of its report, ``report(study, cycles) -> str`` (Markdown),
     #: and figures, ``figures(study) -> iterator of (file name, figure)``, in the analysis
-    #: layer (``study``: engine.analysis.reader.StudyResults).
+    #: layer (``study``: engine.analysis.results.Results).
     report: ClassVar[str] = "engine.analysis.report:standard_report"
     figures: ClassVar[str] = "engine.analysis.figures:static_figures"
     #: Its figures are drawn per case, each with its own a0 and p0 (no shared normalisation).
