@@ -42,7 +42,6 @@ from .increment import (
     STICK,
     ContactState,
     CoupledSolution,
-    Deferred,
     IncrementProblem,
     IncrementResult,
     SolveReport,
@@ -206,7 +205,7 @@ class ContactSolver:
         else:
             solution = solve_alternating(problem, load, state, guess)
         matvecs = self.operator.applications - start
-        if isinstance(solution.displacement, Deferred) and self.material.coupling != 0.0:
+        if callable(solution.displacement) and self.material.coupling != 0.0:
             matvecs += 1  # its tangential displacement's, made when first read
         return self._result(problem, solution, matvecs)
 
@@ -235,7 +234,7 @@ class ContactSolver:
             pressure=normal.pressure,
             traction_x=zeros,
             traction_y=zeros.copy(),
-            displacement=Deferred(lambda: operator.coupling_to_tangential(pressure)),
+            displacement=lambda: operator.coupling_to_tangential(pressure),
             approach=normal.approach,
             iterations=normal.iterations,
             residual=normal.residual,
@@ -248,17 +247,20 @@ class ContactSolver:
         new_state = ContactState(
             zeros, zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy(), float(gap_free.min())
         )
-        return IncrementResult(
+        result = IncrementResult(
             pressure=zeros,
             traction_x=zeros.copy(),
             traction_y=zeros.copy(),
-            _slip=Deferred.known((zeros.copy(), zeros.copy())),
             status=np.zeros(self.grid.shape, dtype=np.int8),
             approach=new_state.approach,
             load=0.0,
             report=SolveReport.unloaded(),
             state=new_state,
+            slip_reference=problem.slip_reference,
+            in_contact=np.zeros(self.grid.shape, dtype=bool),
         )
+        result.slip = (zeros.copy(), zeros.copy())
+        return result
 
     def _status(self, pressure, traction_x, traction_y) -> np.ndarray:
         """0 no contact, 1 stick (||q||_μ < p), 2 slip (on the ellipse to 1e-9; every
@@ -281,37 +283,31 @@ class ContactSolver:
         read if the displacement is deferred), status, load and the solve's report
         (converged against the solver's tolerance, the method's message)."""
         pressure = solution.pressure
-        in_contact = pressure > 0.0
         displacement = solution.displacement
-        if not isinstance(displacement, Deferred):
-            displacement = Deferred.known(displacement)
-        reference = problem.slip_reference
-
-        def slip():
-            u, u_ref = displacement.get(), reference
-            return (
-                np.where(in_contact, u[0] - u_ref[0], 0.0),
-                np.where(in_contact, u[1] - u_ref[1], 0.0),
-            )
-
         report = SolveReport.judge(
             solution.method, solution.iterations, matvecs, solution.residual, self.tol
         )
         approach = float(solution.approach)
-        new_state = ContactState.deferred(
-            pressure, solution.traction_x, solution.traction_y, displacement, approach
-        )
-        return IncrementResult(
+        tractions = (pressure, solution.traction_x, solution.traction_y)
+        if callable(displacement):
+            new_state = ContactState.deferred(*tractions, displacement, approach)
+        else:
+            new_state = ContactState(*tractions, displacement[0], displacement[1], approach)
+        result = IncrementResult(
             pressure=pressure,
             traction_x=solution.traction_x,
             traction_y=solution.traction_y,
-            _slip=Deferred(slip) if not displacement.done else Deferred.known(slip()),
             status=self._status(pressure, solution.traction_x, solution.traction_y),
             approach=approach,
             load=float(pressure.sum() * self.grid.element_area),
             report=report,
             state=new_state,
+            slip_reference=problem.slip_reference,
+            in_contact=pressure > 0.0,
         )
+        if new_state.displacement_known:
+            result.slip  # noqa: B018 - made now, from the displacement at hand
+        return result
 
 
 def with_friction(solver: ContactSolver, friction: FrictionLaw) -> ContactSolver:

@@ -15,7 +15,7 @@ the reported slip read it from there. A rigid tangential displacement of the pun
 enter here and nowhere else.
 
 A frictionless solve does not need the tangential displacement of its pressure (A_xz p,
-A_yz p: zero on an uncoupled material) nor the slip it makes: both are ``Deferred``,
+A_yz p: zero on an uncoupled material) nor the slip it makes: both are cached properties,
 computed on their first read (the reported slip, the next increment's slip reference, a
 checkpoint) by the same operations as an eager computation, so with the same bits.
 """
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Generic, TypeVar
+from functools import cached_property
 
 import numpy as np
 
@@ -34,52 +34,14 @@ from .friction import FrictionLaw
 
 NO_CONTACT, STICK, SLIP = 0, 1, 2  # status codes of an element
 
-Values = TypeVar("Values")
-
-
-class Deferred(Generic[Values]):
-    """Values computed on their first read (``get``) and kept; ``Deferred.known``: values
-    at hand. The computation is dropped once done (what it held is released)."""
-
-    __slots__ = ("_compute", "_values")
-
-    def __init__(self, compute: Callable[[], Values]):
-        self._compute: Callable[[], Values] | None = compute
-        self._values: Values | None = None
-
-    @classmethod
-    def known(cls, values: Values) -> Deferred[Values]:
-        deferred = cls(None)
-        deferred._values = values
-        return deferred
-
-    @property
-    def done(self) -> bool:
-        """Whether the values exist (given, or computed by a read)."""
-        return self._compute is None
-
-    def get(self) -> Values:
-        if self._compute is not None:
-            self._values = self._compute()
-            self._compute = None
-        return self._values
-
-    def __reduce__(self):
-        """Pickled as its values (computed first: the computation holds an operator)."""
-        return Deferred.known, (self.get(),)
-
-
-def _component(deferred: str, index: int, doc: str) -> property:
-    """A read-only attribute: component ``index`` of the ``Deferred`` named ``deferred``."""
-    return property(lambda self: getattr(self, deferred).get()[index], doc=doc)
-
 
 class ContactState:
     """Converged tractions of an increment (MPa), the relative tangential surface
     displacement they produce (mm) and the approach (mm); the start of the next increment.
 
     ``ContactState.deferred``: the displacement computed on its first read (that of a
-    frictionless solve's pressure, which the solve does not need)."""
+    frictionless solve's pressure, which the solve does not need); a pickled state carries
+    it computed (the computation holds the operator)."""
 
     def __init__(
         self,
@@ -93,8 +55,9 @@ class ContactState:
         self.pressure = pressure
         self.traction_x = traction_x
         self.traction_y = traction_y
-        self._displacement = Deferred.known((displacement_x, displacement_y))
+        self.displacement = (displacement_x, displacement_y)
         self.approach = approach
+        self._compute_displacement: Callable[[], tuple] | None = None
 
     @classmethod
     def deferred(
@@ -102,16 +65,40 @@ class ContactState:
         pressure: np.ndarray,
         traction_x: np.ndarray,
         traction_y: np.ndarray,
-        displacement: Deferred,
+        compute_displacement: Callable[[], tuple],
         approach: float,
     ) -> ContactState:
-        """A state whose displacement ``displacement.get()`` (u_x, u_y) is read when needed."""
+        """A state whose displacement ``compute_displacement()`` (u_x, u_y) is made when
+        first read."""
         state = cls(pressure, traction_x, traction_y, None, None, approach)
-        state._displacement = displacement
+        del state.displacement
+        state._compute_displacement = compute_displacement
         return state
 
-    displacement_x = _component("_displacement", 0, "u_x (mm), made on the first read")
-    displacement_y = _component("_displacement", 1, "u_y (mm), made on the first read")
+    @cached_property
+    def displacement(self) -> tuple[np.ndarray, np.ndarray]:
+        """(u_x, u_y) (mm): given, or made on the first read of a deferred state."""
+        compute, self._compute_displacement = self._compute_displacement, None
+        return compute()
+
+    @property
+    def displacement_known(self) -> bool:
+        """Whether the displacement exists (given, or made by a read)."""
+        return "displacement" in self.__dict__
+
+    @property
+    def displacement_x(self) -> np.ndarray:
+        """u_x (mm), made on the first read of a deferred state."""
+        return self.displacement[0]
+
+    @property
+    def displacement_y(self) -> np.ndarray:
+        """u_y (mm), made on the first read of a deferred state."""
+        return self.displacement[1]
+
+    def __getstate__(self) -> dict:
+        """The state with its displacement made (the computation is not pickled)."""
+        return {**self.__dict__, "displacement": self.displacement, "_compute_displacement": None}
 
     def __repr__(self) -> str:
         return f"ContactState(approach={self.approach!r}, shape={np.shape(self.pressure)})"
@@ -184,20 +171,39 @@ class IncrementResult:
     """Outcome of one increment. Fields (n_x, n_y): pressure, traction_x, traction_y (MPa);
     slip_x, slip_y: slip increment Δs in contact (mm); status: 0 no contact, 1 stick, 2 slip.
     approach δ (mm), load P (N); ``report``: the :class:`SolveReport` (iterations, operator
-    applications, residual, converged, message); ``state``: the start of the next increment."""
+    applications, residual, converged, message); ``state``: the start of the next increment.
+    The slip Δs = u_t − u_t^ref on the elements ``in_contact`` (u_t: the state's
+    displacement, u_t^ref: ``slip_reference``, (2, n_x, n_y) mm) is made on its first read."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
     traction_y: np.ndarray
-    _slip: Deferred = field(repr=False)  # (slip_x, slip_y), computed on the first read
     status: np.ndarray
     approach: float
     load: float
     report: SolveReport
     state: ContactState = field(repr=False)
+    slip_reference: np.ndarray = field(repr=False)
+    in_contact: np.ndarray = field(repr=False)
 
-    slip_x = _component("_slip", 0, "Δs_x (mm), made on the first read")
-    slip_y = _component("_slip", 1, "Δs_y (mm), made on the first read")
+    @cached_property
+    def slip(self) -> tuple[np.ndarray, np.ndarray]:
+        """(Δs_x, Δs_y) (mm), zero out of contact; made on the first read."""
+        u, u_ref, in_contact = self.state.displacement, self.slip_reference, self.in_contact
+        return (
+            np.where(in_contact, u[0] - u_ref[0], 0.0),
+            np.where(in_contact, u[1] - u_ref[1], 0.0),
+        )
+
+    @property
+    def slip_x(self) -> np.ndarray:
+        """Δs_x (mm), made on the first read."""
+        return self.slip[0]
+
+    @property
+    def slip_y(self) -> np.ndarray:
+        """Δs_y (mm), made on the first read."""
+        return self.slip[1]
 
     def stick_area(self, element_area: float) -> float:
         return float(np.count_nonzero(self.status == STICK) * element_area)
@@ -255,14 +261,14 @@ class IncrementProblem:
 class CoupledSolution:
     """What a method found for the increment: ``pressure``, ``traction_x``, ``traction_y``
     (MPa); ``displacement`` (2, n_x, n_y): the tangential displacements u_t = (A x)_t (mm)
-    of these tractions, or a ``Deferred`` of them (a frictionless solve's); ``approach``
+    of these tractions, or a function that makes them (a frictionless solve's); ``approach``
     δ (mm); ``iterations``; ``residual`` (relative natural residual); ``method``: the name
     of the method that finished the increment (it begins the message)."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
     traction_y: np.ndarray
-    displacement: np.ndarray | Deferred
+    displacement: np.ndarray | Callable[[], tuple]
     approach: float
     iterations: int
     residual: float
