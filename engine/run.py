@@ -58,7 +58,7 @@ from engine.output.writers import open_writer
 from engine.parallel.scheduler import Scheduler
 from engine.parallel.serial import any_rank
 from engine.parallel.waiting import patient_bcast, patient_gather
-from engine.preparation import Prepared, RunOptions, decide, study_metadata
+from engine.preparation import Prepared, RunOptions, Verdict, decide, study_metadata
 from engine.run_outcome import RUN_STATUSES, StudyError, StudyRun
 from engine.schema import CaseStatus
 from engine.searching import prepare_searches
@@ -185,8 +185,9 @@ def _run(comm, study, options: RunOptions, command_line: str, stop_event) -> Stu
         if rank == 0 and prepared.existing is not None:
             for note in prepared.existing.notes(drop_stale=options.drop_stale):
                 LOGGER.info(note)
-        outcome = _compute(comm, prepared, options, command_line, stop_event, peers)
-        return patient_bcast(comm, dataclasses.replace(run, **outcome) if rank == 0 else None)
+        return patient_bcast(
+            comm, _compute(comm, prepared, options, command_line, stop_event, peers, run)
+        )
     finally:
         for lock in locks:
             lock.release()
@@ -220,11 +221,12 @@ def _dry_run(prepared: Prepared, options: RunOptions, comm) -> StudyRun:
 
 def _settle_existing(
     prepared: Prepared, options: RunOptions, command_line: str, stop_event
-) -> bool:
+) -> Verdict:
     """Rank 0, under the lock: fresh removes the old outputs; a damaged file is salvaged or
     moved aside (engine.output.salvage, the copy in a child process that ``stop_event``
-    ends). False when a stop ended the salvage (nothing was changed); the message of
-    :class:`engine.output.space.OutputFull` when the disk has no room for the salvage."""
+    ends). The verdict "ok"; "stopped" when a stop ended the salvage (nothing was changed);
+    "output-full" (the message of :class:`engine.output.space.OutputFull`) when the disk has
+    no room for the salvage."""
     config = prepared.config
     if options.fresh:
         remove_outputs(config.study.output, config.study.checkpoint_dir)
@@ -238,13 +240,15 @@ def _settle_existing(
                 should_stop=stop_event.is_set,
             )
         except IsolatedCallStopped:
-            return False
+            return Verdict("stopped")
         except OutputFull as full:
-            return str(full)
-    return True
+            return Verdict("output-full", message=str(full))
+    return Verdict("ok")
 
 
-def _compute(comm, prepared: Prepared, options: RunOptions, command_line, stop_event, peers):
+def _compute(
+    comm, prepared: Prepared, options: RunOptions, command_line, stop_event, peers, run: StudyRun
+) -> StudyRun | None:
     """Every rank: open this rank's writer for the strategy (engine.output.writers.open_writer),
     prepare the file (rank 0 alone, or every rank for mpio), run the scheduler, close.
 
@@ -266,16 +270,16 @@ def _compute(comm, prepared: Prepared, options: RunOptions, command_line, stop_e
         should_stop=stop_event.is_set,
     )
     scheduler = Scheduler(comm, writer.computing(runner), stop_event=stop_event, peers=peers)
-    searches, settled = None, True
+    searches, settled = None, None
     if rank == 0:
         settled = _settle_existing(prepared, options, command_line, stop_event)
     settled = patient_bcast(comm, settled)  # every rank, before the writer's first collective
-    if isinstance(settled, str):  # no room to salvage the damaged file: nothing changed
-        return {"status": "output-full", "message": settled}
-    if not settled:
+    if settled.status == "output-full":  # no room to salvage the damaged file: nothing changed
+        return _ended(run, "output-full", settled.message)
+    if settled.status == "stopped":
         if rank == 0:
             LOGGER.warning("stopped while salvaging the damaged file; nothing changed")
-        return {"status": "interrupted", "message": "stopped while salvaging"}
+        return _ended(run, "interrupted", "stopped while salvaging")
     if rank == 0:
         if config.search is not None:  # engine.searching: the cases known so far
             searches = prepare_searches(config, plan, fresh=options.fresh)
@@ -289,12 +293,12 @@ def _compute(comm, prepared: Prepared, options: RunOptions, command_line, stop_e
             if not writer.collective:
                 scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
                 _check_shares(comm, config, None)  # nothing written: nothing to read back
-        return {"status": "interrupted", "message": str(stopped)}
+        return _ended(run, "interrupted", str(stopped))
     except OutputFull as full:  # the single writer's rank 0 (mpio raises on every rank)
         if not writer.collective:
             scheduler.run([], lambda outcome: None)  # tell the waiting workers to exit
             _check_shares(comm, config, None)
-        return {"status": "output-full", "message": str(full)}
+        return _ended(run, "output-full", str(full))
     with writer:
         if rank == 0:
             todo = plan.dispatch_order(skip=completed) if searches is None else searches.todo
@@ -314,8 +318,8 @@ def _compute(comm, prepared: Prepared, options: RunOptions, command_line, stop_e
     write_ensemble(config, writer.rows())  # [surface] sweeping surface.seed: NAME_ensemble.csv
     if writer.closing_note() is not None:
         LOGGER.info(writer.closing_note())
-    outcome = _report(config, [row["status"] for row in writer.rows()], report)
-    return _check_results(comm, config, writer, todo, outcome)
+    ended = _report(config, [row["status"] for row in writer.rows()], report, run)
+    return _check_results(comm, config, writer, todo, ended)
 
 
 def _check_shares(comm, config, written: list[str] | None = None) -> list:
@@ -333,13 +337,13 @@ def _check_shares(comm, config, written: list[str] | None = None) -> list:
     return [check for checks in everyone for check in checks] if rank == 0 else []
 
 
-def _check_results(comm, config, writer, todo, outcome: dict[str, Any]) -> dict[str, Any]:
+def _check_results(comm, config, writer, todo, run: StudyRun) -> StudyRun:
     """A run never reports success while a case it counts as complete cannot be read: the
     cases it wrote are read back by every rank (:func:`_check_shares`; the others were
     verified when it began). A full disk ends the run as ``"output-full"``."""
     if writer.full is not None:  # the command line prints the message
         _check_shares(comm, config, None)  # the workers wait for the list
-        return {**outcome, "status": "output-full", "message": str(writer.full)}
+        return _ended(run, "output-full", str(writer.full))
     ran = {case.case_id for case in todo}
     written = {
         row["case_id"]
@@ -348,14 +352,14 @@ def _check_results(comm, config, writer, todo, outcome: dict[str, Any]) -> dict[
     }
     bad = _check_shares(comm, config, sorted(written))
     if not bad:
-        return outcome
+        return run
     shown = "; ".join(f"{check.case_id}: {check.problem}" for check in bad[:5])
     message = (
         f"{config.study.output} cannot be read back after writing ({shown}); rerun to "
         "recompute those cases"
     )
     LOGGER.error("error: %s", message)
-    return {**outcome, "status": "damaged", "message": message}
+    return _ended(run, "damaged", message)
 
 
 def _announce(config, plan, completed, todo, ranks: int, suffix: str = "") -> None:
@@ -428,8 +432,8 @@ def _remove_empty_checkpoint_dir(config) -> None:
         config.study.checkpoint_dir.rmdir()
 
 
-def _report(config, statuses: list[str], report) -> dict[str, Any]:
-    """The closing line (INFO); the computed fields of the StudyRun."""
+def _report(config, statuses: list[str], report, run: StudyRun) -> StudyRun:
+    """The closing line (INFO); ``run`` with what the computation decided."""
     failed = statuses.count(CaseStatus.FAILED)
     done = statuses.count(CaseStatus.COMPLETED)
     LOGGER.info(
@@ -438,9 +442,11 @@ def _report(config, statuses: list[str], report) -> dict[str, Any]:
         f"{report.wall_time_s:.1f} s; summary {config.study.summary_path}"
     )
     status = "interrupted" if report.stopped else ("failed" if failed else "completed")
-    return {
-        "status": status,
-        "completed": done,
-        "failed": failed,
-        "wall_time_s": float(report.wall_time_s),
-    }
+    return dataclasses.replace(
+        run, status=status, completed=done, failed=failed, wall_time_s=float(report.wall_time_s)
+    )
+
+
+def _ended(run: StudyRun, status: str, message: str) -> StudyRun:
+    """``run`` ended as ``status`` (a member of ``RUN_STATUSES``), ``message`` saying why."""
+    return dataclasses.replace(run, status=status, message=message)
