@@ -315,7 +315,20 @@ def _values_method(name: str):
         return getattr(np.asarray(self.values), name)(*args, **kwargs)
 
     method.__name__ = name
-    method.__doc__ = f"``values.{name}(…)``."
+    method.__doc__ = f"""NumPy's ``ndarray.{name}`` on the values.
+
+        Parameters
+        ----------
+        *args
+            As for ``numpy.ndarray.{name}``.
+        **kwargs
+            As for ``numpy.ndarray.{name}``.
+
+        Returns
+        -------
+        numpy.ndarray or scalar
+            What ``values.{name}(*args, **kwargs)`` gives.
+        """
     return method
 
 
@@ -394,7 +407,16 @@ class Plane(VariableGroup):
     None when the file holds none: zeros); ``von_mises`` (MPa), same shape. ``s`` =
     x cos φ + y sin φ: the signed distance along the plane (= x on the x–z plane). ``depths``:
     the evaluated depths (mm); ``depths[0]`` is the surface layer (see
-    :func:`engine.solvers.subsurface.depth_layers`).
+    ``engine.solvers.subsurface.depth_layers``).
+
+    Parameters
+    ----------
+    name : str
+        What the group holds, e.g. ``"cases/<case_id>/subsurface/final"``.
+    variables : dict
+        Name → :class:`Variable`: at least ``x``, ``z`` and ``von_mises``.
+    attrs : dict, optional
+        ``plane_angle``: φ (degrees).
     """
 
     @classmethod
@@ -407,8 +429,26 @@ class Plane(VariableGroup):
         angle: float = 0.0,
         name: str = "plane",
     ) -> Plane:
-        """A plane of values in memory (``x``, ``z``, ``von_mises`` and ``y``: shape
-        ``(n_s, n_z)``, mm and MPa; ``angle``: φ, degrees)."""
+        """A plane of values in memory.
+
+        Parameters
+        ----------
+        x, z : numpy.ndarray
+            Coordinates of the points (mm), shape ``(n_s, n_z)``; z into the half-space.
+        von_mises : numpy.ndarray
+            σ_VM (MPa), same shape.
+        y : numpy.ndarray, optional
+            y of the points (mm), same shape (None: the x–z plane).
+        angle : float
+            φ (degrees from x).
+        name : str
+            The group's name.
+
+        Returns
+        -------
+        Plane
+            The plane, its values on the dimensions ``s`` and ``depth``.
+        """
         arrays = {"x": x, "y": y, "z": z, "von_mises": von_mises}
         variables = {
             key: Variable(key, np.asarray(values), PLANE[key].units, "", ("s", "depth"))
@@ -456,9 +496,20 @@ class Plane(VariableGroup):
 
     def on_edge(self, min_depth: float = 0.0) -> str:
         """Where the largest σ_VM over z >= ``min_depth`` touches the computed domain's
-        boundary: "side" (the plane's outermost column, the mesh's edge), "bottom" (its
-        deepest layer) or "" (inside). A peak there may lie beyond the domain: the real
-        maximum is not known (widen ``[mesh] half_width`` or deepen ``[subsurface] depth``)."""
+        boundary. A peak there may lie beyond the domain: the real maximum is not known
+        (widen ``[mesh] half_width`` or deepen ``[subsurface] depth``).
+
+        Parameters
+        ----------
+        min_depth : float
+            Points with z >= min_depth (mm) only.
+
+        Returns
+        -------
+        str
+            "side" (the plane's outermost column, the mesh's edge), "bottom" (its deepest
+            layer), "side and bottom" or "" (inside).
+        """
         column, layer = self._index(min_depth)
         places = []
         if column in (0, self.von_mises.shape[0] - 1):
@@ -468,19 +519,46 @@ class Plane(VariableGroup):
         return " and ".join(places)
 
     def peak(self, min_depth: float = 0.0) -> tuple[float, float, float]:
-        """(σ_VM, s, z) of the largest von Mises stress over the points with z >= min_depth
-        (s: along the plane, = x on the x–z plane)."""
+        """The largest von Mises stress over the points with z >= ``min_depth`` and where it is.
+
+        Parameters
+        ----------
+        min_depth : float
+            Points with z >= min_depth (mm) only.
+
+        Returns
+        -------
+        tuple of float
+            (σ_VM in MPa, s in mm, z in mm); s along the plane (= x on the x–z plane).
+        """
         index = self._index(min_depth)
         return float(self.von_mises[index]), float(self.s[index]), float(self.z[index])
 
     def peak_point(self, min_depth: float = 0.0) -> tuple[float, float, float, float]:
-        """(σ_VM, x, y, z) of the largest von Mises stress over the points with z >= min_depth."""
+        """The largest von Mises stress over the points with z >= ``min_depth`` and its point.
+
+        Parameters
+        ----------
+        min_depth : float
+            Points with z >= min_depth (mm) only.
+
+        Returns
+        -------
+        tuple of float
+            (σ_VM in MPa, x, y, z in mm).
+        """
         index = self._index(min_depth)
         y = 0.0 if self.y is None else float(self.y[index])
         return float(self.von_mises[index]), float(self.x[index]), y, float(self.z[index])
 
     def axis_peak(self) -> tuple[float, float, float]:
-        """(σ_VM, s, z) of the largest von Mises stress on the punch axis (the column s ≈ 0)."""
+        """The largest von Mises stress on the punch axis (the column s ≈ 0).
+
+        Returns
+        -------
+        tuple of float
+            (σ_VM in MPa, s in mm, z in mm).
+        """
         along = self.s
         column = int(np.argmin(np.abs(along[:, 0])))
         depth = int(np.argmax(self.von_mises[column]))
@@ -491,7 +569,13 @@ class Plane(VariableGroup):
         )
 
     def subsurface_peak(self) -> tuple[float, float, float]:
-        """Peak over the layers strictly below the surface layer (z >= depths[1])."""
+        """The peak over the layers strictly below the surface layer (z >= depths[1]).
+
+        Returns
+        -------
+        tuple of float
+            (σ_VM in MPa, s in mm, z in mm), as :meth:`peak`.
+        """
         depths = self.depths
         return self.peak(float(depths[1]) if len(depths) > 1 else 0.0)
 
@@ -628,9 +712,33 @@ class ResultCase:
         results: Results | None = None,
     ) -> ResultCase:
         """A completed case of values in memory (no file), as the figures and the report
-        take it: ``parameters`` (``mu1``, ``mu2``, ``wear1``, ``wear2``, ``beta`` and any
-        swept dotted key), the ``history`` arrays by name, the ``fields`` arrays by instant
-        and name, the ``planes`` by instant (:meth:`Plane.from_arrays`)."""
+        take it.
+
+        Parameters
+        ----------
+        case_id : str
+            The case's id.
+        parameters : dict
+            ``mu1``, ``mu2``, ``wear1`` (1/MPa), ``wear2``, ``beta`` (degrees) and any swept
+            dotted key.
+        index : int
+            Its position in the plan.
+        summary : dict, optional
+            Its summary row.
+        history : dict, optional
+            History name → array (one entry per cycle or increment).
+        fields : dict, optional
+            Instant (``"final"`` or the cycle N) → field name → array ``(n_x, n_y)``.
+        planes : dict, optional
+            Instant → :class:`Plane` (:meth:`Plane.from_arrays`).
+        results : Results, optional
+            The results it belongs to.
+
+        Returns
+        -------
+        ResultCase
+            The case, status ``"completed"``.
+        """
         case = cls.__new__(cls)
         case.results, case.case_id, case.index = results, case_id, index
         case.status, case.message = CaseStatus.COMPLETED.value, ""
@@ -712,7 +820,20 @@ class ResultCase:
         return sorted(key for key in self.fields if isinstance(key, int))
 
     def history_at(self, name: str, cycle: int) -> float:
-        """History value ``name`` after exactly ``cycle`` real cycles (NaN if not simulated)."""
+        """A history's value after exactly ``cycle`` real cycles.
+
+        Parameters
+        ----------
+        name : str
+            The history (``max_wear_depth``, ``energy``, …).
+        cycle : int
+            The cycle N.
+
+        Returns
+        -------
+        float
+            Its value (NaN when that cycle was not simulated).
+        """
         cycles = self.history.get("cycle")
         if cycles is None:
             return float("nan")
@@ -1075,9 +1196,26 @@ class Results(_Table):
         grid_y: np.ndarray | None = None,
         path: str | Path = "memory.h5",
     ) -> Results:
-        """Results of values in memory (no file), as the figures and the report take them:
-        the resolved ``study`` (a dict of sections), the completed ``cases``
-        (:meth:`ResultCase.from_values`) and the grid's coordinates (mm)."""
+        """Results of values in memory (no file), as the figures and the report take them.
+
+        Parameters
+        ----------
+        name : str
+            The study's name.
+        study : dict
+            The resolved study: section → keys.
+        cases : list of ResultCase
+            The completed cases (:meth:`ResultCase.from_values`).
+        grid_x, grid_y : numpy.ndarray, optional
+            The element centres' coordinates (mm).
+        path : str or pathlib.Path
+            The path it reports as its file.
+
+        Returns
+        -------
+        Results
+            The results, every case completed.
+        """
         results = cls(Path(path), name, study, "", {case.case_id: case.status for case in cases})
         results._items = {case.case_id: case for case in cases}
         for case in cases:
@@ -1112,12 +1250,22 @@ class Results(_Table):
 
     @property
     def loading_kind(self):
-        """The study's loading kind (:data:`engine.study.kinds.KINDS`)."""
+        """The study's loading kind (the class ``engine.study.kinds.KINDS`` names)."""
         return KINDS[self.kind]
 
     def kind_hook(self, name: str):
-        """The analysis function the loading kind names for ``name`` ("report",
-        "figures"): its ``"module:function"`` attribute, imported now."""
+        """The analysis function the loading kind names for ``name``.
+
+        Parameters
+        ----------
+        name : str
+            ``"report"`` or ``"figures"``: the kind's ``"module:function"`` attribute.
+
+        Returns
+        -------
+        callable
+            That function, imported now.
+        """
         module, _, function = getattr(self.loading_kind, name).partition(":")
         return getattr(importlib.import_module(module), function)
 
@@ -1137,13 +1285,24 @@ class Results(_Table):
         return self.profile.load_unit
 
     def per_contact(self, unit: str) -> str:
-        """``unit`` (N, mJ, mm³ …) in this study's contact: a line contact's forces,
-        energies, areas and volumes per unit length (:func:`engine.schema.contact_units`)."""
+        """A unit in this study's contact.
+
+        Parameters
+        ----------
+        unit : str
+            N, mJ, mm³, …
+
+        Returns
+        -------
+        str
+            ``unit``, or for a line contact's forces, energies, areas and volumes the unit
+            per unit length (``engine.schema.contact_units``).
+        """
         return contact_units(unit, self.profile.is_line)
 
     @property
     def profile(self):
-        """The punch profile (:data:`engine.geometry.PROFILES`) of the study."""
+        """The punch profile of the study (one of ``engine.geometry.PROFILES``)."""
         return profile_from_table(self.study["punch"])
 
     @property
@@ -1183,8 +1342,18 @@ class Results(_Table):
         return all(case.isotropic for case in self.completed)
 
     def for_case(self, case_id: str) -> Results:
-        """The study reduced to the completed case ``case_id``, with that case's values of the
-        swept dotted keys in ``study`` (so a0, P, p0 and the mesh are its own) and its grid.
+        """The study reduced to one completed case.
+
+        Parameters
+        ----------
+        case_id : str
+            The case.
+
+        Returns
+        -------
+        Results
+            The case alone, with its values of the swept dotted keys in ``study`` (so a0, P,
+            p0 and the mesh are its own) and its grid.
 
         Raises
         ------
