@@ -111,6 +111,9 @@ def test_the_figures_and_the_report_read_the_same_objects(cyclic):
             assert np.array_equal(wear * 1e3, stored * 1e3)  # an array, the same bits
             assert np.array_equal(np.asarray(wear), stored) and wear[3, 4] == stored[3, 4]
             assert float(np.max(wear)) == float(stored.max()) == wear.max()
+            assert np.array_equal(wear.T, stored.T) and wear.argmax() == stored.argmax()
+            with pytest.raises(AttributeError):
+                wear.no_such_attribute  # noqa: B018 - only NumPy's array attributes pass
             plane = case.planes["final"]
             von_mises = group["subsurface/final/von_mises"][()]
             assert plane.angle == 0.0 and np.array_equal(plane.von_mises, von_mises)

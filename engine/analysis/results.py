@@ -266,6 +266,14 @@ class Variable(NDArrayOperatorsMixin):
             kwargs["out"] = tuple(_plain(value) for value in kwargs["out"])
         return getattr(ufunc, method)(*inputs, **kwargs)
 
+    def __getattr__(self, name: str):
+        """NumPy's array attributes and methods on the values (``variable.T``,
+        ``variable.max()``, …); nothing else."""
+        values = self.__dict__.get("values")
+        if name.startswith("_") or values is None or not hasattr(np.ndarray, name):
+            raise AttributeError(f"'Variable' object has no attribute {name!r}")
+        return getattr(np.asarray(values), name)
+
     def __getitem__(self, key):
         return self.values[key]
 
@@ -308,33 +316,6 @@ class Variable(NDArrayOperatorsMixin):
 
 def _plain(value):
     return value.values if isinstance(value, Variable) else value
-
-
-def _values_method(name: str):
-    def method(self, *args, **kwargs):
-        return getattr(np.asarray(self.values), name)(*args, **kwargs)
-
-    method.__name__ = name
-    method.__doc__ = f"""NumPy's ``ndarray.{name}`` on the values.
-
-        Parameters
-        ----------
-        *args
-            As for ``numpy.ndarray.{name}``.
-        **kwargs
-            As for ``numpy.ndarray.{name}``.
-
-        Returns
-        -------
-        numpy.ndarray or scalar
-            What ``values.{name}(*args, **kwargs)`` gives.
-        """
-    return method
-
-
-for _name in ("all", "any", "argmax", "argmin", "astype", "copy", "item", "max", "mean", "min",
-              "ravel", "reshape", "sum", "tolist"):  # fmt: skip
-    setattr(Variable, _name, _values_method(_name))
 
 
 class _Table(Mapping):
