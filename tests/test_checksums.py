@@ -22,9 +22,15 @@ from engine.output.checksum import (
     verify_case,
 )
 from engine.output.existing import inspect_existing, inspect_existing_isolated
-from engine.output.isolated import IsolatedCallStopped, IsolatedCallTimedOut, call_isolated
+from engine.output.isolated import (
+    PER_DATASET_S,
+    IsolatedCallStopped,
+    IsolatedCallTimedOut,
+    call_isolated,
+)
 from engine.output.salvage import apply_existing
 from engine.output.verify import EXIT_CLEAN, EXIT_DAMAGED, main, verify_file
+from tests.slow_reader import read_datasets_slowly
 from tests.test_kill_safety import completed_file, metadata, study
 
 PRESSURE = "fields/final/pressure"
@@ -178,6 +184,19 @@ def test_a_read_that_never_ends_is_stopped_by_the_time_limit_and_by_a_stop_signa
     with pytest.raises(IsolatedCallStopped):
         call_isolated(sleep_forever, should_stop=lambda: time.monotonic() > stop_at)
     assert time.monotonic() - start < 20  # 2 s + 1 s and two interpreter starts
+
+
+def test_the_time_limit_grows_with_the_datasets_read():
+    """A read of 4 s goes on past a 2 s limit while it reports datasets (each allows
+    PER_DATASET_S = 10 ms more, twice what one takes here); stuck after 0.5 s of reading
+    (about 100 datasets, 1 s more) it is cut at about 3 s, the count named."""
+    assert PER_DATASET_S >= 0.01  # the reads below take 5 ms per dataset
+    count = call_isolated(read_datasets_slowly, 4.0, time_limit=2.0)
+    assert count > 200  # fewer: the child did not read for 4 s (a sleep of 5 ms or more)
+    start = time.monotonic()
+    with pytest.raises(IsolatedCallTimedOut, match=r"\(\d+ datasets read"):
+        call_isolated(read_datasets_slowly, 0.5, True, time_limit=2.0)
+    assert time.monotonic() - start < 2.0 + 0.5 + 100 * PER_DATASET_S + 10  # start-up, load
 
 
 def test_a_file_that_cannot_be_read_in_time_is_kept_aside(tmp_path, monkeypatch):

@@ -31,6 +31,8 @@ from h5py import h5a, h5d, h5o, h5s, h5t
 
 from engine.schema import CaseStatus
 
+from .isolated import report_datasets
+
 __all__ = [
     "ROOT_CHECKSUM",
     "DamagedRoot",
@@ -154,6 +156,7 @@ def verify_case(group: h5py.Group, *, each_dataset: bool = True) -> CaseCheck:
         _read_and_compare(group, check, each_dataset)
     except Exception as error:  # noqa: BLE001 - any failure to read is damage
         check.problem = f"unreadable ({_short(error)})"
+    report_datasets(max(check.datasets, 1))  # a time limit that grows with the work done
     return check
 
 
