@@ -199,9 +199,16 @@ def test_search_targets_a_column_never_takes_are_refused():
         ("slip_regime", "sliding", "slip_regime takes only 'partial', 'gross'"),
         ("peak_region", "corner", "peak_region takes only 'edge-surface'"),
         ("matvecs", -3, "matvecs counts (≥ 0)"),
+        ("stick_fraction", 1.5, "stick_fraction is a fraction, in [0, 1]: never reached"),
+        ("stick_fraction", -0.1, "stick_fraction is a fraction"),
+        ("q_amplitude", -1.0, "q_amplitude is a size, never negative"),
+        ("vm_max", -5.0, "vm_max is a von Mises stress, never negative"),
+        ("vm_sub_max_z", -0.01, "vm_sub_max_z is a depth below the surface"),
     ):
         with pytest.raises(parsing.StudyConfigError, match=re.escape(words)):
             parse_search("s.toml", {**base, "column": column, "target": target})
+    for column, target in (("stick_fraction", 0.0), ("stick_fraction", 1.0), ("vm_max_x", -1.0)):
+        parse_search("s.toml", {**base, "column": column, "target": target})  # reachable
 
 
 def test_a_line_contact_slides_along_x_only():

@@ -545,6 +545,38 @@ SEARCH_KEYS += ("max_steps",)
 INTEGER_KEYS = ("mesh.n", "loading.steps", "loading.cycles", "subsurface.layers", "solver.maxiter")
 
 
+#: Numeric columns whose values the physics bounds: (lowest, highest, what the column is). A
+#: target outside is never reached, whatever the parameter.
+_FRACTION = (0.0, 1.0, "a fraction, in [0, 1]")
+_NONNEGATIVE = (0.0, math.inf, "a size, never negative")
+COLUMN_RANGES: dict[str, tuple[float, float, str]] = {
+    "stick_fraction": _FRACTION,
+    **dict.fromkeys(
+        (
+            "load", "p0", "max_wear_depth", "wear_volume", "contact_radius", "centre_pressure",
+            "wear_severity", "runtime_s", "q_amplitude", "displacement_amplitude",
+            "energy_per_cycle", "scar_depth", "scar_width", "scar_area", "pad_wear_depth",
+            "real_area_fraction", "largest_spot_area", "real_mean_pressure",
+            "real_peak_pressure", "rms_height", "rms_slope", "rms_height_worn", "rms_slope_worn",
+        ),
+        _NONNEGATIVE,
+    ),
+}  # fmt: skip
+
+
+def column_range(column: str) -> tuple[float, float, str] | None:
+    """(lowest, highest, why) of a numeric summary column's values, where they are bounded:
+    :data:`COLUMN_RANGES`, a von Mises stress (``vm_*``) and a depth (``vm_*_z``) never
+    negative; None for a column that can take any value (coordinates x, y, an approach)."""
+    if column in COLUMN_RANGES:
+        return COLUMN_RANGES[column]
+    if column.startswith("vm_") and column.endswith("_z"):
+        return (0.0, math.inf, "a depth below the surface, never negative")
+    if column.startswith("vm_") and not column.endswith(("_x", "_y")):
+        return (0.0, math.inf, "a von Mises stress, never negative")
+    return None
+
+
 def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> SearchSpec:
     """Validate the ``[search]`` table of a study file into a :class:`SearchSpec`; errors
     name the key and its value (:class:`~engine.study.config.StudyConfigError`)."""
@@ -590,6 +622,9 @@ def parse_search(source: str, table: Any, swept_keys: tuple[str, ...] = ()) -> S
         isinstance(target, bool) or not isinstance(target, int | float)
     ):
         raise error("target", target, f"{column} is a numeric column: the target is a number")
+    bounds = column_range(column)
+    if bounds is not None and not bounds[0] <= target <= bounds[1]:
+        raise error("target", target, f"{column} is {bounds[2]}: never reached")
     max_steps = table.get("max_steps", 60)
     if isinstance(max_steps, bool) or not isinstance(max_steps, int):
         raise error("max_steps", max_steps, "must be an integer")
