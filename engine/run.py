@@ -315,7 +315,10 @@ def _compute(
         _check_shares(comm, config)
         return None
     _remove_empty_checkpoint_dir(config)
-    write_ensemble(config, writer.rows())  # [surface] sweeping surface.seed: NAME_ensemble.csv
+    try:
+        write_ensemble(config, writer.rows())  # [surface] sweeping surface.seed: NAME_ensemble.csv
+    except OutputFull as full:  # the cases are kept; the next run writes the table
+        writer.full = writer.full or full
     if writer.closing_note() is not None:
         LOGGER.info(writer.closing_note())
     ended = _report(config, [row["status"] for row in writer.rows()], report, run)

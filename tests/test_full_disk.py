@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import h5py
 import pytest
@@ -234,3 +235,74 @@ def test_no_room_to_salvage_a_damaged_file_is_a_full_disk(tmp_path, monkeypatch)
         apply_existing(existing, plan, metadata(config), tmp_path / "r.h5.checkpoints")
     assert (tmp_path / "r.h5").read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.h5"]
+
+
+# ------------------------------------------------------------------ the other writers
+def no_space(*args, **kwargs):
+    raise OSError(errno.ENOSPC, "No space left on device")
+
+
+def test_a_calibration_stops_cleanly_when_its_contact_store_fills(tmp_path, monkeypatch):
+    """The contact store's third save finds the disk full: the run ends ``output-full``
+    naming the store, the two saved solutions kept whole (no temporary left); with space
+    the rerun completes, reusing them."""
+    import engine
+    from engine.calibration import search
+    from tests.test_calibration import write_study
+
+    study = write_study(tmp_path, {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}},
+                        tests="test,punch.radius,loading.load,Q\nA,6,185,40\n")  # fmt: skip
+    save, calls = search.ContactStore.save, []
+
+    def fills_up(store, entry, cycle):
+        calls.append(entry)
+        if len(calls) > 2:
+            return no_space()
+        return save(store, entry, cycle)
+
+    monkeypatch.setattr(search.ContactStore, "save", fills_up)
+    run = engine.run_study(study, progress=False)
+    assert run.status == "output-full", run
+    store = tmp_path / "out" / "calibrate.h5.contact"
+    assert str(store) in run.message and "rerun to resume" in run.message
+    assert len(list(store.glob("*.npz"))) == 2 and not list(store.glob(".*"))
+    monkeypatch.setattr(search.ContactStore, "save", save)
+    run = engine.run_study(study, progress=False)
+    assert run.status == "completed", run
+
+
+def test_a_calibration_whose_results_do_not_fit_stops_cleanly(tmp_path, monkeypatch):
+    """The results file finds the disk full as it is renamed into place: ``output-full``,
+    no temporary left."""
+    import engine
+    from engine.output import calibration
+    from tests.test_calibration import write_study
+
+    study = write_study(tmp_path, {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}},
+                        tests="test,punch.radius,loading.load,Q\nA,6,185,40\n")  # fmt: skip
+    monkeypatch.setattr(calibration, "os", SimpleNamespace(replace=no_space))  # this module's
+    run = engine.run_study(study, progress=False)
+    assert run.status == "output-full", run
+    assert "calibrate.h5: no space left" in run.message
+    assert not [path.name for path in (tmp_path / "out").glob(".*")]
+
+
+def test_an_ensemble_table_that_does_not_fit_stops_cleanly(tmp_path, monkeypatch):
+    """A ``[surface]`` study sweeping seeds: its ensemble CSV finds the disk full after the
+    cases completed: ``output-full`` (exit 5), the results file whole, no temporary left."""
+    import engine
+    from engine.output import ensemble
+
+    text = study_toml(
+        "rough", "rough.h5", mesh={"n": 16}, loading={"kind": "static", "steps": 1},
+        surface={"kind": "self_affine", "hurst": 0.8, "short_cutoff": 0.5,
+                 "long_cutoff": 2.0, "rms_slope": 0.01},
+        sweep={"mu1": [0.3], "surface.seed": [1, 2]},
+    )  # fmt: skip
+    (tmp_path / "rough.toml").write_text(text)
+    monkeypatch.setattr(ensemble, "os", SimpleNamespace(replace=no_space))  # this module's
+    monkeypatch.chdir(tmp_path)
+    run = engine.run_study(tmp_path / "rough.toml", progress=False)
+    assert run.status == "output-full", run
+    assert "no space left" in run.message
+    assert not [path.name for path in tmp_path.glob(".*")]

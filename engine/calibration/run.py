@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from engine.output.calibration import calibration_csv_path, write_calibration
+from engine.output.space import OutputFull
 from engine.study.calibrate import TARGET_KEY
 from engine.study.operators import OperatorCache
 from engine.study.outcome import CaseContext
@@ -244,9 +245,15 @@ def run_calibration(config, *, comm, stop_event=None, fresh: bool = False) -> Ca
     results = searches.run(list(spec.tests), fit.values, len(log))
     rows = [_row(problem, test, results[test.id]) for test in spec.tests]
     outcome = CalibrationResult(rows, fit, log, searches.solves, time.perf_counter() - start)
+    full = None  # rank 0: the results did not fit on the disk (every rank learns it)
     if rank == 0:
-        write_calibration(config, outcome, store, problem.store_name)
-    comm.Barrier()
+        try:
+            write_calibration(config, outcome, store, problem.store_name)
+        except OutputFull as error:
+            full = (str(error.path), error.needed, error.free)
+    full = comm.bcast(full, root=0)
+    if full is not None:
+        raise OutputFull(Path(full[0]), full[1], full[2])
     return outcome
 
 
@@ -293,6 +300,8 @@ def calibrate(comm, config, run, options, stop_event):
         if rank == 0:
             LOGGER.warning(message)
         return dataclasses.replace(run, status="interrupted", message=message)
+    except OutputFull as full:  # on every rank alike; the command line prints the message
+        return dataclasses.replace(run, status="output-full", message=str(full))
     if rank == 0:
         LOGGER.info(describe(outcome))
     converged = sum(row["status"] == SearchStatus.CONVERGED for row in outcome.rows)

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from engine.output.space import OutputFull, free_bytes, is_no_space
 from engine.parallel.serial import any_rank
 from engine.study.search import Search, SearchSpec, SearchStatus, StepFailure
 
@@ -105,6 +106,8 @@ class ContactStore:
         return self.directory / f"{hashlib.sha256(text).hexdigest()[:24]}.npz"
 
     def save(self, entry: StoreEntry, cycle: ContactCycle) -> None:
+        """Keep ``cycle`` in the store, whole or not at all (written aside, then renamed; a
+        write that fails, a full disk say, leaves nothing)."""
         self.directory.mkdir(parents=True, exist_ok=True)
         arrays = cycle_arrays(cycle)
         names, values = zip(*entry.contact, strict=True) if entry.contact else ((), ())
@@ -116,8 +119,12 @@ class ContactStore:
             contact_values=np.array(list(values), dtype=float),
         )
         temporary = entry.path.with_name(f".{entry.path.name}.tmp.npz")
-        np.savez(temporary, **arrays)
-        os.replace(temporary, entry.path)
+        try:
+            np.savez(temporary, **arrays)
+            os.replace(temporary, entry.path)
+        except BaseException:
+            temporary.unlink(missing_ok=True)
+            raise
         self.cycles[self.key(entry.test, entry.x, entry.contact)] = cycle
 
     def add(self, entry: StoreEntry) -> None:
@@ -247,7 +254,7 @@ class TestSearches:
                        self.store.path_for(name(test), x, contact))
             for test, x in missing
         ]  # fmt: skip
-        solved = []
+        solved, full = [], None  # full: (store, bytes) of a save that found no space
         for k in range(rank, len(missing), size):
             test, x = missing[k]
             case, config = self.problem.case(test, x, values)
@@ -259,16 +266,24 @@ class TestSearches:
                 cycle = ContactCycle((), False, f"{type(error).__name__}: {error}")
             if cycle is not None:
                 entry = dataclasses.replace(entries[k], converged=cycle.converged)
-                self.store.save(entry, cycle)
+                try:
+                    self.store.save(entry, cycle)
+                except OSError as error:  # a full disk: no more solves on any rank
+                    if not is_no_space(error):
+                        raise
+                    full = (str(self.store.directory), _cycle_bytes(cycle))
+                    break
                 solved.append((k, cycle.converged))
-        everyone = self.comm.allgather(solved)
-        done = {k: converged for share in everyone for k, converged in share}
+        everyone = self.comm.allgather((solved, full))
+        done = {k: converged for share, _ in everyone for k, converged in share}
+        for k, converged in done.items():  # what was saved is kept for the next run
+            self.store.add(dataclasses.replace(entries[k], converged=converged))
+        stopped = [where for _, where in everyone if where is not None]
+        if stopped:
+            where, needed = stopped[0]
+            raise OutputFull(Path(where), needed, free_bytes(Path(where)))
         if len(done) < len(missing):  # a rank was stopped inside a solve
-            for k, converged in done.items():
-                self.store.add(dataclasses.replace(entries[k], converged=converged))
             raise Stopped()
-        for k in range(len(missing)):
-            self.store.add(dataclasses.replace(entries[k], converged=done[k]))
         self.solves += len(missing)
         unread = []  # the (test, x) not read yet at these values, each once
         for test, x in wanted:
@@ -307,3 +322,8 @@ def _usable(value: Any) -> bool:
 
 
 CONVERGED = SearchStatus.CONVERGED
+
+
+def _cycle_bytes(cycle: ContactCycle) -> int:
+    """Bytes a contact cycle takes in the store (its arrays)."""
+    return sum(int(np.asarray(array).nbytes) for array in cycle_arrays(cycle).values())

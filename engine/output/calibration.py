@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any
 import h5py
 import numpy as np
 
+from engine.output.space import MARGIN, OutputFull, free_bytes, is_no_space
 from engine.output.summary import column_unit
 from engine.output.thresholds import read_table_group, split_header_units
 
@@ -179,11 +180,25 @@ def write_calibration(config, outcome, store, store_name) -> tuple[Path, Path]:
     each to a temporary file renamed into place; returns both paths. ``store``: the kept
     contact solutions (``engine.calibration.search.ContactStore``); ``store_name(test)``
     the name under which this study keeps a test's (solutions of another study left out)."""
+    output = Path(config.study.output)
+    temporary = output.with_name(f".{output.name}.tmp")
+    csv_path = calibration_csv_path(config.study.summary_path)
+    try:
+        _write_file(config, outcome, store, store_name, output, temporary)
+        _write_csv(csv_path, outcome.rows, _units(config, outcome.rows), outcome.fit, config)
+    except Exception as error:
+        temporary.unlink(missing_ok=True)
+        if not is_no_space(error):
+            raise
+        raise OutputFull(output, MARGIN, free_bytes(output)) from None
+    return output, csv_path
+
+
+def _write_file(config, outcome, store, store_name, output: Path, temporary: Path) -> None:
+    """The results file: written to ``temporary``, renamed to ``output`` once whole."""
     rows, fit = outcome.rows, outcome.fit
     units = _units(config, rows)
-    output = Path(config.study.output)
     output.parent.mkdir(parents=True, exist_ok=True)
-    temporary = output.with_name(f".{output.name}.tmp")
     with h5py.File(temporary, "w", track_order=True) as file:
         file.attrs["study_toml"] = config.to_toml()
         file.attrs["name"] = config.study.name
@@ -233,9 +248,6 @@ def write_calibration(config, outcome, store, store_name) -> tuple[Path, Path]:
                 "converged": "1: every contact solve of the case converged",
             })  # fmt: skip
     os.replace(temporary, output)
-    csv_path = calibration_csv_path(config.study.summary_path)
-    _write_csv(csv_path, rows, units, fit, config)
-    return output, csv_path
 
 
 def _target(config, fit) -> float:
@@ -257,8 +269,12 @@ def _write_csv(path: Path, rows, units, fit, config) -> None:
     writer.writerow([f"{name} [{units[name]}]" if units[name] else name for name in columns])
     writer.writerows([_cell(row.get(name)) for name in columns] for row in rows)
     temporary = path.with_name(f".{path.name}.tmp")
-    temporary.write_text(text.getvalue(), encoding="utf-8")
-    os.replace(temporary, path)
+    try:
+        temporary.write_text(text.getvalue(), encoding="utf-8")
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
 
 
 _FITTED = re.compile(r"^# fitted (?P<key>\S+) = (?P<value>\S+)")

@@ -22,6 +22,7 @@ import numpy as np
 
 from engine.study.settings.units import case_parameters
 
+from .space import OutputFull, free_bytes, is_no_space
 from .summary import load_summary, summary_frame
 
 SEED = "surface.seed"
@@ -90,15 +91,24 @@ def ensemble_frame(summary):
 
 def write_ensemble(config, rows) -> Path | None:
     """Write ``NAME_ensemble.csv`` of the summary ``rows`` when the study sweeps
-    ``surface.seed`` (atomically); returns its path, None when there is nothing to write."""
+    ``surface.seed`` (atomically); returns its path, None when there is nothing to write.
+    Raises :class:`engine.output.space.OutputFull` when the disk has no room for it (the
+    next run writes it)."""
     if config.surface is None or SEED not in config.sweep.swept_keys:
         return None
 
     frame = ensemble_frame(summary_frame(list(rows)))
     path = ensemble_path(config.study.summary_path)
     temporary = path.with_name(f".{path.name}.tmp")
-    temporary.write_text(frame.to_csv(index=False), encoding="utf-8")
-    os.replace(temporary, path)
+    text = frame.to_csv(index=False)
+    try:
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except OSError as error:  # nothing half-written is left; a full disk is exit code 5
+        temporary.unlink(missing_ok=True)
+        if not is_no_space(error):
+            raise
+        raise OutputFull(path, len(text.encode()), free_bytes(path)) from None
     return path
 
 
