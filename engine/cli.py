@@ -46,6 +46,7 @@ import time
 import traceback
 from pathlib import Path
 
+from engine._stop_flag import StopFlag
 from engine._version import __version__
 from engine.exit_codes import RUN_STATUSES, ExitCode, epilog_text, status_epilog
 from engine.interpreter import check_interpreter, launcher_mismatch
@@ -215,7 +216,7 @@ def main(
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         signal.signal(signal.SIGUSR1, signal.SIG_DFL)
         return _output_command(argv, prog)
-    stop_event = stop_event if stop_event is not None else threading.Event()
+    stop_event = stop_event if stop_event is not None else StopFlag()
     _install_stop_handlers(stop_event)  # first: a signal during start-up is a stop, too
     code = _main_mpi(argv, prog, stop_event)
     return _quiet_shutdown(code, stop_event)
@@ -284,12 +285,48 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
     except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
-    except BaseException:  # noqa: BLE001 - never leave other ranks waiting
-        sys.stderr.write(f"rank {rank}: internal error\n{traceback.format_exc()}")
+    except OSError as error:
+        if not _no_space(error):
+            return _internal_error(comm, rank)
+        # a write the writers do not guard met a full disk (a file system that cannot claim
+        # space, a collective call that failed on this rank): one line, every rank ended
+        sys.stderr.write(f"error: {_short_no_space(error)}\n")
         sys.stderr.flush()
         if comm.Get_size() > 1:
-            comm.Abort(EXIT_INTERNAL)
-        return EXIT_INTERNAL
+            comm.Abort(EXIT_OUTPUT_FULL)
+        return EXIT_OUTPUT_FULL
+    except BaseException:  # noqa: BLE001 - never leave other ranks waiting
+        return _internal_error(comm, rank)
+
+
+def _internal_error(comm, rank: int) -> int:
+    """The traceback on stderr, every other rank ended (exit code 70)."""
+    sys.stderr.write(f"rank {rank}: internal error\n{traceback.format_exc()}")
+    sys.stderr.flush()
+    if comm.Get_size() > 1:
+        comm.Abort(EXIT_INTERNAL)
+    return EXIT_INTERNAL
+
+
+def _no_space(error: BaseException) -> bool:
+    from engine.output.space import is_no_space
+
+    return is_no_space(error)
+
+
+def _short_no_space(error: OSError) -> str:
+    """The message of :class:`engine.output.space.OutputFull`, or the first line of another
+    error saying the disk is full (HDF5's runs over many lines)."""
+    from engine.output.space import OutputFull
+
+    if isinstance(error, OutputFull):
+        return str(error)
+    where = f"{error.filename}: " if error.filename else ""
+    first = (str(error).splitlines() or [""])[0][:200]
+    return (
+        f"{where}no space left on its file system ({first}); completed cases are kept: free "
+        "space or choose another output, then rerun to resume"
+    )
 
 
 #: The commands on a results file (serial, no MPI) and the modules whose ``main`` they run,
@@ -385,13 +422,19 @@ def _install_stop_handlers(stop_event: threading.Event) -> None:
     says what happens next. A second signal changes nothing: the stop is already under way."""
 
     def handler(signum, frame):
-        if not stop_event.is_set() and _STOP_STATE["rank"] == 0:
+        # runs between two bytecodes of the main thread, which may hold any lock then: no
+        # lock is taken here (a StopFlag's set, an unbuffered write to the descriptor)
+        if stop_event.is_set():
+            return  # a second signal (mpiexec forwards its own): the stop is under way
+        stop_event.set()
+        if _STOP_STATE["rank"] == 0:
             name = signal.Signals(signum).name
-            sys.stderr.write(
+            line = (
                 f"{name} received: no new cases; saving running cases and "
                 "closing the results file (rerun to resume)\n"
             )
-        stop_event.set()
+            with contextlib.suppress(OSError):  # stderr on a full disk, or closed
+                os.write(sys.stderr.fileno(), line.encode())
 
     for name in _STOP_SIGNALS:
         signal.signal(getattr(signal, name), handler)

@@ -332,3 +332,42 @@ def test_every_run_status_exits_with_a_code_the_manual_describes():
     epilog = " ".join(build_parser().epilog.split())
     for meaning in exit_codes.STUDY_RUN:
         assert f"{meaning.code.value} {meaning.short}" in epilog
+
+
+SECOND_SIGNAL = """
+import os, signal, sys
+from engine import cli
+from engine._stop_flag import StopFlag
+import engine._early_stop as early
+
+class SecondSignalInside(StopFlag):
+    sent = False
+
+    def set(self):  # a second SIGTERM arrives while the flag is being set
+        if not SecondSignalInside.sent:
+            SecondSignalInside.sent = True
+            os.kill(os.getpid(), signal.SIGTERM)
+            sum(range(10000))  # bytecodes: the nested handler runs among them
+        super().set()
+
+flag = SecondSignalInside()
+cli._install_stop_handlers(flag)
+cli._STOP_STATE["rank"] = 0
+os.kill(os.getpid(), signal.SIGTERM)
+assert flag.is_set() and SecondSignalInside.sent
+assert isinstance(early.STOP, StopFlag)  # the flag python -m engine starts with
+print("stopped")
+"""
+
+
+def test_a_second_stop_signal_inside_the_first_never_hangs():
+    """The stop handler runs between two bytecodes of the main thread, also inside the
+    flag's own ``set`` (a second SIGTERM, e.g. forwarded by mpiexec): it takes no lock, so
+    it cannot wait for one its own thread holds (a ``threading.Event`` hangs here)."""
+    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    done = subprocess.run(
+        [sys.executable, "-c", SECOND_SIGNAL], capture_output=True, text=True, timeout=60,
+        env=env,
+    )  # fmt: skip
+    assert done.returncode == 0 and done.stdout.strip() == "stopped", done.stderr
+    assert "SIGTERM received" in done.stderr

@@ -21,13 +21,13 @@ import io
 import json
 import signal
 import sys
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import h5py
 
+from engine._stop_flag import StopFlag
 from engine.commands import refuse_file, results_parser
 from engine.exit_codes import VERIFY, ExitCode, epilog_text
 from engine.schema import CASES_GROUP, CaseStatus
@@ -234,7 +234,7 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     if being_written_file(path) or refuse_file(path):
         return EXIT_BAD_INPUT
     summary = None if args.no_summary else (args.summary or path.with_suffix(".csv"))
-    stop = threading.Event()
+    stop = StopFlag()  # set by the handlers below: takes no lock
     for name in ("SIGTERM", "SIGINT", "SIGUSR1"):
         signal.signal(getattr(signal, name), lambda *_: stop.set())
     try:
