@@ -11,7 +11,10 @@ by :func:`engine.cli.main`).
 import sys
 
 from engine._early_stop import STOP
+from engine._streams import tolerate_full_console
 from engine.interpreter import environment_error
+
+tolerate_full_console()  # a console on a full disk loses lines, never the exit code
 
 try:
     from engine.cli import main

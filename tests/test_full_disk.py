@@ -242,6 +242,11 @@ def no_space(*args, **kwargs):
     raise OSError(errno.ENOSPC, "No space left on device")
 
 
+# a calibration that fits nothing and predicts one test (a few contact solves)
+PREDICT_ONLY = {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}}
+ONE_TEST = "test,punch.radius,loading.load,Q\nA,6,185,40\n"
+
+
 def test_a_calibration_stops_cleanly_when_its_contact_store_fills(tmp_path, monkeypatch):
     """The contact store's third save finds the disk full: the run ends ``output-full``
     naming the store, the two saved solutions kept whole (no temporary left); with space
@@ -250,8 +255,7 @@ def test_a_calibration_stops_cleanly_when_its_contact_store_fills(tmp_path, monk
     from engine.calibration import search
     from tests.test_calibration import write_study
 
-    study = write_study(tmp_path, {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}},
-                        tests="test,punch.radius,loading.load,Q\nA,6,185,40\n")  # fmt: skip
+    study = write_study(tmp_path, PREDICT_ONLY, tests=ONE_TEST)
     save, calls = search.ContactStore.save, []
 
     def fills_up(store, entry, cycle):
@@ -278,8 +282,7 @@ def test_a_calibration_whose_results_do_not_fit_stops_cleanly(tmp_path, monkeypa
     from engine.output import calibration
     from tests.test_calibration import write_study
 
-    study = write_study(tmp_path, {"calibrate": {"fit": [], "low": [], "high": [], "calibrate_on": []}},
-                        tests="test,punch.radius,loading.load,Q\nA,6,185,40\n")  # fmt: skip
+    study = write_study(tmp_path, PREDICT_ONLY, tests=ONE_TEST)
     monkeypatch.setattr(calibration, "os", SimpleNamespace(replace=no_space))  # this module's
     run = engine.run_study(study, progress=False)
     assert run.status == "output-full", run
@@ -306,3 +309,28 @@ def test_an_ensemble_table_that_does_not_fit_stops_cleanly(tmp_path, monkeypatch
     assert run.status == "output-full", run
     assert "no space left" in run.message
     assert not [path.name for path in tmp_path.glob(".*")]
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full (Linux)")
+def test_a_console_on_a_full_disk_loses_lines_never_the_exit_code(tmp_path):
+    """stdout and stderr on a device that is always full (/dev/full: every write ENOSPC):
+    a study completes with exit code 0, bad input is still 2, verify of a whole file 0."""
+    text = study_toml(
+        "console", "console.h5", mesh={"n": 8}, loading={"kind": "static", "steps": 1},
+        sweep={"mu1": [0.1]},
+    )  # fmt: skip
+    (tmp_path / "console.toml").write_text(text)
+    (tmp_path / "bad.toml").write_text(text.replace("n = 8", "n = 3"))
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    codes = []
+    for args in (["console.toml"], ["bad.toml"], ["verify", "console.h5"]):
+        with open("/dev/full", "w") as full:
+            done = subprocess.run(
+                [sys.executable, "-m", "engine", *args], cwd=tmp_path, env=env,
+                stdout=full, stderr=full, timeout=300,
+            )  # fmt: skip
+        codes.append(done.returncode)
+    assert codes == [0, 2, 0]
+    with h5py.File(tmp_path / "console.h5", "r") as file:
+        assert [group.attrs["status"] for group in file["cases"].values()] == ["completed"]
