@@ -82,15 +82,34 @@ def test_the_check_before_a_run_refuses_when_no_case_could_be_kept(tmp_path, mon
     space.check_space(tmp_path / "r.h5", 2 * case, smallest_case=case)
 
 
-@pytest.fixture
-def small_file_system(tmp_path):
+@pytest.fixture(params=["tmpfs", "ext2"])
+def small_file_system(tmp_path, request):
+    """About 1.2 MB free: a tmpfs, or an ext2 image on a loop device — a file system that
+    cannot claim space (no ``fallocate``), where the free-space check is the only guard."""
     mount = tmp_path / "small"
     mount.mkdir()
     if os.geteuid() != 0 or shutil.which("mount") is None:
-        pytest.skip("needs root to mount a tmpfs")
-    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1200k", "tmpfs", str(mount)])
+        pytest.skip("needs root to mount a small file system")
+    if request.param == "tmpfs":
+        command = ["mount", "-t", "tmpfs", "-o", "size=1200k", "tmpfs", str(mount)]
+    else:
+        image = tmp_path / "ext2.img"
+        image.write_bytes(b"")
+        os.truncate(image, 1260 * 1024)  # about 1.2 MB free once formatted (no reserve)
+        made = subprocess.run(["mkfs.ext2", "-q", "-F", "-m", "0", str(image)])
+        if shutil.which("mkfs.ext2") is None or made.returncode != 0:
+            pytest.skip("cannot make an ext2 file system here")
+        command = ["mount", "-o", "loop", str(image), str(mount)]
+    done = subprocess.run(command, capture_output=True)
     if done.returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
+        pytest.skip(f"cannot mount a {request.param} here: {done.stderr.decode().strip()}")
+    if request.param == "ext2":
+        probe = os.open(mount / "probe", os.O_CREAT | os.O_RDWR)
+        try:
+            assert not space.claim(probe, 4096, mount / "probe")  # ext2: no fallocate
+        finally:
+            os.close(probe)
+            (mount / "probe").unlink()
     yield mount
     subprocess.run(["umount", str(mount)], check=False)
 
