@@ -190,6 +190,13 @@ def test_plane_step_is_bounded_by_what_can_run():
             check_plane_step(step)
 
 
+def test_a_solver_tolerance_float64_cannot_reach_is_refused():
+    for tol in (1e-20, 1e-300):
+        with pytest.raises(parsing.StudyConfigError, match=r"\[solver\] tol = 1e-\d+: must lie"):
+            parsing.parse_study(text() + f"\n[solver]\ntol = {tol}\n")
+    parsing.parse_study(text() + "\n[solver]\ntol = 1e-16\n")
+
+
 def test_search_targets_a_column_never_takes_are_refused():
     from engine.study.search import parse_search
 
