@@ -30,11 +30,26 @@ between (independent only)
 
 Resume after a kill: ``prepare`` commits every journal whose case is not yet complete — its
 data is already in the file — so no completed case is lost or recomputed.
+
+A full disk (the model: the single writer's, :mod:`engine.output.space`). A structural call
+that fails for want of space on one rank leaves the others waiting in the collective call, so
+nothing structural may meet a full disk: the space is held before it is needed, rank 0 claims
+it and every rank learns the answer from one broadcast. ``prepare`` claims what it writes,
+then allocates the blocks of the whole file, the pre-created datasets' included (their data
+is then written into blocks that are already the file's); a claim that fails stops the run on
+every rank at once, before any case. Rank 0 accepts a case — and announces it completed —
+only once the bytes its commit will add (histories, attributes, headers) are claimed past the
+end of the file; a case whose journal or data could not be written, or whose commit space
+cannot be claimed, is not accepted: the run stops (exit code 5), and the next run computes
+the case again. So ``close`` commits what was announced into blocks already held, on every
+rank alike.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
+import math
 import os
 import time
 from pathlib import Path
@@ -49,8 +64,29 @@ from engine.study.layout import DatasetShape
 from engine.study.plan import Case, Plan
 
 from .checksum import manifest_entry
-from .hdf5 import ResultsWriter, StudyMetadata, case_record, publish_created
+from .hdf5 import (
+    PENDING_GROUP_BYTES,
+    SUMMARY_ROW_BYTES,
+    ResultsWriter,
+    StudyMetadata,
+    case_record,
+    creating_path,
+    publish_created,
+)
 from .lowlevel import set_attribute
+from .space import (
+    CLAIM_SLACK,
+    DATASET_OVERHEAD,
+    MARGIN,
+    OutputFull,
+    SpareFile,
+    allocate,
+    case_bytes,
+    claim,
+    free_bytes,
+    is_no_space,
+    unclaim,
+)
 
 __all__ = [
     "STRATEGIES",
@@ -142,19 +178,57 @@ class CollectiveWriter(ResultsWriter):
         )
         self._leftovers: list[dict[str, Any]] = []  # journals of a killed run (prepare)
         self._journals: list[dict[str, Any]] = []  # rank 0: written this run, not committed
+        self._kept: CaseOutcome | None = None  # rank 0: the outcome kept by ``write``
         self.write_seconds = 0.0  # time in independent writes on this rank (benchmark)
         self.commit_seconds = 0.0  # time in prepare + close (collective)
         self.write_seconds_total = 0.0  # sum over ranks, known after close
         self._close_seconds = 0.0
+        self._descriptor: int | None = None  # rank 0: the file, for claims past its end
+        self._spare = SpareFile(self.path)  # rank 0: blocks for the summary on a full disk
+        self._commit_bytes = 0  # rank 0: what the accepted journals add to the file
+        self._close_bytes = CLAIM_SLACK  # rank 0: what close adds besides the commits
 
     # ------------------------------------------------------------------ collective
     def prepare(self, plan: Plan, metadata: StudyMetadata, *, fresh: bool = False) -> set[str]:
         """Collective: open, commit leftover journals, reset and pre-create incomplete cases
-        (:meth:`ResultsWriter.prepare`; every rank takes part in building a new file)."""
+        (:meth:`ResultsWriter.prepare`; every rank takes part in building a new file), then
+        hold the blocks of the whole file. No room: :class:`OutputFull` on every rank, the
+        file closed as its last flush left it (a new one removed)."""
         start = _now()
-        completed = super().prepare(plan, metadata, fresh=fresh)
+        if self.is_root:  # room to close the file cleanly should a claim fail (_agree)
+            self._spare.hold(SUMMARY_ROW_BYTES * len(plan) + CLAIM_SLACK)
+        try:
+            completed = super().prepare(plan, metadata, fresh=fresh)
+        except OutputFull:  # raised on every rank alike (a claim's verdict is broadcast)
+            if self._file is not None:
+                self._file.close()
+                self._file = None
+            self._close_descriptor()
+            if self.is_root:
+                creating_path(self.path).unlink(missing_ok=True)
+            self.comm.Barrier()
+            raise
         self.commit_seconds += _now() - start
         return completed
+
+    def _claim_for(self, file: h5py.File, needed: int, path: Path) -> None:
+        """Rank 0 claims ``needed`` bytes past the end of ``path``; every rank learns whether
+        it could (:class:`OutputFull` raised on all of them)."""
+        self._agree(lambda: _claim_path(path, needed + CLAIM_SLACK))
+
+    def _agree(self, action) -> None:
+        """Run ``action`` on rank 0; raise its :class:`OutputFull` on every rank. The spare
+        blocks are given back first: closing the open file still writes its metadata."""
+        failure = None
+        if self.is_root:
+            try:
+                action()
+            except OutputFull as error:
+                failure = (str(error.path), error.needed, error.free)
+                self._spare.release()
+        failure = self.comm.bcast(failure, root=0)
+        if failure is not None:
+            raise OutputFull(Path(failure[0]), failure[1], failure[2])
 
     def _look_at_existing(self, metadata: StudyMetadata, fresh: bool) -> bool:
         """Rank 0 checks the existing file and reads the journals of a killed run; every rank
@@ -203,10 +277,29 @@ class CollectiveWriter(ResultsWriter):
         return group
 
     def _prepared(self) -> None:
+        """The file is built: rank 0 allocates its blocks (the pre-created datasets' data
+        lands in them), keeps a descriptor for the claims of the commit, and removes the
+        committed journals of a killed run."""
+        self._agree(self._hold_blocks)
         if self.rank == 0:
             self._remove_journals(self._leftovers)
         self._leftovers = []
         super()._prepared()
+
+    def _hold_blocks(self) -> None:
+        """Rank 0: the blocks of the whole file allocated (after the flush of ``prepare`` its
+        size covers every pre-created dataset, holes where nothing is written yet), and
+        room claimed past its end for what ``close`` writes besides the commits (a pending
+        group anew for each case not completed, the flags)."""
+        self._descriptor = os.open(self.path, os.O_RDWR)
+        allocate(self._descriptor, os.fstat(self._descriptor).st_size, self.path)
+        self._close_bytes = PENDING_GROUP_BYTES * len(self._order) + CLAIM_SLACK
+        claim(self._descriptor, self._close_bytes, self.path)
+
+    def _close_descriptor(self) -> None:
+        if self._descriptor is not None:
+            os.close(self._descriptor)
+            self._descriptor = None
 
     def close(self) -> None:
         """Collective: commit the cases written this run, empty incomplete groups, close."""
@@ -224,10 +317,20 @@ class CollectiveWriter(ResultsWriter):
         self._file = None
         self.write_seconds_total = self.comm.allreduce(self.write_seconds)
         if self.rank == 0:
+            self._close_descriptor()
+            unclaim(self.path)
             self._remove_journals(journals)
             self._journals = []
+            if self.full is not None:
+                self._spare.release()  # room for the summary
             if self._summary.dirty:
-                self._summary.update(self.rows, force=True)
+                try:
+                    self._summary.update(self.rows, force=True)
+                except OSError as error:  # the next run rewrites the summary from the file
+                    if not is_no_space(error):
+                        raise
+                    self.full = self.full or OutputFull(self.path, MARGIN)
+            self._spare.release()
         self._close_seconds = _now() - start
         self.commit_seconds += self._close_seconds
 
@@ -247,27 +350,65 @@ class CollectiveWriter(ResultsWriter):
         start = _now()
         group = self._file[CASES_GROUP][outcome.case_id]
         light = dict(outcome.datasets)
-        if outcome.status == COMPLETED:
-            for path, record in outcome.datasets.items():
-                if isinstance(record, _Written) or not self._fits_layout(
-                    outcome.case_id, path, record
-                ):
-                    continue  # not pre-created: created and written at the commit
-                group[path].write_direct(np.ascontiguousarray(record.data))
-                light[path] = _Written(record)
-        outcome.datasets = light
-        self._write_journal(_journal(outcome))
+        try:
+            if outcome.status == COMPLETED:
+                for path, record in outcome.datasets.items():
+                    if isinstance(record, _Written) or not self._fits_layout(
+                        outcome.case_id, path, record
+                    ):
+                        continue  # not pre-created: created and written at the commit
+                    group[path].write_direct(np.ascontiguousarray(record.data))
+                    light[path] = _Written(record)
+            outcome.datasets = light
+            self._write_journal(_journal(outcome))
+        except Exception as error:
+            if not is_no_space(error):
+                raise
+            needed = case_bytes(np.asarray(r.data) for r in light.values() if hasattr(r, "data"))
+            outcome.datasets = {}  # rank 0 needs none of it: the case is computed again
+            outcome.output_full = (needed, _free_or_none(self.path))
         self.write_seconds += _now() - start
         return outcome
 
     def write(self, outcome: CaseOutcome) -> None:
-        """On rank 0 (main thread) for every outcome: write it if it is rank 0's own, then keep
-        its journal for the commit and update the summary CSV."""
+        """On rank 0 (main thread) for every outcome: write it if it is rank 0's own, claim
+        the bytes its commit will add, then keep its journal for the commit and update the
+        summary CSV. A case that could not be written or claimed is not kept: the writer is
+        ``full`` (its journal removed, the case left pending for the next run)."""
+        if self.full is not None:
+            if getattr(outcome, "output_full", None) is None:
+                self._journal_path(outcome.case_id).unlink(missing_ok=True)
+            return
         if outcome.rank == self.rank:  # computed by rank 0's own thread
             outcome = self.write_own(outcome)
-        self._journals.append(_journal(outcome))
+        unwritten = getattr(outcome, "output_full", None)
+        if unwritten is not None:
+            self.full = OutputFull(self.path, unwritten[0], unwritten[1])
+            return
+        journal = _journal(outcome)
+        needed = _commit_bytes(journal)
+        try:
+            claim(self._descriptor, self._close_bytes + self._commit_bytes + needed, self.path)
+        except OutputFull as full:
+            self.full = full
+            self._journal_path(outcome.case_id).unlink(missing_ok=True)
+            return
+        self._commit_bytes += needed
+        self._journals.append(journal)
+        self._kept = outcome
         self._rows[outcome.case_id] = dict(outcome.row)
-        self._write_summary()
+        try:
+            self._write_summary()
+        except OSError as error:  # the next run rewrites the summary from the file
+            if not is_no_space(error):
+                raise
+            self.full = OutputFull(self.path, MARGIN, _free_or_none(self.path))
+
+    def committed(self, outcome: CaseOutcome) -> list[CaseOutcome]:
+        """``outcome`` once it is kept for the commit (its data and journal written, the
+        space of its commit held, see :meth:`write`); nothing on a full disk."""
+        kept, self._kept = self._kept, None
+        return [kept] if kept is not None else []
 
     def computing(self, run_case):
         """On ranks > 0, ``run_case`` followed by :meth:`write_own`: the rank writes its case
@@ -319,11 +460,18 @@ class CollectiveWriter(ResultsWriter):
         return self.journal_dir / f"{case_id}.written.json"
 
     def _write_journal(self, record: dict[str, Any]) -> None:
+        """The journal of a written case, whole or not at all (written aside, then renamed;
+        a write that fails leaves nothing)."""
         path = self._journal_path(record["case_id"])
         path.parent.mkdir(parents=True, exist_ok=True)
         temporary = path.with_name(f".{path.name}.{self.rank}.tmp")
-        temporary.write_text(json.dumps(record))
-        os.replace(temporary, path)
+        try:
+            temporary.write_text(json.dumps(record))
+            os.replace(temporary, path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                temporary.unlink()
+            raise
 
     def _read_journals(self) -> list[dict[str, Any]]:
         if not self.journal_dir.is_dir():
@@ -337,6 +485,34 @@ class CollectiveWriter(ResultsWriter):
 
     def _write_summary(self) -> None:
         self._summary.update(self.rows)
+
+
+def _commit_bytes(journal: dict[str, Any]) -> int:
+    """Bytes the commit of ``journal`` adds to the file: the datasets it creates, the
+    attributes of every dataset and of the case (:func:`engine.output.space.case_bytes`)."""
+    data = sum(
+        math.prod(item["shape"]) * np.dtype(item["dtype"]).itemsize
+        for item in journal["datasets"].values()
+        if "data" in item
+    )
+    overhead = DATASET_OVERHEAD * len(journal["datasets"])
+    return data + overhead + len(json.dumps(journal["row"])) + len(journal["traceback"])
+
+
+def _claim_path(path: Path, length: int) -> None:
+    """Claim ``length`` bytes past the end of the file ``path`` (opened for the claim)."""
+    descriptor = os.open(path, os.O_RDWR)
+    try:
+        claim(descriptor, length, path)
+    finally:
+        os.close(descriptor)
+
+
+def _free_or_none(path: Path) -> int | None:
+    try:
+        return free_bytes(path)
+    except OSError:
+        return None
 
 
 def _drop_unwritten(cases, group, written: set[str], record) -> h5py.Group:

@@ -376,7 +376,7 @@ class ResultsWriter:
         if not exists:
             self._create(plan, metadata)
         self._file = self._open(self.path, "a")
-        claim_for(self._file, PENDING_GROUP_BYTES * len(plan), self.path)
+        self._claim_for(self._file, PENDING_GROUP_BYTES * len(plan), self.path)
         cases = self._file.require_group(CASES_GROUP)
         completed: set[str] = set()
         stale: list[str] = []
@@ -411,7 +411,7 @@ class ResultsWriter:
         temporary = creating_path(self.path)
         stopped = False
         with self._open(temporary, "w") as file:
-            claim_for(file, PENDING_GROUP_BYTES * len(plan), temporary)
+            self._claim_for(file, PENDING_GROUP_BYTES * len(plan), temporary)
             write_root(file, metadata)
             cases = file.create_group(CASES_GROUP)
             for number, case in enumerate(plan):
@@ -450,6 +450,11 @@ class ResultsWriter:
 
     def _stop_agreed(self) -> bool:
         return bool(self.should_stop())
+
+    def _claim_for(self, file: h5py.File, needed: int, path: Path) -> None:
+        """Claim ``needed`` bytes past the end of the open ``file`` before the structural
+        writes of :meth:`prepare` (:func:`claim_for`)."""
+        claim_for(file, needed, path)
 
     def _discard(self, temporary: Path) -> None:
         temporary.unlink(missing_ok=True)

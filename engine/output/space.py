@@ -49,6 +49,7 @@ __all__ = [
     "planned_bytes",
     "format_bytes",
     "claim",
+    "allocate",
     "SpareFile",
     "CLAIM_SLACK",
     "unclaim",
@@ -193,6 +194,26 @@ def claim(descriptor: int, length: int, path: Path) -> bool:
     if code in _UNSUPPORTED:
         return False
     raise OSError(code, f"{path}: cannot claim space: {os.strerror(code)}")
+
+
+def allocate(descriptor: int, size: int, path: Path) -> bool:
+    """Allocate the blocks of the first ``size`` bytes of the open file ``descriptor`` (its
+    holes: datasets created but not yet written), extending it to ``size`` if it is shorter,
+    so that writes within them cannot fail for want of space.
+
+    Returns False where the file system or platform cannot do this; raises
+    :class:`OutputFull` (naming ``path``) when the space is not there."""
+    if _FALLOCATE is None or size <= 0:
+        return False
+    if _FALLOCATE(descriptor, 0, 0, size) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.ENOSPC, errno.EDQUOT):
+        held = os.fstat(descriptor).st_blocks * 512
+        raise OutputFull(path, max(size - held, 0), free_bytes(path))
+    if code in _UNSUPPORTED:
+        return False
+    raise OSError(code, f"{path}: cannot allocate space: {os.strerror(code)}")
 
 
 def claimed(descriptor: int | None) -> int:

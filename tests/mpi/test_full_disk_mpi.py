@@ -33,14 +33,7 @@ import pytest
 from engine.study.examples import study_toml
 from tests.mpi.test_engine_mpi import engine_command, environment
 
-pytestmark = [
-    pytest.mark.mpi,
-    pytest.mark.skipif(
-        h5py.get_config().mpi,
-        reason="the collective (mpio) writer does not yet stop cleanly on a full disk; these "
-        "trials hold for the single writer, which the first MPI run of the test command uses",
-    ),
-]
+pytestmark = pytest.mark.mpi
 
 REPO = Path(__file__).resolve().parents[2]
 TRIALS = 8  # per (ranks, kind): 32 trials in all
