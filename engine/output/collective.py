@@ -195,8 +195,7 @@ class CollectiveWriter(ResultsWriter):
         hold the blocks of the whole file. No room: :class:`OutputFull` on every rank, the
         file closed as its last flush left it (a new one removed)."""
         start = _now()
-        if self.is_root:  # room to close the file cleanly should a claim fail (_agree)
-            self._spare.hold(SUMMARY_ROW_BYTES * len(plan) + CLAIM_SLACK)
+        self._agree(lambda: self._hold_spare(SUMMARY_ROW_BYTES * len(plan) + CLAIM_SLACK))
         try:
             completed = super().prepare(plan, metadata, fresh=fresh)
         except OutputFull:  # raised on every rank alike (a claim's verdict is broadcast)
@@ -215,6 +214,14 @@ class CollectiveWriter(ResultsWriter):
         """Rank 0 claims ``needed`` bytes past the end of ``path``; every rank learns whether
         it could (:class:`OutputFull` raised on all of them)."""
         self._agree(lambda: _claim_path(path, needed + CLAIM_SLACK))
+
+    def _hold_spare(self, size: int) -> None:
+        """Rank 0, before any HDF5 call: hold the spare blocks, the room to close the file
+        cleanly should a claim fail later (:meth:`_agree`). No room for them: the run stops
+        here, before a file is opened (closing one writes its metadata)."""
+        self._spare.hold(size)
+        if not self._spare.held and free_bytes(self.path) < size:
+            raise OutputFull(self.path, size, free_bytes(self.path))
 
     def _agree(self, action) -> None:
         """Run ``action`` on rank 0; raise its :class:`OutputFull` on every rank. The spare
@@ -307,6 +314,12 @@ class CollectiveWriter(ResultsWriter):
             return
         start = _now()
         journals = self.comm.bcast(self._journals if self.rank == 0 else None, root=0)
+        # Each rank opened the groups of the cases it wrote, so the ranks' metadata caches
+        # differ; a collective call that reads an object one rank holds and another does not
+        # (deleting a case a rank wrote but the run did not keep: a full disk) breaks in the
+        # broadcast of that read. Reopened, every rank starts from the same empty cache.
+        self._file.close()
+        self._file = self._open(self.path, "a")
         cases = self._file[CASES_GROUP]
         self._commit_all(cases, journals)
         for case in self._plan or []:
