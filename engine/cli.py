@@ -285,7 +285,7 @@ def _main_mpi(argv: list[str], prog: str | None, stop_event: threading.Event) ->
     except BrokenPipeError:  # e.g. `--dry-run | head`: stop writing quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
-    except OSError as error:
+    except Exception as error:  # noqa: BLE001 - never leave other ranks waiting
         if not _no_space(error):
             return _internal_error(comm, rank)
         # a write the writers do not guard met a full disk (a file system that cannot claim
@@ -314,14 +314,15 @@ def _no_space(error: BaseException) -> bool:
     return is_no_space(error)
 
 
-def _short_no_space(error: OSError) -> str:
+def _short_no_space(error: BaseException) -> str:
     """The message of :class:`engine.output.space.OutputFull`, or the first line of another
     error saying the disk is full (HDF5's runs over many lines)."""
     from engine.output.space import OutputFull
 
     if isinstance(error, OutputFull):
         return str(error)
-    where = f"{error.filename}: " if error.filename else ""
+    filename = getattr(error, "filename", None)
+    where = f"{filename}: " if filename else ""
     first = (str(error).splitlines() or [""])[0][:200]
     return (
         f"{where}no space left on its file system ({first}); completed cases are kept: free "
