@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import importlib
 import logging
 import os
@@ -309,21 +310,23 @@ def _internal_error(comm, rank: int) -> int:
 
 
 def _no_space(error: BaseException) -> bool:
-    from engine.output.space import is_no_space
-
-    return is_no_space(error)
+    """Whether ``error`` says the disk (or the quota) is full: an errno, or HDF5's message
+    (as :func:`engine.output.space.is_no_space`, which the start-up does not import)."""
+    if isinstance(error, OSError) and error.errno in (errno.ENOSPC, errno.EDQUOT):
+        return True
+    text = str(error)
+    return "errno = 28" in text or "No space left" in text or "Disk quota exceeded" in text
 
 
 def _short_no_space(error: BaseException) -> str:
-    """The message of :class:`engine.output.space.OutputFull`, or the first line of another
-    error saying the disk is full (HDF5's runs over many lines)."""
-    from engine.output.space import OutputFull
-
-    if isinstance(error, OutputFull):
-        return str(error)
+    """The message of :class:`engine.output.space.OutputFull` (it says what to do), or the
+    first line of another error saying the disk is full (HDF5's runs over many lines)."""
+    text = str(error)
+    if "rerun to resume" in text:
+        return text
     filename = getattr(error, "filename", None)
     where = f"{filename}: " if filename else ""
-    first = (str(error).splitlines() or [""])[0][:200]
+    first = (text.splitlines() or [""])[0][:200]
     return (
         f"{where}no space left on its file system ({first}); completed cases are kept: free "
         "space or choose another output, then rerun to resume"
