@@ -231,7 +231,7 @@ class CollectiveWriter(ResultsWriter):
             try:
                 action()
             except OutputFull as error:
-                failure = (str(error.path), error.needed, error.free)
+                failure = (str(self.path), error.needed, error.free)  # the output, by its name
                 self._spare.release()
         failure = self.comm.bcast(failure, root=0)
         if failure is not None:
@@ -303,6 +303,13 @@ class CollectiveWriter(ResultsWriter):
         self._close_bytes = PENDING_GROUP_BYTES * len(self._order) + CLAIM_SLACK
         claim(self._descriptor, self._close_bytes, self.path)
 
+    def _claim_commit(self) -> None:
+        """Rank 0: the room past the end of the file for the commit and the rest of
+        ``close``; on a full disk the spare blocks are given back for it first."""
+        if self.full is not None:
+            self._spare.release()
+        claim(self._descriptor, self._close_bytes + self._commit_bytes, self.path)
+
     def _close_descriptor(self) -> None:
         if self._descriptor is not None:
             os.close(self._descriptor)
@@ -321,10 +328,16 @@ class CollectiveWriter(ResultsWriter):
         self._file.close()
         self._file = self._open(self.path, "a")
         cases = self._file[CASES_GROUP]
-        self._commit_all(cases, journals)
-        for case in self._plan or []:
-            if cases[case.case_id].attrs.get("status", "") in (CaseStatus.PENDING, ""):
-                self._reset_group(cases, case)  # drop the unwritten pre-created data
+        try:  # the room claimed for the commit, held again (closing may have trimmed it)
+            self._agree(self._claim_commit)
+        except OutputFull as full:  # the journals stay: the next run commits them
+            self.full = self.full or full
+            journals = []
+        else:
+            self._commit_all(cases, journals)
+            for case in self._plan or []:
+                if cases[case.case_id].attrs.get("status", "") in (CaseStatus.PENDING, ""):
+                    self._reset_group(cases, case)  # drop the unwritten pre-created data
         self._file.flush()
         self._file.close()
         self._file = None
