@@ -234,8 +234,8 @@ def replace_in(section_key_value: tuple[str, str]) -> str:
 
 SOLVER = "beta = [0, 45]\n[solver]\n"
 RANGE_ERRORS = {
-    "tol 1e300": (("beta = [0, 45]\n", SOLVER + "tol = 1e300\n"), "[solver] tol", "(0, 0.01]"),
-    "tol 0.1": (("beta = [0, 45]\n", SOLVER + "tol = 0.1\n"), "[solver] tol", "(0, 0.01]"),
+    "tol 1e300": (("beta = [0, 45]\n", SOLVER + "tol = 1e300\n"), "[solver] tol", "[1e-16, 0.01]"),
+    "tol 0.1": (("beta = [0, 45]\n", SOLVER + "tol = 0.1\n"), "[solver] tol", "[1e-16, 0.01]"),
     "maxiter 0": (("beta = [0, 45]\n", SOLVER + "maxiter = 0\n"), "[solver] maxiter", ">= 1"),
     "beta 0 and 180": (("beta = [0, 45]", "beta = [0, 180]"), "[sweep] beta", "same axes"),
     "beta 45 and -135": (("beta = [0, 45]", "beta = [45, -135]"), "[sweep] beta", "same axes"),
