@@ -317,8 +317,8 @@ def test_an_ensemble_table_that_does_not_fit_stops_cleanly(tmp_path, monkeypatch
 
     text = study_toml(
         "rough", "rough.h5", mesh={"n": 16}, loading={"kind": "static", "steps": 1},
-        surface={"kind": "self_affine", "hurst": 0.8, "short_cutoff": 0.5,
-                 "long_cutoff": 2.0, "rms_slope": 0.01},
+        surface={"kind": "self_affine", "hurst": 0.8, "short_cutoff": 1.0,
+                 "long_cutoff": 4.0, "rms_slope": 0.01},
         sweep={"mu1": [0.3], "surface.seed": [1, 2]},
     )  # fmt: skip
     (tmp_path / "rough.toml").write_text(text)
