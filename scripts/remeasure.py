@@ -15,8 +15,8 @@ step's time is the one its last recorded run took (a block's own figures, a stud
 time, or the script's docstring): those runs were taken on a loaded machine, so the sums are
 upper bounds.
 
-The main sequence stays under about half an hour: ``bench-rough`` measures the memory of a
-1024² rough solve instead of 2048² (about 10 minutes alone), and ``bench-solver`` takes the
+The main sequence takes about half an hour: ``bench-rough`` includes the memory of a 2048²
+rough solve (several minutes alone), and ``bench-solver`` takes the
 sizes its table shows (64² to 256², not 512²). ``--long`` adds the studies that take several
 minutes each (``peak_regime*``, ``mesh_convergence``, ``rough_fretting``, ``rounded_punch``,
 ``fouvry_crack_nucleation``), the McColl results, and the three benchmarks whose blocks were
@@ -39,7 +39,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 PYTHON = sys.executable
-TAMAAS_PYTHON = Path("/tmp/tamaas-venv/bin/python")  # bench_rough.py's --tamaas-python
+#: The scratch environment holding ASPHER and Tamaas 2.9.0 for the side-by-side benchmarks
+#: (bench_anchors.py's --anchors-python, bench_rough.py's --tamaas-python).
+ANCHORS_PYTHON = Path("/tmp/anchors-venv/bin/python")
 
 
 @dataclass(frozen=True)
@@ -130,20 +132,21 @@ def steps(long: bool = False) -> list[Step]:
              "docs/explanation/fatigue.md (bench-fatigue)", 190,
              "its table: 62 s of CPU per repeat"),
         Step("bench-anchors", _python("benchmarks/bench_anchors.py", "--sizes", "128", "256",
-                                      "512", "1024", "--repeats", "3", "--update-docs"),
+                                      "512", "1024", "--repeats", "3",
+                                      "--anchors-python", str(ANCHORS_PYTHON), "--update-docs"),
              "docs/explanation/memory-and-setup.md (bench-anchors)", 90,
              "its table: about 17 s of CPU per round, plus the processes' start-up"),
         Step("bench-anchors-frictional",
              _python("benchmarks/bench_anchors.py", "--sizes", "256", "512", "--repeats", "2",
-                     "--frictional", "--update-docs"),
+                     "--frictional", "--anchors-python", str(ANCHORS_PYTHON), "--update-docs"),
              "docs/explanation/memory-and-setup.md (bench-anchors-frictional)", 45,
              "its table: about 17 s of CPU per round"),
         Step("bench-rough",
              _python("benchmarks/bench_rough.py", "--only", "tamaas", "speed", "memory",
-                     "--tamaas-n", "256", "--speed-n", "512", "--memory-n", "1024",
-                     "--rounds", "2", "--update-docs"),
-             "docs/explanation/performance.md (bench-rough)", 190,
-             "its table: 5 s + 2 × 16 s, and the 2048² memory run's 584 s scaled to 1024²"),
+                     "--tamaas-n", "256", "--speed-n", "512", "--memory-n", "2048",
+                     "--rounds", "2", "--tamaas-python", str(ANCHORS_PYTHON), "--update-docs"),
+             "docs/explanation/performance.md (bench-rough)", 620,
+             "its table: 5 s + 2 × 16 s, and the 2048² memory run's 584 s"),
         Step("bench-rough-loads",
              _python("benchmarks/bench_rough.py", "--only", "loads", "--loads-n", "512",
                      "--update-docs"),
@@ -204,12 +207,14 @@ def describe(sequence: list[Step]) -> str:
 
 
 def missing_prerequisites(sequence: list[Step]) -> list[str]:
-    """What a step needs that is not here (Tamaas for bench-rough's comparison)."""
+    """What a step needs that is not here (ASPHER and Tamaas for the side-by-side comparisons)."""
     names = {step.name for step in sequence}
-    if "bench-rough" in names and not TAMAAS_PYTHON.exists():
+    needs = {"bench-anchors", "bench-anchors-frictional", "bench-rough"} & names
+    if needs and not ANCHORS_PYTHON.exists():
         return [
-            f"bench-rough compares with Tamaas 2.9.0 from {TAMAAS_PYTHON}: python3 -m venv "
-            "/tmp/tamaas-venv && /tmp/tamaas-venv/bin/pip install tamaas==2.9.0"
+            f"{', '.join(sorted(needs))} compare with ASPHER and Tamaas 2.9.0 from "
+            f"{ANCHORS_PYTHON}: python3 -m venv /tmp/anchors-venv && "
+            "/tmp/anchors-venv/bin/pip install tamaas==2.9.0 aspher"
         ]
     return []
 
