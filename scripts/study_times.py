@@ -3,8 +3,9 @@
 Every study of ``studies/`` says in its header how long it takes. That line is written only
 by this script, from a run it timed: the study runs from scratch in a temporary folder with
 ``mpiexec -n 2`` (the header's own command), and the line gives the wall time with the date,
-the machine and the load average. On a loaded machine the figure would overstate the time, so
-the script measures but does not write when the load average exceeds ``--max-load`` (2).
+the machine and the load average at the run's start. On a loaded machine the figure would
+overstate the time, so the script measures but does not write when that load average exceeds
+``--max-load`` (2).
 
     python scripts/study_times.py studies/demo.toml [more.toml …]   # measure, write headers
     python scripts/study_times.py --all                             # every bundled study
@@ -72,8 +73,9 @@ def _duration(seconds: float) -> str:
 
 
 def measure(path: Path) -> tuple[float, float]:
-    """Wall time (s) of a fresh run of the study with ``mpiexec -n 2``, and the largest
-    one-minute load average seen before and after it."""
+    """Wall time (s) of a fresh run of the study with ``mpiexec -n 2``, and the one-minute
+    load average at its start: the machine's other work (the run's own two ranks add up to 2
+    while it runs, so a load read at its end cannot tell a quiet machine from a busy one)."""
     python = REPO / ".venv" / "bin" / "python"
     mpiexec = REPO / ".venv" / "bin" / "mpiexec"
     with tempfile.TemporaryDirectory() as folder:
@@ -86,7 +88,7 @@ def measure(path: Path) -> tuple[float, float]:
             cwd=folder, check=True, capture_output=True,
         )  # fmt: skip
         wall = time.perf_counter() - start
-    return wall, max(load, os.getloadavg()[0])
+    return wall, load
 
 
 def main(argv=None) -> int:
