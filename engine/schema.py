@@ -528,9 +528,10 @@ def case_dataset(path: str, cyclic: bool = True, criteria=()) -> DatasetSpec:
 
 # ------------------------------------------------------------------ summary table
 #: Units of the study-file keys of the engine's own sections that ``[sweep]`` may vary
-#: (dotted), as parameters and summary columns of each case. The plug-ins' keys (a profile's
-#: ``[punch]`` keys, the ``[fatigue]`` constants) come from their declarations, and the study
-#: layer's ``SWEEPABLE`` is the union (:mod:`engine.study.settings.units`).
+#: (dotted), as parameters and summary columns of each case. The plug-ins' keys (a loading
+#: kind's ``[loading]`` numbers, a profile's ``[punch]`` keys, the ``[fatigue]`` constants)
+#: come from their declarations, and the study
+#: layer's ``SWEEPABLE`` is the union (:mod:`engine.study.units`).
 SWEPT_KEY_UNITS = {
     "material.E_A": "MPa",
     "material.nu_A": "1",
@@ -539,15 +540,6 @@ SWEPT_KEY_UNITS = {
     "mesh.n": "1",
     "mesh.half_width": "mm",
     "mesh.reference_distance": "mm",
-    "loading.load": "N",
-    "loading.steps": "1",
-    "loading.cycles": "1",
-    "loading.max_wear_fraction": "1",
-    "loading.amplitude": "mm",
-    "loading.force_amplitude": "N",
-    "loading.direction": "degree",
-    "loading.bulk_stress_max": "MPa",
-    "loading.bulk_stress_min": "MPa",
     "subsurface.depth": "punch radii",
     "subsurface.layers": "1",
     "solver.tol": "1",

@@ -38,8 +38,8 @@ from engine.geometry import PROFILES
 from engine.solvers.wear_laws import WEAR_LAWS, wear_coefficients
 from engine.study.config.keys import SECTIONS, STUDY_KEYS
 from engine.study.fatigue import fatigue_history, fatigue_map_specs
-from engine.study.settings.units import summary_columns as described_columns
-from engine.study.settings.units import sweepable_keys as swept_key_units
+from engine.study.units import summary_columns as described_columns
+from engine.study.units import sweepable_keys as swept_key_units
 
 # The manual describes the engine: its own profiles and criteria, whatever else is installed.
 BUILT_IN = {

@@ -29,7 +29,7 @@ from engine.study.kinds import KINDS, LoadingKind
 from engine.study.plan import make_plan
 from engine.study.settings.checks import LIMITS
 from engine.study.settings.sections import LoadingConfig
-from engine.study.settings.units import case_parameters, summary_columns, unit_of
+from engine.study.units import case_parameters, summary_columns, unit_of
 
 #: The keys the manual describes, by (section, key).
 BY_NAME = {(key.section, key.name): key for key in STUDY_KEYS}

@@ -280,7 +280,7 @@ def test_the_key_table_describes_exactly_the_keys_the_parser_accepts():
     from engine.study.config import StudyConfigError, parse_study
     from engine.study.config.keys import SECTIONS, STUDY_KEYS
     from engine.study.examples import study_toml
-    from engine.study.settings.units import sweepable_keys
+    from engine.study.units import sweepable_keys
 
     def foreign(registry, keys_of):
         """Keys only the plug-ins of other packages in ``registry`` declare."""

@@ -20,7 +20,7 @@ import pytest
 from engine.cli import main
 from engine.schema import PER_UNIT_LENGTH, contact_units
 from engine.study.examples import CYLINDER_ON_STEEL, SPHERE_ON_STEEL, study_toml
-from engine.study.settings.units import parameter_units, unit_of
+from engine.study.units import parameter_units, unit_of
 from tests.test_cli import _engine  # python -m engine in a subprocess (this worktree's engine)
 
 FRETTING = {"kind": "fretting", "load": 185.0, "steps": 2, "cycles": 4, "record": [2, 4]}

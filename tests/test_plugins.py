@@ -23,7 +23,7 @@ from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.config import SWEEPABLE, StudyConfigError, parse_study
 from engine.study.examples import study_toml
 from engine.study.plan import make_plan
-from engine.study.settings.units import unit_of
+from engine.study.units import unit_of
 
 EXAMPLE = "fretting-engine-cone"
 PAPER = MaterialPair(200e3, 0.3, 200e5, 0.3)

@@ -125,7 +125,7 @@ def test_one_units_table_for_parameters_columns_and_swept_keys():
     from engine.geometry import PROFILES
     from engine.output.summary import column_unit
     from engine.study.config import SWEEPABLE
-    from engine.study.settings.units import parameter_units, unit_of
+    from engine.study.units import parameter_units, unit_of
 
     names = [*schema.PARAMETERS, *schema.COLUMN_UNITS, *schema.SWEPT_KEY_UNITS]
     for name in names:

@@ -60,7 +60,7 @@ from engine.schema import (
     cycle_of_group,
 )
 from engine.study.kinds import KINDS
-from engine.study.settings.units import case_parameters, unit_of
+from engine.study.units import case_parameters, unit_of
 
 from .names import value_text
 

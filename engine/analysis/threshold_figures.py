@@ -21,7 +21,7 @@ import numpy as np
 from engine.output.summary import column_unit, load_summary
 from engine.output.thresholds import SEARCH_COLUMNS, load_thresholds
 from engine.schema import THRESHOLDS_GROUP
-from engine.study.settings.units import case_parameters
+from engine.study.units import case_parameters
 
 from .sweep_figures import key_title
 

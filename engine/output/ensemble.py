@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.study.settings.units import case_parameters
+from engine.study.units import case_parameters
 
 from .space import OutputFull, free_bytes, is_no_space
 from .summary import load_summary, summary_frame

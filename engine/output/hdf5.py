@@ -70,7 +70,7 @@ from engine.schema import CASES_GROUP, GRID_GROUP, CaseStatus
 from engine.study.case import COMPLETED, CaseOutcome
 from engine.study.config import same_fingerprint
 from engine.study.plan import Case, Plan
-from engine.study.settings.units import parameter_units
+from engine.study.units import parameter_units
 
 from .checksum import (
     CASE_CHECKSUM,

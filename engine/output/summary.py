@@ -74,7 +74,7 @@ from engine.schema import (
     TEXT_COLUMNS,
     pending_row,
 )
-from engine.study.settings.units import unit_of
+from engine.study.units import unit_of
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -95,7 +95,7 @@ _KNOWN = frozenset(SUMMARY_COLUMNS)
 def column_unit(column: str, line: bool = False) -> str:
     """Unit of a summary column ("" when dimensionless or text), swept dotted keys included,
     in a 3-D or (``line``) a line contact (the results schema's units table with the
-    plug-ins' keys, :func:`engine.study.settings.units.unit_of`)."""
+    plug-ins' keys, :func:`engine.study.units.unit_of`)."""
     unit = unit_of(column, line)
     return "" if unit == "1" else unit
 

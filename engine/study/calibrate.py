@@ -34,7 +34,8 @@ from pathlib import Path
 from typing import Any
 
 from engine.study.settings.checks import LIMITS
-from engine.study.settings.sections import MISSING, SWEEPABLE, StudyConfigError
+from engine.study.settings.sections import MISSING, StudyConfigError
+from engine.study.units import SWEEPABLE
 
 __all__ = [
     "CalibrationInputError",

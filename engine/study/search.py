@@ -59,7 +59,8 @@ from .fatigue import fatigue_column_specs
 from .plan import Case, Plan, setting_names
 from .plan import _format as format_value
 from .settings.checks import LIMITS
-from .settings.sections import MISSING, SWEEPABLE, StudyConfigError
+from .settings.sections import MISSING, StudyConfigError
+from .units import SWEEPABLE
 
 __all__ = [
     "SearchSpec",

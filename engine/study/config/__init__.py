@@ -32,6 +32,7 @@ from engine.study.settings.compat import (
     same_fingerprint,
 )
 from engine.study.settings.sections import *  # noqa: F403  (the section records; sections.__all__)
+from engine.study.units import SWEEPABLE, SWEEPABLE_TEXT
 
 from .parsing import StudyConfig, load_study, parse_study
 from .toml_writer import dump_toml
@@ -46,6 +47,8 @@ __all__ = [
     "same_fingerprint",
     "FORMER_DEFAULTS",
     "STATIC_PLACEHOLDERS",
+    "SWEEPABLE",
+    "SWEEPABLE_TEXT",
     "HERTZ_MARGIN",
     "MAX_FRICTION",
     "MAX_PRESSURE_OVER_MODULUS",

@@ -5,13 +5,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from engine.study.settings.sections import (
-    MISSING,
-    SWEEPABLE,
-    SWEEPABLE_TEXT,
-    StudyConfigError,
-    SweepAxis,
-)
+from engine.study.settings.sections import MISSING, StudyConfigError, SweepAxis
+from engine.study.units import SWEEPABLE, SWEEPABLE_TEXT
 
 SECTIONS_REQUIRED = ("study", "material", "punch", "mesh", "loading", "sweep")
 SECTIONS_OPTIONAL = ("subsurface", "solver", "testing", "wear", "fatigue", "surface")

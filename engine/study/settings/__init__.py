@@ -4,11 +4,10 @@
   the constants they share;
 - :mod:`.reader` one TOML table read with typed, range-checked values;
 - :mod:`.checks` physical checks and the bounds of the engine's own keys;
-- :mod:`.units` the units of every sweepable key, from the engine's sections and the
-  plug-in registries;
 - :mod:`.compat` results files of earlier versions (defaults they left out).
 
 The loading kinds (:mod:`engine.study.kinds`) read their ``[loading]`` keys with these; the
-study-file parser (:mod:`engine.study.config`) sits above both and dispatches to the kinds,
-so no package imports one that imports it back.
+units of every sweepable key (:mod:`engine.study.units`, which reads the kinds' declarations)
+and the study-file parser (:mod:`engine.study.config`) sit above both, so no package imports
+one that imports it back.
 """

@@ -16,8 +16,6 @@ from engine.keys import Key
 from engine.solvers.friction import PROPORTIONAL
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
 
-from .units import SWEEPABLE, SWEEPABLE_TEXT
-
 # Every name here is public and re-exported by the package (engine.study.config).
 __all__ = [
     "StudyConfigError",
@@ -37,8 +35,6 @@ __all__ = [
     "MISSING",
     "PROPORTIONAL",
     "PUNCH_SHAPES",
-    "SWEEPABLE",
-    "SWEEPABLE_TEXT",
     "WEAR_LAWS",
 ]
 

@@ -2,11 +2,13 @@
 plug-in registries.
 
 The results schema (:data:`engine.schema.SWEPT_KEY_UNITS`) holds the keys of the sections
-the engine owns (``[material]``, ``[mesh]``, ``[loading]``, ``[subsurface]``, ``[solver]``);
-the keys of a plug-in come from its declaration: a punch profile's ``[punch]`` keys from its
-dataclass fields (:meth:`engine.geometry.Profile.keys`), the ``[fatigue]`` constants from the
-criteria (:func:`engine.study.fatigue.fatigue_sweepable`). :data:`SWEEPABLE` is their union,
-section by section; :func:`unit_of` and :func:`parameter_units` read it for the summary
+the engine owns (``[material]``, ``[mesh]``, ``[subsurface]``, ``[solver]``); the keys of a
+plug-in come from its declaration: a loading kind's ``[loading]`` numbers from its
+dataclass's fields (:meth:`engine.study.kinds.LoadingKind.declared_keys`), a punch
+profile's ``[punch]`` keys from its dataclass fields (:meth:`engine.geometry.Profile.keys`),
+the ``[fatigue]`` constants from the criteria
+(:func:`engine.study.fatigue.fatigue_sweepable`). :data:`SWEEPABLE` is their union, section
+by section; :func:`unit_of` and :func:`parameter_units` read it for the summary
 columns and the case attributes. A key two plug-ins declare with different units is an
 error naming both (:func:`engine.keys.merge_units`).
 """
@@ -18,11 +20,13 @@ from engine.geometry import PROFILES
 from engine.keys import merge_units
 from engine.solvers.wear_laws import WEAR_LAWS, fixed_coefficients, wear_coefficients
 from engine.study.fatigue import fatigue_column_specs, fatigue_sweepable
+from engine.study.kinds import KINDS
 
 __all__ = [
     "SWEEPABLE",
     "SWEEPABLE_TEXT",
     "case_parameters",
+    "loading_units",
     "sweepable_keys",
     "summary_columns",
     "unit_of",
@@ -35,10 +39,28 @@ _ORDER = (
 )  # fmt: skip
 
 
-def sweepable_keys(profiles=None, criteria=None) -> dict[str, str]:
+def loading_units(kinds=None) -> dict[str, str]:
+    """{``loading.<key>``: unit} of the numbers every loading kind of ``kinds`` (default: the
+    registered ones) declares in its ``[loading]`` dataclass
+    (:meth:`engine.study.kinds.LoadingKind.declared_keys`), in the order of the kinds."""
+    kinds = KINDS if kinds is None else kinds
+    return merge_units(
+        (
+            (f"the {name!r} loading kind ({type(kind).__module__})", {
+                f"loading.{key}": declared.unit
+                for key, declared in kind.declared_keys().items()
+            })
+            for name, kind in kinds.items()
+        ),
+        "[loading] key",
+    )  # fmt: skip
+
+
+def sweepable_keys(profiles=None, criteria=None, kinds=None) -> dict[str, str]:
     """{dotted key: unit} of every scalar ``[sweep]`` accepts: the engine's sections
-    (:data:`engine.schema.SWEPT_KEY_UNITS`), each profile's ``[punch]`` keys and every
-    criterion's constants with ``fatigue.length``, ordered by section."""
+    (:data:`engine.schema.SWEPT_KEY_UNITS`), the numbers each loading kind declares
+    (:func:`loading_units`), each profile's ``[punch]`` keys and every criterion's constants
+    with ``fatigue.length``, ordered by section."""
     profiles = PROFILES if profiles is None else profiles
     punch = merge_units(
         (
@@ -50,7 +72,7 @@ def sweepable_keys(profiles=None, criteria=None) -> dict[str, str]:
         "[punch] key",
     )  # fmt: skip
     fatigue = fatigue_sweepable() if criteria is None else fatigue_sweepable(criteria)
-    table = {**schema.SWEPT_KEY_UNITS, **punch, **fatigue}
+    table = {**schema.SWEPT_KEY_UNITS, **loading_units(kinds), **punch, **fatigue}
     return {
         key: table[key] for section in _ORDER for key in table if key.split(".", 1)[0] == section
     }
