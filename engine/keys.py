@@ -58,6 +58,9 @@ class Key:
     example : float or None
         A typical value (the conformance tests build every registered plug-in with its
         examples); None: the default.
+    label : str
+        A short name for figure axes and tables ("normal load P"); "": the meaning up to its
+        first parenthesis, comma or semicolon.
     """
 
     unit: str
@@ -68,6 +71,7 @@ class Key:
     why: str = ""
     default: float | None = None
     example: float | None = None
+    label: str = ""
 
     @property
     def required(self) -> bool:
@@ -127,7 +131,7 @@ def parameter(unit: str, meaning: str, **bounds: Any) -> Any:
         What the key sets, one sentence for the reference.
     **bounds
         The other fields of :class:`Key`: ``minimum``, ``strict``, ``maximum``, ``why``,
-        ``default`` (also the field's default), ``example``.
+        ``default`` (also the field's default), ``example``, ``label``.
 
     Returns
     -------

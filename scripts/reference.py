@@ -6,7 +6,8 @@
 Blocks (between ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->``):
 
 - ``docs/reference/study-file.md``, ``study-keys``: every key of every section, with its type,
-  default, unit and meaning (``engine/study/config/keys.toml``), and ``sweepable-keys``: the
+  default, unit and meaning (``engine/study/config/keys.toml`` and the built-in plug-ins'
+  declarations, :mod:`engine.study.config.keys`), and ``sweepable-keys``: the
   dotted keys ``[sweep]`` accepts (``sweepable_keys`` of the study configuration, over the
   built-in profiles and criteria: the manual describes the engine, not what else is
   installed), ``limits``: every range the checks enforce, from the declarations they use, and
@@ -233,9 +234,8 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         else:
             accepted = checks.Limit(low, high, why, open_low, open_high).accepted
         rows.append((f"surface.{name}", accepted, units[f"surface.{name}"], why))
-    for name, (low, high, why) in fatigue.constant_ranges(CRITERIA.builtins).items():
-        rows.append((f"fatigue.{name}", f"[{_number(low)}, {_number(high)}]",
-                     units[f"fatigue.{name}"], why))  # fmt: skip
+    for name, key in fatigue.constant_ranges(CRITERIA.builtins).items():
+        rows.append((f"fatigue.{name}", checks.Limit.of(key).accepted, key.unit, key.why))
     rows.append(("fatigue.length", f"(0, {_number(fatigue.MAX_LENGTH)}]", "mm",
                  "the critical distance"))  # fmt: skip
     rows.append(("fatigue.plane_step", f"(0, {_number(fatigue.MAX_PLANE_STEP)}]", "degree",

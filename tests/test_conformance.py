@@ -22,12 +22,18 @@ from engine.schema import DatasetSpec, fatigue_specs
 from engine.solvers.wear import WearModel
 from engine.solvers.wear_laws import WEAR_LAWS
 from engine.study.config import SWEEPABLE, dump_toml, parse_study
-from engine.study.config.keys import STUDY_KEYS, fatigue_keys, punch_keys, wear_keys
+from engine.study.config.keys import (
+    STUDY_KEYS,
+    fatigue_keys,
+    loading_keys,
+    punch_keys,
+    wear_keys,
+)
 from engine.study.examples import study_toml
 from engine.study.fatigue import FatigueConfig, criterion_schema, fatigue_columns
 from engine.study.kinds import KINDS, LoadingKind
 from engine.study.plan import make_plan
-from engine.study.settings.checks import LIMITS
+from engine.study.settings.checks import LIMITS, Limit
 from engine.study.settings.sections import LoadingConfig
 from engine.study.units import case_parameters, summary_columns, unit_of
 
@@ -124,10 +130,11 @@ class TestProfile:
 def _constants(cls: type[FatigueCriterion]) -> dict[str, float]:
     """Constants inside each declared range (the middle of it); 1 for a constant without one
     (a unit-free coefficient)."""
-    ranges = cls.constant_ranges
     return {
-        name: 0.5 * (ranges[name][0] + ranges[name][1]) if name in ranges else 1.0
-        for name in cls.constants
+        name: 0.5 * (key.minimum + key.maximum)
+        if key.minimum is not None and key.maximum is not None
+        else 1.0
+        for name, key in cls.constants.items()
     }
 
 
@@ -147,17 +154,20 @@ class TestCriterion:
         cls = CRITERIA[name]
         assert issubclass(cls, FatigueCriterion) and cls.name == name
         assert cls.column and cls.unit and cls.description
-        assert set(cls.constant_units) == set(cls.constants)
-        assert set(cls.constant_ranges) <= set(cls.constants)
-        assert set(cls.constant_meanings) == set(cls.constants)
-        for constant, unit in cls.constant_units.items():
-            assert SWEEPABLE[f"fatigue.{constant}"] == unit
+        assert cls.constants and all(isinstance(key, Key) for key in cls.constants.values())
+        for constant, key in cls.constants.items():
+            assert key.unit and key.meaning and key.required, constant
+            assert SWEEPABLE[f"fatigue.{constant}"] == key.unit
+            if key.minimum is not None or key.maximum is not None:  # refused outside, and why
+                assert key.why, constant
+                assert Limit.of(key).holds(_constants(cls)[constant]), constant
         # the manual's key table: the criterion named, each constant with a unit and meaning
         listed, constants = fatigue_keys()
         assert f'`"{name}"`' in listed.meaning
         described = {key.name: key for key in constants}
-        for constant in cls.constants:
-            assert described[constant].unit and described[constant].meaning, constant
+        for constant, key in cls.constants.items():
+            assert described[constant].unit == key.unit, constant
+            assert described[constant].meaning, constant
             assert name in described[constant].default, constant
 
     def test_evaluates_a_field_per_point_with_its_angle_and_life(self, name):
@@ -194,7 +204,7 @@ class TestCriterion:
     def test_missing_constants_are_refused_naming_them(self, name):
         cls = CRITERIA[name]
         constants = _constants(cls)
-        missing = cls.constants[0]
+        missing = next(iter(cls.constants))
         del constants[missing]
         with pytest.raises(ValueError, match=missing):
             cls(constants, Elasticity(200e3, 0.3))
@@ -242,9 +252,40 @@ class TestLoadingKind:
             if name in KINDS.builtins:  # the manual describes it with the declared unit
                 assert BY_NAME[("loading", key)].unit == declaration.unit
             if declaration.default is not None:  # a default the parser's bounds accept
-                limit = LIMITS.get(f"loading.{key}") or LIMITS[f"loading.{key.rsplit('_', 1)[0]}"]
-                assert limit.minimum <= declaration.default
-                assert limit.maximum is None or declaration.default <= limit.maximum
+                limit = (
+                    LIMITS.get(f"loading.{key}")
+                    or LIMITS.get(f"loading.{key.rsplit('_', 1)[0]}")
+                    or Limit.of(declaration)
+                )
+                assert limit.holds(declaration.default), key
+
+    def test_every_key_is_declared_and_described_in_the_reference(self, name):
+        """Each field of its section (but ``kind``) declares a unit and a meaning (a number's
+        Key; a list's meaning and what holds without it), and the study-file reference
+        derived from the registered kinds gives it a row: its type, unit and default, its
+        meaning for this kind, and this kind among those that read it."""
+        kind = KINDS[name]
+        rows = {key.name: key for key in loading_keys()}
+        assert f'`"{name}"`: {kind.summary}' in rows["kind"].meaning
+        readers = {key: [k for k in KINDS.values() if key in k.keys] for key in rows}
+        for field in dataclasses.fields(kind.config):
+            if field.name == "kind":
+                continue
+            declared = field.metadata.get("key")
+            if declared is None:  # not a number: a list, filled in by the kind's parser
+                meaning = field.metadata.get("meaning")
+                assert meaning and field.metadata.get("absent"), field.name
+            else:
+                assert isinstance(declared, Key) and declared.unit and declared.meaning
+                meaning = declared.meaning
+            row = rows[field.name]
+            assert row.type and row.unit and row.default, field.name
+            assert row.unit == (declared.unit if declared else "–"), field.name
+            assert meaning in row.meaning, field.name
+            if len(readers[field.name]) < len(KINDS):  # the default names the kinds
+                assert name in row.default, field.name
+            if name in KINDS.builtins:  # the manual's table has the row
+                assert ("loading", field.name) in BY_NAME, field.name
 
     def test_its_datasets_are_described_in_the_schema_tables(self, name):
         kind = KINDS[name]

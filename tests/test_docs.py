@@ -403,7 +403,7 @@ def test_every_constant_default_of_the_key_table_is_the_parsers():
     unchecked = []
     for key in STUDY_KEYS:
         try:
-            default = json.loads(key.default)
+            default = json.loads(_stated_default(key))
         except json.JSONDecodeError:
             continue  # a default that depends on other keys, stated in words
         config = parse_study(_default_study(key.section, key.name))
@@ -854,7 +854,7 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
     worded = {
         f"{key.section}.{key.name}"
         for key in STUDY_KEYS
-        if not key.default.startswith("required") and not _is_json(key.default)
+        if not key.default.startswith("required") and not _is_json(_stated_default(key))
     }
     checked = set()
     # half_width: flat 1.5·radius; rounded 1.05·(radius + edge_radius); sphere 1.5 Hertz radii
@@ -912,6 +912,17 @@ def test_every_default_stated_in_words_is_what_the_parser_does():
         parsed(SPHERE_ON_STEEL, surface)
     checked |= {"surface.rms_height", "surface.rms_slope"}
     assert worded == checked, f"worded defaults without a check: {sorted(worded - checked)}"
+
+
+def _stated_default(key) -> str:
+    """A key's default without the loading kinds it applies to, which the reference adds
+    when not every kind reads the key ("0.004 (cyclic, fretting)": "0.004")."""
+    from engine.study.kinds import KINDS
+
+    value, _, kinds = key.default.rpartition(" (")
+    if value and kinds.endswith(")") and set(kinds[:-1].split(", ")) <= set(KINDS):
+        return value
+    return key.default
 
 
 def _is_json(text: str) -> bool:

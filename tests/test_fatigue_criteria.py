@@ -11,6 +11,7 @@ import pytest
 from engine import fatigue
 from engine.fatigue import quantities
 from engine.fatigue.history import Elasticity, StressHistory
+from engine.keys import Key
 
 STEEL = Elasticity(young_modulus=200000.0, poisson_ratio=0.3)
 LIMITS = {"sigma_d": 300.0, "tau_d": 200.0}
@@ -141,8 +142,7 @@ class MaximumPrincipal(fatigue.FatigueCriterion):
     name = "max_principal"
     column = "principal_risk"
     unit = "1"
-    constants = ("sigma_u",)
-    constant_units = {"sigma_u": "MPa"}
+    constants = {"sigma_u": Key("MPa", "ultimate tensile strength")}
 
     def evaluate(self, history):
         principal = np.linalg.eigvalsh(history.matrices())[..., -1]

@@ -249,3 +249,39 @@ def test_the_example_wear_law_in_a_study_against_archard(tmp_path, monkeypatch):
     assert worn == pytest.approx(depth, rel=1e-12)
     assert unworn == 0.0
     assert list(threshold.summary.columns[-2:]) == ["wear_rate", "threshold_pressure"]
+
+
+# ---------------------------------------------------------------------- a loading kind's keys
+def test_a_kind_of_another_package_describes_its_keys_in_the_reference():
+    """A kind registered beside the built-in ones gets its [loading] rows from its own
+    dataclass, without any table of the engine: its key with unit, meaning and label, its
+    meaning of ``steps`` beside the built-in kinds', and itself among the readers of the
+    keys it shares."""
+    from dataclasses import dataclass
+
+    from engine.study.config.keys import loading_keys
+    from engine.study.kinds import KINDS
+    from engine.study.kinds.base import CycledKind, CycledLoading
+    from engine.study.settings.sections import loading_key
+    from engine.study.units import loading_units
+
+    @dataclass(frozen=True)
+    class RampedLoading(CycledLoading):
+        steps: int = loading_key("1", "load increments per ramp", default=5)
+        ramp: float = loading_key("s", "duration of the load ramp", default=1.0, label="ramp")
+
+    class RampedKind(CycledKind):
+        name = "ramped"
+        summary = "load cycles with a timed ramp"
+        config = RampedLoading
+
+    kinds = {**KINDS.builtins, "ramped": RampedKind()}
+    rows = {key.name: key for key in loading_keys(kinds)}
+    assert '`"ramped"`: load cycles with a timed ramp' in rows["kind"].meaning
+    ramp = rows["ramp"]
+    assert (ramp.type, ramp.default, ramp.unit) == ("number", "1 (ramped)", "s")
+    assert (ramp.meaning, ramp.title) == ("duration of the load ramp", "ramp")
+    assert "ramped: load increments per ramp" in rows["steps"].meaning
+    assert rows["steps"].default == "static, cyclic, fretting: 10; ramped: 5"
+    assert rows["cycles"].default == "required (cyclic, fretting, ramped)"
+    assert loading_units(kinds)["loading.ramp"] == "s"

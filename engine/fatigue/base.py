@@ -7,11 +7,13 @@ A criterion is a class with four class attributes and one method:
   which the columns ``<column>_x``, ``<column>_z``, ``<column>_critical`` and, where the
   criterion gives them, ``<column>_angle`` and ``<column>_life`` are named;
 - ``unit``: the unit of its value ("1" for a risk, "MPa", …);
-- ``constants``: the names of its material constants, all required (no defaults), and
-  ``constant_units`` their units ({name: "MPa" | "1"}); ``constant_ranges`` [{}] the range a
-  constant of a real material lies in ({name: (low, high, why)}; a study-file value outside
-  is refused, naming the key and why); ``constant_meanings`` {name: what the constant is},
-  one phrase each (the study-file reference of the manual);
+- ``constants``: its material constants, all required (no defaults), one
+  :class:`engine.keys.Key` each ({name: Key}): the unit ("MPa" or "1"), what the constant
+  is in one phrase (the study-file reference of the manual) and, where a real material's
+  constant lies in a known range, its bounds and why (``minimum``, ``maximum``, ``why``; a
+  study-file value outside is refused, naming the key and why; :data:`STRENGTH`,
+  :data:`BASQUIN`, :data:`COFFIN_MANSON` are the common ones, ``Key("MPa", "yield
+  strength", **STRENGTH)``);
 - ``description`` [its name]: what its value is, one phrase (the results' descriptions of
   its columns and datasets, the reference of the manual);
 - ``reports_angle``, ``reports_life`` [False]: whether its field carries a critical-plane
@@ -23,7 +25,7 @@ A criterion is a class with four class attributes and one method:
 
 ``FatigueCriterion`` implements the constructor shared by the four bundled criteria:
 ``Criterion(constants, elasticity, options)`` checks that ``constants`` holds exactly the
-names of ``constants`` (finite numbers) and keeps them as attributes.
+names the class's ``constants`` declares (finite numbers) and keeps them as attributes.
 """
 
 from __future__ import annotations
@@ -34,6 +36,8 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+
+from engine.keys import Key
 
 from .history import Elasticity, StressHistory
 from .quantities import AMPLITUDE_METHODS, check_plane_step
@@ -49,10 +53,23 @@ __all__ = [
 ]
 
 # The magnitudes a material constant can take (a value outside is a typo or a unit slip: MPa
-# given in Pa, a percentage for a fraction): (low, high, the reason printed when passed).
-STRENGTH = (0.0, 1e5, "100 GPa: above the strength of any engineering material")
-BASQUIN = (-1.0, 0.0, "Basquin exponents of metals lie in -0.05 … -0.2")
-COFFIN_MANSON = (-2.0, 0.0, "Coffin-Manson exponents of metals lie in -0.4 … -0.9")
+# given in Pa, a percentage for a fraction): the bounds of its Key and the reason printed when
+# a value passes them, ``Key("MPa", meaning, **STRENGTH)``.
+STRENGTH = {
+    "minimum": 0.0,
+    "maximum": 1e5,
+    "why": "100 GPa: above the strength of any engineering material",
+}
+BASQUIN = {
+    "minimum": -1.0,
+    "maximum": 0.0,
+    "why": "Basquin exponents of metals lie in -0.05 … -0.2",
+}
+COFFIN_MANSON = {
+    "minimum": -2.0,
+    "maximum": 0.0,
+    "why": "Coffin-Manson exponents of metals lie in -0.4 … -0.9",
+}
 
 
 @dataclass(frozen=True)
@@ -101,8 +118,8 @@ class FatigueCriterion:
     Parameters
     ----------
     constants : mapping of str to float
-        The material constants, exactly the names of ``constants`` (finite numbers, in
-        ``constant_units``); kept as attributes.
+        The material constants, exactly the names the class's ``constants`` declares
+        (finite numbers, each in its Key's unit); kept as attributes.
     elasticity : engine.fatigue.Elasticity
         E (MPa) and ν of the flat, for the criteria that need strains.
     options : engine.fatigue.FatigueOptions, optional
@@ -112,10 +129,7 @@ class FatigueCriterion:
     name: ClassVar[str]
     column: ClassVar[str]
     unit: ClassVar[str]
-    constants: ClassVar[tuple[str, ...]]
-    constant_units: ClassVar[dict[str, str]]
-    constant_ranges: ClassVar[dict[str, tuple[float, float, str]]] = {}
-    constant_meanings: ClassVar[dict[str, str]] = {}
+    constants: ClassVar[Mapping[str, Key]]
     description: ClassVar[str] = ""
     reports_angle: ClassVar[bool] = False
     reports_life: ClassVar[bool] = False
@@ -182,12 +196,9 @@ class FatigueLimitCriterion(FatigueCriterion):
     limits ``sigma_d`` and ``tau_d`` (MPa, both > 0): Crossland, Dang Van."""
 
     unit = "1"
-    constants = ("sigma_d", "tau_d")
-    constant_units = {"sigma_d": "MPa", "tau_d": "MPa"}
-    constant_ranges = {"sigma_d": STRENGTH, "tau_d": STRENGTH}
-    constant_meanings = {
-        "sigma_d": "fully reversed tension–compression fatigue limit",
-        "tau_d": "fully reversed torsion fatigue limit",
+    constants = {
+        "sigma_d": Key("MPa", "fully reversed tension–compression fatigue limit", **STRENGTH),
+        "tau_d": Key("MPa", "fully reversed torsion fatigue limit", **STRENGTH),
     }
 
     def check(self) -> None:

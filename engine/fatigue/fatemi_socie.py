@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from engine.keys import Key
+
 from .base import BASQUIN, COFFIN_MANSON, STRENGTH, CriterionField, FatigueCriterion
 from .history import StressHistory
 from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
@@ -32,33 +34,28 @@ class FatemiSocie(FatigueCriterion):
     column = "fs"
     unit = "1"
     description = "Fatemi–Socie parameter γ_a (1 + k σ_n,max/σ_y) on the critical plane"
-    constants = ("tau_f", "gamma_f", "b0", "c0", "k", "sigma_y")
+    constants = {
+        "tau_f": Key("MPa", "shear fatigue strength coefficient τ'_f", **STRENGTH),
+        "gamma_f": Key(
+            "1",
+            "shear fatigue ductility coefficient γ'_f",
+            minimum=0.0,
+            maximum=10.0,
+            why="shear fatigue ductility coefficients of metals lie below about 5",
+        ),
+        "b0": Key("1", "shear fatigue strength exponent (< 0)", **BASQUIN),
+        "c0": Key("1", "shear fatigue ductility exponent (< 0)", **COFFIN_MANSON),
+        "k": Key(
+            "1",
+            "normal-stress sensitivity of Fatemi–Socie",
+            minimum=0.0,
+            maximum=10.0,
+            why="Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1",
+        ),
+        "sigma_y": Key("MPa", "yield strength", **STRENGTH),
+    }
     reports_angle = True
     reports_life = True
-    constant_units = {
-        "tau_f": "MPa",
-        "gamma_f": "1",
-        "b0": "1",
-        "c0": "1",
-        "k": "1",
-        "sigma_y": "MPa",
-    }
-    constant_ranges = {
-        "tau_f": STRENGTH,
-        "gamma_f": (0.0, 10.0, "shear fatigue ductility coefficients of metals lie below about 5"),
-        "b0": BASQUIN,
-        "c0": COFFIN_MANSON,
-        "k": (0.0, 10.0, "Fatemi-Socie's normal-stress sensitivity lies in 0.3 … 1"),
-        "sigma_y": STRENGTH,
-    }
-    constant_meanings = {
-        "tau_f": "shear fatigue strength coefficient τ'_f",
-        "gamma_f": "shear fatigue ductility coefficient γ'_f",
-        "b0": "shear fatigue strength exponent (< 0)",
-        "c0": "shear fatigue ductility exponent (< 0)",
-        "k": "normal-stress sensitivity of Fatemi–Socie",
-        "sigma_y": "yield strength",
-    }
 
     def check(self) -> None:
         self._require_positive("tau_f", "gamma_f", "sigma_y")

@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from engine.keys import Key
+
 from .base import BASQUIN, COFFIN_MANSON, STRENGTH, CriterionField, FatigueCriterion
 from .history import StressHistory
 from .quantities import ResolvedStress, cycle_range, invert_life, search_planes
@@ -30,22 +32,20 @@ class SmithWatsonTopper(FatigueCriterion):
     column = "swt"
     unit = "MPa"
     description = "Smith–Watson–Topper parameter σ_n,max ε_n,a on the critical plane"
-    constants = ("sigma_f", "b", "eps_f", "c")
+    constants = {
+        "sigma_f": Key("MPa", "fatigue strength coefficient σ'_f (Basquin)", **STRENGTH),
+        "b": Key("1", "fatigue strength exponent (< 0)", **BASQUIN),
+        "eps_f": Key(
+            "1",
+            "fatigue ductility coefficient ε'_f (Coffin–Manson)",
+            minimum=0.0,
+            maximum=10.0,
+            why="fatigue ductility coefficients of metals lie below about 3",
+        ),
+        "c": Key("1", "fatigue ductility exponent (< 0)", **COFFIN_MANSON),
+    }
     reports_angle = True
     reports_life = True
-    constant_units = {"sigma_f": "MPa", "b": "1", "eps_f": "1", "c": "1"}
-    constant_ranges = {
-        "sigma_f": STRENGTH,
-        "b": BASQUIN,
-        "eps_f": (0.0, 10.0, "fatigue ductility coefficients of metals lie below about 3"),
-        "c": COFFIN_MANSON,
-    }
-    constant_meanings = {
-        "sigma_f": "fatigue strength coefficient σ'_f (Basquin)",
-        "b": "fatigue strength exponent (< 0)",
-        "eps_f": "fatigue ductility coefficient ε'_f (Coffin–Manson)",
-        "c": "fatigue ductility exponent (< 0)",
-    }
 
     def check(self) -> None:
         self._require_positive("sigma_f", "eps_f")

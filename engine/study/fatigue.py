@@ -47,6 +47,7 @@ from engine.fatigue.fields import (
 )
 from engine.fatigue.history import Elasticity
 from engine.fatigue.quantities import AMPLITUDE_METHODS
+from engine.keys import Key
 from engine.schema import (
     FATIGUE_HOT_SPOT_COLUMNS,
     DatasetRecord,
@@ -56,6 +57,7 @@ from engine.schema import (
     fatigue_maps,
     fatigue_specs,
 )
+from engine.study.settings.checks import Limit
 
 _PER_CYCLE = ", per simulated cycle (after N = cycle)"
 
@@ -113,9 +115,9 @@ class FatigueConfig:
 def fatigue_sweepable(registry=CRITERIA) -> dict[str, str]:
     """Dotted sweep keys of the section with their units: every constant, ``length``."""
     keys = {
-        f"fatigue.{name}": unit
+        f"fatigue.{name}": key.unit
         for cls in registry.values()
-        for name, unit in cls.constant_units.items()
+        for name, key in cls.constants.items()
     }
     keys["fatigue.length"] = "mm"
     return keys
@@ -130,23 +132,29 @@ MAX_LENGTH = 100.0  # mm, the critical distance
 MAX_PLANE_STEP = 90.0  # degrees, the step of the critical-plane search (it must divide 180)
 
 
-def constant_ranges(registry=CRITERIA) -> dict[str, tuple[float, float, str]]:
-    """{constant: (low, high, why)} of every criterion's declared ranges
-    (``constant_ranges`` of each class; a constant without one is taken as given)."""
-    return {
-        name: bounds for cls in registry.values() for name, bounds in cls.constant_ranges.items()
-    }
+def constant_ranges(registry=CRITERIA) -> dict[str, Key]:
+    """{constant: :class:`engine.keys.Key`} of the constants whose criteria of ``registry``
+    declare bounds (the first criterion's that declares the constant; a constant without
+    bounds is taken as given)."""
+    ranges: dict[str, Key] = {}
+    for cls in registry.values():
+        for name, key in cls.constants.items():
+            if key.minimum is not None or key.maximum is not None:
+                ranges.setdefault(name, key)
+    return ranges
 
 
 def _check_range(section, name: str, value: float, criteria) -> None:
     """Refuse a constant outside the range a listed criterion declares for it, naming the
-    key."""
-    ranges = constant_ranges({c: CRITERIA[c] for c in criteria})
-    if name not in ranges:
+    key and why."""
+    key = constant_ranges({c: CRITERIA[c] for c in criteria}).get(name)
+    if key is None:
         return
-    low, high, why = ranges[name]
-    if not low <= value <= high:
-        raise section.error(name, value, f"must lie in [{low:g}, {high:g}] ({why})")
+    limit = Limit.of(key)
+    if not limit.holds(value):
+        accepted = limit.accepted
+        verb = "lie in" if accepted[0] in "[(" else "be"
+        raise section.error(name, value, f"must {verb} {accepted} ({key.why})")
 
 
 def _criteria(section) -> tuple[str, ...]:
@@ -167,9 +175,7 @@ def parse_fatigue(section) -> FatigueConfig:
     uses, a length missing for a critical-distance method …)."""
     section.check_known(fatigue_keys())
     criteria = _criteria(section)
-    needed = {
-        name: CRITERIA[c].constant_units[name] for c in criteria for name in CRITERIA[c].constants
-    }
+    needed = {name: key.unit for c in criteria for name, key in CRITERIA[c].constants.items()}
     for key in section.table:
         if key not in _OPTIONS and key not in needed:
             raise section.error(

@@ -14,9 +14,11 @@ the built-in profiles' declarations (:data:`engine.geometry.PROFILES`, :meth:`Pr
 ``[wear] law`` and the wear coefficients of ``[sweep]`` from the built-in wear laws'
 (:data:`engine.solvers.wear_laws.WEAR_LAWS`, ``coefficients``), ``[fatigue] criteria`` and
 the criteria's constants from the built-in criteria's (:data:`engine.fatigue.CRITERIA`,
-``constant_units``, ``constant_meanings``), never written in ``keys.toml``; a profile, a law
-or a criterion another package registers describes its keys the same way
-(:func:`punch_keys`, :func:`wear_keys`, :func:`fatigue_keys`).
+``constants``), and the ``[loading]`` keys from the built-in loading kinds' sections
+(:data:`engine.study.kinds.KINDS`, ``config``: a field's :class:`engine.keys.Key` and type),
+never written in ``keys.toml``; a profile, a law, a criterion or a kind another package
+registers describes its keys the same way (:func:`punch_keys`, :func:`loading_keys`,
+:func:`wear_keys`, :func:`fatigue_keys`).
 
 Units are those of the paper: mm, N, MPa, wear coefficients in 1/MPa, angles in degrees; "1"
 is dimensionless and "–" marks a text or a list that has no unit.
@@ -26,12 +28,15 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
+import types
+import typing
 from dataclasses import dataclass
 from importlib.resources import files
 
 from engine.fatigue import CRITERIA
 from engine.geometry import DEFAULT_SHAPE, PROFILES
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS
+from engine.study.kinds import KINDS
 
 __all__ = [
     "REQUIRED",
@@ -39,6 +44,7 @@ __all__ = [
     "StudyKey",
     "STUDY_KEYS",
     "punch_keys",
+    "loading_keys",
     "wear_keys",
     "fatigue_keys",
 ]
@@ -98,6 +104,9 @@ def _read_table() -> tuple[dict[str, str], tuple[StudyKey, ...]]:
         if section == "punch":
             keys += punch_keys(PROFILES.builtins)
             continue
+        if section == "loading":
+            keys += loading_keys(KINDS.builtins)
+            continue
         described = [StudyKey(section, name, **fields) for name, fields in entries["keys"].items()]
         if section == "wear":  # the law first, then the pad's coefficient in the law's unit
             law, sweep = wear_keys(WEAR_LAWS.builtins)
@@ -148,6 +157,75 @@ def punch_keys(profiles=None) -> list[StudyKey]:
         unit = declared[0][1].unit
         keys.append(StudyKey("punch", key, "number", default, unit, meaning, label))
     return keys
+
+
+def loading_keys(kinds=None) -> list[StudyKey]:
+    """The ``[loading]`` keys: ``kind`` (one of ``kinds``, default the registered ones, each
+    with its summary), then every other field of the kinds' sections
+    (:attr:`engine.study.kinds.LoadingKind.config`) in the order they first appear: its type
+    (from the field's annotation), unit and label (from its :class:`engine.keys.Key`), its
+    default (required, the default value, or what the kind declares holds when it is
+    absent) with the kinds that read it when not all do, and what it means, per kind where
+    the kinds' meanings differ (``steps``)."""
+    kinds = KINDS if kinds is None else kinds
+    summaries = "; ".join(f'`"{name}"`: {kind.summary}' for name, kind in kinds.items())
+    keys = [StudyKey("loading", "kind", "text", REQUIRED, "–", summaries)]
+    owners: dict[str, list[tuple[str, StudyKey]]] = {}
+    for name, kind in kinds.items():
+        hints = typing.get_type_hints(kind.config)
+        for field in dataclasses.fields(kind.config):
+            if field.name != "kind":
+                described = _loading_field(field, hints[field.name])
+                owners.setdefault(field.name, []).append((name, described))
+    for declared in owners.values():
+        first = declared[0][1]
+        default = _per_kind([(name, item.default) for name, item in declared])
+        if len(declared) < len(kinds) and len({item.default for _, item in declared}) == 1:
+            default += f" ({', '.join(name for name, _ in declared)})"
+        meaning = _per_kind([(name, item.meaning) for name, item in declared])
+        label = next((item.label for _, item in declared if item.label), "")
+        keys.append(dataclasses.replace(first, default=default, meaning=meaning, label=label))
+    return keys
+
+
+def _loading_field(field: dataclasses.Field, hint) -> StudyKey:
+    """One field of a kind's ``[loading]`` dataclass as that kind describes it: a number's
+    :class:`engine.keys.Key` (``"key"`` in the field's metadata), or a list's meaning
+    (``"meaning"``); the default is the field's, or what ``"absent"`` says holds without it."""
+    declared = field.metadata.get("key")
+    unit, label = (declared.unit, declared.label) if declared else ("–", "")
+    meaning = declared.meaning if declared else field.metadata.get("meaning", "")
+    if "absent" in field.metadata:
+        default = field.metadata["absent"]
+    elif field.default is dataclasses.MISSING:
+        default = REQUIRED
+    elif field.default is None:
+        default = "none"
+    else:
+        default = f"{field.default:g}" if isinstance(field.default, float) else str(field.default)
+    return StudyKey("loading", field.name, _type_name(hint), default, unit, meaning, label)
+
+
+def _type_name(hint) -> str:
+    """The TOML type of a field's annotation: "number", "integer", "list of integers" …"""
+    if typing.get_origin(hint) in (typing.Union, types.UnionType):  # X | None: optional
+        hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
+    names = {bool: "boolean", int: "integer", float: "number", str: "text"}
+    if typing.get_origin(hint) in (tuple, list):
+        item = names.get(typing.get_args(hint)[0], "value")
+        return f"list of {'integers' if item == 'integer' else item + 's'}"
+    return names.get(hint, "number")
+
+
+def _per_kind(texts: list[tuple[str, str]]) -> str:
+    """One text when every kind of ``texts`` ((kind, text) pairs) says the same, else each
+    text after the kinds that say it: "static: …; cyclic: …"."""
+    groups: dict[str, list[str]] = {}
+    for kind, text in texts:
+        groups.setdefault(text, []).append(kind)
+    if len(groups) == 1:
+        return texts[0][1]
+    return "; ".join(f"{', '.join(kinds)}: {text}" for text, kinds in groups.items())
 
 
 def wear_keys(laws=None) -> tuple[StudyKey, list[StudyKey]]:
@@ -205,8 +283,8 @@ def fatigue_keys(criteria=None) -> tuple[StudyKey, list[StudyKey]]:
                 constant,
                 "number",
                 f"required ({', '.join(users)})",
-                first.constant_units[constant],
-                first.constant_meanings.get(constant, ""),
+                first.constants[constant].unit,
+                first.constants[constant].meaning,
             )
         )
     return listed, constants

@@ -53,7 +53,12 @@ from engine.solvers import defaults
 from engine.study.outcome import INTERRUPTED, CaseContext, CaseOutcome
 from engine.study.plan import Case
 from engine.study.settings.checks import bound
-from engine.study.settings.sections import LoadingConfig, loading_key
+from engine.study.settings.sections import (
+    DEFAULT_STEPS,
+    LoadingConfig,
+    loading_key,
+    loading_list,
+)
 
 if TYPE_CHECKING:  # annotations only
     from engine.study.config import StudyConfig
@@ -65,16 +70,24 @@ __all__ = ["LoadingKind", "CycledKind", "CycledLoading", "parse_cycles", "CYCLE_
 @dataclass(frozen=True)
 class CycledLoading(LoadingConfig):
     """The ``[loading]`` keys of every kind with load cycles (:func:`parse_cycles`), after
-    those of every kind."""
+    those of every kind (``steps`` counts the increments of a half cycle 0 → P; a kind that
+    counts otherwise declares ``steps`` again with its meaning)."""
 
-    cycles: int = loading_key("1", "load cycles N to simulate, with cycle jumping")
-    #: cycles at which the surface fields and stresses are stored (0 = unworn; default the
-    #: last), sorted: a list, not a sweepable number
-    record: tuple[int, ...]
+    steps: int = loading_key(
+        "1", "load increments per half cycle", default=DEFAULT_STEPS, label="load increments"
+    )
+    cycles: int = loading_key(
+        "1", "load cycles N to simulate, with cycle jumping", label="load cycles N"
+    )
+    record: tuple[int, ...] = loading_list(
+        "cycles at which the surface fields and stresses are stored (0 = unworn)",
+        absent="[cycles]",
+    )
     max_wear_fraction: float = loading_key(
         "1",
         "cycle-jump control: the largest wear per jump as a fraction of the peak elastic approach",
         default=defaults.MAX_WEAR_FRACTION,
+        label="largest wear per jump / approach",
     )
 
 

@@ -48,31 +48,54 @@ from engine.study.checkpoint import load_extra, load_fretting_state, save_fretti
 from engine.study.fatigue import FatigueAnalysis
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
 from engine.study.settings.checks import MAX_FRICTION, bound
-from engine.study.settings.sections import MISSING, loading_key
+from engine.study.settings.sections import DEFAULT_STEPS, MISSING, loading_key
 
 from .base import CycledKind, CycledLoading, parse_cycles
 
 
 @dataclass(frozen=True)
 class FrettingLoading(CycledLoading):
-    """The ``[loading]`` section of a fretting study: the cycles, then the tangential signal
-    (exactly one of ``amplitude`` and ``force_amplitude``; the other None) and a line
-    contact's bulk stresses (None: none given)."""
+    """The ``[loading]`` section of a fretting study: the cycles (``steps`` per quarter
+    tangential cycle), then the tangential signal (exactly one of ``amplitude`` and
+    ``force_amplitude``; the other None) and a line contact's bulk stresses (None: none
+    given)."""
 
+    steps: int = loading_key(
+        "1",
+        "load increments per quarter tangential cycle and of the normal loading",
+        default=DEFAULT_STEPS,
+        label="load increments",
+    )
     amplitude: float | None = loading_key(
-        "mm", "rigid tangential displacement amplitude δ* (displacement control)", optional=True
+        "mm",
+        "rigid tangential displacement amplitude δ* (displacement control)",
+        optional=True,
+        absent="one of the two",
+        label="displacement amplitude δ*",
     )
     force_amplitude: float | None = loading_key(
-        "N", "tangential force amplitude Q* (force control); must be below μP", optional=True
+        "N",
+        "tangential force amplitude Q* (force control); must be below μP",
+        optional=True,
+        absent="one of the two",
+        label="force amplitude Q*",
     )
-    direction: float = loading_key("degree", "sliding direction, from x", default=0.0)
+    direction: float = loading_key(
+        "degree", "sliding direction, from x", default=0.0, label="sliding direction"
+    )
     bulk_stress_max: float | None = loading_key(
         "MPa",
-        "line fretting: bulk stress along x in the flat at +Q* (or +δ*), in phase with the signal",
+        "line contacts: bulk stress along x in the flat at +Q* (or +δ*), in phase with the signal",
         optional=True,
+        absent="0 if the other is given, else no bulk stress",
+        label="bulk stress at +Q*",
     )
     bulk_stress_min: float | None = loading_key(
-        "MPa", "line fretting: bulk stress along x in the flat at −Q* (or −δ*)", optional=True
+        "MPa",
+        "line contacts: bulk stress along x in the flat at −Q* (or −δ*)",
+        optional=True,
+        absent="0 if the other is given, else no bulk stress",
+        label="bulk stress at −Q*",
     )
 
 

@@ -25,6 +25,8 @@ __all__ = [
     "MeshConfig",
     "LoadingConfig",
     "loading_key",
+    "loading_list",
+    "DEFAULT_STEPS",
     "WearConfig",
     "SubsurfaceConfig",
     "SweepAxis",
@@ -145,22 +147,46 @@ class MeshConfig:
     reference_distance: float | None = None  # line contacts: the displacement datum (mm)
 
 
-def loading_key(unit: str, meaning: str, *, default: Any = None, optional: bool = False) -> Any:
-    """A field of a loading kind's ``[loading]`` dataclass declaring its key
-    (:class:`engine.keys.Key` in the field's metadata: ``unit``, ``meaning``, ``default``).
+#: ``[loading] steps`` when absent, whatever the kind.
+DEFAULT_STEPS = 10
+
+
+def loading_key(
+    unit: str,
+    meaning: str,
+    *,
+    default: Any = None,
+    optional: bool = False,
+    absent: str = "",
+    label: str = "",
+) -> Any:
+    """A field of a loading kind's ``[loading]`` dataclass declaring its number
+    (:class:`engine.keys.Key` in the field's metadata: ``unit``, ``meaning``, ``default``,
+    ``label``); the study-file reference of the manual is written from it
+    (:func:`engine.study.config.keys.loading_keys`).
 
     The bounds are those of :func:`engine.study.settings.checks.bound` (``"loading.<key>"``).
     ``default`` is the key's value when absent (also the field's default); ``optional``
-    gives the field the default None (a key that may stay unset, e.g. one of two controls).
-    The field is keyword-only, so that a kind's dataclass may add required keys after those
-    with defaults.
+    gives the field the default None (a key that may stay unset, e.g. one of two controls),
+    and ``absent`` says in the reference what holds then ("one of the two"). ``label`` is
+    the key's short name on figure axes ("normal load P"). The field is keyword-only, so that
+    a kind's dataclass may add required keys after those with defaults, and may declare a
+    key of its parent again with its own meaning (the field keeps its place).
     """
-    key = Key(unit, meaning, default=default)
+    key = Key(unit, meaning, default=default, label=label)
+    metadata = {"key": key, "absent": absent} if absent else {"key": key}
     if optional:
-        return field(default=None, kw_only=True, metadata={"key": key})
+        return field(default=None, kw_only=True, metadata=metadata)
     if default is not None:
-        return field(default=default, kw_only=True, metadata={"key": key})
-    return field(kw_only=True, metadata={"key": key})
+        return field(default=default, kw_only=True, metadata=metadata)
+    return field(kw_only=True, metadata=metadata)
+
+
+def loading_list(meaning: str, *, absent: str) -> Any:
+    """A field of a loading kind's ``[loading]`` dataclass that holds a list, not a sweepable
+    number: its ``meaning`` and what holds when it is absent (``absent``, e.g. ``"[cycles]"``),
+    for the study-file reference of the manual. The kind's :meth:`parse` fills it in."""
+    return field(metadata={"meaning": meaning, "absent": absent})
 
 
 @dataclass(frozen=True)
@@ -171,12 +197,9 @@ class LoadingConfig:
     """
 
     kind: str
-    load: float = loading_key("N", "peak normal load P")
+    load: float = loading_key("N", "peak normal load P", label="normal load P")
     steps: int = loading_key(
-        "1",
-        "load increments: static, of the loading; cyclic, per half cycle; fretting, per "
-        "quarter tangential cycle and of the normal loading",
-        default=10,
+        "1", "load increments of the loading", default=DEFAULT_STEPS, label="load increments"
     )
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 from engine.fatigue import CriterionField, FatigueCriterion, StressHistory
 from engine.fatigue.base import STRENGTH
 from engine.fatigue.quantities import shear_amplitude
+from engine.keys import Key
 
 __all__ = ["ShearAmplitude"]
 
@@ -22,10 +23,7 @@ class ShearAmplitude(FatigueCriterion):
     column = "shear_amplitude_risk"
     unit = "1"
     description = "shear amplitude risk √J2,a/τ_a"
-    constants = ("tau_a",)
-    constant_units = {"tau_a": "MPa"}
-    constant_ranges = {"tau_a": STRENGTH}
-    constant_meanings = {"tau_a": "fully reversed torsion fatigue limit τ_a"}
+    constants = {"tau_a": Key("MPa", "fully reversed torsion fatigue limit τ_a", **STRENGTH)}
 
     def check(self) -> None:
         self._require_positive("tau_a")
