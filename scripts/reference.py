@@ -182,8 +182,9 @@ def _number(value: float) -> str:
 def limit_rows() -> list[tuple[str, str, str, str]]:
     """(dotted key, accepted values, unit, why) of every range the study checks enforce, read
     from the declarations the checks themselves use: ``LIMITS`` of
-    ``engine.study.settings.checks``, the bounds the built-in profiles declare for their
-    ``[punch]`` keys, and the constants' ranges the built-in criteria declare."""
+    ``engine.study.settings.checks``, the bounds the built-in loading kinds declare for their
+    ``[loading]`` numbers and the profiles for their ``[punch]`` keys, and the constants'
+    ranges the built-in criteria declare."""
     from engine.fatigue import CRITERIA
     from engine.geometry import PROFILES
     from engine.keys import declared_keys
@@ -201,16 +202,16 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
         "p0 the mean pressure over the nominal contact: the half-space is linear elastic "
         "(small strains)",
     )]  # fmt: skip
-    for dotted, limit in checks.LIMITS.items():
+    host = list(checks.LIMITS.items())
+    after_material = next(i for i, (key, _) in enumerate(host) if not key.startswith("material."))
+    for index, (dotted, limit) in enumerate(host):
         key = dotted.removesuffix(".energy")
+        if index == after_material:  # the loading kinds' declared ranges after the material's
+            rows += loading_limit_rows()
         if key == "sweep.beta":  # the wear laws' coefficients before: their declared ranges
             for name, declared in wear_coefficients(BUILT_IN["wear_laws"]).items():
                 rows.append((f"sweep.{name}", checks.Limit.of(declared).accepted, declared.unit,
                              declared.why))  # fmt: skip
-        if key == "loading.bulk_stress":
-            rows.append(("loading.bulk_stress_max, bulk_stress_min", limit.accepted, "MPa",
-                         limit.why))  # fmt: skip
-            continue
         unit = "mm³/J" if dotted.endswith(".energy") else units[key]
         if key == "wear.pad_coefficient":
             unit = "mm³/J (energy law)" if dotted.endswith(".energy") else "1/MPa (Archard)"
@@ -240,6 +241,29 @@ def limit_rows() -> list[tuple[str, str, str, str]]:
                  "the critical distance"))  # fmt: skip
     rows.append(("fatigue.plane_step", f"(0, {_number(fatigue.MAX_PLANE_STEP)}]", "degree",
                  "the step of the critical-plane search; it must divide 180"))  # fmt: skip
+    return rows
+
+
+def loading_limit_rows(kinds=None) -> list[tuple[str, str, str, str]]:
+    """(dotted key, accepted values, unit, why) of every ``[loading]`` number whose range the
+    kinds of ``kinds`` (default: the built-in ones) declare, in the order of their sections;
+    keys declared alike one after the other share a row (the two bulk stresses)."""
+    from engine.study.kinds import KINDS
+    from engine.study.settings.checks import Limit
+
+    declared: dict = {}
+    for kind in (KINDS.builtins if kinds is None else kinds).values():
+        for name, key in kind.declared_keys().items():
+            declared.setdefault(name, key)
+    rows: list[tuple[str, str, str, str]] = []
+    for name, key in declared.items():
+        if key.minimum is None and key.maximum is None:
+            continue
+        row = (f"loading.{name}", Limit.of(key).accepted, key.unit, key.why)
+        if rows and rows[-1][1:] == row[1:]:
+            rows[-1] = (f"{rows[-1][0]}, {name}", *row[1:])
+        else:
+            rows.append(row)
     return rows
 
 

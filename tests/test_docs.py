@@ -755,14 +755,22 @@ def test_every_limit_of_the_reference_is_enforced_and_named(key, side, value, un
 
 
 def test_every_limit_is_tested_at_both_ends_and_inside():
-    """The values the limits test takes lie just outside the ranges the checks declare, and
-    the bounds themselves are accepted at closed ends (``Limit.holds``)."""
-    from engine.study.settings.checks import LIMITS
+    """The values the limits test takes lie just outside the ranges the checks declare (the
+    host's and the built-in loading kinds'), and the bounds themselves are accepted at closed
+    ends (``Limit.holds``)."""
+    from engine.study.kinds import KINDS
+    from engine.study.settings.checks import LIMITS, Limit
 
     cases = {(p.values[0], p.values[1]) for p in _limit_cases()}
-    for dotted, limit in LIMITS.items():
+    ranges = dict(LIMITS)
+    for kind in KINDS.builtins.values():
+        for name, declared in kind.declared_keys().items():
+            if declared.minimum is not None or declared.maximum is not None:
+                ranges.setdefault(f"loading.{name}", Limit.of(declared))
+    for dotted, limit in ranges.items():
         key = dotted.removesuffix(".energy")
-        key = "loading.bulk_stress_max, bulk_stress_min" if key == "loading.bulk_stress" else key
+        if key.startswith("loading.bulk_stress"):  # one row for the two
+            key = "loading.bulk_stress_max, bulk_stress_min"
         if limit.minimum is not None:
             assert (key, "below") in cases, dotted
             assert limit.holds(limit.minimum) != limit.open_minimum, dotted

@@ -67,12 +67,11 @@ from pathlib import Path
 from typing import Any
 
 from engine.geometry import DEFAULT_SHAPE, PROFILES
-from engine.keys import declared_keys
 from engine.solvers import defaults
 from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS, wear_coefficients
 from engine.study.kinds import KINDS
 from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
-from engine.study.settings.checks import LIMITS, bound, check_physical_ranges
+from engine.study.settings.checks import LIMITS, bound, bound_of, check_physical_ranges
 from engine.study.settings.reader import Section, toml_error
 from engine.study.settings.sections import (
     MISSING,
@@ -586,9 +585,8 @@ def _parse_loading(s: Section, load_unit: str = "N") -> LoadingConfig:
         names = [f'"{name}"' for name in KINDS]
         raise s.error("kind", kind, f"must be {', '.join(names[:-1])} or {names[-1]}")
     load = s.number("load", minimum=0.0, strict=True, unit=load_unit)
-    steps = s.integer(
-        "steps", declared_keys(LoadingConfig)["steps"].default, **bound("loading.steps")
-    )
+    declared = KINDS[kind].declared_keys()["steps"]  # the kind's: default and bounds
+    steps = s.integer("steps", declared.default, **bound_of(declared))
     return KINDS[kind].parse(s, load, steps)
 
 

@@ -52,12 +52,12 @@ from engine.schema import DatasetSpec
 from engine.solvers import defaults
 from engine.study.outcome import INTERRUPTED, CaseContext, CaseOutcome
 from engine.study.plan import Case
-from engine.study.settings.checks import bound
+from engine.study.settings.checks import bound_of
 from engine.study.settings.sections import (
-    DEFAULT_STEPS,
     LoadingConfig,
     loading_key,
     loading_list,
+    steps_key,
 )
 
 if TYPE_CHECKING:  # annotations only
@@ -73,11 +73,14 @@ class CycledLoading(LoadingConfig):
     those of every kind (``steps`` counts the increments of a half cycle 0 → P; a kind that
     counts otherwise declares ``steps`` again with its meaning)."""
 
-    steps: int = loading_key(
-        "1", "load increments per half cycle", default=DEFAULT_STEPS, label="load increments"
-    )
+    steps: int = steps_key("load increments per half cycle")
     cycles: int = loading_key(
-        "1", "load cycles N to simulate, with cycle jumping", label="load cycles N"
+        "1",
+        "load cycles N to simulate, with cycle jumping",
+        label="load cycles N",
+        minimum=1,
+        maximum=10**9,
+        why="fretting tests run 10^7 to 10^8 cycles",
     )
     record: tuple[int, ...] = loading_list(
         "cycles at which the surface fields and stresses are stored (0 = unworn)",
@@ -88,6 +91,11 @@ class CycledLoading(LoadingConfig):
         "cycle-jump control: the largest wear per jump as a fraction of the peak elastic approach",
         default=defaults.MAX_WEAR_FRACTION,
         label="largest wear per jump / approach",
+        minimum=0.0,
+        strict=True,
+        maximum=1.0,
+        why="wear per cycle jump over the peak elastic approach: beyond 1 a jump removes "
+        "the whole elastic approach and the jump control no longer holds",
     )
 
 
@@ -258,7 +266,8 @@ def parse_cycles(s: Section, kind: str, load: float, steps: int) -> dict[str, An
     """The keys of every kind with cycles: ``cycles``, ``record`` (cycle numbers, default
     the last) and ``max_wear_fraction`` (cycle-jump bound), with ``kind``, ``load`` and
     ``steps``: the fields of a :class:`CycledLoading` ({field: value})."""
-    cycles = s.integer("cycles", **bound("loading.cycles"))
+    declared = declared_keys(CycledLoading)
+    cycles = s.integer("cycles", **bound_of(declared["cycles"]))
     record_raw = s.raw("record", [cycles])
     record_list = record_raw if isinstance(record_raw, list) else [record_raw]
     record = []
@@ -272,11 +281,8 @@ def parse_cycles(s: Section, kind: str, load: float, steps: int) -> dict[str, An
         record.append(item)
     if len(set(record)) != len(record):
         raise s.error("record", record_raw, "cycles must not repeat")
-    max_wear_fraction = s.number(
-        "max_wear_fraction",
-        declared_keys(CycledLoading)["max_wear_fraction"].default,
-        **bound("loading.max_wear_fraction"),
-    )
+    fraction = declared["max_wear_fraction"]
+    max_wear_fraction = s.number("max_wear_fraction", fraction.default, **bound_of(fraction))
     return {
         "kind": kind,
         "load": load,

@@ -47,10 +47,18 @@ from engine.study import outcome
 from engine.study.checkpoint import load_extra, load_fretting_state, save_fretting_state
 from engine.study.fatigue import FatigueAnalysis
 from engine.study.outcome import COMPLETED, FAILED, CaseOutcome
-from engine.study.settings.checks import MAX_FRICTION, bound
-from engine.study.settings.sections import DEFAULT_STEPS, MISSING, loading_key
+from engine.study.settings.checks import ANGLE_REASON, MAX_FRICTION, bound_of
+from engine.study.settings.sections import MISSING, loading_key, steps_key
 
 from .base import CycledKind, CycledLoading, parse_cycles
+
+# In magnitude (MPa): a bulk stress of a line contact's flat.
+_BULK_STRESS_BOUNDS = {
+    "minimum": -1e4,
+    "maximum": 1e4,
+    "why": "in magnitude: 10 GPa is above the strength of any steel, and the flat stays "
+    "linear elastic",
+}
 
 
 @dataclass(frozen=True)
@@ -60,18 +68,19 @@ class FrettingLoading(CycledLoading):
     ``force_amplitude``; the other None) and a line contact's bulk stresses (None: none
     given)."""
 
-    steps: int = loading_key(
-        "1",
-        "load increments per quarter tangential cycle and of the normal loading",
-        default=DEFAULT_STEPS,
-        label="load increments",
-    )
+    steps: int = steps_key("load increments per quarter tangential cycle and of the normal loading")
     amplitude: float | None = loading_key(
         "mm",
         "rigid tangential displacement amplitude δ* (displacement control)",
         optional=True,
         absent="one of the two",
         label="displacement amplitude δ*",
+        minimum=0.0,
+        strict=True,
+        maximum=10.0,
+        why="fretting amplitudes lie below ~0.3 mm; beyond 10 mm the motion is "
+        "reciprocating sliding, which moves the contact over the flat, and this model holds "
+        "it in place",
     )
     force_amplitude: float | None = loading_key(
         "N",
@@ -79,9 +88,18 @@ class FrettingLoading(CycledLoading):
         optional=True,
         absent="one of the two",
         label="force amplitude Q*",
+        minimum=0.0,
+        strict=True,
+        why="a force (the load's unit), also below the friction bound μP of every case",
     )
     direction: float = loading_key(
-        "degree", "sliding direction, from x", default=0.0, label="sliding direction"
+        "degree",
+        "sliding direction, from x",
+        default=0.0,
+        label="sliding direction",
+        minimum=-360.0,
+        maximum=360.0,
+        why=ANGLE_REASON,
     )
     bulk_stress_max: float | None = loading_key(
         "MPa",
@@ -89,6 +107,7 @@ class FrettingLoading(CycledLoading):
         optional=True,
         absent="0 if the other is given, else no bulk stress",
         label="bulk stress at +Q*",
+        **_BULK_STRESS_BOUNDS,
     )
     bulk_stress_min: float | None = loading_key(
         "MPa",
@@ -96,6 +115,7 @@ class FrettingLoading(CycledLoading):
         optional=True,
         absent="0 if the other is given, else no bulk stress",
         label="bulk stress at −Q*",
+        **_BULK_STRESS_BOUNDS,
     )
 
 
@@ -135,15 +155,14 @@ class FrettingKind(CycledKind):
                 "and force_amplitude (N, a line contact's N/mm; force control)",
             )
         unit = "mm" if given[0] == "amplitude" else ""  # a force's bound is 0: no unit
-        value = s.number(given[0], unit=unit, **bound(f"loading.{given[0]}"))
+        declared = self.declared_keys()
+        value = s.number(given[0], unit=unit, **bound_of(declared[given[0]]))
         if given[0] == "force_amplitude" and not value < load * MAX_FRICTION:
             raise s.error(given[0], value, "must be below the friction bound μP (the load's unit)")
-        declared = self.declared_keys()
-        direction = s.number(
-            "direction", declared["direction"].default, unit="degrees", **bound("loading.direction")
-        )
+        direction = declared["direction"]
+        direction = s.number("direction", direction.default, unit="degrees", **bound_of(direction))
         bulk = {
-            key: s.number(key, unit="MPa", **bound("loading.bulk_stress"))
+            key: s.number(key, unit="MPa", **bound_of(declared[key]))
             for key in sorted(BULK_STRESS_KEYS)
             if key in s.table
         }

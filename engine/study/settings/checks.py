@@ -85,53 +85,19 @@ def _number(value: float) -> str:
 
 
 _LENGTH = LENGTH_REASON
-_ANGLE = "angles in degrees, one turn either way"
+ANGLE_REASON = "angles in degrees, one turn either way"
 
 #: Every range a number of the host's sections must lie in ("section.key": Limit), read by the
 #: checks (:func:`bound`) and written in the manual's limits table. A key beyond the maximum
 #: is a typo or a unit slip, and would otherwise run for days or fail late. The plug-ins
-#: declare their own keys' ranges (``engine.keys.Key``: the profiles' [punch] keys, the wear
-#: laws' coefficients; the fatigue criteria's constants).
+#: declare their own keys' ranges (``engine.keys.Key``, read through :func:`bound_of`): the
+#: profiles' [punch] keys, the loading kinds' [loading] numbers, the wear laws' coefficients,
+#: the fatigue criteria's constants.
 LIMITS = {
     "material.E_A": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
     "material.E_B": Limit(*MODULUS_RANGE, "from gels to a rigid punch modelled as 10⁶ × steel"),
     "material.nu_A": Limit(-1.0, 0.5, "Poisson's ratio of a stable isotropic solid", True, True),
     "material.nu_B": Limit(-1.0, 0.5, "Poisson's ratio of a stable isotropic solid", True, True),
-    "loading.steps": Limit(
-        1,
-        10_000,
-        "increments per half cycle (fretting: per quarter), each a full contact solve: 10^4 "
-        "resolve any loading path",
-    ),
-    "loading.cycles": Limit(1, 10**9, "fretting tests run 10^7 to 10^8 cycles"),
-    "loading.max_wear_fraction": Limit(
-        0.0,
-        1.0,
-        "wear per cycle jump over the peak elastic approach: beyond 1 a jump removes "
-        "the whole elastic approach and the jump control no longer holds",
-        open_minimum=True,
-    ),
-    "loading.amplitude": Limit(
-        0.0,
-        10.0,
-        "fretting amplitudes lie below ~0.3 mm; beyond 10 mm the motion is "
-        "reciprocating sliding, which moves the contact over the flat, and this model holds "
-        "it in place",
-        open_minimum=True,
-    ),
-    "loading.force_amplitude": Limit(
-        0.0,
-        None,
-        "a force (the load's unit), also below the friction bound μP of every case",
-        open_minimum=True,
-    ),
-    "loading.direction": Limit(-360.0, 360.0, _ANGLE),
-    "loading.bulk_stress": Limit(
-        -1e4,
-        1e4,
-        "in magnitude: 10 GPa is above the strength of any steel, and the flat "
-        "stays linear elastic",
-    ),
     "mesh.n": Limit(
         8,
         16384,
@@ -165,7 +131,7 @@ LIMITS = {
     ),
     "sweep.mu1": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
     "sweep.mu2": Limit(0.0, MAX_FRICTION, "real contacts lie below ~2"),
-    "sweep.beta": Limit(-360.0, 360.0, f"{_ANGLE}; taken modulo 180°"),
+    "sweep.beta": Limit(-360.0, 360.0, f"{ANGLE_REASON}; taken modulo 180°"),
     "solver.tol": Limit(
         MIN_TOLERANCE,
         MAX_TOLERANCE,
@@ -201,6 +167,13 @@ def bound(key: str) -> dict:
     limit = LIMITS[key]
     strict = {"strict": True} if limit.open_minimum else {}
     return {"minimum": limit.minimum, "maximum": limit.maximum, "why": limit.why} | strict
+
+
+def bound_of(key: Key) -> dict:
+    """:func:`bound` for a key a plug-in declares (:class:`engine.keys.Key`: a loading kind's
+    ``[loading]`` number)."""
+    strict = {"strict": True} if key.strict else {}
+    return {"minimum": key.minimum, "maximum": key.maximum, "why": key.why} | strict
 
 
 _MEAN_PRESSURE = {False: "p0 = P/(π a0²)", True: "p0 = P/(2 a0), P per unit length"}

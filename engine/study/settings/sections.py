@@ -27,6 +27,8 @@ __all__ = [
     "loading_key",
     "loading_list",
     "DEFAULT_STEPS",
+    "STEPS_BOUNDS",
+    "steps_key",
     "WearConfig",
     "SubsurfaceConfig",
     "SweepAxis",
@@ -147,8 +149,14 @@ class MeshConfig:
     reference_distance: float | None = None  # line contacts: the displacement datum (mm)
 
 
-#: ``[loading] steps`` when absent, whatever the kind.
+#: ``[loading] steps`` when absent, whatever the kind, and its bounds (:class:`Key` fields).
 DEFAULT_STEPS = 10
+STEPS_BOUNDS = {
+    "minimum": 1,
+    "maximum": 10_000,
+    "why": "increments per half cycle (fretting: per quarter), each a full contact solve: "
+    "10^4 resolve any loading path",
+}
 
 
 def loading_key(
@@ -159,13 +167,15 @@ def loading_key(
     optional: bool = False,
     absent: str = "",
     label: str = "",
+    **bounds: Any,
 ) -> Any:
     """A field of a loading kind's ``[loading]`` dataclass declaring its number
     (:class:`engine.keys.Key` in the field's metadata: ``unit``, ``meaning``, ``default``,
-    ``label``); the study-file reference of the manual is written from it
-    (:func:`engine.study.config.keys.loading_keys`).
+    ``label`` and the ``bounds``); the study-file reference of the manual and its limits
+    table are written from it (:func:`engine.study.config.keys.loading_keys`).
 
-    The bounds are those of :func:`engine.study.settings.checks.bound` (``"loading.<key>"``).
+    ``bounds`` are the Key's ``minimum``, ``strict`` (an open minimum), ``maximum`` and
+    ``why``; the kind's parser reads them (:func:`engine.study.settings.checks.bound_of`).
     ``default`` is the key's value when absent (also the field's default); ``optional``
     gives the field the default None (a key that may stay unset, e.g. one of two controls),
     and ``absent`` says in the reference what holds then ("one of the two"). ``label`` is
@@ -173,13 +183,20 @@ def loading_key(
     a kind's dataclass may add required keys after those with defaults, and may declare a
     key of its parent again with its own meaning (the field keeps its place).
     """
-    key = Key(unit, meaning, default=default, label=label)
+    key = Key(unit, meaning, default=default, label=label, **bounds)
     metadata = {"key": key, "absent": absent} if absent else {"key": key}
     if optional:
         return field(default=None, kw_only=True, metadata=metadata)
     if default is not None:
         return field(default=default, kw_only=True, metadata=metadata)
     return field(kw_only=True, metadata=metadata)
+
+
+def steps_key(meaning: str) -> Any:
+    """The field ``steps`` (load increments, default :data:`DEFAULT_STEPS`, bounds
+    :data:`STEPS_BOUNDS`) with what it counts for a kind: every kind declares it, each with
+    its ``meaning`` ("load increments per half cycle")."""
+    return loading_key("1", meaning, default=DEFAULT_STEPS, label="load increments", **STEPS_BOUNDS)
 
 
 def loading_list(meaning: str, *, absent: str) -> Any:
@@ -198,9 +215,7 @@ class LoadingConfig:
 
     kind: str
     load: float = loading_key("N", "peak normal load P", label="normal load P")
-    steps: int = loading_key(
-        "1", "load increments of the loading", default=DEFAULT_STEPS, label="load increments"
-    )
+    steps: int = steps_key("load increments of the loading")
 
 
 @dataclass(frozen=True)
