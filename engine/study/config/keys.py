@@ -172,7 +172,7 @@ def loading_keys(kinds=None) -> list[StudyKey]:
     keys = [StudyKey("loading", "kind", "text", REQUIRED, "–", summaries)]
     owners: dict[str, list[tuple[str, StudyKey]]] = {}
     for name, kind in kinds.items():
-        hints = typing.get_type_hints(kind.config)
+        hints = _annotations(kind.config)
         for field in dataclasses.fields(kind.config):
             if field.name != "kind":
                 described = _loading_field(field, hints[field.name])
@@ -206,8 +206,22 @@ def _loading_field(field: dataclasses.Field, hint) -> StudyKey:
     return StudyKey("loading", field.name, _type_name(hint), default, unit, meaning, label)
 
 
+def _annotations(cls) -> dict:
+    """{field: its type} of the dataclass ``cls``: the evaluated annotations, or their text
+    where a name in them cannot be resolved (a plug-in's annotation under TYPE_CHECKING)."""
+    try:
+        return typing.get_type_hints(cls)
+    except (NameError, TypeError):
+        return {field.name: field.type for field in dataclasses.fields(cls)}
+
+
 def _type_name(hint) -> str:
     """The TOML type of a field's annotation: "number", "integer", "list of integers" …"""
+    if isinstance(hint, str):  # unresolved: its text ("int", "float | None", "tuple[int, ...]")
+        text = hint.removesuffix(" | None")
+        item = text.removeprefix("tuple[").removeprefix("list[").split(",")[0].rstrip("]")
+        hint = {"bool": bool, "int": int, "float": float, "str": str}.get(item, float)
+        return _type_name(tuple[hint, ...] if text != item else hint)
     if typing.get_origin(hint) in (typing.Union, types.UnionType):  # X | None: optional
         hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
     names = {bool: "boolean", int: "integer", float: "number", str: "text"}
