@@ -24,7 +24,9 @@ class CyclicKind(CycledKind):
     """Load cycles with wear (engine.solvers.cyclic.CyclicAnalysis)."""
 
     name = "cyclic"
-    summary = "normal (indentation) fretting: load cycles 0 → P → 0 with wear"
+    summary = (
+        "normal (indentation) fretting: load cycles 0 → P → 0 with wear (the paper's Section 7.2)"
+    )
     increments_per_step = 2  # loading and unloading half cycles
     history = (schema.HISTORY,)
     figures = "engine.analysis.figures:cyclic_figures"
