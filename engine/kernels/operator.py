@@ -47,6 +47,9 @@ _BLOCKS = {
 #: frictionless one: the tangential displacement of its pressure), the tangential block.
 _SPECTRUM_GROUPS = (("zz",), ("zx", "zy"), ("xx", "xy", "yy"))
 
+#: The coupling kernels: zero on an uncoupled material (K = 0), whose products are skipped.
+_COUPLING = ("zx", "zy")
+
 #: Kernels whose values on the periodic cell the spectral preconditioner folds.
 _PRECONDITIONED = ("zz", "xx", "yy", "xy")
 
@@ -108,6 +111,7 @@ class HalfSpaceOperator:
         self._product: np.ndarray | None = None
         self._imaginary: np.ndarray | None = None  # rows of 0 + ik (multiply_by_imaginary)
         self.applications = 0
+        self._row_cache: dict[tuple, tuple] = {}  # blocks of an apply (_rows)
         self._symbol_bound: float | None = None
         self._preconditioner: SpectralPreconditioner | None = None
         self._build_spectra(("zz",))  # the others on first use (_stored)
@@ -265,17 +269,21 @@ class HalfSpaceOperator:
         return out
 
     def _convolve(self, rows: tuple, fields: list[np.ndarray], out=None) -> np.ndarray:
-        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a][b]`` is the
-        (kernel, sign) of output a and field b (``_BLOCKS``). One field: each output is
-        its own transform pair, the product taken in place (no further buffer)."""
+        """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a]`` lists the
+        (field index b, kernel, sign) of output a (``_rows``). One field: each output is its
+        own transform pair, the product taken in place (no further buffer). Outputs whose
+        row is empty (the coupling blocks of an uncoupled material) are zero, and a call
+        whose rows are all empty transforms nothing; each call counts as one application."""
         nx, ny = self.grid.shape
         for row in rows:  # spectra first: building one uses the transforms' buffers
-            for key, _ in row:
+            for _, key, _ in row:
                 self._stored(key)
         result = np.empty((len(rows), nx, ny)) if out is None else out
-        if len(fields) == 1:
+        if not any(rows):
+            result[...] = 0.0
+        elif len(fields) == 1:
             transform = self._transform(1)
-            for a, ((key, sign),) in enumerate(rows):
+            for a, ((_, key, sign),) in enumerate(rows):
                 transform.fields(1)[0] = fields[0]
                 spectrum = transform.forward(1)
                 self._multiply(spectrum[0], key, out=spectrum[0], sign=sign)
@@ -294,10 +302,12 @@ class HalfSpaceOperator:
         return result
 
     def _accumulate(self, target: np.ndarray, row: tuple, spectra: np.ndarray) -> None:
-        """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]``."""
-        for b, (key, sign) in enumerate(row):
-            if b == 0:
-                self._multiply(spectra[0], key, out=target, sign=sign)
+        """``target`` ← Σ_b sign_b · (kernel_b spectrum) · ``spectra[b]`` (0 for no terms)."""
+        if not row:
+            target[...] = 0.0
+        for position, (b, key, sign) in enumerate(row):
+            if position == 0:
+                self._multiply(spectra[b], key, out=target, sign=sign)
                 continue
             product = self._multiply(spectra[b], key, out=self._product_buffer())
             if sign > 0:
@@ -305,9 +315,25 @@ class HalfSpaceOperator:
             else:
                 target -= product
 
-    @staticmethod
-    def _rows(outputs: range, inputs: range) -> tuple:
-        return tuple(tuple(_BLOCKS[(a, b)] for b in inputs) for a in outputs)
+    def _rows(self, outputs: range, inputs: range) -> tuple:
+        """Per output a, the blocks (field index, kernel, sign) of ``_BLOCKS`` that act on
+        it, in the order of ``inputs``. On an uncoupled material (K = 0) the coupling
+        kernels A_zx, A_zy are zero (Eq. 6: proportional to K), and their blocks are left
+        out: a sum without its zero terms has the same value. Made once per block."""
+        key = (outputs.start, outputs.stop, inputs.start, inputs.stop)
+        rows = self._row_cache.get(key)
+        if rows is None:
+            uncoupled = self.material.coupling == 0.0
+            rows = tuple(
+                tuple(
+                    (index, *_BLOCKS[(a, b)])
+                    for index, b in enumerate(inputs)
+                    if not (uncoupled and _BLOCKS[(a, b)][0] in _COUPLING)
+                )
+                for a in outputs
+            )
+            self._row_cache[key] = rows
+        return rows
 
     def apply(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
         """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
@@ -329,7 +355,8 @@ class HalfSpaceOperator:
         return u[0], u[1]
 
     def coupling_to_normal(self, p_x: np.ndarray, p_y: np.ndarray) -> np.ndarray:
-        """A_zx p_x + A_zy p_y (mm): normal displacement due to tangential tractions."""
+        """A_zx p_x + A_zy p_y (mm): normal displacement due to tangential tractions (zero
+        on an uncoupled material, K = 0: no transform, no coupling spectra)."""
         return self._convolve(self._rows(range(2, 3), range(2)), [p_x, p_y])[0]
 
     def coupling_to_tangential(self, p_n: np.ndarray):
@@ -345,12 +372,15 @@ class HalfSpaceOperator:
         the largest eigenvalue of the Hermitian 3×3 circulant symbol (A is symmetric);
         computed once, ``_SYMBOL_ROWS`` rows of frequencies at a time."""
         if self._symbol_bound is None:
+            uncoupled = self.material.coupling == 0.0
             rows = self.padded_shape[0]
             largest = -np.inf
             for start in range(0, rows, _SYMBOL_ROWS):
                 part = slice(start, min(start + _SYMBOL_ROWS, rows))
-                symbol = np.empty((part.stop - start, self.grid.n_y + 1, 3, 3), dtype=complex)
+                symbol = np.zeros((part.stop - start, self.grid.n_y + 1, 3, 3), dtype=complex)
                 for (a, b), (key, sign) in _BLOCKS.items():
+                    if uncoupled and key in _COUPLING:  # zero (K = 0): not built
+                        continue
                     values, kind = self._stored(key)
                     factor = {"real": 1.0, "imaginary": 1j, "complex": 1.0}[kind] * sign
                     values = _imaginary_part(values) if kind == "imaginary" else values
