@@ -1,0 +1,158 @@
+"""What ``python -m engine`` adds to the solver on a cyclic case: the whole command against the
+cyclic analysis alone, side by side in one run.
+
+The case: one case of ``studies/section_7_2_cyclic.toml`` (μ = 0.1: flat punch a0 = 1.8 mm,
+P = 750 N, 64², 10 increments per half cycle, 10⁵ cycles with cycle jumping, records at
+10³, 10⁴ and 10⁵ cycles, the x–z plane in 31 layers to 1.5 a0), the study file itself with
+the other two values of μ left out. Two things are measured, each in a process of its own,
+alternating in each round (so that they share the load), on one core:
+
+- **solver**: the case's contact solver and wear law, built by the study's own case runner
+  (``CaseContext.solver``, ``case_wear_law``), and ``CyclicAnalysis.run`` without a peak
+  probe: the set-up and the cycles, CPU time (``time.process_time``) inside the process;
+- **command**: ``python -m engine STUDY.toml --fresh --no-progress-bar`` on that study, CPU
+  time (user + system) of the whole process (``os.wait4``): the interpreter, the imports,
+  the parsing, the same analysis with the peak tracker of every simulated cycle (the σ_VM
+  maxima on the x–z plane and the regions at the element centres beside it), the stress
+  planes of the records, the results file, its summary and the read-back.
+
+Printed per round: both CPU times; then the overhead of the command over the solver,
+best/best − 1 (CPU times: the load of a shared machine only adds to them, so the best of
+the rounds is the least inflated), and a check that both ran the same analysis (the same
+maximum wear depth, bit for bit, and the same operator applications). The load average is
+printed at the start and at the end.
+
+    python benchmarks/bench_cli_overhead.py --repeats 3     # ~1 minute on an idle core
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _single_core import single_core_env
+
+REPO = Path(__file__).resolve().parents[1]
+STUDY = REPO / "studies" / "section_7_2_cyclic.toml"
+FRICTION = 0.1
+
+
+def study_text(output: Path) -> str:
+    """The bundled study with one value of μ and its results written to ``output``."""
+    lines = []
+    for line in STUDY.read_text().splitlines():
+        if line.startswith("output ="):
+            line = f'output = "{output}"'
+        elif line.startswith("mu1 ="):
+            line = f"mu1 = [{FRICTION}]"
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
+def child_solver(study: Path) -> dict:
+    """The cyclic analysis of the study's one case, without the peak probe (module doc)."""
+    cpu = time.process_time()
+    from engine.solvers.cyclic import CyclicAnalysis, CyclicSettings
+    from engine.study import outcome
+    from engine.study.case import CaseRunner
+    from engine.study.config import parse_study
+    from engine.study.plan import make_plan
+
+    imports = time.process_time() - cpu
+    config = parse_study(study.read_text(), source=str(study))
+    (case,) = make_plan(config)
+    config = CaseRunner(config).config_for(case)
+    cpu = time.process_time()
+    solver, _, _ = CaseRunner(config).context.solver(case, config)
+    loading = config.loading
+    settings = CyclicSettings(
+        loading.load,
+        loading.steps,
+        loading.cycles,
+        record=loading.record,
+        max_wear_fraction=loading.max_wear_fraction,
+    )
+    analysis = CyclicAnalysis(solver, outcome.case_wear_law(case, config), settings)
+    result = analysis.run()
+    return dict(
+        cpu_s=time.process_time() - cpu,
+        imports_cpu_s=imports,
+        max_wear_depth=float(result.state.wear.max()),
+        matvecs=int(result.state.matvecs),
+    )
+
+
+def run_solver(study: Path) -> dict:
+    env = single_core_env(REPO)
+    command = [sys.executable, __file__, "--child", str(study)]
+    output = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
+    return json.loads(output.stdout.strip().splitlines()[-1])
+
+
+def run_command(study: Path, folder: Path) -> dict:
+    """The whole command's CPU time (s), and the case's summary row."""
+    env = single_core_env(REPO)
+    env["XDG_CACHE_HOME"] = str(folder)
+    command = [sys.executable, "-m", "engine", str(study), "--fresh", "--no-progress-bar"]
+    with open(folder / "log", "w") as log:
+        process = subprocess.Popen(command, cwd=folder, env=env, stdout=log, stderr=log)
+        _, status, usage = os.wait4(process.pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise SystemExit(f"python -m engine failed: {(folder / 'log').read_text()[-2000:]}")
+    with open(study.with_suffix(".csv")) as handle:
+        (row,) = list(csv.DictReader(handle))
+    return dict(cpu_s=usage.ru_utime + usage.ru_stime, row=row)
+
+
+def measure(repeats: int) -> dict:
+    rows = {"solver": [], "command": []}
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
+        study = folder / "cyclic_64.toml"
+        study.write_text(study_text(study.with_suffix(".h5")))
+        # A first, unrecorded command compiles the bytecode, as an installed package has it.
+        run_command(study, folder)
+        for index in range(repeats):
+            order = ("solver", "command") if index % 2 == 0 else ("command", "solver")
+            for what in order:
+                figures = run_solver(study) if what == "solver" else run_command(study, folder)
+                rows[what].append(figures)
+                print(f"round {index}  {what:8s} CPU {figures['cpu_s']:8.3f} s", flush=True)
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(child_solver(Path(args.child))))
+        return
+    print(f"load average at the start: {os.getloadavg()[0]:.1f}", flush=True)
+    rows = measure(args.repeats)
+    solver = min(r["cpu_s"] for r in rows["solver"])
+    command = min(r["cpu_s"] for r in rows["command"])
+    summary = rows["command"][-1]["row"]
+    same_wear = all(
+        float(summary["max_wear_depth"]) == r["max_wear_depth"] for r in rows["solver"]
+    )
+    same_matvecs = all(int(summary["matvecs"]) == r["matvecs"] for r in rows["solver"])
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
+    print(
+        f"cyclic 64² case (31 layers, records at 10³, 10⁴, 10⁵ cycles): solver {solver:.3f} s, "
+        f"python -m engine {command:.3f} s (CPU, best of {args.repeats}); the command adds "
+        f"{100 * (command / solver - 1):.1f} % to the solver's time; same analysis "
+        f"(maximum wear depth, operator applications): {same_wear and same_matvecs}"
+    )
+
+
+if __name__ == "__main__":
+    main()
