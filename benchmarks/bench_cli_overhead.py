@@ -141,9 +141,7 @@ def main() -> None:
     solver = min(r["cpu_s"] for r in rows["solver"])
     command = min(r["cpu_s"] for r in rows["command"])
     summary = rows["command"][-1]["row"]
-    same_wear = all(
-        float(summary["max_wear_depth"]) == r["max_wear_depth"] for r in rows["solver"]
-    )
+    same_wear = all(float(summary["max_wear_depth"]) == r["max_wear_depth"] for r in rows["solver"])
     same_matvecs = all(int(summary["matvecs"]) == r["matvecs"] for r in rows["solver"])
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
     print(

@@ -178,8 +178,9 @@ class LineOperator:
         u_x = A_xx p_x − A_zx p_n,   u_y = A_yy p_y,   u_n = A_zx p_x + A_zz p_n
 
     (A_xx = A_yy = A_zz the log kernel, A_zx the odd coupling kernel, A_xz = −A_zx),
-    ``apply_normal``, ``apply_tangential``, the two couplings, ``symbol_bound`` and the
-    spectral ``preconditioner``. ``applications`` counts calls. Spectra: real 1-D transforms
+    ``apply_normal``, ``apply_tangential``, ``apply_normal_later``, the two couplings,
+    ``symbol_bound`` and the spectral ``preconditioner``. ``applications`` counts calls.
+    Spectra: real 1-D transforms
     of length 2n, the log kernel's real (even circulant), the coupling's imaginary (odd), with
     the 1/(2n) of the inverse transform folded in.
     """
@@ -259,6 +260,13 @@ class LineOperator:
         spectra[1] = coupling * tangential + log * normal
         u = self._inverse(len(rows))
         return u[0], u[2] if len(rows) == 3 else np.zeros(self.grid.shape), u[1]
+
+    def apply_normal_later(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
+        """:meth:`apply` in the form of ``HalfSpaceOperator.apply_normal_later``: ``(u_x,
+        u_y, normal)`` with ``normal()`` giving u_n (mm); all three are made now (one set of
+        transforms)."""
+        u_x, u_y, u_n = self.apply(p_x, p_y, p_n)
+        return u_x, u_y, lambda: u_n
 
     def apply_normal(self, p_n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` when

@@ -268,12 +268,15 @@ class HalfSpaceOperator:
             np.negative(out, out=out)
         return out
 
-    def _convolve(self, rows: tuple, fields: list[np.ndarray], out=None) -> np.ndarray:
+    def _convolve(
+        self, rows: tuple, fields: list[np.ndarray], out=None, *, count: bool = True
+    ) -> np.ndarray:
         """Apply a block of kernel spectra to ``fields`` (columns): ``rows[a]`` lists the
         (field index b, kernel, sign) of output a (``_rows``). One field: each output is its
         own transform pair, the product taken in place (no further buffer). Outputs whose
         row is empty (the coupling blocks of an uncoupled material) are zero, and a call
-        whose rows are all empty transforms nothing; each call counts as one application."""
+        whose rows are all empty transforms nothing; each call counts as one application
+        (``count``: False for the rest of an application already counted)."""
         nx, ny = self.grid.shape
         for row in rows:  # spectra first: building one uses the transforms' buffers
             for _, key, _ in row:
@@ -298,7 +301,7 @@ class HalfSpaceOperator:
             for a, row in enumerate(rows):
                 self._accumulate(targets[a], row, spectra)
             result[...] = transform.inverse(targets)
-        self.applications += 1
+        self.applications += int(count)
         return result
 
     def _accumulate(self, target: np.ndarray, row: tuple, spectra: np.ndarray) -> None:
@@ -339,6 +342,21 @@ class HalfSpaceOperator:
         """Full 3×3 block: tractions (MPa) → relative displacements ``(u_x, u_y, u_n)`` (mm)."""
         u = self._convolve(self._rows(range(3), range(3)), [p_x, p_y, p_n])
         return u[0], u[1], u[2]
+
+    def apply_normal_later(self, p_x: np.ndarray, p_y: np.ndarray, p_n: np.ndarray):
+        """The full 3×3 block as :meth:`apply`, in one application, for a caller that may not
+        need u_n: ``(u_x, u_y, normal)``, ``normal()`` giving u_n (mm). On an uncoupled
+        material (K = 0) u_t = A_tt p_t and u_n = A_zz p_n are apart, so u_t is made now and
+        u_n only when ``normal()`` is called (on the ``p_n`` given, which the caller keeps
+        unchanged until then); each has the bits of :meth:`apply`'s (the same products in the
+        same order, the transforms of one field the same in any batch). Otherwise all three
+        are made now."""
+        if self.material.coupling != 0.0:
+            u = self.apply(p_x, p_y, p_n)
+            return u[0], u[1], lambda: u[2]
+        u_x, u_y = self.apply_tangential(p_x, p_y)
+        rows = self._rows(range(2, 3), range(2, 3))
+        return u_x, u_y, lambda: self._convolve(rows, [p_n], count=False)[0]
 
     def apply_normal(self, p_n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """A_zz only: pressure (MPa) → relative normal displacement (mm), into ``out`` (an

@@ -138,7 +138,7 @@ def _normal_pass(problem, load, iterate: _Iterate, coupling, tol):
 
 def _tangential_pass(problem, iterate: _Iterate, u, tol):
     """The tangential block with the friction bounds frozen, from the iterate's tractions
-    whose displacements are ``u`` (= A x); slip = u_t − slip_reference."""
+    whose tangential displacements are ``u[:2]`` (= (A x)_t); slip = u_t − slip_reference."""
     tangential = solve_tangential(
         problem.operator,
         problem.preconditioner,
@@ -173,10 +173,12 @@ def solve_alternating(
         normal = _normal_pass(problem, load, iterate, coupling, tol)
         if normal.stalled:  # the projected gradient below takes the increment over
             break
-        u = np.array(operator.apply(*iterate.tractions, iterate.pressure))
-        tangential = _tangential_pass(problem, iterate, u, tol * abs(normal.approach))
+        u_x, u_y, u_normal = operator.apply_normal_later(*iterate.tractions, iterate.pressure)
+        u_t = np.array([u_x, u_y])
+        tangential = _tangential_pass(problem, iterate, u_t, tol * abs(normal.approach))
         if normal.iterations == 1 and tangential.iterations == 0:
             # Neither block moved: u = A x exactly; measure the coupled residual.
+            u = np.array([u_x, u_y, u_normal()])
             residual, _ = natural_residual(problem, iterate.point(), u, load)
             if residual <= problem.tol:
                 settled = True
