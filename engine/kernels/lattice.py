@@ -98,10 +98,16 @@ class LatticeConvolution(_DepthLayers):
         # oe) up to rounding; only that part is stored (half the memory, cheaper products).
         self.symmetric = counts == grid.shape and np.allclose(origin, sources, rtol=0, atol=0)
         self._kernels: dict[tuple[int, str], dict[str, tuple[np.ndarray, complex]]] = {}
+        # Other lattices: the six components' spectra of a load in one array, so that a
+        # layer takes its products and inverse transforms for all six at once (_stacked).
+        self._stacks: dict[tuple[int, str], np.ndarray] = {}
+        self._batch: RealFFTPair | None = None
+        self._options = (threads, effort)
 
     @property
     def cache_bytes(self) -> int:
-        return sum(a.nbytes for spectra in self._kernels.values() for a, _ in spectra.values())
+        spectra = sum(a.nbytes for kept in self._kernels.values() for a, _ in kept.values())
+        return spectra + sum(stack.nbytes for stack in self._stacks.values())
 
     def _transform(self, values: np.ndarray, wrapped: bool = False) -> np.ndarray:
         """Forward FFT of a zero-padded field (corner block) or of a kernel in circulant order.
@@ -128,15 +134,7 @@ class LatticeConvolution(_DepthLayers):
         key = (layer, load)
         if key in self._kernels:
             return self._kernels[key]
-        coefficients = element_stress(
-            self._offsets[0],
-            self._offsets[1],
-            depth,
-            self.grid.dx,
-            self.grid.dy,
-            self.poisson_ratio,
-            load,
-        )
+        coefficients = self._coefficients(depth, load)
         spectra = {}
         for component in COMPONENTS:
             spectrum = self._transform(coefficients[component], wrapped=True)
@@ -150,11 +148,70 @@ class LatticeConvolution(_DepthLayers):
             self._kernels[key] = spectra
         return spectra
 
+    def _coefficients(self, depth: float, load: str) -> dict[str, np.ndarray]:
+        """The element coefficients of ``load`` on the lattice's offsets at ``depth`` (mm)."""
+        return element_stress(
+            self._offsets[0],
+            self._offsets[1],
+            depth,
+            self.grid.dx,
+            self.grid.dy,
+            self.poisson_ratio,
+            load,
+        )
+
+    def _stacked(self, layer: int, depth: float, load: str) -> np.ndarray:
+        """The spectra of ``kernel_spectra`` of a lattice that is not the block itself (all
+        complex, factor 1), the six components stacked: (6, N_x, N_y // 2 + 1)."""
+        key = (layer, load)
+        if key in self._stacks:
+            return self._stacks[key]
+        coefficients = self._coefficients(depth, load)
+        stack = np.empty((len(COMPONENTS), *self._spectrum.shape), dtype=complex)
+        negative = (self.grid.n_x - 1, self.grid.n_y - 1)
+        for index, component in enumerate(COMPONENTS):  # _transform(wrapped=True), in place
+            self._real[...] = wrap_kernel(coefficients.pop(component), self.padded, negative)
+            stack[index] = self._fft.forward()
+        if self.cache:
+            self._stacks[key] = stack
+        return stack
+
+    def _batched(self) -> bool:
+        """Whether a layer takes its six components at once (``_layer_stacked``): a lattice
+        that is not the block, whose batch buffers (the six fields, their spectra and one
+        product, ``BATCH_LIMIT``) are small; others one component at a time."""
+        if self.symmetric:
+            return False
+        fields = len(COMPONENTS) * self.padded[0] * self.padded[1] * 8
+        spectra = len(COMPONENTS) * self._spectrum.size * 16
+        return fields + 2 * spectra <= BATCH_LIMIT
+
+    def _layer_stacked(self, layer: int, depth: float, tractions: dict) -> dict:
+        """``layer`` for a lattice that is not the block: the same products, summed in the
+        same order, for the six components at once, and their six inverse transforms in one
+        batch (each with the bits of its own transform)."""
+        if self._batch is None:
+            threads, effort = self._options
+            shape = (len(COMPONENTS), *self.padded)
+            self._batch = RealFFTPair(shape, threads=threads, effort=effort)
+            self._product = np.empty_like(self._batch.spectrum)
+        spectra, product = self._batch.spectrum, self._product
+        spectra[...] = 0.0
+        for load, traction in tractions.items():
+            np.multiply(self._stacked(layer, depth, load), traction, out=product)
+            spectra += product
+        real = self._batch.inverse_unscaled()
+        m_x, m_y = self.counts
+        values = self._scale * real[:, :m_x, :m_y]
+        return {component: values[index] for index, component in enumerate(COMPONENTS)}
+
     def layer(self, layer: int, depth: float, tractions: dict[str, np.ndarray]) -> dict:
         """Stresses on the lattice at one depth: dict component -> (m_x, m_y), MPa.
 
         ``tractions``: traction spectra from ``traction_spectra``.
         """
+        if self._batched():
+            return self._layer_stacked(layer, depth, tractions)
         kernels = {load: self.kernel_spectra(layer, depth, load) for load in tractions}
         m_x, m_y = self.counts
         result = {}
@@ -171,6 +228,11 @@ class LatticeConvolution(_DepthLayers):
             result[component] = self._scale * self._real[:m_x, :m_y]
         return result
 
+
+BATCH_LIMIT = 16 * 2**20
+"""Bytes of the buffers with which a lattice that is not the block takes the six stress
+components of a layer at once (the element centres beside a plane: 1.4 MB at 64²); a larger
+one takes them one at a time, in less memory, with the same values."""
 
 ROW_BLOCK = 64
 """Rows folded across the line that a ``LineConvolution`` transforms and sums together: the
