@@ -350,11 +350,17 @@ class HalfSpaceOperator:
         u_n only when ``normal()`` is called (on the ``p_n`` given, which the caller keeps
         unchanged until then); each has the bits of :meth:`apply`'s (the same products in the
         same order, the transforms of one field the same in any batch). Otherwise all three
-        are made now."""
+        are made now. Zero tangential tractions give u_t = 0 without a transform (the
+        transform of zeros is zero; only the sign of a zero could differ, and the slip it
+        makes is added to the previous displacement)."""
         if self.material.coupling != 0.0:
             u = self.apply(p_x, p_y, p_n)
             return u[0], u[1], lambda: u[2]
-        u_x, u_y = self.apply_tangential(p_x, p_y)
+        if p_x.any() or p_y.any():
+            u_x, u_y = self.apply_tangential(p_x, p_y)
+        else:  # no tangential tractions (a frictional normal loading): u_t = 0
+            u_x, u_y = np.zeros(self.grid.shape), np.zeros(self.grid.shape)
+            self.applications += 1
         rows = self._rows(range(2, 3), range(2, 3))
         return u_x, u_y, lambda: self._convolve(rows, [p_n], count=False)[0]
 
