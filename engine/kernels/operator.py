@@ -478,6 +478,7 @@ class SpectralPreconditioner:
         self.shape = operator.grid.shape
         self._normal = 1.0 / self._periodic_spectrum("zz")
         self._tangential: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._scratch: np.ndarray | None = None  # three tangential spectra (tangential)
         # pyfftw plans of the operator's kind (estimate by default: reproducible bits).
         self._one = self._transform(1)
         self._two: RealFFTPair | None = None
@@ -528,8 +529,17 @@ class SpectralPreconditioner:
         fft.real[0] = rx
         fft.real[1] = ry
         spectrum = fft.forward()
-        fx, fy = spectrum[0].copy(), spectrum[1]
-        spectrum[0] = ixx * fx + ixy * fy
-        spectrum[1] = ixy * fx + iyy * fy
+        if self._scratch is None:
+            self._scratch = np.empty((3, *spectrum.shape[1:]), complex)
+        fx, first, second = self._scratch
+        fx[...] = spectrum[0]
+        fy = spectrum[1]
+        # (a + ib) r by parts (multiply_by_real): no complex copy of the real symbols
+        multiply_by_real(fx, ixx, first)
+        multiply_by_real(fy, ixy, second)
+        np.add(first, second, out=spectrum[0])
+        multiply_by_real(fx, ixy, first)
+        multiply_by_real(fy, iyy, second)
+        np.add(first, second, out=spectrum[1])
         real = fft.inverse()
         return real[0].copy(), real[1].copy()
