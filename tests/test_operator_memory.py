@@ -106,6 +106,32 @@ def test_frictionless_case_builds_only_the_spectra_it_needs():
     assert all(np.array_equal(a, b) for a, b in zip(slip, again, strict=True))
 
 
+def test_uncoupled_products_leave_out_the_zero_coupling_blocks():
+    """K = 0: A_zx and A_zy are zero (proportional to K), so a frictional case neither builds
+    nor applies them; the full block gives the bits of its blocks taken apart (A_tt q, A_zz p),
+    and ``apply_normal_later`` makes u_n only when asked, within one counted application."""
+    grid = Grid(12, 10, 1.0, 0.8)
+    uncoupled = MaterialPair(200e3, 0.3, 200e3, 0.3)
+    fields = np.random.default_rng(5).standard_normal((3, *grid.shape))
+    operator = HalfSpaceOperator(grid, uncoupled)
+    u = np.array(operator.apply(*fields))
+    operator.symbol_bound()
+    assert set(operator._spectra) == {"zz", "xx", "xy", "yy"}
+    assert np.array_equal(u[:2], np.array(operator.apply_tangential(fields[0], fields[1])))
+    assert np.array_equal(u[2], operator.apply_normal(fields[2]))
+    count = operator.applications
+    assert not operator.coupling_to_normal(fields[0], fields[1]).any()
+    ux, uy, normal = operator.apply_normal_later(*fields)
+    assert operator.applications == count + 2
+    assert np.array_equal(np.array([ux, uy]), u[:2])
+    assert np.array_equal(normal(), u[2])
+    assert operator.applications == count + 2  # u_n is part of the same application
+    zero = np.zeros(grid.shape)
+    ux, uy, normal = operator.apply_normal_later(zero, zero, fields[2])
+    assert not ux.any() and not uy.any()
+    assert np.array_equal(normal(), u[2])
+
+
 def test_products_do_not_depend_on_the_batch_sizes_asked_before():
     """The FFT buffers grow with the largest block asked; the results stay the same bits."""
     grid = Grid(12, 10, 1.0, 0.8)

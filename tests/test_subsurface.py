@@ -473,3 +473,21 @@ def test_inputs_are_checked():
         stress.block(np.zeros((8, 7)))
     zero = stress.block(np.zeros((8, 8)))
     assert np.all(zero.von_mises == 0.0)
+
+
+def test_a_window_gives_the_same_bits_with_its_components_at_once_or_apart(monkeypatch):
+    """The element centres beside a plane (a window of the grid) take a layer's six
+    components at once (small batch buffers) or one at a time (``BATCH_LIMIT`` 0): the same
+    products in the same order, so the same bits."""
+    from engine.kernels import lattice
+
+    grid = Grid.square(16, 1.05 * A0)
+    rng = np.random.default_rng(7)
+    tractions = [rng.random(grid.shape) for _ in LOADS]
+    window = (slice(0, 16), slice(7, 9))
+    depths = depth_layers(1.5 * A0, 5)
+    together = SubsurfaceStress(grid, NU, depths).block(*tractions, window=window)
+    monkeypatch.setattr(lattice, "BATCH_LIMIT", 0)
+    apart = SubsurfaceStress(grid, NU, depths).block(*tractions, window=window)
+    for component in COMPONENTS:
+        assert np.array_equal(together.components[component], apart.components[component])
