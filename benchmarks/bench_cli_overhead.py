@@ -23,6 +23,9 @@ maximum wear depth, bit for bit, and the same operator applications). Every proc
 the bytecode that a first, unrecorded command compiled (``bench_anchors.use_bytecode_cache``),
 as an installed package does. The load average is printed at the start and at the end.
 
+``--baseline DIR`` measures the engine of another source tree alike in every round (before
+and after a change, in one run).
+
     python benchmarks/bench_cli_overhead.py --repeats 3     # ~1 minute on an idle core
 """
 
@@ -91,16 +94,18 @@ def child_solver(study: Path) -> dict:
     )
 
 
-def run_solver(study: Path) -> dict:
-    env = single_core_env(REPO)
+def run_solver(study: Path, tree: Path = REPO) -> dict:
+    """``child_solver`` in a process of its own, with the engine of ``tree``."""
+    env = single_core_env(tree)
     command = [sys.executable, __file__, "--child", str(study)]
     output = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
     return json.loads(output.stdout.strip().splitlines()[-1])
 
 
-def run_command(study: Path, folder: Path) -> dict:
-    """The whole command's CPU time (s), and the case's summary row."""
-    env = single_core_env(REPO)
+def run_command(study: Path, folder: Path, tree: Path = REPO) -> dict:
+    """The whole command's CPU time (s), with the engine of ``tree``, and the case's summary
+    row."""
+    env = single_core_env(tree)
     env["XDG_CACHE_HOME"] = str(folder)
     command = [sys.executable, "-m", "engine", str(study), "--fresh", "--no-progress-bar"]
     with open(folder / "log", "w") as log:
@@ -113,8 +118,10 @@ def run_command(study: Path, folder: Path) -> dict:
     return dict(cpu_s=usage.ru_utime + usage.ru_stime, row=row)
 
 
-def measure(repeats: int) -> dict:
-    rows = {"solver": [], "command": []}
+def measure(repeats: int, trees: dict[str, Path]) -> dict:
+    """rows[(code, what)]: the figures of every round, ``what`` = solver or command, for each
+    engine tree of ``trees`` (this one, and a baseline), alternating within a round."""
+    rows = {(code, what): [] for code in trees for what in ("solver", "command")}
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
         study = folder / "cyclic_64.toml"
@@ -122,38 +129,57 @@ def measure(repeats: int) -> dict:
         # A first, unrecorded command compiles the bytecode that every later process reuses,
         # as an installed package has it (bench_anchors.use_bytecode_cache).
         use_bytecode_cache(str(folder / "bytecode"))
-        run_command(study, folder)
+        for tree in trees.values():
+            run_command(study, folder, tree)
         for index in range(repeats):
-            order = ("solver", "command") if index % 2 == 0 else ("command", "solver")
-            for what in order:
-                figures = run_solver(study) if what == "solver" else run_command(study, folder)
-                rows[what].append(figures)
-                print(f"round {index}  {what:8s} CPU {figures['cpu_s']:8.3f} s", flush=True)
+            order = list(rows) if index % 2 == 0 else list(rows)[::-1]
+            for code, what in order:
+                tree = trees[code]
+                if what == "solver":
+                    figures = run_solver(study, tree)
+                else:
+                    figures = run_command(study, folder, tree)
+                rows[(code, what)].append(figures)
+                print(
+                    f"round {index}  {code:8s} {what:8s} CPU {figures['cpu_s']:8.3f} s", flush=True
+                )
     return rows
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        help="another source tree of the engine (e.g. git archive <rev> | tar -x -C /tmp/old), "
+        "measured alike in every round",
+    )
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
         print(json.dumps(child_solver(Path(args.child))))
         return
     print(f"load average at the start: {os.getloadavg()[0]:.1f}", flush=True)
-    rows = measure(args.repeats)
-    solver = min(r["cpu_s"] for r in rows["solver"])
-    command = min(r["cpu_s"] for r in rows["command"])
-    summary = rows["command"][-1]["row"]
-    same_wear = all(float(summary["max_wear_depth"]) == r["max_wear_depth"] for r in rows["solver"])
-    same_matvecs = all(int(summary["matvecs"]) == r["matvecs"] for r in rows["solver"])
+    trees = {"engine": REPO} | ({"baseline": args.baseline.resolve()} if args.baseline else {})
+    rows = measure(args.repeats, trees)
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
-    print(
-        f"cyclic 64² case (31 layers, records at 10³, 10⁴, 10⁵ cycles): solver {solver:.3f} s, "
-        f"python -m engine {command:.3f} s (CPU, best of {args.repeats}); the command adds "
-        f"{100 * (command / solver - 1):.1f} % to the solver's time; same analysis "
-        f"(maximum wear depth, operator applications): {same_wear and same_matvecs}"
-    )
+    for code in trees:
+        solver = min(r["cpu_s"] for r in rows[(code, "solver")])
+        command = min(r["cpu_s"] for r in rows[(code, "command")])
+        summary = rows[(code, "command")][-1]["row"]
+        solved = rows[(code, "solver")]
+        same = all(
+            float(summary["max_wear_depth"]) == r["max_wear_depth"]
+            and int(summary["matvecs"]) == r["matvecs"]
+            for r in solved
+        )
+        print(
+            f"{code}: cyclic 64² case (31 layers, records at 10³, 10⁴, 10⁵ cycles): solver "
+            f"{solver:.3f} s, python -m engine {command:.3f} s (CPU, best of {args.repeats}); "
+            f"the command adds {100 * (command / solver - 1):.1f} % to the solver's time; same "
+            f"analysis (maximum wear depth, operator applications): {same}"
+        )
 
 
 if __name__ == "__main__":
