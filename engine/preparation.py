@@ -32,7 +32,7 @@ from engine.output.lock import (
     check_summary_path,
     check_text,
 )
-from engine.output.space import OutputFull, check_space, planned_bytes
+from engine.output.space import MARGIN, OutputFull, check_space, planned_bytes
 from engine.parallel.serial import ranks_on_node
 from engine.parallel.waiting import patient_bcast
 from engine.searching import search_strategy
@@ -132,10 +132,7 @@ def prepare_on_root(
         if not options.fresh:
             existing = inspect(output, plan)
         return Prepared(config, plan, strategy, None, _for_searches(config, existing))
-    check_output_path(output)
-    lock = OutputLock(output)
-    lock.acquire()  # before anything else touches the output, fresh included
-    locks.append(lock)
+    lock = _take_output(output, locks, lambda: _all_cases_bytes(config, plan))
     if lock.replaced is not None:
         LOGGER.warning(
             "note: removed the stale lock of a run that no longer exists (pid %s, host %s)",
@@ -165,11 +162,30 @@ def _prepare_calibration(config, plan, options: RunOptions, locks: list):
         )  # fmt: skip
 
     if not options.dry_run:
-        check_output_path(config.study.output)
-        lock = OutputLock(config.study.output)
-        lock.acquire()
-        locks.append(lock)
+        _take_output(config.study.output, locks, lambda: MARGIN)  # what its results write
     return Prepared(config, plan, "calibrate", None, None)
+
+
+def _take_output(output: Path, locks: list, needed) -> OutputLock:
+    """Check the output's path and take its lock (appended to ``locks``), before anything
+    else touches the output. A disk too full for the lock file is
+    :class:`engine.output.space.OutputFull` naming what the run needs (``needed()``, bytes,
+    at most that when a results file exists: its cases are not looked at without the lock),
+    not the lock file's few bytes."""
+    try:
+        check_output_path(output)
+        lock = OutputLock(output)
+        lock.acquire()
+    except OutputFull as full:
+        raise OutputFull(output, needed(), full.free, at_most=output.exists()) from None
+    locks.append(lock)
+    return lock
+
+
+def _all_cases_bytes(config, plan) -> int:
+    """The bytes every case of ``plan`` writes (known from the plan, as the check before a
+    run counts them: :func:`engine.output.space.planned_bytes`)."""
+    return planned_bytes(plan_layout(config, plan), plan.case_ids)
 
 
 def _for_searches(config, existing):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -154,6 +155,47 @@ def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_pat
     last = engine(moved, "full.toml")
     assert last.returncode == 0, last.stderr
     assert f"{kept} already complete, {4 - kept} to run" in last.stdout, last.stdout
+
+
+def fill_to_the_last_byte(directory: Path) -> None:
+    """Grow ``directory/filler`` until its file system has 0 B free (1 MiB, 4 KiB, then
+    single bytes)."""
+    with open(directory / "filler", "ab", buffering=0) as handle:
+        for size in (1 << 20, 4096, 1):
+            block = b"\0" * size
+            while True:
+                try:
+                    handle.write(block)
+                except OSError as error:
+                    if error.errno != errno.ENOSPC:
+                        raise
+                    break
+
+
+def test_a_disk_too_full_for_the_lock_names_what_the_run_needs(small_file_system):
+    """A disk full to the last byte: not even the lock file can be written. Exit 5 with one
+    line, nothing created, and the space named is what the study's cases need — the figure
+    the check before a run names on the same disk with a little room left (the lock is
+    taken, the cases do not fit beside the 1 MB kept free), not the lock file's 17 B."""
+    text = study_toml(
+        "lock", "lock.h5", mesh={"n": 8}, loading={"kind": "static", "steps": 2},
+        sweep={"mu1": [0.1, 0.2], "beta": [0.0, 30.0]},
+    )  # fmt: skip
+    (small_file_system / "lock.toml").write_text(text)
+    (small_file_system / "filler").write_bytes(bytes(600_000))  # about 0.6 MB left
+    figures = []
+    for fill in (lambda: None, lambda: fill_to_the_last_byte(small_file_system)):
+        fill()
+        done = engine(small_file_system, "lock.toml")
+        assert done.returncode == 5, done.stderr
+        lines = done.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("error: lock.h5: no space left"), lines
+        made = {p.name for p in small_file_system.iterdir()} - {"lost+found"}  # ext2's own
+        assert made == {"filler", "lock.toml"}
+        figures.append(re.search(r"the cases still to run need about ([^,]+),", lines[0]))
+    assert figures[0] and figures[1], figures
+    assert figures[1][1] == figures[0][1]
+    assert space.free_bytes(small_file_system) == 0  # the second run met a full disk
 
 
 def test_a_case_is_announced_only_once_its_flag_is_on_disk(tmp_path):

@@ -25,7 +25,7 @@ import socket
 from pathlib import Path
 
 from .owner import LockOwner, lock_path_for, start_ticks
-from .space import OutputFull, is_no_space
+from .space import OutputFull, free_bytes, is_no_space
 
 __all__ = [
     "OutputLock",
@@ -168,7 +168,7 @@ def check_output_path(output: Path) -> None:
         output.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         if is_no_space(error):
-            raise OutputFull(output, 4096, 0) from None
+            raise OutputFull(output, 4096, free_bytes(output)) from None
         raise OutputPathError(
             f"output {output}: cannot create directory {output.parent}: {_describe(error)}"
         ) from None
@@ -199,7 +199,8 @@ class OutputLock:
         except OSError as error:
             private.unlink(missing_ok=True)
             if is_no_space(error):  # a full disk is not bad input: exit 5, like any other
-                raise OutputFull(self.output, len(self.owner.line()), 0) from None
+                free = free_bytes(self.output)
+                raise OutputFull(self.output, len(self.owner.line()), free) from None
             raise OutputPathError(
                 f"output {self.output}: cannot create files in {self.output.parent}: "
                 f"{_describe(error)}"

@@ -67,13 +67,18 @@ UNPLANNED = 64 << 10
 class OutputFull(OSError):
     """The output's file system has no room for what must be written next."""
 
-    def __init__(self, path: Path, needed: int, free: int | None = None) -> None:
+    def __init__(
+        self, path: Path, needed: int, free: int | None = None, *, at_most: bool = False
+    ) -> None:
+        """``needed``: bytes the cases still to run write (an estimate); ``at_most``: an
+        upper bound (cases already in the file not counted off)."""
         self.path, self.needed, self.free = Path(path), int(needed), free
         have = f"{format_bytes(free)} free; " if free is not None else ""
+        bound = "at most" if at_most else "about"
         super().__init__(
             errno.ENOSPC,
             f"{self.path}: no space left on its file system ({have}the cases still to run need "
-            f"about {format_bytes(self.needed)}, and {format_bytes(MARGIN)} is kept free); "
+            f"{bound} {format_bytes(self.needed)}, and {format_bytes(MARGIN)} is kept free); "
             "completed cases are kept: free space or choose another output, then rerun to "
             "resume",
         )
