@@ -85,6 +85,7 @@ from .space import (
     claim,
     free_bytes,
     is_no_space,
+    planned_bytes,
     unclaim,
 )
 
@@ -198,17 +199,47 @@ class CollectiveWriter(ResultsWriter):
         self._agree(lambda: self._hold_spare(SUMMARY_ROW_BYTES * len(plan) + CLAIM_SLACK))
         try:
             completed = super().prepare(plan, metadata, fresh=fresh)
-        except OutputFull:  # raised on every rank alike (a claim's verdict is broadcast)
-            if self._file is not None:
-                self._file.close()
-                self._file = None
-            self._close_descriptor()
-            if self.is_root:
-                creating_path(self.path).unlink(missing_ok=True)
-            self.comm.Barrier()
-            raise
+        except Exception as error:  # noqa: BLE001 - a full disk is told apart below
+            # OutputFull is raised on every rank alike (a claim's verdict is broadcast); so
+            # is HDF5's error when a collective flush or close finds the disk full (each
+            # rank learns the outcome of the write): either way the same clean stop
+            if not is_no_space(error):
+                raise
+            self._stop_preparing()
+            if isinstance(error, OutputFull):
+                raise
+            needed = self._pending_bytes(plan)
+            raise OutputFull(self.path, needed, _free_or_none(self.path)) from None
         self.commit_seconds += _now() - start
         return completed
+
+    def _stop_preparing(self) -> None:
+        """Collective, after ``prepare`` met a full disk: the file closed as its last flush
+        left it (a new one removed), the spare blocks given back."""
+        if self._file is not None:
+            with contextlib.suppress(Exception):  # its flush may meet the full disk again
+                self._file.close()
+            self._file = None
+        self._close_descriptor()
+        if self.is_root:
+            creating_path(self.path).unlink(missing_ok=True)
+            self._spare.release()
+        self.comm.Barrier()
+
+    def _pending_bytes(self, plan: Plan, resumed: h5py.Group | None = None) -> int:
+        """The pending groups' attributes and their pre-created datasets (data and headers)
+        for every case not completed: the mpio driver gives each dataset its place in the
+        file when it is created, so what is written after it (the headers of the next
+        groups, the metadata flushed on close) lands beyond all of them."""
+        todo = [
+            case.case_id
+            for case in plan
+            if resumed is None
+            or case.case_id not in resumed
+            or resumed[case.case_id].attrs.get("status", "") != COMPLETED
+        ]
+        datasets = planned_bytes({case_id: self.layout_of(case_id) for case_id in todo}, todo)
+        return super()._pending_bytes(plan) + datasets
 
     def _claim_for(self, file: h5py.File, needed: int, path: Path) -> None:
         """Rank 0 claims ``needed`` bytes past the end of ``path``; every rank learns whether

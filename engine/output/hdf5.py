@@ -376,7 +376,8 @@ class ResultsWriter:
         if not exists:
             self._create(plan, metadata)
         self._file = self._open(self.path, "a")
-        self._claim_for(self._file, PENDING_GROUP_BYTES * len(plan), self.path)
+        resumed = self._file.get(CASES_GROUP) if exists else None
+        self._claim_for(self._file, self._pending_bytes(plan, resumed), self.path)
         cases = self._file.require_group(CASES_GROUP)
         completed: set[str] = set()
         stale: list[str] = []
@@ -411,7 +412,7 @@ class ResultsWriter:
         temporary = creating_path(self.path)
         stopped = False
         with self._open(temporary, "w") as file:
-            self._claim_for(file, PENDING_GROUP_BYTES * len(plan), temporary)
+            self._claim_for(file, self._pending_bytes(plan), temporary)
             write_root(file, metadata)
             cases = file.create_group(CASES_GROUP)
             for number, case in enumerate(plan):
@@ -450,6 +451,11 @@ class ResultsWriter:
 
     def _stop_agreed(self) -> bool:
         return bool(self.should_stop())
+
+    def _pending_bytes(self, plan: Plan, resumed: h5py.Group | None = None) -> int:
+        """Bytes the pending groups of ``plan``'s cases add to the file (``resumed``: the
+        cases group of the file being resumed; its completed cases keep their groups)."""
+        return PENDING_GROUP_BYTES * len(plan)
 
     def _claim_for(self, file: h5py.File, needed: int, path: Path) -> None:
         """Claim ``needed`` bytes past the end of the open ``file`` before the structural

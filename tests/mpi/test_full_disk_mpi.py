@@ -228,3 +228,51 @@ def test_a_disk_filled_to_the_last_byte_at_any_moment(tmp_path, undisturbed, ran
     assert not problems, "\n".join(problems)
     codes = [code for code, _ in results]
     assert sum(code in (3, 5) for code in codes) >= 2, codes
+
+
+def fill_when(trigger: Path, process: subprocess.Popen) -> None:
+    """Fill ``trigger``'s file system to 0 B the moment ``trigger`` appears (polled without
+    sleeping): the blocks in one ``fallocate``, then the last pages byte by byte."""
+    while not trigger.exists() and process.poll() is None:
+        pass
+    filler = trigger.parent / "filler"
+    with open(filler, "ab", buffering=0) as handle:
+        status = os.statvfs(trigger.parent)
+        with contextlib.suppress(OSError):
+            os.posix_fallocate(handle.fileno(), 0, status.f_bavail * status.f_frsize)
+    fill(trigger.parent)
+
+
+@pytest.mark.skipif(not h5py.get_config().mpi, reason="the collective writer needs mpio h5py")
+def test_the_collective_writer_meets_a_full_disk_as_it_creates_its_file(tmp_path):
+    """The disk fills (another process) as the mpio writer creates its file: its first
+    claim, or HDF5's flush of the new file, finds no space. 6 trials on 2 ranks: each exits
+    5 with the one line naming the output and the space needed (no MPI_Abort, no
+    traceback), leaves no temporary or spare file, and a rerun with space completes."""
+    directory = tmp_path / "disk"
+    mount_tmpfs(directory, SIZE)
+    try:
+        for trial in range(6):
+            for path in directory.iterdir():
+                shutil.rmtree(path) if path.is_dir() else path.unlink()
+            (directory / "disk.toml").write_text(study_text("static"))
+            process = subprocess.Popen(
+                [*command(2), "--output-strategy", "mpio"], cwd=directory, env=environment(),
+                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            )  # fmt: skip
+            fill_when(directory / ".disk.h5.creating", process)
+            out, err = process.communicate(timeout=DEADLINE_S)
+            assert process.returncode == 5, (trial, err)
+            lines = err.strip().splitlines()
+            assert len(lines) == 1, (trial, err)
+            assert re.match(r"error: disk\.h5: no space left .* need about \d", lines[0]), err
+            left = {path.name for path in directory.iterdir()}
+            assert not left & {".disk.h5.creating", ".disk.h5.spare", "disk.h5.lock"}, left
+        (directory / "filler").unlink()
+        rerun = subprocess.run(
+            [*command(2), "--output-strategy", "mpio"], cwd=directory, env=environment(),
+            capture_output=True, text=True, timeout=300,
+        )  # fmt: skip
+        assert rerun.returncode == 0, rerun.stderr
+    finally:
+        subprocess.run(["umount", "-l", str(directory)], check=False)
