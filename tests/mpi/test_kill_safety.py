@@ -212,6 +212,62 @@ def test_sigterm_to_rank_one_alone_ends_the_job(tmp_path):
         assert len(completed_cases(tmp_path / f"trial{i}" / "tiny.h5")) == 6
 
 
+def _signal_process_group(directory: Path, delay: float, idle_rank: bool):
+    """SIGTERM to the process group of ``mpiexec`` (as Ctrl-C, ``kill -- -PGID`` or a batch
+    system send it: ``mpiexec`` forwards it to the ranks, which Hydra starts outside its
+    process group) ``delay`` s after both ranks catch it. (exit code, s from the signal to the
+    end, stderr); a job still running 30 s after the signal: exit code -1."""
+    if idle_rank:  # one long case: rank 1 waits for work, rank 0 dispatches and computes
+        study = tiny_study(directory, cyclic=True, mu1=(0.1,), beta=(0.0,))
+    else:
+        study = tiny_study(directory)
+    process = subprocess.Popen(
+        engine_command(study), cwd=study.parent, env=environment(), stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )  # fmt: skip
+
+    # Hydra's mpiexec drops a signal that reaches it before its proxy has started the ranks
+    # (`mpiexec -n 2 sleep 8` runs on through a SIGTERM in its first ~40 ms): the moment is
+    # drawn from when the engine can catch it
+    def ready() -> bool:
+        pids = rank_pids(study)
+        return len(pids) == 2 and all(catches_sigterm(pid) for pid in pids.values())
+
+    assert wait_for(ready, 60), "the ranks did not start"
+    time.sleep(delay)
+    os.killpg(process.pid, signal.SIGTERM)
+    signalled = time.monotonic()
+    try:
+        out, err = process.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        out, err = process.communicate()
+        return -1, time.monotonic() - signalled, err
+    return process.returncode, time.monotonic() - signalled, err
+
+
+def test_sigterm_to_the_process_group_ends_the_job_with_exit_3(tmp_path):
+    """SIGTERM to mpiexec's process group at a random moment 0-2.5 s after the ranks catch
+    it (start-up, computing, shutdown), 20 trials, half of them with one long case (rank 1
+    idle, waiting for work): every job ends within 10 s with exit 3, or 0 when the signal
+    came after the last case."""
+    rng = random.Random(40)
+    delays = [rng.uniform(0.0, 2.5) for _ in range(20)]
+    with concurrent.futures.ThreadPoolExecutor(PARALLEL) as pool:
+        futures = [
+            pool.submit(_signal_process_group, tmp_path / f"trial{i}", delay, i % 2 == 1)
+            for i, delay in enumerate(delays)
+        ]
+        results = [future.result() for future in futures]
+    print("exit codes", [code for code, *_ in results])
+    print("seconds from the signal to the end", [round(elapsed, 2) for _, elapsed, _ in results])
+    for i, (code, elapsed, err) in enumerate(results):
+        assert code in (0, 3), (i, delays[i], code, elapsed, err)
+        assert elapsed < 10, (i, delays[i], elapsed)  # a few s on a loaded machine
+        assert "Traceback" not in err, err
+    assert sum(code == 3 for code, *_ in results) >= 10, "most signals must stop a job"
+
+
 def test_sigterm_during_start_up_exits_3_within_5_seconds(tmp_path):
     """A stop signal as soon as the ranks can catch it, and a second one
     50 ms later: exit 3 (not a signal death), within 5 s."""
