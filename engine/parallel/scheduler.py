@@ -253,8 +253,13 @@ class Scheduler:
 
     def _receive_instructions(self, *, wait: bool) -> bool:
         """Take every instruction that has arrived: tasks join ``_tasks``, a stop sets the
-        stop event. ``wait``: first wait (Iprobe + sleep, never a busy blocking receive) for
-        one. False when rank 0 says exit (it does so only when this rank holds no case)."""
+        stop event. ``wait`` (an idle rank: it holds no task): first wait (Iprobe + sleep,
+        never a busy blocking receive) for a task or for exit. False when rank 0 says exit
+        (it does so only when this rank holds no case).
+
+        A rank in the middle of a case never waits here: a stop that arrives while it
+        holds no task ahead leaves it to end its case and send the outcome, which rank 0
+        waits for before it says exit."""
         delay = 0.0005
         while True:
             if self.comm.Iprobe(source=0, tag=TAG_TO_WORKER):
@@ -265,7 +270,7 @@ class Scheduler:
                     self.stop_event.set()
                 else:
                     self._tasks.append(payload)
-                wait = not self._tasks
+                wait = wait and not self._tasks
                 delay = 0.0005
                 continue
             if not wait:

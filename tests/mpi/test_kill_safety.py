@@ -12,6 +12,7 @@ from __future__ import annotations
 import concurrent.futures
 import os
 import random
+import re
 import signal
 import subprocess
 import time
@@ -210,6 +211,57 @@ def test_sigterm_to_rank_one_alone_ends_the_job(tmp_path):
         rerun = run_engine(tmp_path / f"trial{i}" / "tiny.toml", timeout=120)
         assert rerun.returncode == 0, rerun.stderr
         assert len(completed_cases(tmp_path / f"trial{i}" / "tiny.h5")) == 6
+
+
+def _signal_rank_zero(directory: Path, delay: float) -> tuple[int, float, str]:
+    """Two cases that run for minutes, one on each rank, nothing held ahead; SIGTERM to
+    rank 0 alone ``delay`` s after the cases are handed out. (exit code, s from the signal to the
+    end, stdout and stderr); -1: still running 30 s after the signal."""
+    directory.mkdir(parents=True, exist_ok=True)
+    study = directory / "long.toml"
+    loading = {"kind": "cyclic", "steps": 2, "cycles": 300000000, "record": None}
+    loading["max_wear_fraction"] = 0.0005  # small jumps: minutes of cycles
+    sweep = {"mu1": [0.1, 0.2], "beta": [0.0], "wear1": [1.33e-7]}
+    text = study_toml("long", directory / "long.h5", mesh={"n": 8}, loading=loading, sweep=sweep)
+    study.write_text(text)
+    process = start(study)
+    announced = ""
+    for line in process.stdout:  # the cases are handed out once the start line is printed
+        announced += line
+        if " to run on 2 ranks" in line:
+            break
+    time.sleep(delay)
+    assert kill_ranks(study, signal.SIGTERM, ranks=(0,)) == 1
+    signalled = time.monotonic()
+    try:
+        out, err = process.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        kill_ranks(study, signal.SIGKILL)
+        out, err = process.communicate()
+        return -1, time.monotonic() - signalled, announced + out + err
+    return process.returncode, time.monotonic() - signalled, announced + out + err
+
+
+def test_sigterm_to_rank_zero_alone_stops_rank_one_in_its_case(tmp_path):
+    """SIGTERM to rank 0 only while each rank computes a long case with no other case
+    held: rank 0 tells rank 1 to stop (as when rank 0's signal, or a full disk, comes first).
+    6 trials: every job ends within 10 s with exit 3, rank 1's case saved as interrupted
+    (a rank told to stop mid-case once waited for another instruction while rank 0 waited
+    for its outcome: both ranks idle for good)."""
+    rng = random.Random(0)
+    delays = [rng.uniform(0.3, 1.5) for _ in range(6)]
+    with concurrent.futures.ThreadPoolExecutor(3) as pool:
+        futures = [
+            pool.submit(_signal_rank_zero, tmp_path / f"trial{i}", delay)
+            for i, delay in enumerate(delays)
+        ]
+        results = [future.result() for future in futures]
+    print("seconds from the signal to the end", [round(elapsed, 2) for _, elapsed, _ in results])
+    for i, (code, elapsed, text) in enumerate(results):
+        assert code == 3 and elapsed < 10, (i, delays[i], code, elapsed, text)
+        assert "Traceback" not in text, text
+    interrupted = [re.search(r"rank 1 .* interrupted", text) for *_, text in results]
+    assert sum(bool(found) for found in interrupted) >= 3, [text for *_, text in results]
 
 
 def _signal_process_group(directory: Path, delay: float, idle_rank: bool):
