@@ -224,6 +224,14 @@ class HalfSpaceOperator:
             )
         return self._transforms
 
+    def release_buffers(self) -> None:
+        """Let go of the padded transforms (their plans and buffers: about 48 B per padded
+        element, 48 MB at 1024²) and the products' scratch; the kernel spectra stay. The next
+        product makes them again, with the same plans (estimate plans depend only on shapes,
+        strides and alignment), so with the same bits. For a caller about to need memory
+        elsewhere while no product is due, e.g. a case's stress plane after its last solve."""
+        self._transforms = self._targets = self._product = None
+
     def _target_buffer(self, rows: int) -> np.ndarray:
         """Aligned (rows, 2n_x, n_y + 1) buffer for the products of a multi-field block."""
         if self._targets is None or self._targets.shape[0] < rows:

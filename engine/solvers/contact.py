@@ -178,13 +178,12 @@ class ContactSolver:
             if wear.shape != self.grid.shape:
                 raise ValueError(f"wear has shape {wear.shape}, expected {self.grid.shape}")
             offset[self.candidate] += wear[self.candidate]
-        slip_reference = np.array([state.displacement_x, state.displacement_y])
         return IncrementProblem(
             operator=self.operator,
             friction=self.friction,
             candidate=self.candidate,
             offset=offset,
-            slip_reference=slip_reference,
+            reference_displacement=tuple(state.displacement),
             tol=self.tol,
             maxiter=self.maxiter,
             largest_eigenvalue=self.lipschitz,
@@ -223,7 +222,7 @@ class ContactSolver:
             tol=self.tol,
             maxiter=self.maxiter,
         )
-        zeros = np.zeros(self.grid.shape)
+        zeros = np.zeros(self.grid.shape)  # untouched zero pages take no memory until written
         if normal.stalled:
             start = np.array([zeros, zeros, normal.pressure])
             label = " after the preconditioned CG stalled"
@@ -233,7 +232,7 @@ class ContactSolver:
         return CoupledSolution(
             pressure=normal.pressure,
             traction_x=zeros,
-            traction_y=zeros.copy(),
+            traction_y=np.zeros(self.grid.shape),  # not a copy: a copy writes its pages
             displacement=lambda: operator.coupling_to_tangential(pressure),
             approach=normal.approach,
             iterations=normal.iterations,
@@ -256,7 +255,7 @@ class ContactSolver:
             load=0.0,
             report=SolveReport.unloaded(),
             state=new_state,
-            slip_reference=problem.slip_reference,
+            slip_reference=problem.reference_displacement,
             in_contact=np.zeros(self.grid.shape, dtype=bool),
         )
         result.slip = (zeros.copy(), zeros.copy())
@@ -302,7 +301,7 @@ class ContactSolver:
             load=float(pressure.sum() * self.grid.element_area),
             report=report,
             state=new_state,
-            slip_reference=problem.slip_reference,
+            slip_reference=problem.reference_displacement,
             in_contact=pressure > 0.0,
         )
         if new_state.displacement_known:

@@ -173,7 +173,8 @@ class IncrementResult:
     approach δ (mm), load P (N); ``report``: the :class:`SolveReport` (iterations, operator
     applications, residual, converged, message); ``state``: the start of the next increment.
     The slip Δs = u_t − u_t^ref on the elements ``in_contact`` (u_t: the state's
-    displacement, u_t^ref: ``slip_reference``, (2, n_x, n_y) mm) is made on its first read."""
+    displacement, u_t^ref: ``slip_reference``, the previous increment's (u_x, u_y), mm) is
+    made on its first read."""
 
     pressure: np.ndarray
     traction_x: np.ndarray
@@ -183,7 +184,7 @@ class IncrementResult:
     load: float
     report: SolveReport
     state: ContactState = field(repr=False)
-    slip_reference: np.ndarray = field(repr=False)
+    slip_reference: tuple[np.ndarray, np.ndarray] = field(repr=False)
     in_contact: np.ndarray = field(repr=False)
 
     @cached_property
@@ -219,8 +220,9 @@ class IncrementResult:
 class IncrementProblem:
     """One increment's data. ``operator`` A (mm/MPa); ``friction``; ``candidate`` (bool,
     n_x × n_y): elements where the punch has a surface; ``offset`` (mm): gap with zero
-    tractions and zero approach; ``slip_reference`` (2, n_x, n_y) mm: u_t^ref of the module
-    docstring; ``tol`` on the relative natural residual; ``maxiter`` iterations of the
+    tractions and zero approach; ``reference_displacement`` (u_x, u_y) of the previous
+    increment (mm, not copied) and ``slip_reference``, the same stacked (2, n_x, n_y): u_t^ref
+    of the module docstring; ``tol`` on the relative natural residual; ``maxiter`` iterations of the
     increment; ``largest_eigenvalue``: the solver's cached power-iteration estimate of A's
     largest eigenvalue on the candidate elements (mm/MPa; the projected-gradient step)."""
 
@@ -228,10 +230,18 @@ class IncrementProblem:
     friction: FrictionLaw
     candidate: np.ndarray
     offset: np.ndarray
-    slip_reference: np.ndarray
+    reference_displacement: tuple[np.ndarray, np.ndarray]
     tol: float
     maxiter: int
     largest_eigenvalue: Callable[[], float]
+
+    @cached_property
+    def slip_reference(self) -> np.ndarray:
+        """u_t^ref (2, n_x, n_y) mm, stacked from ``reference_displacement`` (u_x, u_y of the
+        previous increment) on its first read: the frictional methods read it at every
+        iteration; a frictionless solve never does (its reported slip reads the two fields),
+        so it holds no copy of them."""
+        return np.array(self.reference_displacement)
 
     @property
     def preconditioner(self) -> SpectralPreconditioner:

@@ -45,6 +45,7 @@ class StaticKind(LoadingKind):
         datasets = history_datasets(history, self.history_spec)
         datasets.update(final_fields(result.final))
         datasets.update(grid_datasets(grid))
+        solver.operator.release_buffers()  # the plane's memory, not beside the transforms'
         stress, depths = context.subsurface(grid, material, config)
         row = final_row(case, config, result.final, stress, depths, datasets)
         row.update(
