@@ -145,6 +145,21 @@ def test_products_do_not_depend_on_the_batch_sizes_asked_before():
     assert np.array_equal(grown.apply_normal(fields[2]), normal_first)
 
 
+def test_released_buffers_are_made_again_with_the_same_bits():
+    """A static case lets go of the padded transforms before its stress plane; the next
+    products (a later case on the same operator) make them again with the same plans."""
+    grid = Grid(12, 10, 1.0, 0.8)
+    fields = np.random.default_rng(4).standard_normal((3, *grid.shape))
+    operator = HalfSpaceOperator(grid, paper_material())
+    normal, full = operator.apply_normal(fields[2]), np.array(operator.apply(*fields))
+    operator.release_buffers()
+    assert operator._transforms is None and operator._targets is None
+    assert set(operator._spectra) >= {"zz", "zx", "zy"}  # the spectra stay
+    assert np.array_equal(operator.apply_normal(fields[2]), normal)
+    operator.release_buffers()
+    assert np.array_equal(np.array(operator.apply(*fields)), full)
+
+
 def test_estimate_plans_give_the_same_bits_with_or_without_wisdom(tmp_path, monkeypatch):
     monkeypatch.setenv("ENGINE_FFTW_WISDOM", str(tmp_path / "wisdom.pickle"))
     data = np.random.default_rng(4).standard_normal((2, 60, 60))
