@@ -19,7 +19,12 @@ measure. Three things are measured per size, each in a process of its own:
 - **CLI** (the engine only): ``python -m engine STUDY.toml`` on a one-case static study of
   the same problem (μ = 0 on the paper's coupled material, one load step, the default 16
   layers of the x–z stress plane, the results file, its summary CSV and the read-back
-  check), measured like the script and compared with the anchor's whole script.
+  check), measured like the script and compared with the anchor's whole script;
+- **import floor**: a process that only imports what every ``python -m engine`` must before it
+  computes anything, NumPy, h5py and pyFFTW's core (``FLOOR_IMPORTS``: pyFFTW as the engine
+  loads it, without its SciPy interfaces), measured like the script and compared with the
+  anchor's whole script at each size: the part of the CLI's ratios that the mandatory
+  dependencies take on their own.
 
 ``--frictional`` runs the frictional problem instead, the same one in both codes: the normal
 load P, then a tangential force Q = 0.5 μP along x (partial slip), Coulomb μ = 0.2, on an
@@ -81,6 +86,10 @@ TANGENTIAL_FRACTION, TANGENTIAL_TOL, NU = 0.5, 1e-5, 0.3  # Q = 0.5 μP; ASPHER'
 CODES = ("engine", "coupled", "aspher", "tamaas", "baseline")  # baseline: --baseline DIR
 ANCHORS = ("aspher", "tamaas")
 HEAVY_IMPORTS = ("pandas", "scipy", "matplotlib")
+#: What every ``python -m engine`` imports before it computes anything (the import floor):
+#: NumPy, h5py and pyFFTW's core (``engine.kernels.pyfftw_import``, which the light package
+#: ``engine`` holds: its ``__init__`` imports only the version and the stop-signal handlers).
+FLOOR_IMPORTS = "import numpy, h5py\nimport engine.kernels.pyfftw_import"
 
 
 def _rss_mb() -> float:
@@ -329,6 +338,15 @@ def run_cli(n: int, importtime: bool = False) -> dict:
     return whole | ({"importtime": stderr} if importtime else {})
 
 
+def run_floor() -> dict:
+    """A process that imports ``FLOOR_IMPORTS`` and nothing else: its whole figures."""
+    env = single_core_env(REPO)
+    code, _, stderr, whole = _run_process([sys.executable, "-c", FLOOR_IMPORTS], env, REPO)
+    if code != 0:
+        raise SystemExit(f"the import floor failed (exit {code}): {stderr[-2000:]}")
+    return whole
+
+
 def import_budget(stderr: str) -> dict:
     """From ``-X importtime`` output: the total of the imports' own times (s), the largest
     top-level packages by cumulative time (s), and which of ``HEAVY_IMPORTS`` were imported."""
@@ -386,8 +404,9 @@ def use_bytecode_cache(folder: str) -> None:
 
 def measure(sizes, repeats, frictional, anchors_python, tamaas_max, baseline=None) -> dict:
     """rows[(n, code)] = list of results over the rounds (codes alternate in each round);
-    ``cli`` the engine's whole command (frictionless only). A first round at the smallest
-    size, not recorded, fills the bytecode cache (``use_bytecode_cache``)."""
+    ``cli`` the engine's whole command and ``(0, "floor")`` its import floor (frictionless
+    only). A first round at the smallest size, not recorded, fills the bytecode cache
+    (``use_bytecode_cache``)."""
     rows, skipped = {}, {} if baseline is not None else {"baseline": "no --baseline"}
     skipped |= {} if frictional else {"coupled": "frictional only"}
     for code in CODES:  # the warm-up round
@@ -396,7 +415,12 @@ def measure(sizes, repeats, frictional, anchors_python, tamaas_max, baseline=Non
             run_child(code, sizes[0], frictional, python, baseline if code == "baseline" else REPO)
     if not frictional:
         run_cli(sizes[0])
+        run_floor()
     for round_ in range(repeats):
+        if not frictional:
+            result = run_floor()
+            rows.setdefault((0, "floor"), []).append(result)
+            print(_cli_line("all", round_, result, "floor"), flush=True)
         for n in sizes:
             for code in CODES:
                 if code in skipped or (code == "tamaas" and n > tamaas_max):
@@ -435,9 +459,9 @@ def _line(n, code, round_, r) -> str:
     )
 
 
-def _cli_line(n, round_, r) -> str:
+def _cli_line(n, round_, r, code: str = "CLI") -> str:
     return (
-        f"{n:>5} {'CLI':>8} {round_:>5} {'':>8} {'':>8} {'':>10} {'':>9} {r['peak_mb']:8.0f} "
+        f"{n:>5} {code:>8} {round_:>5} {'':>8} {'':>8} {'':>10} {'':>9} {r['peak_mb']:8.0f} "
         f"{r['wall_s']:8.3f} {r['cpu_s']:10.3f}"
     )
 
@@ -465,8 +489,9 @@ def _best(runs: list[dict], part) -> dict:
 
 def comparisons(rows: dict, sizes, frictional: bool) -> list[tuple]:
     """(n, what, engine figures, anchor name, anchor figures) per size: the solver and the
-    script against each anchor's, the CLI against each anchor's script; frictional: the
-    coupled solve beside the uncoupled one."""
+    script against each anchor's, the CLI and its import floor (the same process at every
+    size) against each anchor's script; frictional: the coupled solve beside the uncoupled
+    one."""
     table = []
     for n in sizes:
         engine = rows.get((n, "engine"), [])
@@ -479,6 +504,9 @@ def comparisons(rows: dict, sizes, frictional: bool) -> list[tuple]:
             if rows.get((n, "cli")):
                 cli = _best(rows[(n, "cli")], _cli)
                 table.append((n, "CLI", cli, f"{anchor} script", _best(others, _script)))
+            if rows.get((0, "floor")):
+                floor = _best(rows[(0, "floor")], _cli)
+                table.append((n, "floor", floor, f"{anchor} script", _best(others, _script)))
         coupled = rows.get((n, "coupled"), [])
         if engine and coupled:
             for what, part in (("solver", _solver), ("script", _script)):
@@ -520,6 +548,7 @@ WHAT = {
     "solver": "solver in-process (memory: added after the imports)",
     "script": "whole script (process peak)",
     "CLI": "whole `python -m engine` (process peak)",
+    "floor": "import floor of the command: NumPy, h5py, pyFFTW core (process peak)",
     "coupled solver": "coupled (K = 0.196) solver in-process",
     "coupled script": "coupled (K = 0.196) whole script",
 }
