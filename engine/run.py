@@ -45,7 +45,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
-from engine.calibration.run import calibrate
+import engine.calibration
 from engine.dry_run import idle_ranks_warning, plan_report, resumed_cases_line
 from engine.output.ensemble import write_ensemble
 from engine.output.hdf5 import StoppedDuringSetUp, remove_outputs
@@ -177,7 +177,7 @@ def _run(comm, study, options: RunOptions, command_line: str, stop_event) -> Stu
         config, plan = prepared.config, prepared.plan
         run = StudyRun("planned", config.study.output, config.study.name, cases=len(plan))
         if prepared.strategy == "calibrate":
-            return calibrate(comm, config, run, options, stop_event)
+            return engine.calibration.calibrate(comm, config, run, options, stop_event)
         if options.dry_run:
             return patient_bcast(comm, _dry_run(prepared, options, comm) if rank == 0 else None)
         if any_rank(comm, stop_event.is_set()):  # a stop during start-up

@@ -54,11 +54,14 @@ def test_a_whole_run_imports_neither_scipy_nor_pandas(tmp_path):
         "from engine.cli import main\n"
         "status = main([sys.argv[1], '--no-progress-bar'])\n"
         "print(status, sorted(m for m in ('scipy', 'pandas', 'matplotlib') if m in sys.modules))\n"
+        "print(sorted(m for m in sys.modules if m.startswith('engine.calibration.')))\n"
     )
     run = subprocess.run(
         [sys.executable, "-c", code, str(study)], capture_output=True, text=True, cwd=tmp_path
     )
-    assert run.stdout.strip().splitlines()[-1] == "0 []", run.stdout + run.stderr
+    assert run.stdout.strip().splitlines()[-2] == "0 []", run.stdout + run.stderr
+    # a study without [calibrate] loads no calibration module (engine.calibration, PEP 562)
+    assert run.stdout.strip().splitlines()[-1] == "[]", run.stdout
     assert (tmp_path / "t.csv").read_text().count("\n") == 3  # header and two cases
 
 

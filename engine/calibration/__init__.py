@@ -8,3 +8,15 @@ tests' searches, :mod:`~engine.calibration.search`, on kept contact solutions,
 :mod:`~engine.calibration.contact`); the table: :mod:`engine.output.calibration`
 (``engine.load_calibration``); the report and figure: :mod:`engine.analysis.calibration_report`.
 """
+
+import importlib as _importlib
+
+__all__ = ["calibrate"]
+
+
+def __getattr__(name: str):
+    """``calibrate`` (:func:`engine.calibration.run.calibrate`), imported on first use
+    (PEP 562): a study without ``[calibrate]`` loads none of the calibration modules."""
+    if name == "calibrate":
+        return _importlib.import_module("engine.calibration.run").calibrate
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
