@@ -311,6 +311,7 @@ def _compute(
                 LOGGER.info(searches.finish(writer))
         else:
             scheduler.run()
+    runner.release()  # no case left on this rank: the read-back runs without its operators
     if rank != 0:
         _check_shares(comm, config)
         return None

@@ -76,6 +76,12 @@ class CaseRunner:
         self.context = CaseContext(OperatorCache(), self.checkpoint_dir)
         self._case_configs: dict[tuple, StudyConfig] = {}
 
+    def release(self) -> None:
+        """Let go of what this rank keeps for its later cases (operators with their kernel
+        spectra and FFT plans, the stress evaluators with their kernels): for when it has no
+        case left, so that the read-back of the results file runs beside none of it."""
+        self.context.operators = OperatorCache()
+
     @property
     def operators(self):
         """The operator cache shared by the cases of this rank."""
