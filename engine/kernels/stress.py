@@ -186,9 +186,10 @@ def _corner_values(load, corner_x, corner_y, spacing, depth, poisson_ratio, comp
         indexing="ij",
     )
     values = function(X, Y, depth, poisson_ratio)
+    del X, Y
     result = {}
     for component in components:
-        value = values[component]
+        value = values.pop(component)  # each quadrant freed once mirrored
         parity_x, parity_y = _PARITY[load][component]
         if half_x is not None:
             value = _mirror(value, parity_x, corner_x.size, axis=0)
@@ -253,7 +254,7 @@ def element_stress(
     scale = 1.0 / (2.0 * np.pi)
     result = {}
     for component in components:
-        values = _difference(corner[component], shared_x, axis=0)
+        values = _difference(corner.pop(component), shared_x, axis=0)  # corners freed as used
         result[component] = scale * _difference(values, shared_y, axis=1)
     return result
 
