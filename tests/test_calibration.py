@@ -58,7 +58,7 @@ def write_study(directory: Path, *layers, tests: str | None = TESTS) -> Path:
 
 # ------------------------------------------------------------------------------ bad input
 BAD_TESTS = [
-    (None, r"tests\.csv: \[calibrate\] tests: no such file"),
+    (None, r"calibrate\.toml: \[calibrate\] tests = 'tests\.csv': no such file: /\S*/tests\.csv"),
     ("test,punch.radius,loading.loads,Q\nA,6,185,40\n",
      r"tests\.csv: row 0, column 'loading.loads': not a study key"),
     ("test,punch.radius,Q\nA,6,40\nB,10,45\nA,8,50\n",

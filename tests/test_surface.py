@@ -324,6 +324,46 @@ def test_a_measured_map_resamples_exactly_onto_its_own_grid(tmp_path):
         assert surface_height(surface, grid) == pytest.approx(heights * 1e-3, rel=1e-14, abs=0)
 
 
+def test_a_map_is_found_from_the_study_files_folder_whatever_the_working_directory(
+    tmp_path, monkeypatch
+):
+    """``[surface] path`` (like ``[calibrate] tests``) is relative to the study file's folder:
+    run from another working directory, the study finds its map; the results record the map's
+    absolute path; the study resumes (same fingerprint) when reached from its own folder; a
+    missing map is refused naming the key, the value and the absolute path looked for."""
+    import json
+
+    import h5py
+
+    import engine
+    from engine.study.config import load_study
+
+    folder, elsewhere = tmp_path / "study", tmp_path / "elsewhere"
+    (folder / "maps").mkdir(parents=True)
+    elsewhere.mkdir()
+    heights = np.random.default_rng(3).standard_normal((40, 40)) * 0.2  # µm
+    np.save(folder / "maps" / "map.npy", heights)
+    surface = {"kind": "file", "path": "maps/map.npy", "pixel_size": 0.02, "units": "um"}
+    text = _rough_study(tmp_path, "measured", surface=surface,
+                        loading={"kind": "static", "load": 100.0})  # fmt: skip
+    (folder / "measured.toml").write_text(text)
+    monkeypatch.chdir(elsewhere)
+    run = engine.run_study(folder / "measured.toml")
+    assert run.ok, run.message
+    with h5py.File(run.output) as file:
+        recorded = json.loads(file.attrs["study_json"])["surface"]["path"]
+    assert recorded == str(folder / "maps" / "map.npy")
+    monkeypatch.chdir(folder)
+    again = engine.run_study("measured.toml")
+    assert again.ok and again.completed == again.cases == 1, again.message
+    (folder / "maps" / "map.npy").unlink()
+    monkeypatch.chdir(elsewhere)
+    with pytest.raises(StudyConfigError) as error:
+        load_study(folder / "measured.toml")
+    assert (error.value.key, error.value.value) == ("surface.path", "maps/map.npy")
+    assert f"no such file: {folder / 'maps' / 'map.npy'}" in str(error.value)
+
+
 # ------------------------------------------------------------------ bad input
 def _surface_error(tmp_path, surface, mesh=None):
     text = _rough_study(tmp_path, "bad", {"mesh": mesh or {}}, surface=surface,
@@ -496,7 +536,7 @@ def test_a_swept_kind_reads_the_keys_of_each_kind(tmp_path):
          'must be "none", "mean" or "plane"'),
         ('"surface.units" = ["um", "inch"]', "sweep.surface.units", "inch", "must be"),
         ('"surface.path" = ["missing.npy"]', "sweep.surface.path", "missing.npy",
-         "cannot read the height map"),
+         "no such file: /"),
         ('"surface.path" = [1.0]', "sweep.surface.path", 1.0, "must be a text"),
         ('"surface.pixel_size" = ["0.01"]', "sweep.surface.pixel_size", "0.01",
          "must be a number"),

@@ -4,7 +4,8 @@ A calibration study has a ``[search]`` section (the quantity measured at the thr
 ``loading.force_amplitude``, and the column/target that define the threshold, e.g.
 ``crossland_risk_critical = 1``) and a ``[calibrate]`` section:
 
-- ``tests`` — a CSV file (path relative to the study file), one row per test: an id column,
+- ``tests`` — a CSV file (a relative path is taken from the study file's folder, an absolute
+  one as given; the results record the absolute path), one row per test: an id column,
   dotted study keys that differ between tests (any sweepable key, or ``mu1``) and the
   measured threshold (in the searched parameter's units);
 - ``id``, ``measured`` — the names of the id and measured columns;
@@ -34,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from engine.study.settings.checks import LIMITS
+from engine.study.settings.reader import input_path
 from engine.study.settings.sections import MISSING, StudyConfigError
 from engine.study.units import SWEEPABLE
 
@@ -114,7 +116,7 @@ class CalibrateSpec:
     fit_rtol: float = 1e-3
     max_evaluations: int = 40
     keys: tuple[str, ...] = field(default=())  # the tests' setting columns, file order
-    tests_file: str = ""  # ``tests`` as given (relative to the study file)
+    tests_file: str = ""  # ``tests`` as given; ``tests_path`` is the absolute file
 
     def role(self, test_id: str) -> str:
         """``"calibrate"`` for a test the fit uses, ``"predict"`` otherwise."""
@@ -123,7 +125,7 @@ class CalibrateSpec:
     def resolved(self) -> dict[str, Any]:
         """The section as TOML-able data (stored with the results)."""
         return {
-            "tests": self.tests_file or str(self.tests_path),
+            "tests": str(self.tests_path),
             "id": self.id_column,
             "measured": self.measured_column,
             "fit": list(self.fit),
@@ -313,9 +315,12 @@ def parse_calibrate(
         raise error("calibrate_on", calibrate_on, "must be a list of test ids (text)")
     if fit and not calibrate_on:
         raise error("calibrate_on", calibrate_on, "a fit needs at least one calibration test")
-    path = Path(table["tests"])
-    if not path.is_absolute():
-        path = Path(source).parent / path
+    path = input_path(source, table["tests"])  # relative to the study file's folder
+    if not path.is_file():
+        raise error(
+            "tests", table["tests"],
+            f"no such file: {path} (a relative path is taken from the study file's folder)",
+        )  # fmt: skip
     tests, keys = read_tests(path, table["id"], table["measured"], search.parameter)
     ids = [test.id for test in tests]
     for test_id in calibrate_on:

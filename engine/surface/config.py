@@ -13,7 +13,8 @@ self_affine:
 file:
 ``path``*            ``.npy``, whitespace text (``.txt``, ``.dat``, ``.asc``, ``.csv``), or any
                      instrument format SurfaceTopography reads (``pip install -e
-                     '.[topography]'``); relative to the working directory
+                     '.[topography]'``); a relative path is taken from the folder of
+                     the study file, and the absolute path is what the results record
 ``pixel_size``*      spacing of the map's samples (mm), the same along x and y
 ``units``            unit of the heights: "m", "mm" ["mm"], "um", "nm"
 ``detrend``          "none", "mean" or "plane" ["plane"]: what is removed before resampling
@@ -89,7 +90,7 @@ class SurfaceConfig:
     short_cutoff: float | None = None
     rms_height: float | None = None
     rms_slope: float | None = None
-    path: str | None = None
+    path: str | None = None  # absolute (engine.study.settings.reader.input_path)
     pixel_size: float | None = None
     units: str | None = None
     detrend: str | None = None
@@ -181,7 +182,7 @@ def _self_affine(s, element: float, mesh) -> SurfaceConfig:
 
 
 def _file(s, mesh, is_line: bool) -> SurfaceConfig:
-    path = s.string("path")
+    given, path = s.input_file("path")  # relative to the study file's folder
     pixel = s.number(
         "pixel_size", minimum=0.0, strict=True, unit="mm", maximum=2.0 * mesh.half_width,
         why="the mesh's length 2·half_width",
@@ -195,16 +196,16 @@ def _file(s, mesh, is_line: bool) -> SurfaceConfig:
     try:
         heights = read_height_map(path)
     except (OSError, ValueError) as error:
-        raise s.error("path", path, f"cannot read the height map: {error}") from None
+        raise s.error("path", given, f"cannot read the height map {path}: {error}") from None
     if not np.isfinite(heights).all():
         bad = _first_bad(heights)
-        raise s.error("path", path, f"the height map holds a NaN or inf at row, column {bad}")
+        raise s.error("path", given, f"the height map holds a NaN or inf at row, column {bad}")
     line_map = heights.ndim == 1 or 1 in heights.shape
     if is_line != line_map:
         what = "a profile (one row or column)" if is_line else "a 2-D map"
         raise s.error(
             "path",
-            path,
+            given,
             f"a {'line' if is_line else '3-D'} contact takes {what}, "
             f"got an array of shape {heights.shape}",
         )
@@ -216,7 +217,9 @@ def _file(s, mesh, is_line: bool) -> SurfaceConfig:
             f"the map spans {extent:.6g} mm (shape {heights.shape}), less than the mesh "
             f"2·half_width = {2 * mesh.half_width:.6g} mm",
         )
-    return SurfaceConfig(kind="file", path=path, pixel_size=pixel, units=units, detrend=detrend)
+    return SurfaceConfig(
+        kind="file", path=str(path), pixel_size=pixel, units=units, detrend=detrend
+    )
 
 
 def _first_bad(heights):

@@ -72,7 +72,7 @@ from engine.solvers.wear_laws import DEFAULT_WEAR_LAW, WEAR_LAWS, wear_coefficie
 from engine.study.kinds import KINDS
 from engine.study.line_contact import DEFAULT_REFERENCE_DISTANCE
 from engine.study.settings.checks import LIMITS, bound, bound_of, check_physical_ranges
-from engine.study.settings.reader import Section, toml_error
+from engine.study.settings.reader import Section, compared_path, input_path, toml_error
 from engine.study.settings.sections import (
     MISSING,
     LoadingConfig,
@@ -197,6 +197,8 @@ class StudyConfig:
                     resolved = self.surface.resolved()
                     if "surface.kind" in swept:  # the other kind's keys too, as given
                         resolved = {**self.tables.get("surface", {}), **resolved}
+                        if "path" in resolved:  # the file, found as the cases find it
+                            resolved["path"] = str(input_path(self.source, resolved["path"]))
                     out["surface"] = {
                         k: v for k, v in resolved.items() if f"surface.{k}" not in swept
                     }
@@ -233,12 +235,24 @@ class StudyConfig:
     def to_json(self) -> str:
         return json.dumps(self.resolved(), sort_keys=True)
 
+    def compared(self) -> dict[str, dict[str, Any]]:
+        """:meth:`resolved` with its input files (``[surface] path``, ``[calibrate] tests``)
+        in the form a resumed run compares (``compared_path``: relative to the study file's
+        folder when under it), so that a study resumes from any working directory and after
+        its folder moved; the results record the absolute paths of :meth:`resolved`."""
+        resolved = self.resolved()
+        for section, key in (("surface", "path"), ("calibrate", "tests")):
+            table = resolved.get(section, {})
+            if key in table:
+                table[key] = compared_path(self.source, table[key])
+        return resolved
+
     def fingerprint(self) -> str:
         """Everything that changes the result of a case (not the output path, not testing).
 
         A results file made with a different fingerprint cannot be resumed.
         """
-        resolved = self.resolved()
+        resolved = self.compared()
         resolved.pop("study")
         resolved.pop("testing")
         resolved.pop("sweep")
@@ -256,14 +270,20 @@ class StudyConfig:
         """{path: SHA-256} of the measured height maps the cases read (none without one)."""
         if self.surface is None:
             return {}
-        paths = {self.surface.path} if self.surface.kind == "file" else set()
+        given = set()
         if "path" in self.tables.get("surface", {}):  # the file cases of a swept kind
-            paths.add(self.tables["surface"]["path"])
+            given.add(self.tables["surface"]["path"])
         for axis in self.sweep.axes:
             if "surface.path" in axis.keys:
-                paths.update(values[axis.keys.index("surface.path")] for values in axis.values)
+                given.update(values[axis.keys.index("surface.path")] for values in axis.values)
+        paths = {str(input_path(self.source, value)) for value in given}
+        if self.surface.kind == "file":
+            paths.add(self.surface.path)
         template = dataclasses.replace(self.surface, kind="file")
-        return {path: dataclasses.replace(template, path=path).identity() for path in sorted(paths)}
+        return {
+            compared_path(self.source, path): dataclasses.replace(template, path=path).identity()
+            for path in sorted(paths)
+        }
 
 
 # A study file is a few kB (a sweep of thousands of values, a few hundred kB); its tables

@@ -4,9 +4,33 @@ errors that name the file, the section, the key and the value."""
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from typing import Any
 
 from .sections import MISSING, StudyConfigError
+
+
+def input_path(source: str, value: str) -> Path:
+    """The file a study names with the text ``value`` (``[surface] path``, ``[calibrate]
+    tests``): an absolute path as given, a relative one relative to the folder of the study
+    file ``source`` (whatever the working directory; a study given as text, ``source`` not a
+    file, has the working directory as its folder). Absolute and normalised (``..`` removed),
+    symbolic links not followed."""
+    folder = Path(source).parent if Path(source).is_file() else Path()
+    return Path(os.path.abspath(folder / Path(value).expanduser()))
+
+
+def compared_path(source: str, path: str | Path) -> str:
+    """The form of an input file's absolute ``path`` that a study's fingerprint compares:
+    relative to the folder of the study file ``source`` when the file lies under it (so a
+    study resumes after its folder is moved or reached from another working directory),
+    else absolute."""
+    folder = Path(os.path.abspath(Path(source).parent if Path(source).is_file() else Path()))
+    try:
+        return Path(path).relative_to(folder).as_posix()
+    except ValueError:
+        return str(path)
 
 
 class Section:
@@ -99,6 +123,17 @@ class Section:
         if not isinstance(value, str) or not value.strip():
             raise self.error(key, value, "must be a non-empty string")
         return value
+
+    def input_file(self, key: str) -> tuple[str, Path]:
+        """``(value, file)``: the text of ``key`` and the existing file it names
+        (:func:`input_path`: relative to the study file's folder); a missing file is an error
+        naming the key, the value and the absolute path looked for."""
+        value = self.string(key)
+        path = input_path(self.source, value)
+        if not path.is_file():
+            raise self.error(key, value, f"no such file: {path} (a relative path is taken "
+                             "from the study file's folder)")  # fmt: skip
+        return value, path
 
     def poisson(self, key: str, limit) -> float:
         """Poisson's ratio within ``limit`` (``engine.study.settings.checks.Limit``)."""
