@@ -1,22 +1,56 @@
-"""Save worn states of the regime study (peak-load pressure and tractions) as a test fixture.
+"""Worn states of the peak regime study: a test fixture, and the cycle-jump convergence table.
 
-The states of ``studies/peak_regime_32.toml`` for μ = 0.1 at N = 10⁵ that the region test
-(tests/test_peak_regions.py) classifies: i = 1.33e-6 1/MPa (ω_max/δ0 ≈ 0.5, just past the
-transition, where the plane's surface layer on the axis is inflated by the traction jump)
-and i = 1.33e-5 1/MPa (ω_max/δ0 ≈ 2.7, the long-wear limit: the unworn centre carries the
-load). Each is one case of that study run alone (same settings, ``record = [100000]``).
+``fixture``: the states of ``studies/peak_regime_32.toml`` for μ = 0.1 at N = 10⁵ that the
+region test (tests/test_peak_regions.py) classifies: i = 1.33e-6 1/MPa (ω_max/δ0 ≈ 0.5, just
+past the transition, where the plane's surface layer on the axis is inflated by the traction
+jump) and i = 1.33e-5 1/MPa (ω_max/δ0 ≈ 2.7, the long-wear limit: the unworn centre carries
+the load), saved as peak-load pressure and tractions. Each is one case of that study run alone
+(same settings, ``record = [100000]``).
 
-Run:  python scripts/peak_regime_states.py WORN.h5 HEAVY.h5 tests/data/peak_regime_32_worn.npz
-Time: the two runs, 3–6 min each on one core (the extraction itself < 1 s).
+``halving``: the case that wears most (μ = 0.1, i = 1.33e-5 1/MPa, 32²) with the default wear
+allowed per cycle jump (``max_wear_fraction`` 0.004, as in ``peak_regime_32.toml``) and with
+half of it (0.002, ``studies/peak_regime_halving_32.toml``): the wear, the σ_VM peaks and the
+pressures of the two runs at the recorded cycles 10³, 10⁴ and 10⁵ (``history/``), their
+relative differences, and the cycles at which the peak regions change. Without results files
+it runs both cases from ``studies/peak_regime_halving_32.toml`` (one core, in a temporary
+folder); with ``--default`` and ``--halved`` it reads them (the case of ``--default`` with
+μ = 0.1, i = 1.33e-5 is taken, so ``results/peak_regime_32.h5`` serves). The figures are
+differences of deterministic results, not times: the machine's load does not change them.
+
+Run:  python scripts/peak_regime_states.py fixture WORN.h5 HEAVY.h5 \\
+          tests/data/peak_regime_32_worn.npz
+      python scripts/peak_regime_states.py halving --update-docs            # the two runs
+      python scripts/peak_regime_states.py halving --default results/peak_regime_32.h5 \\
+          --halved results/peak_regime_halving_32.h5 --update-docs
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
+import tempfile
+from pathlib import Path
 
 import h5py
 import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+HALVING_STUDY = REPO / "studies" / "peak_regime_halving_32.toml"
+DOCUMENT = REPO / "docs" / "explanation" / "peak-regime.md"
+BLOCK = "peak-regime-halving"
+MU, WEAR = 0.1, 1.33e-5  # the case compared (1, 1/MPa)
+RECORDED = (1000, 10000, 100000)
+#: (history column, title): the quantities compared at each recorded cycle.
+QUANTITIES = (
+    ("max_wear_depth", "max wear depth"),
+    ("wear_volume", "wear volume"),
+    ("vm_max", "σ_VM plane max"),
+    ("vm_sub_max", "σ_VM below surface layer"),
+    ("vm_deep_max", "σ_VM deep"),
+    ("centre_pressure", "p(0)"),
+    ("peak_pressure", "peak pressure"),
+)
 
 
 def peak_load_state(path: str, cycle: int = 100000) -> dict[str, np.ndarray]:
@@ -36,17 +70,162 @@ def peak_load_state(path: str, cycle: int = 100000) -> dict[str, np.ndarray]:
         }
 
 
+def fixture(worn: str, heavy: str, out: str) -> None:
+    arrays = {}
+    for name, path in (("worn", worn), ("heavy", heavy)):
+        arrays |= {f"{name}_{key}": value for key, value in peak_load_state(path).items()}
+    np.savez_compressed(out, **arrays)
+    print(f"{out}: {', '.join(sorted(arrays))}")
+
+
+# ------------------------------------------------------------------------ cycle-jump halving
+def case_history(path: str | Path) -> dict[str, np.ndarray]:
+    """``history/`` of the case μ = 0.1, i = 1.33e-5 1/MPa of results file ``path`` (every
+    column, one row per simulated cycle), with the case's ``elastic_approach`` δ0 (mm)."""
+    with h5py.File(path, "r") as file:
+        for case in file["cases"].values():
+            summary = json.loads(case.attrs["summary"])
+            if summary.get("status") != "completed":
+                continue
+            if np.isclose(summary["mu1"], MU) and np.isclose(summary["wear1"], WEAR):
+                history = {name: np.asarray(column) for name, column in case["history"].items()}
+                history["elastic_approach"] = np.asarray(summary["elastic_approach"])
+                return history
+    raise SystemExit(f"{path}: no completed case with mu1 = {MU}, wear1 = {WEAR}")
+
+
+def first_change(history: dict[str, np.ndarray], column: str) -> int | None:
+    """The real cycle N of the first simulated cycle whose region ``column`` differs from
+    cycle 0's (None: it never changes)."""
+    codes = history[column]
+    changed = np.flatnonzero(codes != codes[0])
+    return int(history["cycle"][changed[0]]) if changed.size else None
+
+
+def first_on_axis(history: dict[str, np.ndarray]) -> int | None:
+    """The real cycle N at which the deep peak (z ≥ 0.1 a0) is first classified on the axis."""
+    from engine.solvers.peak import region_name
+
+    for cycle, code in zip(history["cycle"], history["deep_region"], strict=True):
+        if region_name(float(code)).startswith("axis"):
+            return int(cycle)
+    return None
+
+
+def _row(history: dict[str, np.ndarray], cycle: int) -> int:
+    rows = np.flatnonzero(history["cycle"] == cycle)
+    if not rows.size:
+        raise SystemExit(f"no simulated cycle at N = {cycle} (a recorded cycle of the study)")
+    return int(rows[0])
+
+
+def _percent(new: float, old: float) -> str:
+    return f"{100.0 * (new / old - 1.0):+.2f} %".replace("-", "−")
+
+
+def _cycles(value: int | None) -> str:
+    return "never" if value is None else f"{value:,}"
+
+
+def halving_table(default: dict[str, np.ndarray], halved: dict[str, np.ndarray]) -> str:
+    """The Markdown of the comparison: one row per recorded cycle, then the region changes."""
+    from engine.analysis.markdown import markdown_table
+
+    rows = []
+    for cycle in RECORDED:
+        old, new = _row(default, cycle), _row(halved, cycle)
+        severity = default["max_wear_depth"][old] / default["elastic_approach"]
+        rows.append(
+            [f"{cycle:,}", f"{severity:.2f}"]
+            + [_percent(halved[name][new], default[name][old]) for name, _ in QUANTITIES]
+        )
+    header = ["at N", "ω_max/δ0 (default)"] + [title for _, title in QUANTITIES]
+    lines = [markdown_table(header, rows)]
+    changes = [
+        ("first change of the peak region", first_change(default, "peak_region"),
+         first_change(halved, "peak_region")),
+        ("the deep peak first on the axis", first_on_axis(default), first_on_axis(halved)),
+    ]  # fmt: skip
+    lines.append("| event | N, default | N, halved | halved − default |")
+    lines.append("| --- | --- | --- | --- |")
+    for title, old, new in changes:
+        difference = "–" if old is None or new is None else _percent(new, old)
+        lines.append(f"| {title} | {_cycles(old)} | {_cycles(new)} | {difference} |")
+    simulated = (len(default["cycle"]), len(halved["cycle"]))
+    lines.append(f"\nSimulated cycles: {simulated[0]} (default) and {simulated[1]} (halved).")
+    return "\n".join(lines) + "\n"
+
+
+def _run_both(folder: Path) -> tuple[Path, Path]:
+    """Run the compared case with the default and with half the wear per jump; the results
+    files, in ``folder``."""
+    import engine
+
+    text = HALVING_STUDY.read_text()
+    outputs = []
+    for name, fraction in (("default", None), ("halved", "0.002")):
+        output = folder / f"{name}.h5"
+        study = re.sub(r'(?m)^output = ".*"$', f'output = "{output}"', text)
+        study = re.sub(r"(?m)^max_wear_fraction = .*$", "", study)
+        if fraction is not None:
+            study = study.replace("[subsurface]", f"max_wear_fraction = {fraction}\n\n[subsurface]")
+        run = engine.run_study(study, progress=False)
+        if not run.ok:
+            raise SystemExit(f"the {name} run did not complete: {run.status} {run.message}")
+        outputs.append(output)
+    return outputs[0], outputs[1]
+
+
+def halving(default: str | None, halved: str | None, update_docs: bool) -> None:
+    from engine import __version__
+
+    if (default is None) != (halved is None):
+        raise SystemExit("give both --default and --halved, or neither (to run both cases)")
+    with tempfile.TemporaryDirectory() as scratch:
+        if default is None:
+            paths = _run_both(Path(scratch))
+            how = (
+                f"the case μ = {MU}, i = {WEAR:g} 1/MPa of `studies/peak_regime_halving_32.toml` "
+                "run twice, with `max_wear_fraction` 0.004 (the default, as in "
+                "`peak_regime_32.toml`) and 0.002"
+            )
+        else:
+            paths = (Path(default), Path(halved))
+            how = f"the case μ = {MU}, i = {WEAR:g} 1/MPa of `{default}` and of `{halved}`"
+        table = halving_table(case_history(paths[0]), case_history(paths[1]))
+    arguments = "" if default is None else f" --default {default} --halved {halved}"
+    command = f"`python scripts/peak_regime_states.py halving{arguments} --update-docs`"
+    note = (
+        f"{command}, engine {__version__}: {how}; relative differences halved − default "
+        "(deterministic results: the load does not change them)"
+    )
+    print(table)
+    if update_docs:
+        from engine.analysis.markdown import measured_on, replace_block
+
+        replace_block(DOCUMENT, BLOCK, f"{measured_on(note)}\n{table}")
+        print(f"{DOCUMENT}: wrote the block {BLOCK}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("worn", help="results of μ = 0.1, i = 1.33e-6 (32², 10⁵ cycles)")
-    parser.add_argument("heavy", help="results of μ = 0.1, i = 1.33e-5 (32², 10⁵ cycles)")
-    parser.add_argument("out", help="the .npz to write")
+    commands = parser.add_subparsers(dest="command", required=True)
+    states = commands.add_parser("fixture", help="save the two worn states (.npz)")
+    states.add_argument("worn", help="results of μ = 0.1, i = 1.33e-6 (32², 10⁵ cycles)")
+    states.add_argument("heavy", help="results of μ = 0.1, i = 1.33e-5 (32², 10⁵ cycles)")
+    states.add_argument("out", help="the .npz to write")
+    table = commands.add_parser("halving", help="the cycle-jump convergence table")
+    table.add_argument("--default", help="results holding the case with the default jumps")
+    table.add_argument("--halved", help="results of studies/peak_regime_halving_32.toml")
+    table.add_argument(
+        "--update-docs", action="store_true",
+        help=f"write the table into docs/explanation/peak-regime.md ({BLOCK})",
+    )  # fmt: skip
     args = parser.parse_args()
-    arrays = {}
-    for name, path in (("worn", args.worn), ("heavy", args.heavy)):
-        arrays |= {f"{name}_{key}": value for key, value in peak_load_state(path).items()}
-    np.savez_compressed(args.out, **arrays)
-    print(f"{args.out}: {', '.join(sorted(arrays))}")
+    if args.command == "fixture":
+        fixture(args.worn, args.heavy, args.out)
+    else:
+        halving(args.default, args.halved, args.update_docs)
 
 
 if __name__ == "__main__":

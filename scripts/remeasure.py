@@ -23,8 +23,10 @@ minutes each (``peak_regime*``, ``mesh_convergence``, ``rough_fretting``, ``roun
 already taken at load 2 or below (``bench-line``, ``bench-scheduler``, ``bench-search-scale``):
 over two hours more. Left to their own
 commands, because their figures are not times: the Fouvry calibration table
-(``python scripts/fouvry_calibration.py --ranks 2``), the rough-surface ensemble and the
-SLURM transcripts (``SLURM_TEST_UPDATE_DOCS=1 pytest tests/slurm``, root and slurm-wlm).
+(``python scripts/fouvry_calibration.py --ranks 2``), the cycle-jump comparison of the peak
+regime study (``python scripts/peak_regime_states.py halving --update-docs``), the
+rough-surface ensemble and the SLURM transcripts (``SLURM_TEST_UPDATE_DOCS=1 pytest
+tests/slurm``, root and slurm-wlm).
 """
 
 from __future__ import annotations
@@ -67,6 +69,7 @@ ELSEWHERE = {
     "engine.analysis.surface_report": "python -m engine.analysis.surface_report "
     "results/rough_fretting.h5 --update docs/explanation/rough-surfaces.md",
     "tests/slurm": "SLURM_TEST_UPDATE_DOCS=1 pytest tests/slurm (root, slurm-wlm)",
+    "scripts/peak_regime_states.py": "python scripts/peak_regime_states.py halving --update-docs",
 }
 
 # Quick studies: the last recorded time of each (s, with `mpiexec -n 2`, on a loaded machine)

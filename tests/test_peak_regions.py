@@ -1,8 +1,8 @@
 """The peak regions of worn states of the regime study are not decided by the surface layer.
 
 Two peak-load states of ``studies/peak_regime_32.toml`` (μ = 0.1, N = 10⁵; saved by
-scripts/peak_regime_states.py in tests/data/peak_regime_32_worn.npz): i = 1.33e-6 1/MPa
-(ω_max/δ0 = 0.52) and the heavy-wear state i = 1.33e-5 1/MPa (ω_max/δ0 = 2.70).
+``scripts/peak_regime_states.py fixture`` in tests/data/peak_regime_32_worn.npz):
+i = 1.33e-6 1/MPa (ω_max/δ0 = 0.52) and the heavy-wear state i = 1.33e-5 1/MPa (ω_max/δ0 = 2.70).
 
 On the x–z plane (element corners of the even mesh) the surface layer's σ_VM on the axis is
 the logarithmic singularity of the traction jump there: moving the surface layer 100 × closer
