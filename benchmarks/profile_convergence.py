@@ -11,9 +11,9 @@ differences between successive meshes. The sharp flat punch at the same load is 
 beside it: its edge values grow without bound.
 
 With the paper's numbers (P = 750 N, b = 1.8 mm, E_B = 100 E_A = 20 000 GPa) the edge zone is
-far smaller: a − b = 0.0015 b for ρ = 0.1 b (0.0009 b for ρ = 0.05 b), a fifth of the
-element at 256², so the 256² solution of the rounded punch is still that of a flat punch
-(see docs/explanation/profiles.md).
+far smaller, a fraction of the element at 256², so the 256² solution of the rounded punch is
+still that of a flat punch: the third table gives the reference's a − b and edge pressure
+for ρ = 0.05 and 0.1 a0 (see docs/explanation/profiles.md).
 
 Sphere: R = 10 mm, P = 750 N, paper materials, half width 1.5 a_Hertz, frictionless; contact
 radius (from the contact area), approach, peak pressure and the axis σ_VM maximum (value,
@@ -122,6 +122,41 @@ def rounded_table(sizes) -> str:
     return "\n".join(lines) + "\n"
 
 
+PAPER_FACE, PAPER_LOAD, PAPER_EDGES = 1.8, 750.0, (0.05, 0.1)  # mm, N, ρ/a0
+
+
+def paper_edge_table(mesh_sizes=(256,)) -> str:
+    """The rounded punch at the paper's load (b = a0 = 1.8 mm, P = 750 N, the paper's pair)
+    from the axisymmetric reference alone: the contact radius a beyond the face, the edge
+    pressure's maximum (p0 = P/(π a0²)), the element width of the study's mesh (half width
+    1.05 (a0 + ρ)) at each of ``mesh_sizes`` and the n whose element is a − b wide.
+    Returns the Markdown table."""
+    lines: list[str] = []
+    modulus = MaterialPair(200000.0, NU, 2.0e7, NU).contact_modulus
+    p0 = PAPER_LOAD / (math.pi * PAPER_FACE**2)
+    elements = " | ".join(f"element at {n}² (µm)" for n in mesh_sizes)
+    emit(lines, f"| ρ/a0 | a/b − 1 | a − b (µm) | p_max/p0 | p_max (GPa) | {elements} | "
+                "n for one element across a − b |")  # fmt: skip
+    emit(lines, "|" + "---|" * (6 + len(mesh_sizes)))
+    for fraction in PAPER_EDGES:
+        start = time.perf_counter()
+        edge = fraction * PAPER_FACE
+        reference = rounded_punch_contact(PAPER_FACE, edge, modulus)
+        radius = reference.contact_radius(PAPER_LOAD)
+        zone = radius - PAPER_FACE
+        samples = np.linspace(PAPER_FACE - zone, radius, 400)  # the edge zone, 200 points
+        peak = float(reference.pressures(samples, radius).max())
+        length = 2.0 * 1.05 * (PAPER_FACE + edge)
+        widths = " | ".join(f"{length / n * 1e3:.1f}" for n in mesh_sizes)
+        emit(
+            lines,
+            f"| {fraction:g} | {radius / PAPER_FACE - 1:.5f} | {zone * 1e3:.2f} | "
+            f"{peak / p0:.1f} | {peak * 1e-3:.2f} | {widths} | {length / zone:,.0f} |"
+            f"  ({time.perf_counter() - start:.0f} s)",
+        )
+    return "\n".join(lines) + "\n"
+
+
 def sphere_table(sizes) -> str:
     """The sphere against Hertz at each size; returns the Markdown table."""
     lines: list[str] = []
@@ -165,13 +200,15 @@ def main():
     args = parser.parse_args()
     rounded = rounded_table(args.sizes)
     sphere = sphere_table(args.sizes)
+    paper = paper_edge_table()
     if args.update_docs:
         from engine.analysis.markdown import measured_on, replace_block
 
         document = REPO / "docs" / "explanation" / "profiles.md"
         note = "`python benchmarks/profile_convergence.py --update-docs`, one core"
         text = f"{measured_on(note)}\nRounded punch against its reference:\n\n{rounded}\n"
-        text += f"Sphere against Hertz:\n\n{sphere}"
+        text += f"Sphere against Hertz:\n\n{sphere}\n"
+        text += f"The paper's punch with a rounded edge (reference only, P = 750 N):\n\n{paper}"
         replace_block(document, "profile-convergence", text)
         print(f"{document}: wrote the block profile-convergence")
 

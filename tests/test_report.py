@@ -133,3 +133,19 @@ def test_update_replaces_only_its_block_and_names_a_missing_one(tmp_path):
         assert "BEGIN report c" in str(error)
     else:
         raise AssertionError("a missing block must be an error")
+
+
+def test_a_swept_punch_key_gives_the_profile_its_first_value():
+    """A study sweeping ``punch.edge_radius`` stores no edge radius in ``[punch]``: the
+    study-wide profile (a0, the report's normalisation) takes the sweep's first value."""
+    from engine.geometry import RoundedPunch
+
+    config = {
+        "punch": {"radius": 1.8, "shape": "rounded"},
+        "sweep": {"mu1": [0.1], "punch.edge_radius": [0.09, 0.18]},
+    }
+    x = np.linspace(-1.8, 1.8, 8)
+    study = Results.from_values("swept", config, [], x, x, Path("swept.h5"))
+    profile = study.profile
+    assert isinstance(profile, RoundedPunch)
+    assert (profile.radius, profile.edge_radius) == (1.8, 0.09)

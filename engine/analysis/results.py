@@ -1283,8 +1283,14 @@ class Results(_Table):
 
     @property
     def profile(self):
-        """The punch profile of the study (one of ``engine.geometry.PROFILES``)."""
-        return profile_from_table(self.study["punch"])
+        """The punch profile of the study (one of ``engine.geometry.PROFILES``); a swept
+        ``punch`` key at its first value (what the study-wide figures use: the shape, a0)."""
+        table = dict(self.study["punch"])
+        for key, values in self.study.get("sweep", {}).items():
+            section, _, name = key.partition(".")
+            if section == "punch" and name not in table and values:
+                table[name] = values[0]
+        return profile_from_table(table)
 
     @property
     def radius(self) -> float:

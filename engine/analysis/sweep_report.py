@@ -33,9 +33,11 @@ from .names import key_label, key_title, value_text
 
 __all__ = ["sweep_report", "key_table", "load_table", "convergence_table", "power_law_exponent"]
 
+# Results only: a case's run time depends on the machine and its load (the summary CSV keeps
+# it), and these tables are pasted into the manual (``--update``).
 _MAIN_COLUMNS = [
     "approach", "max_wear_depth", "wear_volume", "vm_max", "vm_sub_max", "vm_sub_max_z",
-    "stick_fraction", "runtime_s",
+    "stick_fraction",
 ]  # fmt: skip
 _PARAMETERS = list(PARAMETERS)
 _NOT_CONVERGENCE = {"case_id", "status", *PARAMETERS, "cycles"}
