@@ -50,7 +50,8 @@ def write_measured_study(folder):
 
     heights = np.random.default_rng(5).standard_normal((40, 40)) * 0.2  # µm
     np.save(folder / "map.npy", heights + np.linspace(0.0, 1.0, 40)[:, None])
-    surface = {"kind": "file", "path": "map.npy", "pixel_size": 0.02, "units": "um"}  # in cwd
+    # the map beside the study file: found from the study's folder, whatever the cwd
+    surface = {"kind": "file", "path": "map.npy", "pixel_size": 0.02, "units": "um"}
     text = study_toml(
         "rough", "rough.h5", SPHERE_ON_STEEL, mesh={"n": 16, "half_width": 0.3},
         loading={"kind": "fretting", "load": 100.0, "amplitude": 5e-4, "cycles": 10},
