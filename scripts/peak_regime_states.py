@@ -17,17 +17,23 @@ folder); with ``--default`` and ``--halved`` it reads them (the case of ``--defa
 μ = 0.1, i = 1.33e-5 is taken, so ``results/peak_regime_32.h5`` serves). The figures are
 differences of deterministic results, not times: the machine's load does not change them.
 
+``final``: the final state of every case of a regime study's results file (wear severity,
+wear depth, the region of the overall σ_VM peak and the cycle of its first change, the peaks
+over p0 and where they are, the centre pressure), from the cases' summaries.
+
 Run:  python scripts/peak_regime_states.py fixture WORN.h5 HEAVY.h5 \\
           tests/data/peak_regime_32_worn.npz
       python scripts/peak_regime_states.py halving --update-docs            # the two runs
       python scripts/peak_regime_states.py halving --default results/peak_regime_32.h5 \\
           --halved results/peak_regime_halving_32.h5 --update-docs
+      python scripts/peak_regime_states.py final results/peak_regime_32.h5 --update-docs
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import tempfile
 from pathlib import Path
@@ -156,6 +162,70 @@ def halving_table(default: dict[str, np.ndarray], halved: dict[str, np.ndarray])
     return "\n".join(lines) + "\n"
 
 
+# ------------------------------------------------------------------------ final states
+def final_table(path: str | Path) -> tuple[str, str]:
+    """(block name, Markdown) of the final states of a peak regime study's results ``path``:
+    one row per completed case (μ, i), from its summary. a0 is ``[punch] radius``."""
+    from engine.analysis.markdown import markdown_table
+    from engine.solvers.peak import REGIONS
+
+    with h5py.File(path, "r") as file:
+        study = json.loads(file.attrs["study_json"])
+        summaries = [json.loads(case.attrs["summary"]) for case in file["cases"].values()]
+    done = sorted(
+        (row for row in summaries if row.get("status") == "completed"),
+        key=lambda row: (row["mu1"], row["wear1"]),
+    )
+    if not done:
+        raise SystemExit(f"{path}: no completed case")
+    radius, name = float(study["punch"]["radius"]), study["study"]["name"]
+    rows = []
+    for row in done:
+        p0, change = row["p0"], row.get("peak_region_change_cycle")
+        region = row["peak_region"] if row["peak_region"] in REGIONS else "–"
+        when = f" ({int(change):,})" if change not in (None, -1) and math.isfinite(change) else ""
+        rows.append([
+            f"{row['mu1']:g}", f"{row['wear1']:.3g}", f"{row['wear_severity']:.3f}",
+            f"{row['max_wear_depth'] * 1e3:.3f}", f"{region}{when}",
+            f"{row['vm_max'] / p0:.2f} ({row['vm_max_x'] / radius:+.2f})",
+            f"{row['vm_deep_max'] / p0:.2f} ({row['vm_deep_max_x'] / radius:+.2f}, "
+            f"{row['vm_deep_max_z'] / radius:.2f})",
+            f"{row['centre_pressure'] / p0:.2f}",
+        ])  # fmt: skip
+    header = [
+        "μ", "i (1/MPa)", "ω_max/δ0", "ω_max (µm)", "overall peak: region (first change N)",
+        "σ_VM/p0 there (x/a0)", "deep peak σ_VM/p0 (x/a0, z/a0)", "p(0)/p0",
+    ]  # fmt: skip
+    approaches = {}
+    for row in done:
+        approaches.setdefault(row["mu1"], row["elastic_approach"])
+    unworn = ", ".join(f"{value * 1e3:.3f} µm for μ = {mu:g}" for mu, value in approaches.items())
+    cycles, n = int(done[0]["cycles"]), int(study["mesh"]["n"])
+    text = (
+        f"Final states at N = {cycles:,}, {n}² (`{path}`): ω_max/δ0 is the maximum wear depth "
+        f"over the unworn approach δ0 ({unworn}); σ_VM over p0 = {done[0]['p0']:.1f} MPa.\n\n"
+        + markdown_table(header, rows)
+    )
+    return f"{name.replace('_', '-')}-final", text
+
+
+def final(path: str, update_docs: bool) -> None:
+    from engine import __version__
+
+    block, table = final_table(path)
+    print(table)
+    if update_docs:
+        from engine.analysis.markdown import measured_on, replace_block
+
+        note = (
+            f"`python scripts/peak_regime_states.py final {path} --update-docs`, engine "
+            f"{__version__}: the summary of every case (deterministic results: the load does "
+            "not change them)"
+        )
+        replace_block(DOCUMENT, block, f"{measured_on(note)}\n{table}")
+        print(f"{DOCUMENT}: wrote the block {block}")
+
+
 def _run_both(folder: Path) -> tuple[Path, Path]:
     """Run the compared case with the default and with half the wear per jump; the results
     files, in ``folder``."""
@@ -221,9 +291,17 @@ def main() -> None:
         "--update-docs", action="store_true",
         help=f"write the table into docs/explanation/peak-regime.md ({BLOCK})",
     )  # fmt: skip
+    states = commands.add_parser("final", help="the final-state table of a regime study")
+    states.add_argument("results", help="results/peak_regime.h5 or results/peak_regime_32.h5")
+    states.add_argument(
+        "--update-docs", action="store_true",
+        help="write the table into docs/explanation/peak-regime.md (<study>-final)",
+    )  # fmt: skip
     args = parser.parse_args()
     if args.command == "fixture":
         fixture(args.worn, args.heavy, args.out)
+    elif args.command == "final":
+        final(args.results, args.update_docs)
     else:
         halving(args.default, args.halved, args.update_docs)
 

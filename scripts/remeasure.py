@@ -69,7 +69,9 @@ ELSEWHERE = {
     "engine.analysis.surface_report": "python -m engine.analysis.surface_report "
     "results/rough_fretting.h5 --update docs/explanation/rough-surfaces.md",
     "tests/slurm": "SLURM_TEST_UPDATE_DOCS=1 pytest tests/slurm (root, slurm-wlm)",
-    "scripts/peak_regime_states.py": "python scripts/peak_regime_states.py halving --update-docs",
+    "scripts/peak_regime_states.py": "python scripts/peak_regime_states.py halving --update-docs; "
+    "after the regime studies, python scripts/peak_regime_states.py final results/peak_regime.h5 "
+    "--update-docs (and results/peak_regime_32.h5)",
 }
 
 # Quick studies: the last recorded time of each (s, with `mpiexec -n 2`, on a loaded machine)
