@@ -83,8 +83,9 @@ subcommands (serial, no MPI):
 _EPILOG = "\n".join(
     (
         textwrap.fill(
-            "Relative paths ([study] output, --output) are taken from the working directory, "
-            "not from the folder of the study file. " + epilog_text() + " " + status_epilog(),
+            "Relative paths: the results file ([study] output, --output) is written from the "
+            "working directory; the files a study reads ([surface] path, [calibrate] tests) "
+            "are found from the folder of the study file. " + epilog_text() + " " + status_epilog(),
             width=95,
         ),
         "Example: .venv/bin/mpiexec -n 2 .venv/bin/python -m engine studies/demo.toml --dry-run",

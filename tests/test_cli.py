@@ -45,7 +45,9 @@ def test_help_lists_the_subcommands_and_the_path_rule():
     text = build_parser("python -m engine").format_help()
     assert "python -m engine plot RESULTS.h5" in text
     assert "python -m engine report RESULTS.h5" in text
-    assert "working directory" in text
+    words = " ".join(text.split())  # the epilog is wrapped
+    assert "is written from the working directory" in words
+    assert "are found from the folder of the study file" in words
 
 
 def test_dry_run_combines_with_fresh_and_resume():
