@@ -24,7 +24,8 @@ already taken at load 2 or below (``bench-line``, ``bench-scheduler``, ``bench-s
 over two hours more. Left to their own
 commands, because their figures are not times: the Fouvry calibration table
 (``python scripts/fouvry_calibration.py --ranks 2``), the cycle-jump comparison of the peak
-regime study (``python scripts/peak_regime_states.py halving --update-docs``), the
+regime study (``python scripts/peak_regime_states.py halving --update-docs``, ``final`` for its
+tables, and ``scripts/peak_paper_state.py`` for the worn state of the paper's peak), the
 rough-surface ensemble and the SLURM transcripts (``SLURM_TEST_UPDATE_DOCS=1 pytest
 tests/slurm``, root and slurm-wlm).
 """
@@ -72,6 +73,8 @@ ELSEWHERE = {
     "scripts/peak_regime_states.py": "python scripts/peak_regime_states.py halving --update-docs; "
     "after the regime studies, python scripts/peak_regime_states.py final results/peak_regime.h5 "
     "--update-docs (and results/peak_regime_32.h5)",
+    "scripts/peak_paper_state.py": "python scripts/peak_paper_state.py --n 64 --update-docs "
+    "(and --n 32)",
 }
 
 # Quick studies: the last recorded time of each (s, with `mpiexec -n 2`, on a loaded machine)
