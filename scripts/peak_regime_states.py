@@ -226,6 +226,109 @@ def final(path: str, update_docs: bool) -> None:
         print(f"{DOCUMENT}: wrote the block {block}")
 
 
+# ------------------------------------------------------------------------ the path
+PATH_FRICTION = (0.1, 0.2)  # the μ whose cases pass the transition
+PATH_WEAR = 1.33e-6  # 1/MPa: the case whose history the track table follows
+TRACK = (0.35, 0.56)  # ω_max/δ0: the rows of the track table
+
+
+def _histories(path: str | Path) -> tuple[dict, list[tuple[dict, dict]]]:
+    """(resolved study, [(summary, history columns)]) of the completed cases of ``path``."""
+    with h5py.File(path, "r") as file:
+        study = json.loads(file.attrs["study_json"])
+        cases = []
+        for case in file["cases"].values():
+            summary = json.loads(case.attrs["summary"])
+            if summary.get("status") == "completed":
+                history = {name: np.asarray(column) for name, column in case["history"].items()}
+                cases.append((summary, history))
+    return study, sorted(cases, key=lambda item: (item[0]["mu1"], item[0]["wear1"]))
+
+
+def path_table(path: str | Path) -> tuple[str, str]:
+    """(block name, Markdown) of the path in ω_max/δ0 of a regime study's results ``path``:
+    for each case of μ ∈ PATH_FRICTION that changes region, the severity at the first
+    simulated cycle of each region of the overall peak; then the track of the deep peak of
+    the case μ = 0.1, i = PATH_WEAR over the transition (every simulated cycle with
+    ω_max/δ0 in TRACK)."""
+    from engine.analysis.markdown import markdown_table
+    from engine.solvers.peak import region_name
+
+    study, cases = _histories(path)
+    radius, name, n = float(study["punch"]["radius"]), study["study"]["name"], study["mesh"]["n"]
+    rows, track = [], []
+    for summary, history in cases:
+        severity = history["max_wear_depth"] / summary["elastic_approach"]
+        codes = history["peak_region"]
+        starts = [0, *np.flatnonzero(codes[1:] != codes[:-1]) + 1]
+        if summary["mu1"] in PATH_FRICTION and len(starts) > 1:
+            steps = [region_name(float(codes[0]))] + [
+                f"{region_name(float(codes[k]))} at {severity[k]:.3f}" for k in starts[1:]
+            ]
+            rows.append([f"{summary['mu1']:g}", f"{summary['wear1']:.3g}", " → ".join(steps)])
+        if np.isclose(summary["mu1"], 0.1) and np.isclose(summary["wear1"], PATH_WEAR):
+            p0 = summary["p0"]
+            inside = np.flatnonzero((severity >= TRACK[0]) & (severity <= TRACK[1]))
+            where = np.stack([np.abs(history["vm_deep_max_x"]), history["vm_deep_max_z"],
+                              history["deep_region"], codes])  # fmt: skip
+            for k in inside:  # the first and last rows, and those where the peak moves
+                if k not in (inside[0], inside[-1]) and np.array_equal(
+                    where[:, k], where[:, k - 1]
+                ):
+                    continue
+                track.append([
+                    f"{int(history['cycle'][k]):,}", f"{severity[k]:.3f}",
+                    f"{history['vm_deep_max'][k] / p0:.3f}",
+                    f"{abs(history['vm_deep_max_x'][k]) / radius:.2f}",
+                    f"{history['vm_deep_max_z'][k] / radius:.3f}",
+                    region_name(float(history["deep_region"][k])),
+                    region_name(float(codes[k])),
+                    f"{history['centre_pressure'][k] / p0:.2f}",
+                ])  # fmt: skip
+    text = (
+        f"{n}² (`{path}`): the overall peak's region from cycle 0 and the wear severity "
+        "ω_max/δ0 at the first simulated cycle of each later region:\n\n"
+        + markdown_table(["μ", "i (1/MPa)", "regions along the history"], rows)
+    )
+    if track:
+        text += (
+            f"\nThe deep peak (z ≥ 0.1 a0) of μ = 0.1, i = {PATH_WEAR:g} 1/MPa over "
+            f"ω_max/δ0 ∈ [{TRACK[0]}, {TRACK[1]}]: the first and last simulated cycles and "
+            "each at which the peak or a region moves (σ_VM over p0):\n\n"
+            + markdown_table(
+                [
+                    "N",
+                    "ω_max/δ0",
+                    "deep σ_VM/p0",
+                    "its |x|/a0",
+                    "its z/a0",
+                    "deep region",
+                    "overall region",
+                    "p(0)/p0",
+                ],
+                track,
+            )  # fmt: skip
+        )
+    return f"{name.replace('_', '-')}-path", text
+
+
+def path_block(path: str, update_docs: bool) -> None:
+    from engine import __version__
+
+    block, table = path_table(path)
+    print(table)
+    if update_docs:
+        from engine.analysis.markdown import measured_on, replace_block
+
+        note = (
+            f"`python scripts/peak_regime_states.py path {path} --update-docs`, engine "
+            f"{__version__}: the peak history of the cases (deterministic results: the load "
+            "does not change them)"
+        )
+        replace_block(DOCUMENT, block, f"{measured_on(note)}\n{table}")
+        print(f"{DOCUMENT}: wrote the block {block}")
+
+
 def _run_both(folder: Path) -> tuple[Path, Path]:
     """Run the compared case with the default and with half the wear per jump; the results
     files, in ``folder``."""
@@ -297,7 +400,16 @@ def main() -> None:
         "--update-docs", action="store_true",
         help="write the table into docs/explanation/peak-regime.md (<study>-final)",
     )  # fmt: skip
+    states = commands.add_parser("path", help="the regions along the histories, the track")
+    states.add_argument("results", help="results/peak_regime.h5 or results/peak_regime_32.h5")
+    states.add_argument(
+        "--update-docs", action="store_true",
+        help="write the tables into docs/explanation/peak-regime.md (<study>-path)",
+    )  # fmt: skip
     args = parser.parse_args()
+    if args.command == "path":
+        path_block(args.results, args.update_docs)
+        return
     if args.command == "fixture":
         fixture(args.worn, args.heavy, args.out)
     elif args.command == "final":
