@@ -238,7 +238,7 @@ def study_metadata(config, command_line: str, plan):
         grid_x=grid.x if grid is not None else None,
         grid_y=grid.y if grid is not None else None,
     )
-    metadata.attrs["study_identity"] = study_identity(config.compared())
+    metadata.attrs["study_identity"] = study_identity(config.resolved())
     return metadata
 
 

@@ -328,9 +328,10 @@ def test_a_map_is_found_from_the_study_files_folder_whatever_the_working_directo
     tmp_path, monkeypatch
 ):
     """``[surface] path`` (like ``[calibrate] tests``) is relative to the study file's folder:
-    run from another working directory, the study finds its map; the results record the map's
-    absolute path; the study resumes (same fingerprint) when reached from its own folder; a
-    missing map is refused naming the key, the value and the absolute path looked for."""
+    run from another working directory, the study finds its map; the results record it
+    relative to the study's folder (the same results file from any folder); the study
+    resumes (same fingerprint) when reached from its own folder; a missing map is refused
+    naming the key, the value and the absolute path looked for."""
     import json
 
     import h5py
@@ -352,7 +353,7 @@ def test_a_map_is_found_from_the_study_files_folder_whatever_the_working_directo
     assert run.ok, run.message
     with h5py.File(run.output) as file:
         recorded = json.loads(file.attrs["study_json"])["surface"]["path"]
-    assert recorded == str(folder / "maps" / "map.npy")
+    assert recorded == "maps/map.npy"  # relative to the study's folder: the same file anywhere
     monkeypatch.chdir(folder)
     again = engine.run_study("measured.toml")
     assert again.ok and again.completed == again.cases == 1, again.message

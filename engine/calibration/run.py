@@ -104,7 +104,7 @@ class CalibrationProblem:
         if test.id not in self._names:
             if self._setup is None:
                 skipped = {"study", "subsurface", "fatigue", "search", "calibrate"}
-                sections = {k: v for k, v in self.config.compared().items() if k not in skipped}
+                sections = {k: v for k, v in self.config.resolved().items() if k not in skipped}
                 self._setup = json.dumps(sections, sort_keys=True, default=str)
             text = self._setup + repr(test.settings)
             digest = hashlib.sha256(text.encode("utf-8")).hexdigest()[:12]

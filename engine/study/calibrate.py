@@ -5,7 +5,7 @@ A calibration study has a ``[search]`` section (the quantity measured at the thr
 ``crossland_risk_critical = 1``) and a ``[calibrate]`` section:
 
 - ``tests`` — a CSV file (a relative path is taken from the study file's folder, an absolute
-  one as given; the results record the absolute path), one row per test: an id column,
+  one as given; the results record it relative to that folder), one row per test: an id column,
   dotted study keys that differ between tests (any sweepable key, or ``mu1``) and the
   measured threshold (in the searched parameter's units);
 - ``id``, ``measured`` — the names of the id and measured columns;
@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from engine.study.settings.checks import LIMITS
-from engine.study.settings.reader import input_path
+from engine.study.settings.reader import compared_path, input_path
 from engine.study.settings.sections import MISSING, StudyConfigError
 from engine.study.units import SWEEPABLE
 
@@ -116,7 +116,7 @@ class CalibrateSpec:
     fit_rtol: float = 1e-3
     max_evaluations: int = 40
     keys: tuple[str, ...] = field(default=())  # the tests' setting columns, file order
-    tests_file: str = ""  # ``tests`` as given; ``tests_path`` is the absolute file
+    tests_file: str = ""  # ``tests`` as recorded (``compared_path``); ``tests_path``: absolute
 
     def role(self, test_id: str) -> str:
         """``"calibrate"`` for a test the fit uses, ``"predict"`` otherwise."""
@@ -125,7 +125,7 @@ class CalibrateSpec:
     def resolved(self) -> dict[str, Any]:
         """The section as TOML-able data (stored with the results)."""
         return {
-            "tests": str(self.tests_path),
+            "tests": self.tests_file or str(self.tests_path),
             "id": self.id_column,
             "measured": self.measured_column,
             "fit": list(self.fit),
@@ -349,7 +349,7 @@ def parse_calibrate(
         fit_rtol=float(fit_rtol),
         max_evaluations=evaluations,
         keys=keys,
-        tests_file=table["tests"],
+        tests_file=compared_path(source, path),
     )
 
 

@@ -14,7 +14,7 @@ file:
 ``path``*            ``.npy``, whitespace text (``.txt``, ``.dat``, ``.asc``, ``.csv``), or any
                      instrument format SurfaceTopography reads (``pip install -e
                      '.[topography]'``); a relative path is taken from the folder of
-                     the study file, and the absolute path is what the results record
+                     the study file (and recorded relative to it)
 ``pixel_size``*      spacing of the map's samples (mm), the same along x and y
 ``units``            unit of the heights: "m", "mm" ["mm"], "um", "nm"
 ``detrend``          "none", "mean" or "plane" ["plane"]: what is removed before resampling

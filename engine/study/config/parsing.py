@@ -199,6 +199,8 @@ class StudyConfig:
                         resolved = {**self.tables.get("surface", {}), **resolved}
                         if "path" in resolved:  # the file, found as the cases find it
                             resolved["path"] = str(input_path(self.source, resolved["path"]))
+                    if "path" in resolved:  # recorded as compared (compared_path)
+                        resolved["path"] = compared_path(self.source, resolved["path"])
                     out["surface"] = {
                         k: v for k, v in resolved.items() if f"surface.{k}" not in swept
                     }
@@ -235,24 +237,12 @@ class StudyConfig:
     def to_json(self) -> str:
         return json.dumps(self.resolved(), sort_keys=True)
 
-    def compared(self) -> dict[str, dict[str, Any]]:
-        """:meth:`resolved` with its input files (``[surface] path``, ``[calibrate] tests``)
-        in the form a resumed run compares (``compared_path``: relative to the study file's
-        folder when under it), so that a study resumes from any working directory and after
-        its folder moved; the results record the absolute paths of :meth:`resolved`."""
-        resolved = self.resolved()
-        for section, key in (("surface", "path"), ("calibrate", "tests")):
-            table = resolved.get(section, {})
-            if key in table:
-                table[key] = compared_path(self.source, table[key])
-        return resolved
-
     def fingerprint(self) -> str:
         """Everything that changes the result of a case (not the output path, not testing).
 
         A results file made with a different fingerprint cannot be resumed.
         """
-        resolved = self.compared()
+        resolved = self.resolved()
         resolved.pop("study")
         resolved.pop("testing")
         resolved.pop("sweep")

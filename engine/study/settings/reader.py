@@ -22,10 +22,10 @@ def input_path(source: str, value: str) -> Path:
 
 
 def compared_path(source: str, path: str | Path) -> str:
-    """The form of an input file's absolute ``path`` that a study's fingerprint compares:
-    relative to the folder of the study file ``source`` when the file lies under it (so a
-    study resumes after its folder is moved or reached from another working directory),
-    else absolute."""
+    """The form of an input file's absolute ``path`` that the results record and a resumed
+    run compares: relative to the folder of the study file ``source`` when the file lies
+    under it (so the same study gives the same results file, and resumes, from any working
+    directory and after its folder is moved), else absolute."""
     folder = Path(os.path.abspath(Path(source).parent if Path(source).is_file() else Path()))
     try:
         return Path(path).relative_to(folder).as_posix()
