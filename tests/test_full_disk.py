@@ -125,7 +125,7 @@ def engine(directory: Path, *args: str) -> subprocess.CompletedProcess:
 
 
 def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_path):
-    """1.2 MB: room for about two of four cases beside the 1 MB kept free. The run exits 5
+    """1.2 MB: room for about three of four cases beside the 1 MB kept free. The run exits 5
     with one line; the rerun on the still-full disk says so again and changes nothing; moved
     to space it completes the cases the first run kept."""
     text = study_toml(
@@ -136,13 +136,24 @@ def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_pat
         sweep={"mu1": [0.1, 0.2], "beta": [0.0, 30.0]},
     )
     (small_file_system / "full.toml").write_text(text)
-    first = engine(small_file_system, "full.toml")
+    # How many cases fit depends on the HDF5 file's size when the next case is checked. Where
+    # the writer claims its space (tmpfs) that size is exact; where it cannot (ext2), HDF5's
+    # metadata may reach the disk after the check, and now and then the fourth case passes
+    # the check with about 10 kB to spare: then all four fit, the run rightly ends with
+    # exit 0, and the study is drawn again on the emptied file system (at most three times).
+    for _ in range(3):
+        first = engine(small_file_system, "full.toml")
+        if first.returncode != 0:
+            break
+        for path in small_file_system.iterdir():
+            if path.is_dir():
+                shutil.rmtree(path)
+            elif path.name != "full.toml":
+                path.unlink()
     assert first.returncode == 5, first.stderr
     lines = first.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: full.h5: no space left")
     assert "Traceback" not in first.stderr
-    # how many cases fit depends on the HDF5 file's size when the next case is checked,
-    # which the writer's flush timing moves by a few kB: mostly two, and never all four
     with h5py.File(small_file_system / "full.h5", "r") as file:
         kept = sum(group.attrs["status"] == "completed" for group in file["cases"].values())
     assert 0 < kept < 4, first.stdout
