@@ -1,4 +1,4 @@
-"""Cyclic-wear benchmark (issues 3, 17): today's method and the new one side by side.
+"""Cyclic-wear benchmark: today's method and the new one side by side.
 
 Section 7.2 settings: flat punch a0 = 1.8 mm, P = 750 N, i = 1.33e-7 1/MPa, μ = 0.1, paper
 materials, 10 increments per half cycle, wear per jump <= 0.004 of the elastic approach,
@@ -15,8 +15,8 @@ other, alternating the order per size, on one core (OMP/OpenBLAS threads = 1, FF
 simulated cycles, operator applications per increment, max wear depth, wear volume, the
 von Mises peak of the final x–z plane (all layers and below the surface layer) and the peak
 RSS; then the ratios today/new. The solve's CPU time (``time.process_time``) is printed
-beside its wall time: on a shared machine it is the steadier of the two. Targets (issue
-17): 64² ≤ 10 s and ≥ 2.9× today in the same run, 128² ≤ 45 s, results within 1 %.
+beside its wall time: on a shared machine it is the steadier of the two. Targets: 64² ≤ 10 s
+and ≥ 2.9× today in the same run, 128² ≤ 45 s, results within 1 %.
 
 ``--static-cases K`` also runs a study of K static frictional 128² cases through the case
 runner, with the per-rank operator cache and without it (today), and prints set-up vs total.

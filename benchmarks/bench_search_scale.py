@@ -8,12 +8,12 @@ single writer creating every step's group and writing its summary row to a real 
 with synthetic cases in place of the solver: search ``i`` looks for the load at which a
 Hertzian approach ``c_i P^(2/3)`` reaches a target (numeric column, Illinois, rtol 1e-4), and
 a case sleeps 100–300 ms (``--case-ms``: the mean, 200 by default; deterministic per case)
-before returning its row. Printed per rank
-count: cases, wall time, the end of the first round (the 400 bracket ends), and the busy
-fraction (time holding a case / time) of every rank after the first round — the issue's
-target is ≥ 90 % on every rank — and over the whole run. ``--compare`` also runs, at each
-rank count, a plain sweep of about as many cases (nine loads per combination, all known at
-the start): what the scheduler's own dispatch costs, which the searches cannot beat.
+before returning its row. Printed per rank count: cases, wall time, the end of the first
+round (the 400 bracket ends), and the busy fraction (time holding a case / time) of every rank
+after the first round — the target is ≥ 90 % on every rank — and over the whole run.
+``--compare`` also runs, at each rank count, a plain sweep of about as many cases (nine loads
+per combination, all known at the start): what the scheduler's own dispatch costs, which the
+searches cannot beat.
 
     python benchmarks/bench_search_scale.py --compare              # 2, 4, 8 ranks; ~12 min
     python benchmarks/bench_search_scale.py --ranks 8 --searches 50

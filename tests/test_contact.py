@@ -26,7 +26,7 @@ from tests.conftest import LOAD, RADIUS
 
 @pytest.mark.validation
 def test_frictionless_punch_matches_sneddon(frictionless_64, material, validation):
-    """Acceptance 1: Eq. (18) within 1 % and Eq. (17) within 3 % for r <= 0.8 a0 at 64²."""
+    """Eq. (18) within 1 % and Eq. (17) within 3 % for r <= 0.8 a0 at 64²."""
     result = frictionless_64.solve_load(LOAD)
     assert result.report.converged, result.report.message
     expected = sneddon_approach(LOAD, RADIUS, material.contact_modulus)
@@ -58,7 +58,7 @@ def test_displacement_control_reproduces_load_control(frictionless_64):
 
 @pytest.mark.validation
 def test_equilibrium_is_exact(frictionless_64, validation):
-    """Acceptance 4: Σ p ΔA = P to 1e-8 relative, with and without friction."""
+    """Σ p ΔA = P to 1e-8 relative, with and without friction."""
     area = frictionless_64.grid.element_area
     for mu in (0.0, 0.2):
         solver = with_friction(frictionless_64, FrictionLaw(mu, mu))
@@ -73,8 +73,8 @@ def test_equilibrium_is_exact(frictionless_64, validation):
 
 @pytest.mark.validation
 def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material, validation):
-    """Acceptance 2: μ = 1 sticks everywhere; k(stick)/k(frictionless) within 0.5 % of Eq. 20
-    (artanh(β)/β with Dundurs' β for E_B = 100 E_A, 1.02745; 1.02863 for a rigid punch)."""
+    """μ = 1 sticks everywhere; k(stick)/k(frictionless) within 0.5 % of Eq. 20 (artanh(β)/β with
+    Dundurs' β for E_B = 100 E_A, 1.02745; 1.02863 for a rigid punch)."""
     frictionless = frictionless_64.solve_load(LOAD)
     stuck = with_friction(frictionless_64, FrictionLaw(1.0, 1.0)).solve_load(LOAD)
     assert stuck.report.converged, stuck.report.message
@@ -92,8 +92,8 @@ def test_full_stick_stiffness_matches_mossakovskii(frictionless_64, material, va
 
 @pytest.mark.validation
 def test_stiffness_rises_monotonically_with_friction(frictionless_64, validation):
-    """Acceptance 2, Fig. 3b: the stiffness ratio grows with μ on 0 … 0.4 (static analysis
-    in two increments, path dependent), and the stick zone grows with it."""
+    """Fig. 3b: the stiffness ratio grows with μ on 0 … 0.4 (static analysis in two
+    increments, path dependent), and the stick zone grows with it."""
     ratios, stick = [], []
     reference = static_analysis(frictionless_64, LOAD, 2).stiffness
     for mu in (0.0, 0.1, 0.2, 0.3, 0.4):
@@ -162,9 +162,9 @@ def _rotate_vector(fx, fy):
 
 
 def test_orthotropic_beta_90_is_rotated_beta_0(material):
-    """Acceptance 3: (μ1, μ2, β = 90°) is the (μ1, μ2, β = 0) law rotated by 90°, which is also
-    the (μ2, μ1, β = 0) law; their solutions agree to the solver tolerance (1e-6 relative
-    bounds the difference of two solves at residual 1e-9)."""
+    """(μ1, μ2, β = 90°) is the (μ1, μ2, β = 0) law rotated by 90°, which is also the
+    (μ2, μ1, β = 0) law; their solutions agree to the solver tolerance (1e-6 relative bounds the
+    difference of two solves at residual 1e-9)."""
     grid = Grid.square(32, 1.05 * RADIUS)
     base = ContactSolver(grid, material, FlatPunch(RADIUS), FrictionLaw(0.1, 0.4, 0.0), tol=1e-9)
     at_0 = base.solve_load(LOAD)
@@ -212,7 +212,7 @@ def test_non_convergence_is_reported(frictionless_64):
     ],
 )
 def test_bad_input_raises_value_error_naming_parameter(frictionless_64, build, name):
-    """Acceptance 5: nothing is silently clipped."""
+    """Nothing is silently clipped."""
     with pytest.raises(ValueError, match=name):
         build(frictionless_64)
 

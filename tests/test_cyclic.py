@@ -26,7 +26,7 @@ def analysis(material, n, mu1, mu2, i1, i2, beta_deg, cycles, record, steps=5, t
 
 @pytest.mark.validation
 def test_wear_volume_is_the_sum_of_archard_increments(material, validation):
-    """Acceptance 1: V = Σ_cycles ΔN Σ_increments Σ_elements i p |Δs| ΔA to round-off."""
+    """V = Σ_cycles ΔN Σ_increments Σ_elements i p |Δs| ΔA to round-off."""
     run = analysis(material, 24, 0.2, 0.2, WEAR, WEAR, 0, cycles=300, record=(10, 300))
     per_row: dict[int, float] = {}
 
@@ -53,8 +53,8 @@ def test_wear_volume_is_the_sum_of_archard_increments(material, validation):
 
 @pytest.mark.validation
 def test_wear_decreases_with_friction(material, validation):
-    """Acceptance 3 (Section 7.2, P = 750 N, i = 1.33e-7 1/MPa, 32², 10⁵ cycles): maximum
-    wear depth and wear volume decrease over μ = 0.1, 0.2, 0.4."""
+    """Section 7.2 (P = 750 N, i = 1.33e-7 1/MPa, 32², 10⁵ cycles): maximum wear depth and
+    wear volume decrease over μ = 0.1, 0.2, 0.4."""
     depth, volume = [], []
     for mu in (0.1, 0.2, 0.4):
         result = analysis(material, 32, mu, mu, WEAR, WEAR, 0, 100000, (1000, 100000)).run()
@@ -72,9 +72,9 @@ def test_wear_decreases_with_friction(material, validation):
 
 @pytest.mark.validation
 def test_orthotropic_wear_is_invariant_with_beta(material, validation):
-    """Acceptance 4 (Section 7.3: μ1 = 0.1, μ2 = 0.4, i2 = i1 μ2/μ1, 32², 10⁴ cycles): maximum
-    wear depth and wear volume agree within 3 % for β = 0, 45, 90°; the β = 90° wear field
-    is the β = 0 field rotated by 90° (to the solver tolerance)."""
+    """Section 7.3 (μ1 = 0.1, μ2 = 0.4, i2 = i1 μ2/μ1, 32², 10⁴ cycles): maximum wear depth and wear
+    volume agree within 3 % for β = 0, 45, 90°; the β = 90° wear field is the β = 0 field rotated by
+    90° (to the solver tolerance)."""
     results = {}
     for beta in (0, 45, 90):
         run = analysis(material, 32, 0.1, 0.4, WEAR, 4 * WEAR, beta, 10000, (10000,))
@@ -98,7 +98,7 @@ def test_orthotropic_wear_is_invariant_with_beta(material, validation):
 
 
 def test_save_interrupt_resume_gives_identical_histories(material, tmp_path):
-    """Acceptance 5: stop after two simulated cycles, save, load, resume."""
+    """Stop after two simulated cycles, save, load, resume."""
     settings = dict(
         n=24, mu1=0.2, mu2=0.2, i1=WEAR, i2=WEAR, beta_deg=0, cycles=2000, record=(100, 2000)
     )

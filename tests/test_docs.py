@@ -563,6 +563,66 @@ def test_the_process_words_are_found():
     assert not PROCESS_WORDS.search("a round-off error on a rounded punch, helpful")
 
 
+#: Where the code, tests, benchmarks, scripts and bundled studies live; their Python, TOML and
+#: Markdown files are read for references to the project's tracker.
+SOURCE_DIRECTORIES = ("engine", "tests", "benchmarks", "scripts", "studies", "slurm", "examples")
+SOURCE_SUFFIXES = {".py", ".toml", ".md"}
+#: A reference to the tracker instead of a statement of what is checked: "issue" or "issues"
+#: and a number, "acceptance" and a number or "point", the issue with a possessive, or a
+#: section banner that carries nothing but tracker numbers (examples in the test below).
+ISSUE_REFERENCES = re.compile(
+    r"\bissues? \d+|\bacceptance (?:points?\b|\d+)|\bthe issue's\b"
+    r"|^\s*#\s*-{3,}\s*\d+(?:\.\d+)?(?: / \d+(?:\.\d+)?)*\s*$",
+    re.IGNORECASE,
+)
+
+
+def _source_files() -> list[Path]:
+    return sorted(
+        path
+        for directory in SOURCE_DIRECTORIES
+        for path in (REPO / directory).rglob("*")
+        if path.suffix in SOURCE_SUFFIXES
+        and path.is_file()
+        and not {".venv", "__pycache__", "node_modules"} & set(path.relative_to(REPO).parts)
+    )
+
+
+def test_the_code_tests_and_studies_cite_no_issue_numbers():
+    """Comments, docstrings, test names, benchmarks, scripts and study files say what they
+    check or do in the reader's words, not by the tracker's numbering."""
+    found = [
+        f"{_relative(path)}:{number}: {line.strip()}"
+        for path in _source_files()
+        for number, line in enumerate(path.read_text(errors="replace").splitlines(), start=1)
+        if ISSUE_REFERENCES.search(line)
+    ]
+    assert not found, "references to the tracker:\n" + "\n".join(found)
+
+
+def test_the_issue_references_are_found():
+    # Built from pieces so that this file holds none of them.
+    for line in (
+        '"""Kill-safety (issue' + "s 16 and 18): kills at the first writes",
+        "Cyclic-wear benchmark (issue" + "s 3, 17)",
+        '    """Accept' + "ance 2, Fig. 3b: the stiffness ratio grows with μ",
+        "    # the 1e-4 relative bound of the iss" + "ue's requirement",
+        "# ----------------- " + "16.5 / 18.2",
+        "#  ------------ " + "16.1",
+        "the accept" + "ance point holds",
+    ):
+        assert ISSUE_REFERENCES.search(line), line
+    for line in (
+        "Section 7.2 settings: flat punch a0 = 1.8 mm, P = 750 N",
+        "# --- DC-FFT against the direct sum ------------------------------------",
+        "# ------------------------------------------------------ output-path errors",
+        "see h5py's GitHub issues/1234; a known issue of HDF5 1.14",
+        "accepted within 1 % (the acceptance bound of the test)",
+        "start_new_session=True, scope='session', a helper thread",
+    ):
+        assert not ISSUE_REFERENCES.search(line), line
+
+
 def test_every_figure_of_the_manual_is_shown_on_a_page():
     """A figure under docs/figures that no page shows is stale weight: show it or remove it
     (and stop the script that draws it from writing it)."""

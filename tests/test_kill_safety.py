@@ -1,5 +1,5 @@
-"""Serial parts of kill-safety and study identity (issues 16 and 18): the output lock, output
-paths, the identity check, extended and shrunk sweeps, salvage of damaged files, input ranges.
+"""Serial parts of kill-safety and study identity: the output lock, output paths, the identity
+check, extended and shrunk sweeps, salvage of damaged files, input ranges.
 The same behaviour under ``mpiexec -n 2`` with real kills: tests/mpi/test_kill_safety.py.
 """
 

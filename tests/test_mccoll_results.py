@@ -53,11 +53,11 @@ def test_the_convergence_case_with_the_bundled_settings_is_the_bundled_study(loa
 
 
 def test_the_two_loads_differ_only_in_the_load_and_the_mesh_extent():
-    issue, test = _study("mccoll_2004"), _study("mccoll_2004_test_load")
-    assert (issue["loading"]["load"], test["loading"]["load"]) == (185.0, 18.5)  # N/mm
+    paper, test = _study("mccoll_2004"), _study("mccoll_2004_test_load")
+    assert (paper["loading"]["load"], test["loading"]["load"]) == (185.0, 18.5)  # N/mm
     ignored = [("study", "name"), ("study", "output"), ("loading", "load")]
     ignored += [("mesh", "half_width")]
-    assert _without(issue, *ignored) == _without(test, *ignored)
+    assert _without(paper, *ignored) == _without(test, *ignored)
 
 
 def test_the_ratio_row_divides_the_computed_scar_by_the_measured_one():

@@ -115,7 +115,7 @@ def test_sphere_frictionless_against_hertz_64(validation):
     Tolerances: contact radius (√(area/π)) 2 %: the contact edge is located to within one
     element (3 % of a) and area counting averages it; approach 0.2 % and p_max 0.5 %:
     discretisation of a smooth pressure (measured 0.006 % and 0.04 %); axis σ_VM maximum
-    value and depth 2 % (the issue's requirement; measured 0.01 % and 0.2 %, depth sampled
+    value and depth 2 % (the required accuracy; measured 0.01 % and 0.2 %, depth sampled
     every 0.0025 a)."""
     radius, load = 10.0, 750.0
     modulus = PAPER.contact_modulus

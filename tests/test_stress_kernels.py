@@ -136,7 +136,7 @@ def test_cerruti_point_stress_is_the_derivative_of_the_cerruti_displacement():
 @pytest.mark.parametrize("load", ["traction_x", "traction_y"])
 @pytest.mark.validation
 def test_tangential_coefficients_match_integrated_cerruti_solution(load, point, validation):
-    # Acceptance 2. Quadrature is converged to ~1e-9; the 1e-4 relative bound of the issue
+    # Quadrature is converged to ~1e-9; the required 1e-4 relative bound
     # (with an absolute floor 1e-6 of the largest component for components that vanish by
     # symmetry at a point) leaves that margin untouched.
     point_stress = (

@@ -79,13 +79,13 @@ def _compare_with_appendix_a(field: StressField) -> dict[str, float]:
     return errors
 
 
-# --- Acceptance 1: frictionless punch against Appendix A -----------------------------------------
+# --- frictionless punch against Appendix A -------------------------------------------------------
 
 
 @pytest.mark.parametrize("source", ["sneddon", "solver"])
 @pytest.mark.validation
 def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source, validation):
-    # Acceptance 1. 2 % on σ_VM and 0.02 p0 on σrr, σφφ, σzz, τrz away from the edge
+    # 2 % on σ_VM and 0.02 p0 on σrr, σφφ, σzz, τrz away from the edge
     # (r ≤ 0.8 a0 or r ≥ 1.2 a0, 0.1 a0 ≤ z ≤ 2 a0). Measured at 128²: 0.23 % / 0.0008 p0
     # with the element-averaged Sneddon pressure (only the discretisation of the load into
     # elements), 1.2 % / 0.006 p0 with the solver's pressure (its edge error adds).
@@ -106,7 +106,7 @@ def test_frictionless_punch_matches_appendix_a_on_xz_plane(paper_stress, source,
 
 def test_oblique_plane_matches_appendix_a(paper_stress):
     # A plane at φ = 0.6 rad is bilinearly interpolated from the lattice; same tolerances as
-    # acceptance 1 (measured 0.19 % / 0.0006 p0).
+    # the x–z plane above (measured 0.19 % / 0.0006 p0).
     field = paper_stress.plane(_sneddon(PAPER_GRID), angle=0.6, half_length=2.2 * A0)
     errors = _compare_with_appendix_a(field)
     assert errors["von_mises"] < 0.02, errors
@@ -331,7 +331,7 @@ def test_rotated_load_on_perpendicular_plane():
     np.testing.assert_allclose(rotated.y, original.x, atol=1e-12)
 
 
-# --- Acceptance 3: equilibrium -----------------------------------------------------------------
+# --- equilibrium -------------------------------------------------------------------------------
 
 
 def _disk_fraction_normal(radius, z):
@@ -347,7 +347,7 @@ def _disk_fraction_shear(radius, z):
 
 @pytest.mark.validation
 def test_every_depth_plane_carries_the_applied_forces(validation):
-    # Acceptance 3. ∫σzz dA = −P, ∫σxz dA = −Q_x, ∫σyz dA = −Q_y over a plane much wider than
+    # ∫σzz dA = −P, ∫σxz dA = −Q_x, ∫σyz dA = −Q_y over a plane much wider than
     # the contact (radius 12 mm vs. contact radius 0.5 mm). The lattice sum over the disk is
     # completed by the far field of the resultant forces outside it (point-load fractions
     # above; the Cerruti shear decays only as z/R, 6 % at z = 0.5 mm). What remains — the
@@ -392,14 +392,14 @@ def test_every_depth_plane_carries_the_applied_forces(validation):
     )  # fmt: skip
 
 
-# --- Acceptance 4: location of the peak --------------------------------------------------------
+# --- location of the peak ----------------------------------------------------------------------
 
 
 @pytest.mark.validation
 def test_frictionless_peak_is_at_the_contact_edge_near_the_surface(validation):
-    # Acceptance 4 (Fig. 5b: maximum at x/a0 = 1, z/a0 = 0). Both peaks, with and without the
-    # surface layer, must sit within two element pitches of r = a0 and within 5 % of a0 of the
-    # surface; the peak value exceeds the mean pressure (σ_VM/p0 ≥ 1 around the edge).
+    # Fig. 5b: maximum at x/a0 = 1, z/a0 = 0. Both peaks, with and without the surface layer,
+    # must sit within two element pitches of r = a0 and within 5 % of a0 of the surface; the
+    # peak value exceeds the mean pressure (σ_VM/p0 ≥ 1 around the edge).
     depths = depth_layers(2.0 * A0, 40)
     stress = SubsurfaceStress(PAPER_GRID, NU, depths)
     field = stress.plane(_sneddon(PAPER_GRID), angle=0.0)

@@ -46,7 +46,7 @@ and a the current contact radius:
 - *surface* if z/a < ``SURFACE_DEPTH_FRACTION`` = 0.1, else *subsurface*. The edge
   singularity decays within a few elements of the surface (0.1 a is 1.6 elements at 32², 3.2
   at 64²), while the subsurface maxima of smooth pressures sit at z ≈ 0.5–0.7 a; 0.1 a is far
-  from both and is the depth the issue uses for the "deep" peak.
+  from both; the "deep" peak is sought below the same depth (``DEEP_DEPTH_FRACTION``).
 
 Units: lengths mm, stresses MPa (tension positive, z into the half-space).
 """

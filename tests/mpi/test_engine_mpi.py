@@ -221,7 +221,7 @@ def reference_run(tmp_path_factory):
 
 
 def test_two_ranks_and_one_rank_give_identical_summaries(reference_run, tmp_path):
-    """Acceptance 1: the same study on 2 ranks and on 1 rank; both ranks computed cases."""
+    """The same study on 2 ranks and on 1 rank; both ranks computed cases."""
     study, two_ranks, result = reference_run
     one_rank = tmp_path / "one.h5"
     serial = run_engine(study, "--output", str(one_rank), ranks=1)
@@ -241,8 +241,8 @@ def test_two_ranks_and_one_rank_give_identical_summaries(reference_run, tmp_path
 
 
 def test_sigterm_then_resume_completes_without_recomputing(reference_run, tmp_path):
-    """Acceptance 2: SIGTERM mid-run, rerun; nothing completed is computed twice, and the
-    final file equals the uninterrupted run's."""
+    """SIGTERM mid-run, rerun; nothing completed is computed twice, and the final file equals the
+    uninterrupted run's."""
     reference_study, reference, _ = reference_run
     study = tmp_path / "ref.toml"
     study.write_text(
@@ -293,8 +293,8 @@ def _statuses(stdout: str) -> list[str]:
 
 
 def test_failed_case_is_reported_and_the_rest_complete(tmp_path):
-    """Acceptance 3: a case forced to fail ([testing] fail_cases) -> status failed, message and
-    traceback stored, the other cases complete, exit code 1."""
+    """A case forced to fail ([testing] fail_cases) -> status failed, message and traceback stored,
+    the other cases complete, exit code 1."""
     testing = {"fail_cases": ["mu0.2_w1.33e-07_b0"]}
     study = write_study(tmp_path, "fail", mu1=(0.1, 0.2, 0.4), testing=testing)
     result = run_engine(study)
@@ -332,8 +332,8 @@ BAD_INPUT = {
 
 @pytest.mark.parametrize("kind", sorted(BAD_INPUT))
 def test_bad_input_exits_2_before_touching_any_file(kind, tmp_path):
-    """Acceptance 4: exit code 2, a message naming the key and the file, no output created; an
-    existing results file is left byte-for-byte unchanged."""
+    """Exit code 2, a message naming the key and the file, no output created; an existing results
+    file is left byte-for-byte unchanged."""
     edit, key = BAD_INPUT[kind]
     good = write_study(tmp_path, "good")
     bad = tmp_path / "bad.toml"

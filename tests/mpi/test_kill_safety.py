@@ -1,5 +1,5 @@
-"""Kill-safety under ``mpiexec -n 2`` (issues 16 and 18): kills at the first writes, a signal
-to one rank alone, two runs on one output, output-path errors, a signal during start-up.
+"""Kill-safety under ``mpiexec -n 2``: kills at the first writes, a signal to one rank alone,
+two runs on one output, output-path errors, a signal during start-up.
 
 Tiny static studies (n = 8, 16 cases of ~0.1 s) keep the many trials cheap; trials run four
 at a time (each in its own directory: they share nothing but the two cores). What is asserted
@@ -29,7 +29,7 @@ pytestmark = pytest.mark.mpi
 
 # n = 8, mu = 0.1: one case of 3e6 cycles takes ~6 s here
 CYCLIC = {"cycles": 3000000, "record": None, "max_wear_fraction": 0.02}
-TRIALS = 20  # the issue's acceptance: 20+ kills, 20+ single-rank signals
+TRIALS = 20  # kills, and signals to one rank alone: 20 of each
 PARALLEL = 4
 
 
@@ -123,7 +123,7 @@ def completed_cases(output: Path) -> list[str]:
     return sorted(summary.loc[summary.status == "completed", "case_id"])
 
 
-# ------------------------------------------------------------------------------ 16.1
+# -------------------------------------------------------------- kills at the first writes
 def _kill_at_first_writes(directory: Path, delay: float, watch_final: bool):
     study = tiny_study(directory)
     output = directory / "tiny.h5"
@@ -159,11 +159,12 @@ def test_kill_at_the_first_writes_then_plain_resume_completes(tmp_path):
         assert "Traceback" not in results[i][1]
 
 
-# ------------------------------------------------------------------------------ 16.2
+# ------------------------------------------------------------------- a signal to one rank
 def _signal_study(directory: Path) -> Path:
-    """Six static cases of ~0.3 s (n = 32): the issue's hang needed rank 1 stopped while it
-    still had a case to start after rank 0's computing thread had finished — a window of one
-    case at the end of the run, which short cases would make too narrow to hit."""
+    """Six static cases of ~0.3 s (n = 32): the hang this guards against needed rank 1
+    stopped while it still had a case to start after rank 0's computing thread had finished —
+    a window of one case at the end of the run, which short cases would make too narrow to
+    hit."""
     return tiny_study(directory, mu1=(0.1, 0.2, 0.3), beta=(0.0, 90.0), n=32, steps=4)
 
 
@@ -353,10 +354,10 @@ def test_sigterm_during_shutdown_is_not_a_signal_death(tmp_path):
     assert len(completed_cases(tmp_path / "tiny.h5")) == 16
 
 
-# ------------------------------------------------------------------------------ 16.5 / 18.2
+# ----------------------------------------------------------------- two runs on one output
 def test_second_run_and_fresh_run_on_a_busy_output_exit_2(tmp_path):
-    """Issues 16.5 and 18.2: while a run computes, a second run and a ``--fresh`` run on the
-    same output exit 2 naming the first run; the first run's results are intact.
+    """While a run computes, a second run and a ``--fresh`` run on the same output exit 2
+    naming the first run; the first run's results are intact.
 
     Deterministic whatever the machine's speed: of the first run's two cases one is short and
     one runs for hours (10⁸ cycles), so the run still holds the output while the contenders
@@ -389,7 +390,7 @@ def test_second_run_and_fresh_run_on_a_busy_output_exit_2(tmp_path):
     assert not (tmp_path / "tiny.h5.lock").exists()
 
 
-# ------------------------------------------------------------------------------ 16.4
+# --------------------------------------------------------------------- output-path errors
 @pytest.mark.parametrize("where", ["under /proc", "parent is a file"])
 def test_unwritable_output_path_exits_2_naming_path_and_error(where, tmp_path):
     study = tiny_study(tmp_path)

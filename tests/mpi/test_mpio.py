@@ -1,12 +1,13 @@
 """Collective (mpio) output strategy under ``mpiexec -n 2``.
 
-Acceptance 1 and 2 need h5py built against parallel HDF5 in the engine's environment; run them
-with the environment of ``scripts/build_parallel_h5py.sh``::
+The comparison with the single writer's file and the kill-and-resume test need h5py built
+against parallel HDF5 in the engine's environment; run them with the environment of
+``scripts/build_parallel_h5py.sh``::
 
     ENGINE_MPIEXEC=mpiexec.mpich .venv-mpio/bin/python -m pytest tests/mpi
 
 (scripts/test.sh does this as its second MPI run). With the plain h5py wheel they are skipped
-and acceptance 3 (asking for mpio gives a clear error) runs instead.
+and the check that asking for mpio gives a clear error runs instead.
 """
 
 from __future__ import annotations
@@ -58,8 +59,8 @@ SWEEP = {"mu1": (0.1, 0.2, 0.4), "beta": (0.0, 90.0)}
 
 @needs_parallel_h5py
 def test_collective_file_equals_single_writer_file(tmp_path):
-    """Acceptance 1: same study, 2 ranks, --output-strategy single vs mpio -> same groups,
-    datasets (to round-off), attributes and summary; both ranks computed and wrote cases."""
+    """Same study, 2 ranks, --output-strategy single vs mpio -> same groups, datasets (to
+    round-off), attributes and summary; both ranks computed and wrote cases."""
     study = write_study(tmp_path, "demo", **SWEEP)
     single = run_engine(study, "--output-strategy", "single", "--output", str(tmp_path / "s.h5"))
     assert single.returncode == 0, single.stderr
@@ -78,10 +79,10 @@ def test_collective_file_equals_single_writer_file(tmp_path):
 @needs_parallel_h5py
 @pytest.mark.parametrize("kill", ["SIGKILL", "SIGTERM"])
 def test_kill_during_collective_run_then_resume_loses_no_completed_case(kill, tmp_path):
-    """Acceptance 2: kill the collective run after its first finished case (SIGKILL: no chance
-    to commit, the journal of the case is all there is; SIGTERM: orderly stop), then resume:
-    every case finished before the kill is kept, not recomputed, and the file equals an
-    uninterrupted single-writer run."""
+    """Kill the collective run after its first finished case (SIGKILL: no chance to commit, the
+    journal of the case is all there is; SIGTERM: orderly stop), then resume: every case finished
+    before the kill is kept, not recomputed, and the file equals an uninterrupted single-writer
+    run."""
     study = write_study(tmp_path, "killed", **SWEEP)
     process = subprocess.Popen(
         engine_command(study, "--output-strategy", "mpio"),
@@ -142,8 +143,8 @@ def _wait_for_ranks_to_die(group: int, timeout: float = 30) -> None:
     "engine_h5py_is_mpi_enabled()", reason="h5py is MPI-enabled here: mpio is available"
 )
 def test_mpio_without_parallel_h5py_is_a_clear_error(tmp_path):
-    """Acceptance 3: plain h5py wheel + mpio requested -> exit 2 at once, a message naming the
-    build script, no file created (no hang, no corrupt file)."""
+    """Plain h5py wheel + mpio requested -> exit 2 at once, a message naming the build script, no
+    file created (no hang, no corrupt file)."""
     study = write_study(tmp_path, "plain")
     result = run_engine(study, "--output-strategy", "mpio", timeout=60)
     assert result.returncode == 2, result.stderr
