@@ -24,9 +24,11 @@ the bytecode that a first, unrecorded command compiled (``bench_anchors.use_byte
 as an installed package does. The load average is printed at the start and at the end.
 
 ``--baseline DIR`` measures the engine of another source tree alike in every round (before
-and after a change, in one run).
+and after a change, in one run). ``--update-docs`` writes the figures of this tree into the
+block ``bench-cli-overhead`` of docs/explanation/performance.md, with the date, the machine
+and the load average.
 
-    python benchmarks/bench_cli_overhead.py --repeats 3     # ~1 minute on an idle core
+    python benchmarks/bench_cli_overhead.py --repeats 3 --update-docs
 """
 
 from __future__ import annotations
@@ -155,15 +157,22 @@ def main() -> None:
         help="another source tree of the engine (e.g. git archive <rev> | tar -x -C /tmp/old), "
         "measured alike in every round",
     )
+    parser.add_argument(
+        "--update-docs",
+        action="store_true",
+        help="write this tree's figures into docs/explanation/performance.md",
+    )
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
         print(json.dumps(child_solver(Path(args.child))))
         return
-    print(f"load average at the start: {os.getloadavg()[0]:.1f}", flush=True)
+    start = os.getloadavg()[0]
+    print(f"load average at the start: {start:.1f}", flush=True)
     trees = {"engine": REPO} | ({"baseline": args.baseline.resolve()} if args.baseline else {})
     rows = measure(args.repeats, trees)
     print(f"load average at the end: {os.getloadavg()[0]:.1f}")
+    figures = {}
     for code in trees:
         solver = min(r["cpu_s"] for r in rows[(code, "solver")])
         command = min(r["cpu_s"] for r in rows[(code, "command")])
@@ -174,12 +183,37 @@ def main() -> None:
             and int(summary["matvecs"]) == r["matvecs"]
             for r in solved
         )
+        figures[code] = (solver, command, same)
         print(
             f"{code}: cyclic 64² case (31 layers, records at 10³, 10⁴, 10⁵ cycles): solver "
             f"{solver:.3f} s, python -m engine {command:.3f} s (CPU, best of {args.repeats}); "
             f"the command adds {100 * (command / solver - 1):.1f} % to the solver's time; same "
             f"analysis (maximum wear depth, operator applications): {same}"
         )
+    if args.update_docs:
+        write_doc_block(*figures["engine"], repeats=args.repeats, load=start)
+
+
+def write_doc_block(solver: float, command: float, same: bool, repeats: int, load: float):
+    """The block ``bench-cli-overhead`` of the manual's performance page."""
+    sys.path.insert(0, str(REPO))
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    note = (
+        f"`python benchmarks/bench_cli_overhead.py --repeats {repeats} --update-docs`, one "
+        f"core per process, solver and command alternating in each round; CPU times: the best "
+        f"of the rounds; load average at the start {load:.1f}"
+    )
+    header = ("measured", "CPU, best (s)", "added to the solver")
+    rows = [
+        ("cyclic analysis alone (solver, in-process)", f"{solver:.3f}", "–"),
+        ("whole `python -m engine`", f"{command:.3f}", f"{100 * (command / solver - 1):.1f} %"),
+    ]
+    text = measured_on(note) + "\n" + markdown_table(header, rows)
+    text += f"\nSame analysis in both (maximum wear depth and operator applications): {same}.\n"
+    document = REPO / "docs" / "explanation" / "performance.md"
+    replace_block(document, "bench-cli-overhead", text)
+    print(f"{document}: wrote the block bench-cli-overhead")
 
 
 if __name__ == "__main__":
