@@ -269,3 +269,27 @@ def test_a_calibration_takes_one_combination_of_the_sweep(tmp_path):
     assert run.status == "invalid"
     assert "[sweep] = '2 combinations': a calibration takes one combination" in run.message
     assert not (tmp_path / "out").exists()
+
+
+def test_the_closing_lines_name_every_search_that_did_not_converge():
+    """A calibration that ends as failed because a prediction's search did not bracket its
+    threshold says which test and why, not only the exit code."""
+    from engine.calibration.fit import FitResult
+    from engine.calibration.run import CalibrationResult, describe
+
+    rows = [
+        {"id": "A", "role": "calibrate", "error": 0.03, "status": "converged", "message": ""},
+        {"id": "B", "role": "predict", "error": -0.1, "status": "converged", "message": ""},
+        {
+            "id": "C",
+            "role": "predict",
+            "error": np.nan,
+            "status": "not-bracketed",
+            "message": "risk is 1.1 at 95.4 and 2.3 at 623: both above the target 1.0",
+        },
+    ]
+    fit = FitResult({"fatigue.length": 0.078}, "converged", "", 20)
+    text = describe(CalibrationResult(rows, fit, [], 526, 1.0))
+    assert "test C (predict): search not-bracketed: risk is 1.1 at 95.4" in text
+    assert "test A" not in text and "test B" not in text
+    assert "predicted tests: median |error| 10.0 %, largest 10.0 % (1 tests)" in text

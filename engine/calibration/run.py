@@ -273,6 +273,10 @@ def describe(outcome: CalibrationResult) -> str:
             f"\npredicted tests: median |error| {100 * float(np.median(errors)):.1f} %, "
             f"largest {100 * max(errors):.1f} % ({len(errors)} tests)"
         )
+    for row in outcome.rows:  # the searches that make the run end as failed, and why
+        if row["status"] != SearchStatus.CONVERGED:
+            text += f"\ntest {row['id']} ({row['role']}): search {row['status']}"
+            text += f": {row['message']}" if row["message"] else ""
     return text + f"\n{outcome.solves} contact solutions computed this run"
 
 
