@@ -79,16 +79,27 @@ def measure(path: Path) -> tuple[float, float]:
     python = REPO / ".venv" / "bin" / "python"
     mpiexec = REPO / ".venv" / "bin" / "mpiexec"
     with tempfile.TemporaryDirectory() as folder:
-        copy = Path(folder) / path.name
-        shutil.copy(path, copy)
+        # the study's folder whole: its input files (a calibration's tests, a surface map)
+        # are found beside it
+        copy = Path(folder) / "studies" / path.name
+        shutil.copytree(path.resolve().parent, copy.parent, ignore=_results)
         load = os.getloadavg()[0]
         start = time.perf_counter()
-        subprocess.run(
+        done = subprocess.run(
             [str(mpiexec), "-n", "2", str(python), "-m", "engine", copy.name, "--no-progress-bar"],
-            cwd=folder, check=True, capture_output=True,
+            cwd=copy.parent, capture_output=True, text=True,
         )  # fmt: skip
         wall = time.perf_counter() - start
+    # exit 1: the run ended with a failed case or search, which the study may show on purpose
+    # (the Fouvry calibration's test whose threshold lies below its bracket); it ran whole
+    if done.returncode not in (0, 1):
+        raise SystemExit(f"{path}: exit {done.returncode}: {done.stderr.strip()[-500:]}")
     return wall, load
+
+
+def _results(folder, names):
+    """Leave results out of the copy of a study's folder."""
+    return [name for name in names if name == "results" or name.endswith((".h5", ".hdf5"))]
 
 
 def main(argv=None) -> int:
