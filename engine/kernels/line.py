@@ -228,6 +228,12 @@ class LineOperator:
         """An element's own coefficient of kernel ``key`` (offset 0; mm/MPa)."""
         return float(self.influence.kernels[key][self.grid.n_x - 1, 0])
 
+    def release_buffers(self) -> None:
+        """The half-space operator's way to let go of its transforms before a case's stress
+        plane (:meth:`engine.kernels.operator.HalfSpaceOperator.release_buffers`). A line's
+        transforms are three rows of 2n values, a few kB even at 2,048 elements: nothing
+        worth freeing, so they are kept."""
+
     @property
     def preconditioner(self) -> LinePreconditioner:
         if self._preconditioner is None:
