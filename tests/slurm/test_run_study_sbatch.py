@@ -281,8 +281,10 @@ def test_a_chained_job_continues_the_study(cluster, reference, tmp_path):
 def test_a_refused_requeue_ends_failed_with_exit_code_3(cluster, tmp_path):
     """The pre-timeout signal sent by SLURM's own timer: --time=1 with USR1 50 s before the
     limit (SLURM checks about every 30 s, so it comes 10–40 s after the start). The study is
-    longer than that (48 cases of 10⁶ cycles: minutes here), and the job is not requeueable."""
-    mu1, beta = [0.1, 0.15, 0.2, 0.3, 0.4, 0.5], [0.0, 22.5, 45.0, 67.5, 90.0, 112.5, 135.0, 157.5]
+    longer than that (128 cases of 10⁶ cycles: 48 of them once finished within 40 s on 2
+    ranks here), and the job is not requeueable."""
+    mu1 = [round(0.1 + 0.025 * i, 3) for i in range(16)]
+    beta = [0.0, 22.5, 45.0, 67.5, 90.0, 112.5, 135.0, 157.5]
     options = ("--no-requeue", "--time=1", "--signal=B:USR1@50")
     job = Job(cluster, tmp_path, *options, cycles=1e6, mu1=mu1, beta=beta)
     fields = job.finish()
