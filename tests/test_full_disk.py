@@ -168,10 +168,11 @@ def test_a_full_file_system_stops_the_run_with_exit_5(small_file_system, tmp_pat
     assert f"{kept} already complete, {4 - kept} to run" in last.stdout, last.stdout
 
 
-def fill_to_the_last_byte(directory: Path) -> None:
+def fill_to_the_last_byte(directory: Path) -> Path:
     """Grow ``directory/filler`` until its file system has 0 B free (1 MiB, 4 KiB, then
-    single bytes)."""
-    with open(directory / "filler", "ab", buffering=0) as handle:
+    single bytes); the filler's path."""
+    path = directory / "filler"
+    with open(path, "ab", buffering=0) as handle:
         for size in (1 << 20, 4096, 1):
             block = b"\0" * size
             while True:
@@ -181,6 +182,7 @@ def fill_to_the_last_byte(directory: Path) -> None:
                     if error.errno != errno.ENOSPC:
                         raise
                     break
+    return path
 
 
 def test_a_disk_too_full_for_the_lock_names_what_the_run_needs(small_file_system):

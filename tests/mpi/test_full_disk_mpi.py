@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import concurrent.futures
 import contextlib
-import errno
 import importlib.util
 import os
 import random
@@ -32,6 +31,7 @@ import pytest
 
 from engine.study.examples import study_toml
 from tests.mpi.test_engine_mpi import engine_command, environment
+from tests.test_full_disk import fill_to_the_last_byte as fill
 
 pytestmark = pytest.mark.mpi
 
@@ -65,23 +65,6 @@ def mount_tmpfs(directory: Path, size: str) -> None:
     )
     if done.returncode != 0:
         pytest.skip(f"cannot mount a tmpfs here: {done.stderr.decode().strip()}")
-
-
-def fill(directory: Path) -> Path:
-    """Write a file in ``directory`` until its file system has 0 B free (blocks of 1 MiB,
-    then 4 KiB, then single bytes)."""
-    path = directory / "filler"
-    with open(path, "ab", buffering=0) as handle:
-        for size in (1 << 20, 4096, 1):
-            block = b"\0" * size
-            while True:
-                try:
-                    handle.write(block)
-                except OSError as error:
-                    if error.errno != errno.ENOSPC:
-                        raise
-                    break
-    return path
 
 
 def command(ranks: int) -> list[str]:
