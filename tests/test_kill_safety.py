@@ -9,6 +9,8 @@ import json
 import os
 import shutil
 import socket
+import subprocess
+import sys
 
 import h5py
 import numpy as np
@@ -314,6 +316,83 @@ def test_memory_estimate_refuses_a_mesh_the_machine_cannot_hold():
     with pytest.raises(StudyConfigError, match="800 increments per cycle"):
         check_memory(many, ranks_on_node=2, limit=16 * 2**30, plan=plan)
     check_memory(*study(steps.replace("steps = 400", "steps = 4"))[:1], 2, 16 * 2**30)
+
+
+def test_a_frictionless_study_the_machine_holds_is_not_refused():
+    # μ = 0 on every case: the normal problem's 200 B per element, not the frictional 830
+    # (the cyclic study of VALID at n = 4000: 17.9 GiB frictionless, 27.0 GiB frictional)
+    text = VALID.replace("n = 32", "n = 4000")
+    frictional, plan = study(text)
+    with pytest.raises(StudyConfigError, match=r"\[mesh\] n = 4000"):
+        check_memory(frictional, ranks_on_node=1, limit=24 * 2**30, plan=plan)
+    frictionless, plan = study(text.replace("mu1 = [0.1, 0.4]", "mu1 = [0.0]"))
+    check_memory(frictionless, ranks_on_node=1, limit=24 * 2**30, plan=plan)
+    mixed, plan = study(text.replace("mu1 = [0.1, 0.4]", "mu1 = [0.0, 0.1]"))
+    with pytest.raises(StudyConfigError, match=r"\[mesh\] n = 4000"):  # one case has friction
+        check_memory(mixed, ranks_on_node=1, limit=24 * 2**30, plan=plan)
+
+
+FRICTIONLESS_256 = """[study]
+name = "frictionless_256"
+output = "out.h5"
+
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+
+[punch]
+radius = 1.8
+
+[mesh]
+n = 256
+half_width = 1.89
+
+[loading]
+kind = "static"
+load = 714.0
+steps = 1
+
+[sweep]
+mu1 = [0.0]
+"""
+
+
+LAUNCHER = """
+import os, subprocess, sys
+child = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL)
+_, status, usage = os.wait4(child.pid, 0)
+code = os.waitstatus_to_exitcode(status)
+print(usage.ru_maxrss)
+sys.exit(code)
+"""
+
+
+def test_the_frictionless_estimate_bounds_the_measured_peak(tmp_path):
+    # the command's peak (ru_maxrss of the ended process: the interpreter, the imports, the
+    # solve, the default 16 layers of the x-z plane, the file and its read-back) against the
+    # estimate: never above it (the estimate guards the machine), and not more than 1.6 times
+    # below it (an estimate that errs that high refuses studies the machine can hold; the
+    # imports' part of BASE_BYTES varies with the versions of NumPy and h5py)
+    # A first, unmeasured run compiles the modules' bytecode, which the measured run reads,
+    # as an installed package does (compiling them raises the peak by about 30 MB). A small
+    # launcher starts the command and reports its peak: the peak of a process forked from
+    # this one would start from this process's own (pytest's, with pandas and h5py loaded).
+    (tmp_path / "s.toml").write_text(FRICTIONLESS_256)
+    env = {key: value for key, value in os.environ.items() if not key.startswith("OMPI_")}
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPYCACHEPREFIX"] = str(tmp_path / "bytecode")
+    command = [sys.executable, "-m", "engine", "s.toml", "--fresh", "--no-progress-bar"]
+    for _ in range(2):
+        launched = subprocess.run(
+            [sys.executable, "-c", LAUNCHER, *command],
+            cwd=tmp_path, env=env, capture_output=True, text=True, check=False,
+        )  # fmt: skip
+        assert launched.returncode == 0, launched.stderr
+    measured = float(launched.stdout.split()[-1]) * 1024.0
+    estimate = case_memory_bytes(256, 16, frictional=False)
+    assert measured <= estimate <= 1.6 * measured, (measured, estimate)
 
 
 def test_identity_ignores_threads_and_output_but_not_physics():

@@ -5,13 +5,14 @@ Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -
 512 with 4 to 32 subsurface layers (2026-11-25, after the influence operator stopped keeping
 kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
 
-    memory ≈ 80 MB + n² · (830 + cycled) + plane bytes
+    memory ≈ 80 MB + n² · (solver + cycled) + plane bytes
+    solver = 830 frictional, 200 when every case of the plan is frictionless (μ1 = μ2 = 0)
     plane  = kept + 60 kB · n,   kept = 145 · n² · layers if that is <= 64 MiB, else 0
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The 830 B per element are the contact solver: the kernel spectra it needs (the real half of
-an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary half of the
-two odd ones, as much; one to three frictionless and six frictional), one pair of
+The 830 B per element are the frictional contact solver: the kernel spectra it needs (the
+real half of an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary
+half of the two odd ones, as much; one to three frictionless and six frictional), one pair of
 padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
 arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
 components and three loads per layer on the folded line lattice, all of them if they fit
@@ -28,6 +29,12 @@ plane kept its kernels whole or not at all, ``/usr/bin/time`` on the loaded 2-co
 machine): n = 128 with 16 layers, two cases (the second keeps the plane's kernels), 139 MB
 estimated, 119 MB measured (one case, which keeps none: 86 MB); n = 256 with 32 layers
 150 MB, 131 MB; n = 512 with 16 layers 328 MB, 318 MB.
+
+A frictionless solve keeps the normal problem's spectra and buffers alone: 200 B per
+element, fitted on one-case static studies of the paper's coupled pair with μ = 0 and 16
+layers (the x–z plane streamed), whose peaks grow by 160–180 B per element from 1024² to
+2048²; the estimate errs high on the measured points, and
+``test_the_frictionless_estimate_bounds_the_measured_peak`` measures one.
 
 A line contact (plane strain, ``[punch] shape`` cylinder or pad) has n elements, not n²,
 and its memory grows linearly in n::
@@ -65,6 +72,7 @@ __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_mem
 
 BASE_BYTES = 80e6
 BYTES_PER_ELEMENT = 830.0
+BYTES_PER_ELEMENT_FRICTIONLESS = 200.0  # every case μ1 = μ2 = 0: the normal problem alone
 BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, if all fit the cache
 STREAM_BYTES_PER_COLUMN = 60e3  # one block of the plane's rows, per element along the line
 BYTES_PER_ELEMENT_CYCLED = 600.0
@@ -82,11 +90,18 @@ LINE_BYTES_PER_ELEMENT_AND_LAYER = 600.0
 
 
 def case_memory_bytes(
-    n: int, layers: int, increments: int = 0, fatigue: bool = False, *, line: bool = False
+    n: int,
+    layers: int,
+    increments: int = 0,
+    fatigue: bool = False,
+    *,
+    line: bool = False,
+    frictional: bool = True,
 ) -> float:
     """Estimated peak memory (bytes) of one case on an n × n mesh (``line``: n elements of a
     line contact) with ``layers`` layers and ``increments`` load increments per simulated
-    cycle (0: a static case); ``fatigue``: with a ``[fatigue]`` section (module docstring)."""
+    cycle (0: a static case); ``fatigue``: with a ``[fatigue]`` section; ``frictional``:
+    False when μ1 = μ2 = 0 (module docstring)."""
     if line:
         elements = float(n)
         per_element = LINE_BYTES_PER_ELEMENT + LINE_BYTES_PER_ELEMENT_AND_LAYER * layers
@@ -95,7 +110,7 @@ def case_memory_bytes(
         )
     else:
         elements = float(n) ** 2
-        per_element = BYTES_PER_ELEMENT
+        per_element = BYTES_PER_ELEMENT if frictional else BYTES_PER_ELEMENT_FRICTIONLESS
         if increments:
             per_element += BYTES_PER_ELEMENT_CYCLED + BYTES_PER_ELEMENT_AND_INCREMENT * increments
         kept = BYTES_PER_ELEMENT_AND_LAYER * elements * layers
@@ -109,21 +124,27 @@ def case_memory_bytes(
     return memory
 
 
-def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, int, int]:
-    """(n, layers, increments per simulated cycle) of the plan's case that needs the most
-    memory (the study's own values without a plan; a ``[fatigue]`` section counts in
-    :func:`check_memory`)."""
+def largest_case(config: StudyConfig, plan: Plan | None = None) -> tuple[int, int, int, bool]:
+    """(n, layers, increments per simulated cycle, frictional) of the plan's case that needs
+    the most memory (the study's own values without a plan, taken as frictional; a
+    ``[fatigue]`` section counts in :func:`check_memory`)."""
     increments = config.kind.increments  # per simulated cycle, from [loading] steps
     sizes = set()
     for case in plan.cases if plan is not None else ():
         settings, n = dict(case.settings), case.mesh[0]  # the plan gives every case its mesh
         layers = settings.get("subsurface.layers", config.subsurface.layers)
         steps = settings.get("loading.steps", config.loading.steps)
-        sizes.add((int(n), int(layers), increments(int(steps))))
+        frictional = case.mu1 != 0.0 or case.mu2 != 0.0
+        sizes.add((int(n), int(layers), increments(int(steps)), frictional))
     if not sizes:
-        sizes.add((config.mesh.n, config.subsurface.layers, increments(config.loading.steps)))
+        sizes.add((config.mesh.n, config.subsurface.layers, increments(config.loading.steps), True))
     fatigue, line = config.fatigue is not None, config.punch.is_line
-    return max(sizes, key=lambda size: case_memory_bytes(*size, fatigue=fatigue, line=line))
+
+    def memory(size) -> float:
+        n, layers, cycled, frictional = size
+        return case_memory_bytes(n, layers, cycled, fatigue, line=line, frictional=frictional)
+
+    return max(sizes, key=memory)
 
 
 def memory_limit_bytes() -> float:
@@ -148,9 +169,14 @@ def check_memory(
     """Raise :class:`StudyConfigError` (exit code 2) when the cases of one node cannot fit:
     ``ranks_on_node`` times the largest case of ``plan``."""
     limit = memory_limit_bytes() if limit is None else limit
-    n, layers, increments = largest_case(config, plan)
+    n, layers, increments, frictional = largest_case(config, plan)
     per_case = case_memory_bytes(
-        n, layers, increments, fatigue=config.fatigue is not None, line=config.punch.is_line
+        n,
+        layers,
+        increments,
+        fatigue=config.fatigue is not None,
+        line=config.punch.is_line,
+        frictional=frictional,
     )
     needed = per_case * max(1, ranks_on_node)
     if needed > limit:
@@ -161,7 +187,8 @@ def check_memory(
             "mesh.n",
             n,
             f"a case needs about {_gib(per_case)} (n = {n}, {layers} subsurface layers"
-            f"{cycled}){ranks} = {_gib(needed)}, more than the {_gib(limit)} of memory of "
+            f"{cycled}{'' if frictional else ', frictionless'}){ranks} = {_gib(needed)}, "
+            f"more than the {_gib(limit)} of memory of "
             "this machine; reduce n, [subsurface] layers or [loading] steps, or run fewer "
             "ranks per node",
         )
