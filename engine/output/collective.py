@@ -406,7 +406,8 @@ class CollectiveWriter(ResultsWriter):
             raise RuntimeError("prepare() the writer before writing")
         start = _now()
         group = self._file[CASES_GROUP][outcome.case_id]
-        light = dict(outcome.datasets)
+        records = outcome.datasets
+        light = dict(records)
         try:
             if outcome.status == COMPLETED:
                 for path, record in outcome.datasets.items():
@@ -421,7 +422,9 @@ class CollectiveWriter(ResultsWriter):
         except Exception as error:
             if not is_no_space(error):
                 raise
-            needed = case_bytes(np.asarray(r.data) for r in light.values() if hasattr(r, "data"))
+            # the whole case, also what was written before the disk filled: the next run
+            # computes and writes it again
+            needed = case_bytes(np.asarray(r.data) for r in records.values() if hasattr(r, "data"))
             outcome.datasets = {}  # rank 0 needs none of it: the case is computed again
             outcome.output_full = (needed, _free_or_none(self.path))
         self.write_seconds += _now() - start

@@ -207,3 +207,51 @@ def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_pat
     )  # fmt: skip
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("stopped; file left: False") == 2, result.stdout
+
+
+FULL_AT_THE_JOURNAL = """
+import errno
+import sys
+from pathlib import Path
+from mpi4py import MPI
+from engine.output.collective import CollectiveWriter
+from engine.output.space import case_bytes
+from engine.run import study_metadata as _metadata
+from engine.study.case import CaseRunner
+from engine.study.config import parse_study
+from engine.study.layout import plan_layout
+from engine.study.plan import make_plan
+
+comm = MPI.COMM_WORLD
+config = parse_study(Path(sys.argv[1]).read_text(), source=sys.argv[1])
+plan = make_plan(config)
+writer = CollectiveWriter(config.study.output, comm, plan_layout(config, plan))
+writer.prepare(plan, _metadata(config, "", plan))
+case = plan.cases[comm.Get_rank()]
+outcome = CaseRunner(config)(case)
+data = case_bytes(record.data for record in outcome.datasets.values())
+
+def full(journal):  # every dataset is in the file; the disk fills at the journal
+    raise OSError(errno.ENOSPC, "No space left on device")
+
+writer._write_journal = full
+outcome = writer.write_own(outcome)
+print(f"rank {comm.Get_rank()}: needed {outcome.output_full[0]} of {data}", flush=True)
+sys.exit(0 if outcome.output_full[0] == data > 0 else 1)
+"""
+
+
+@needs_parallel_h5py
+def test_a_case_the_disk_cannot_keep_names_all_its_bytes(tmp_path):
+    """A disk that fills at a case's journal, after its datasets went into the file: the run
+    stops as full, and what it says the case needs is the case's whole data (the next run
+    computes and writes it again), not the nothing left to write."""
+    study = tiny_study(tmp_path, "journal", mu1=[0.1, 0.2], beta=[0.0])
+    script = tmp_path / "journal.py"
+    script.write_text(FULL_AT_THE_JOURNAL)
+    result = subprocess.run(
+        [MPIEXEC, "-n", "2", PYTHON, str(script), str(study)],
+        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.count(": needed ") == 2, result.stdout
