@@ -24,7 +24,12 @@ measure. Three things are measured per size, each in a process of its own:
   computes anything, NumPy, h5py and pyFFTW's core (``FLOOR_IMPORTS``: pyFFTW as the engine
   loads it, without its SciPy interfaces), measured like the script and compared with the
   anchor's whole script at each size: the part of the CLI's ratios that the mandatory
-  dependencies take on their own.
+  dependencies take on their own;
+- **imports of the command**: a process that imports every module ``python -m engine``
+  imports in a run of the smallest size (the top-level entries of its ``-X importtime``
+  list, in their order) and computes nothing, measured like the script: the CLI's figures
+  less these are what the run itself costs (parsing, set-up, solve, stress plane, file,
+  summary and read-back).
 
 ``--frictional`` runs the frictional problem instead, the same one in both codes: the normal
 load P, then a tangential force Q = 0.5 μP along x (partial slip), Coulomb μ = 0.2, on an
@@ -347,6 +352,29 @@ def run_floor() -> dict:
     return whole
 
 
+def imported_modules(stderr: str) -> list[str]:
+    """From ``-X importtime`` output: the modules imported at the top level, in their order
+    (importing them imports the rest), without ``__main__`` modules (which would run)."""
+    modules = []
+    for line in stderr.splitlines():
+        if not line.startswith("import time:") or "|" not in line or "self [us]" in line:
+            continue
+        name = line.split("|")[2]
+        if not name.startswith("  ") and not name.strip().endswith("__main__"):
+            modules.append(name.strip())
+    return modules
+
+
+def run_imports(modules: list[str]) -> dict:
+    """A process that imports ``modules`` and computes nothing: its whole figures."""
+    env = single_core_env(REPO)
+    code_ = "\n".join(f"import {module}" for module in modules)
+    code, _, stderr, whole = _run_process([sys.executable, "-c", code_], env, REPO)
+    if code != 0:
+        raise SystemExit(f"the command's imports failed (exit {code}): {stderr[-2000:]}")
+    return whole
+
+
 def import_budget(stderr: str) -> dict:
     """From ``-X importtime`` output: the total of the imports' own times (s), the largest
     top-level packages by cumulative time (s), and which of ``HEAVY_IMPORTS`` were imported."""
@@ -404,23 +432,28 @@ def use_bytecode_cache(folder: str) -> None:
 
 def measure(sizes, repeats, frictional, anchors_python, tamaas_max, baseline=None) -> dict:
     """rows[(n, code)] = list of results over the rounds (codes alternate in each round);
-    ``cli`` the engine's whole command and ``(0, "floor")`` its import floor (frictionless
-    only). A first round at the smallest size, not recorded, fills the bytecode cache
-    (``use_bytecode_cache``)."""
+    ``cli`` the engine's whole command, ``(0, "floor")`` its import floor and
+    ``(0, "imports")`` all its imports (frictionless only). A first round at the smallest
+    size, not recorded, fills the bytecode cache (``use_bytecode_cache``)."""
     rows, skipped = {}, {} if baseline is not None else {"baseline": "no --baseline"}
     skipped |= {} if frictional else {"coupled": "frictional only"}
     for code in CODES:  # the warm-up round
         if code not in skipped:
             python = anchors_python if code in ANCHORS else sys.executable
             run_child(code, sizes[0], frictional, python, baseline if code == "baseline" else REPO)
+    modules = []
     if not frictional:
-        run_cli(sizes[0])
+        modules = imported_modules(run_cli(sizes[0], importtime=True)["importtime"])
         run_floor()
+        run_imports(modules)
     for round_ in range(repeats):
         if not frictional:
             result = run_floor()
             rows.setdefault((0, "floor"), []).append(result)
             print(_cli_line("all", round_, result, "floor"), flush=True)
+            result = run_imports(modules)
+            rows.setdefault((0, "imports"), []).append(result)
+            print(_cli_line("all", round_, result, "imports"), flush=True)
         for n in sizes:
             for code in CODES:
                 if code in skipped or (code == "tamaas" and n > tamaas_max):
@@ -504,9 +537,10 @@ def comparisons(rows: dict, sizes, frictional: bool) -> list[tuple]:
             if rows.get((n, "cli")):
                 cli = _best(rows[(n, "cli")], _cli)
                 table.append((n, "CLI", cli, f"{anchor} script", _best(others, _script)))
-            if rows.get((0, "floor")):
-                floor = _best(rows[(0, "floor")], _cli)
-                table.append((n, "floor", floor, f"{anchor} script", _best(others, _script)))
+            for part in ("floor", "imports"):
+                if rows.get((0, part)):
+                    own = _best(rows[(0, part)], _cli)
+                    table.append((n, part, own, f"{anchor} script", _best(others, _script)))
         coupled = rows.get((n, "coupled"), [])
         if engine and coupled:
             for what, part in (("solver", _solver), ("script", _script)):
@@ -549,6 +583,8 @@ WHAT = {
     "script": "whole script (process peak)",
     "CLI": "whole `python -m engine` (process peak)",
     "floor": "import floor of the command: NumPy, h5py, pyFFTW core (process peak)",
+    "imports": "imports of the command: every module a run imports, nothing computed "
+    "(process peak)",
     "coupled solver": "coupled (K = 0.196) solver in-process",
     "coupled script": "coupled (K = 0.196) whole script",
 }
