@@ -106,11 +106,20 @@ def vocabulary() -> str:
     return "\n".join(lines)
 
 
+class _Parser(argparse.ArgumentParser):
+    """The command's parser: its description names the registered loading kinds and punch
+    shapes (:func:`vocabulary`), which are imported only when the help is printed, so that
+    ``--version`` and a run's parsing load none of them."""
+
+    def format_help(self) -> str:
+        self.description = _DESCRIPTION.format(vocabulary=vocabulary())
+        return super().format_help()
+
+
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog=prog,
         usage=_USAGE,
-        description=_DESCRIPTION.format(vocabulary=vocabulary()),
         epilog=_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -50,6 +50,19 @@ def test_help_lists_the_subcommands_and_the_path_rule():
     assert "are found from the folder of the study file" in words
 
 
+def test_the_version_loads_neither_numpy_nor_the_plug_ins():
+    # the help names the registered kinds and shapes; --version needs none of them
+    done = subprocess.run(
+        [sys.executable, "-X", "importtime", "-m", "engine", "--version"],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0 and engine.__version__ in done.stdout, done.stderr
+    imported = {line.split("|")[-1].strip() for line in done.stderr.splitlines() if "|" in line}
+    assert "engine.cli" in imported
+    assert not {"numpy", "engine.study.kinds", "engine.geometry"} & imported
+    assert "[loading] kind:" in build_parser("python -m engine").format_help()
+
+
 def test_dry_run_combines_with_fresh_and_resume():
     parser = build_parser()
     assert parser.parse_args(["s.toml", "--dry-run", "--fresh"]).fresh is True
