@@ -24,10 +24,14 @@ is held at zero; the force across d is a reaction), and the force component Q·d
 prescribed signal. δ·d is the multiplier of that constraint; Q·d(δ) is nondecreasing, so it is
 found by a safeguarded secant iteration (regula falsi with the Illinois modification once the
 target is bracketed; steps grown by the tangential stiffness until it is), each evaluation an
-increment solve warm-started from the previous evaluation. It stops when
-|Q·d − Q_target| ≤ ``force_tol`` · A. The first guess is the same increment of the previous
-simulated cycle (which differs only by one jump of wear), else the last increment's δ plus
-ΔQ over the secant stiffness of the last increment.
+increment solve warm-started from the previous evaluation (``restart="last"``, the
+default) or from the tractions on the secant through the two nearest solutions known on the
+line δ = s·d (``restart="secant"``: the increment's start and the evaluations; exact where
+every element sticks, since Q and q are then linear in s, so a second evaluation costs one
+operator application to certify it). It stops when |Q·d − Q_target| ≤ ``force_tol`` · A.
+The first guess is the same increment of the previous simulated cycle (which differs only
+by one jump of wear), else the last increment's δ plus ΔQ over the secant stiffness of the
+last increment.
 
 Bulk stress (fretting fatigue, line contacts): a stress σ_B along x in the half-space (the
 flat specimen) oscillates in phase with the signal, ``bulk_stress_max`` at +A and
@@ -85,6 +89,8 @@ from .defaults import MAX_JUMP_GROWTH, MAX_WEAR_FRACTION
 from .friction import WearLaw
 
 DISPLACEMENT, FORCE = "displacement", "force"
+LAST, SECANT = "last", "secant"  # where a later force-control evaluation starts
+RESTARTS = (LAST, SECANT)
 FORCE_TOL = 1e-5  # |Q·d − Q_target| ≤ FORCE_TOL · amplitude (N/N), force control
 MAX_EVALUATIONS = 40  # increment solves per force-controlled increment
 PEAK_TIE = 1e-4  # |Q| within this (relative) of the cycle's largest: the +Q* increment is the peak
@@ -220,7 +226,8 @@ class TangentialIncrement:
     δ (mm, (2,)) and the force ``force`` Q (N, (2,)); ``evaluations`` increment solves,
     ``matvecs`` operator applications; ``force_residual`` |Q·d − Q_target| (N, 0 under
     displacement control); ``converged`` (contact solves and force constraint) and a
-    ``message`` naming the method."""
+    ``message`` naming the method; ``iterations``: the iterations of all its increment
+    solves."""
 
     result: IncrementResult
     rigid: np.ndarray
@@ -230,20 +237,33 @@ class TangentialIncrement:
     force_residual: float
     converged: bool
     message: str
+    iterations: int = 0
 
 
 class TangentialDriver:
     """Increments with a prescribed rigid tangential displacement or force (see module doc).
 
     ``solver``: a :class:`~engine.solvers.contact.ContactSolver` (or a wrapper with the same
-    ``solve_load``); ``load`` P (N) held; ``direction`` d (unit (2,)); ``force_tol`` relative
-    to ``force_scale`` (N)."""
+    ``solve_load`` and ``project_tractions``); ``load`` P (N) held; ``direction`` d (unit
+    (2,)); ``force_tol`` relative to ``force_scale`` (N); ``restart``: where the force
+    control's second and later evaluations start, ``"last"`` (the last evaluation's solution)
+    or ``"secant"`` (:meth:`secant_guess`; fewer operator applications, other bits)."""
 
-    def __init__(self, solver: ContactSolver, load: float, direction, force_tol=FORCE_TOL):
+    def __init__(
+        self,
+        solver: ContactSolver,
+        load: float,
+        direction,
+        force_tol=FORCE_TOL,
+        restart: str = LAST,
+    ):
+        if restart not in RESTARTS:
+            raise ValueError(f"restart must be one of {RESTARTS}, got {restart!r}")
         self.solver = solver
         self.load = load
         self.direction = np.asarray(direction, dtype=float)
         self.force_tol = force_tol
+        self.restart = restart
         self.area = solver.grid.element_area
 
     def displacement(self, state, rigid_previous, rigid, wear=None, guess=None, stretch=None):
@@ -264,6 +284,7 @@ class TangentialDriver:
             0.0,
             result.report.converged,
             f"displacement control: {result.report.message}",
+            result.report.iterations,
         )
 
     def force(self, state, rigid_previous, target, scale, first_guess, stiffness, **options):
@@ -271,21 +292,27 @@ class TangentialDriver:
 
         ``first_guess`` s₀ (mm); ``stiffness`` dQ/ds estimate (N/mm, > 0) for the second
         point and for growing the steps until the target is bracketed. ``options``: ``wear``,
-        ``guess`` (the first evaluation's starting point) and ``stretch``."""
+        ``guess`` (the first evaluation's starting point) and ``stretch``. The later
+        evaluations start as ``restart`` says (class doc); with ``"secant"`` and no
+        ``stretch``, ``state`` is the solution at s = ``rigid_previous``·d."""
         wear, guess, stretch = options.get("wear"), options.get("guess"), options.get("stretch")
         tolerance = self.force_tol * scale
         rigid_previous = np.asarray(rigid_previous, dtype=float)
-        evaluations, matvecs = 0, 0
+        evaluations, matvecs, iterations = 0, 0, 0
         low = high = None  # (s, f) with f < 0, f > 0
         points: list[tuple[float, float]] = []
         s, best = float(first_guess), None
         side = 0  # Illinois: the bracket end kept twice in a row
+        secant = self.restart == SECANT
+        # Solutions known on the line δ = s·d: (s, state); the stretch moves the start off it
+        known = [(float(rigid_previous @ self.direction), state)] if stretch is None else []
         while evaluations < MAX_EVALUATIONS:
             step = self.displacement(
                 state, rigid_previous, s * self.direction, wear, guess, stretch
             )
             evaluations += 1
             matvecs += step.matvecs
+            iterations += step.iterations
             guess = step.result.state
             f = float(step.force @ self.direction) - target
             if best is None or abs(f) < abs(best[1]):
@@ -297,7 +324,12 @@ class TangentialDriver:
                 low, side = (s, f), (side - 1 if side <= 0 else -1)
             else:
                 high, side = (s, f), (side + 1 if side >= 0 else 1)
-            s = self._next_point(points, low, high, stiffness, side)
+            s_next = self._next_point(points, low, high, stiffness, side)
+            if secant:
+                known = sorted([*known, (s, guess)], key=lambda pair: abs(pair[0] - s_next))[:2]
+                if len(known) == 2 and known[0][0] != known[1][0]:
+                    guess = self.secant_guess(known, s_next)
+            s = s_next
         step, f = best  # the accepted evaluation: its own contact solve must have converged
         solves_converged = step.result.report.converged
         converged = abs(f) <= tolerance and solves_converged
@@ -309,8 +341,37 @@ class TangentialDriver:
             + ("" if solves_converged else f"; {step.result.report.message}")
         )
         return TangentialIncrement(
-            step.result, step.rigid, step.force, evaluations, matvecs, abs(f), converged, message
+            step.result,
+            step.rigid,
+            step.force,
+            evaluations,
+            matvecs,
+            abs(f),
+            converged,
+            message,
+            iterations,
         )
+
+    def secant_guess(self, known, s: float) -> ContactState:
+        """The starting point of the evaluation at δ = s·d (mm) from two solutions ``known``
+        = ((s_a, state_a), (s_b, state_b)) on that line: x = x_a + t (x_b − x_a) with
+        t = (s − s_a)/(s_b − s_a) for x = (p, q_x, q_y) (MPa), then p ≥ 0 and q projected on
+        the friction ellipses of p. Exact while the elements stick, where q is linear in s
+        (and so is Q: the secant of the force iteration); elsewhere a close start the solve
+        corrects. Only its tractions are read (no displacement)."""
+        (s_a, a), (s_b, b) = known
+        weight = (s - s_a) / (s_b - s_a)
+
+        def between(field: str) -> np.ndarray:
+            first, second = getattr(a, field), getattr(b, field)
+            return first + weight * (second - first)
+
+        pressure = np.maximum(between("pressure"), 0.0)
+        traction_x, traction_y = self.solver.project_tractions(
+            between("traction_x"), between("traction_y"), pressure
+        )
+        approach = a.approach + weight * (b.approach - a.approach)
+        return ContactState(pressure, traction_x, traction_y, None, None, approach)
 
     @staticmethod
     def _next_point(points, low, high, stiffness, side) -> float:
