@@ -14,13 +14,13 @@ import math
 import numpy as np
 import pytest
 
-from engine.geometry import SphericalPunch
+from engine.geometry import FlatPunch, SphericalPunch
 from engine.grid import Grid
 from engine.material import MaterialPair
 from engine.reference import mindlin
 from engine.reference.hertz import hertz_contact_radius
 from engine.solvers.contact import STICK, ContactSolver
-from engine.solvers.fretting import FrettingAnalysis, FrettingSettings
+from engine.solvers.fretting import FrettingAnalysis, FrettingSettings, TangentialDriver
 from engine.solvers.friction import EnergyWearLaw, FrictionLaw, WearLaw, frictional_work
 from engine.study.checkpoint import load_fretting_state, save_fretting_state
 from engine.study.config import StudyConfigError, parse_study
@@ -99,6 +99,83 @@ def test_displacement_control_gives_the_force_control_curve():
     np.testing.assert_allclose(driven[-1, 1], forced[-1, 1], rtol=2e-5)
     expected = mindlin.tangential_force(driven[:, 0], *REFERENCE)  # δ(Q) inverted
     np.testing.assert_allclose(driven[:, 1], expected, rtol=0.005)
+
+
+def force_control(profile, half_width, mu, first_guess_factor, restart):
+    """Normal load P, then the force control of Q = 0.5 μP along x to 1e-5 Q at 32² (K = 0),
+    from the first guess s₀ = Q/k times ``first_guess_factor``, k the normal secant stiffness
+    times 2(1 − ν)/(2 − ν). Returns (driver, normal result, target Q, s₀, increment)."""
+    contact = ContactSolver(
+        Grid.square(32, half_width), MATERIAL, profile, FrictionLaw(mu, mu), tol=1e-8
+    )
+    normal = contact.solve_load(LOAD)
+    target = 0.5 * mu * LOAD
+    stiffness = LOAD / normal.approach * 2.0 * (1.0 - NU) / (2.0 - NU)
+    first = first_guess_factor * target / stiffness
+    driver = TangentialDriver(contact, LOAD, (1.0, 0.0), 1e-5, restart=restart)
+    step = driver.force(normal.state, np.zeros(2), target, target, first, stiffness)
+    return driver, normal, target, first, step
+
+
+def test_secant_restart_certifies_a_sticking_contact_in_one_application():
+    """Flat punch (a = 1 mm), K = 0, μ = 0.2, Q = 0.5 μP: Mindlin's traction
+    Q/(2πa√(a² − r²)) has the pressure's shape, so q/p = Q/P = 0.1 < μ and every element
+    sticks; Q and q are then linear in δ. From a first guess 1 % off, both restarts meet
+    |Q·d − Q| ≤ 1e-5 Q in two evaluations; the secant start of the second is its solution,
+    certified by one operator application and no iteration (from the last evaluation's
+    solution: 64 applications in all against 39)."""
+    results = {}
+    for restart in ("last", "secant"):
+        results[restart] = force_control(FlatPunch(1.0), 1.05, 0.2, 1.01, restart)
+    driver, normal, target, first, secant = results["secant"]
+    last = results["last"][-1]
+    for step in (last, secant):
+        assert step.converged, step.message
+        assert step.evaluations == 2
+        assert step.force_residual <= 1e-5 * target
+        assert abs(step.force[0] - target) == pytest.approx(step.force_residual, abs=1e-12)
+        assert np.count_nonzero(step.result.status == STICK) == np.count_nonzero(
+            step.result.in_contact
+        )
+    # the first evaluation again, alone: the secant's second costs 1 application, 0 iterations
+    alone = driver.displacement(normal.state, np.zeros(2), (first, 0.0))
+    assert secant.matvecs == alone.matvecs + 1
+    assert secant.iterations == alone.iterations
+    assert last.matvecs > secant.matvecs + 10
+    assert secant.result.report.iterations == 0 and secant.result.report.converged
+    np.testing.assert_array_equal(secant.rigid, last.rigid)  # same force iteration, same δ
+
+
+def test_secant_restart_in_partial_slip_finds_the_same_increment():
+    """Sphere (Hertz a = 0.19 mm), K = 0, μ = 0.5, Q = 0.5 μP: partial slip, Q(δ) not
+    linear. Both restarts meet 1e-5 Q in the same number of evaluations (6) and the secant
+    costs no more operator applications (measured 156 against 169). Their δ agree to 1e-4
+    (each within the force tolerance 1e-5 Q over the tangent stiffness, which slip lowers
+    below Q/δ; measured 4.8e-9) and their tractions to 1e-3 of the largest (the force
+    tolerance spread over the slip zone's edge; measured 1.8e-7)."""
+    steps = {
+        restart: force_control(SphericalPunch(RADIUS), 1.5 * A_HERTZ, MU, 1.0, restart)[-1]
+        for restart in ("last", "secant")
+    }
+    last, secant = steps["last"], steps["secant"]
+    target = 0.5 * MU * LOAD
+    for step in (last, secant):
+        assert step.converged, step.message
+        assert step.force_residual <= 1e-5 * target
+    assert np.count_nonzero(secant.result.status == STICK) > 0  # partial slip
+    assert np.count_nonzero(secant.result.status == STICK) < np.count_nonzero(
+        secant.result.in_contact
+    )
+    assert secant.evaluations == last.evaluations
+    assert secant.matvecs <= last.matvecs
+    assert secant.rigid[0] == pytest.approx(last.rigid[0], rel=1e-4)
+    scale = np.abs(last.result.traction_x).max()
+    np.testing.assert_allclose(secant.result.traction_x, last.result.traction_x, atol=1e-3 * scale)
+
+
+def test_unknown_restart_is_refused():
+    with pytest.raises(ValueError, match="restart must be one of.*'previous'"):
+        TangentialDriver(solver(), LOAD, (1.0, 0.0), restart="previous")
 
 
 @pytest.mark.validation
