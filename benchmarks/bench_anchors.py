@@ -32,7 +32,9 @@ measure. Three things are measured per size, each in a process of its own:
   summary and read-back).
 
 ``--frictional`` runs the frictional problem instead, the same one in both codes: the normal
-load P, then a tangential force Q = 0.5 μP along x (partial slip), Coulomb μ = 0.2, on an
+load P, then a tangential force Q = 0.5 μP along x (no slip: the flat punch's Mindlin
+traction has the pressure's shape, q/p = Q/P = 0.1 < μ, and every element sticks in the
+engine's solution at 256² and 512²), Coulomb μ = 0.2, on an
 uncoupled pair (K = 0: ASPHER's ``FrictionSolver`` has no coupling; the engine's pair is
 two equal bodies of the same E* and ν = 0.3), tolerance 1e-8 on the normal problem and
 1e-5 on the tangential force (ASPHER's ``tol_tangential``; the engine's force control,
