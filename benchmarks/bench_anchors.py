@@ -40,7 +40,9 @@ two equal bodies of the same E* and ν = 0.3), tolerance 1e-8 on the normal prob
 1e-5 on the tangential force (ASPHER's ``tol_tangential``; the engine's force control,
 ``TangentialDriver.force`` with ``restart="secant"``, to 1e-5 Q, each of its increment
 solves to 1e-8; ``iter``: the normal solve's iterations plus those of every increment solve
-of the force control, ASPHER's normal plus tangential iterations). Beside it,
+of the force control, ASPHER's normal plus tangential iterations). ``last``: the same with
+``restart="last"``, each later evaluation started from the last one's solution, which is
+what the fretting analysis does (bit-identical results of the bundled studies). Beside it,
 ``coupled``: the engine's static solve with μ = 0.2 on the paper's coupled pair (K = 0.196,
 the tangential tractions from the coupling, no tangential force), the coupled solve's cost.
 
@@ -92,7 +94,7 @@ from _single_core import single_core_env
 REPO = Path(__file__).resolve().parents[1]
 RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION = 1.8, 714.0, 1.05, 1e-8, 0.2
 TANGENTIAL_FRACTION, TANGENTIAL_TOL, NU = 0.5, 1e-5, 0.3  # Q = 0.5 μP; ASPHER's default
-CODES = ("engine", "coupled", "aspher", "tamaas", "baseline")  # baseline: --baseline DIR
+CODES = ("engine", "last", "coupled", "aspher", "tamaas", "baseline")  # baseline: --baseline DIR
 ANCHORS = ("aspher", "tamaas")
 HEAVY_IMPORTS = ("pandas", "scipy", "matplotlib")
 #: What every ``python -m engine`` imports before it computes anything (the import floor):
@@ -154,7 +156,7 @@ def _uncoupled_material():
     return MaterialPair(E_A=modulus, nu_A=NU, E_B=modulus, nu_B=NU)
 
 
-def child_engine(n: int, frictional: bool, coupled: bool = False) -> dict:
+def child_engine(n: int, frictional: bool, coupled: bool = False, restart="secant") -> dict:
     from engine.geometry import FlatPunch
     from engine.grid import Grid
     from engine.material import paper_material
@@ -176,12 +178,12 @@ def child_engine(n: int, frictional: bool, coupled: bool = False) -> dict:
         report = getattr(result, "report", result)  # a --baseline tree from before SolveReport
         if not frictional or coupled:
             return result.approach, report.converged, report.iterations
-        return _tangential_force(solver, result, report)
+        return _tangential_force(solver, result, report, restart)
 
     return _timed(build, solve)
 
 
-def _tangential_force(solver, normal, report):
+def _tangential_force(solver, normal, report, restart="secant"):
     """The tangential force Q = 0.5 μP along x after the normal load, by the engine's force
     control (``TangentialDriver.force``, to 1e-5 Q, its later evaluations started on the
     secant of the known solutions); the guess of the tangential stiffness is the normal
@@ -193,7 +195,7 @@ def _tangential_force(solver, normal, report):
 
     target = TANGENTIAL_FRACTION * FRICTION * LOAD
     try:
-        driver = TangentialDriver(solver, LOAD, (1.0, 0.0), TANGENTIAL_TOL, restart="secant")
+        driver = TangentialDriver(solver, LOAD, (1.0, 0.0), TANGENTIAL_TOL, restart=restart)
     except TypeError:  # a --baseline tree from before the secant restart
         driver = TangentialDriver(solver, LOAD, (1.0, 0.0), TANGENTIAL_TOL)
     stiffness = LOAD / normal.approach * 2.0 * (1.0 - NU) / (2.0 - NU)
@@ -295,7 +297,7 @@ def run_child(code: str, n: int, frictional: bool, python: str, tree: Path = REP
     command += ["--frictional"] if frictional else []
     with tempfile.TemporaryDirectory() as cache:
         env = single_core_env(tree)
-        if child in ("engine", "coupled"):
+        if child in ("engine", "last", "coupled"):
             env = _engine_env(env, cache)
         code_, stdout, stderr, whole = _run_process(command, env, tree)
     lines = [line for line in stdout.splitlines() if line.startswith("{")]
@@ -406,12 +408,13 @@ def import_budget(stderr: str) -> dict:
 
 def child_main(code: str, n: int, frictional: bool) -> None:
     try:
-        if code in ("engine", "coupled"):
+        if code in ("engine", "last", "coupled"):
             import engine.solvers.contact  # noqa: F401 (the imports, before the set-up)
             import engine.solvers.fretting  # noqa: F401
 
             before = _rss_mb()
-            row = child_engine(n, frictional, coupled=code == "coupled")
+            restart = "last" if code == "last" else "secant"
+            row = child_engine(n, frictional, coupled=code == "coupled", restart=restart)
         else:
             __import__(code)  # the imports, before the set-up
             if code == "tamaas":
@@ -447,7 +450,7 @@ def measure(sizes, repeats, frictional, anchors_python, tamaas_max, baseline=Non
     ``(0, "imports")`` all its imports (frictionless only). A first round at the smallest
     size, not recorded, fills the bytecode cache (``use_bytecode_cache``)."""
     rows, skipped = {}, {} if baseline is not None else {"baseline": "no --baseline"}
-    skipped |= {} if frictional else {"coupled": "frictional only"}
+    skipped |= {} if frictional else {"coupled": "frictional only", "last": "frictional only"}
     for code in CODES:  # the warm-up round
         if code not in skipped:
             python = anchors_python if code in ANCHORS else sys.executable
@@ -552,6 +555,13 @@ def comparisons(rows: dict, sizes, frictional: bool) -> list[tuple]:
                 if rows.get((0, part)):
                     own = _best(rows[(0, part)], _cli)
                     table.append((n, part, own, f"{anchor} script", _best(others, _script)))
+        last = rows.get((n, "last"), [])
+        for anchor in ANCHORS:
+            others = rows.get((n, anchor), [])
+            if last and others:
+                for what, part in (("solver", _solver), ("script", _script)):
+                    table.append((n, f"last {what}", _best(last, part), anchor,
+                                  _best(others, part)))  # fmt: skip
         coupled = rows.get((n, "coupled"), [])
         if engine and coupled:
             for what, part in (("solver", _solver), ("script", _script)):
@@ -596,6 +606,9 @@ WHAT = {
     "floor": "import floor of the command: NumPy, h5py, pyFFTW core (process peak)",
     "imports": "imports of the command: every module a run imports, nothing computed "
     "(process peak)",
+    "last solver": "solver in-process, force control restarting from its last attempt (the "
+    "fretting analysis's default)",
+    "last script": "whole script, force control restarting from its last attempt",
     "coupled solver": "coupled (K = 0.196) solver in-process",
     "coupled script": "coupled (K = 0.196) whole script",
 }
