@@ -196,10 +196,12 @@ class LatticeConvolution(_DepthLayers):
             self._batch = RealFFTPair(shape, threads=threads, effort=effort)
             self._product = np.empty_like(self._batch.spectrum)
         spectra, product = self._batch.spectrum, self._product
-        spectra[...] = 0.0
-        for load, traction in tractions.items():
-            np.multiply(self._stacked(layer, depth, load), traction, out=product)
-            spectra += product
+        for index, (load, traction) in enumerate(tractions.items()):
+            # the first product is the sum itself (0 + a = a but for the sign of a zero)
+            out = spectra if index == 0 else product
+            np.multiply(self._stacked(layer, depth, load), traction, out=out)
+            if index:
+                spectra += product
         real = self._batch.inverse_unscaled()
         m_x, m_y = self.counts
         values = self._scale * real[:, :m_x, :m_y]
@@ -379,10 +381,10 @@ class LineConvolution:
 
     def kernel_spectra(
         self, layer: int, depth: float, load: str, index: int = 0, keep: bool = True
-    ) -> dict:
+    ) -> np.ndarray:
         """Spectra along the line of the element coefficients at one depth, for the rows of
-        block ``index``, per component: (rows, N/2 + 1); kept for later calls when ``keep``
-        and the cache has room."""
+        block ``index``, the six components stacked in ``COMPONENTS`` order: (6, rows,
+        N/2 + 1); kept for later calls when ``keep`` and the cache has room."""
         key = (layer, load, index)
         if key in self._kernels:
             return self._kernels[key]
@@ -390,16 +392,15 @@ class LineConvolution:
         across = self._across_offsets[self._blocks[index]]
         offsets = (self._along_offsets, across) if self.axis == 0 else (across, self._along_offsets)
         coefficients = element_stress(*offsets, depth, grid.dx, grid.dy, self.poisson_ratio, load)
-        spectra = {}
-        for component in COMPONENTS:
+        spectra = np.empty((len(COMPONENTS), across.size, self.padded // 2 + 1), dtype=complex)
+        for c, component in enumerate(COMPONENTS):
             rows = coefficients.pop(component)
             rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
-            spectra[component] = self._transform_kernel(rows)
-        size = sum(spectrum.nbytes for spectrum in spectra.values())
+            spectra[c] = self._transform_kernel(rows)
         limit = self.cache_limit
-        if keep and self.cache and (limit is None or self._cache_bytes + size <= limit):
+        if keep and self.cache and (limit is None or self._cache_bytes + spectra.nbytes <= limit):
             self._kernels[key] = spectra
-            self._cache_bytes += size
+            self._cache_bytes += spectra.nbytes
         return spectra
 
     def prepare(self, depths: np.ndarray, loads=LOADS) -> None:
@@ -418,30 +419,40 @@ class LineConvolution:
 
     def evaluate(self, depths: np.ndarray, tractions: dict[str, np.ndarray]) -> dict:
         """All layers: dict component -> (m_x, m_y, n_z), MPa; the rows block by block
-        (class docstring), each block's products summed into the line spectra of every layer."""
+        (class docstring), each block's products summed into the line spectra of every layer.
+
+        Per block, layer and load, one ``einsum`` takes the six components at once: the same
+        products, each component's rows summed in the same order as one ``einsum`` per
+        component, so the values do not depend on the batching."""
         loads = sorted(tractions, key=LOADS.index)
         width = self.padded // 2 + 1
         sums = np.zeros((depths.size, len(COMPONENTS), width), dtype=complex)
         keep, self._evaluated = self._evaluated, self._evaluated or bool(loads)
+        parities = {
+            load: [kernel_parity(load, component)[self._parity_axis] for component in COMPONENTS]
+            for load in loads
+        }
         for index, block in enumerate(self._blocks if loads else ()):
             traction = self.traction_spectra({load: tractions[load] for load in loads}, block)
+            # the folded traction spectra each component sees, stacked: (6, rows, N/2 + 1)
+            folded = {
+                load: np.stack([traction[(load, parity)] for parity in parities[load]])
+                for load in loads
+            }
             for k, depth in enumerate(depths):
-                kernels = {
-                    load: self.kernel_spectra(k, float(depth), load, index, keep) for load in loads
-                }
-                for c, component in enumerate(COMPONENTS):
-                    for load in loads:
-                        parity = kernel_parity(load, component)[self._parity_axis]
-                        product = np.einsum(
-                            "rk,rk->k", kernels[load][component], traction[(load, parity)]
-                        )
-                        sums[k, c] += product
+                kernels = [
+                    self.kernel_spectra(k, float(depth), load, index, keep) for load in loads
+                ]
+                for load, kernel in zip(loads, kernels, strict=True):
+                    sums[k] += np.einsum("crk,crk->ck", kernel, folded[load])
         count = max(self.counts)
-        out = {c: np.empty((*self.counts, depths.size)) for c in COMPONENTS}
+        lines = np.empty((len(COMPONENTS), count, depths.size))
         for k in range(depths.size):
             self._line_spectra[...] = sums[k]
             self._inverse.execute()
-            for c, component in enumerate(COMPONENTS):
-                line = self._scale * self._lines[c, :count]
-                out[component][:, :, k] = line.reshape(self.counts)
-        return out
+            lines[:, :, k] = self._lines[:, :count]
+        lines *= self._scale
+        return {
+            component: lines[c].reshape(*self.counts, depths.size)
+            for c, component in enumerate(COMPONENTS)
+        }
