@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 
 from engine.grid import Grid
-from engine.solvers.peak import PeakTracker, classify_peak, region_name
+from engine.solvers import peak as peak_module
+from engine.solvers.peak import ROWS_TOLERANCE, PeakTracker, classify_peak, region_name
 from engine.solvers.subsurface import SubsurfaceStress, depth_layers
 
 STATES = np.load(Path(__file__).parent / "data" / "peak_regime_32_worn.npz")
@@ -77,3 +78,45 @@ def test_regions_do_not_follow_the_surface_layer_artefact(
     assert region_name(rows[0]["deep_region"]) == where
     # the element-centre maximum is well below the plane's surface value (the artefact)
     assert np.max(block.von_mises) < 0.6 * rows[0]["vm_max"]
+
+
+@pytest.mark.parametrize("name", ["worn", "heavy"])
+def test_rows_beside_the_axis_by_lines_equal_the_lattice_to_rounding(trackers, name):
+    # The two rows of element centres beside the x–z plane, by 1-D transforms of a shifted,
+    # padded grid and its mirror image, against the 2-D lattice of those rows: the same
+    # points to the bit and the same exact DC-FFT sums in another order, so equal to
+    # rounding: 1e-12 of the largest component (measured 1e-15), far inside the bound
+    # ROWS_TOLERANCE = 1e-8 on which the regions rely.
+    tracker = trackers[0]
+    state = _state(name)
+    rows = tracker.stress.rows_beside_axis(*state)
+    block = tracker.stress.block(*state, window=tracker._centres[0])
+    for coordinate in ("x", "y", "z"):
+        assert np.array_equal(getattr(rows, coordinate), getattr(block, coordinate))
+    largest = max(np.max(np.abs(values)) for values in block.components.values())
+    for component, values in block.components.items():
+        difference = np.max(np.abs(rows.components[component] - values))
+        assert difference <= 1e-12 * largest, component
+    assert 1e-12 < ROWS_TOLERANCE
+
+
+@pytest.mark.parametrize("name", ["worn", "heavy"])
+@pytest.mark.parametrize("tolerance", [ROWS_TOLERANCE, 1.0])
+def test_regions_by_lines_are_those_of_the_lattice(trackers, monkeypatch, name, tolerance):
+    # The words taken from the rows by lines are those of the lattice's own maxima; with a
+    # bound so wide that points of other words come near the maximum (tolerance 1), the
+    # lattice decides instead, with the same words.
+    tracker = trackers[0]
+    state = _state(name)
+    radius = tracker.contact_radius(state[0])
+    window, band = tracker._centres
+    block = tracker.stress.block(*state, window=window)
+    expected = tracker._words(block, np.broadcast_to(band[..., None], block.z.shape), radius)
+    monkeypatch.setattr(peak_module, "ROWS_TOLERANCE", tolerance)
+    lattices = []
+    original = tracker.stress.block
+    monkeypatch.setattr(
+        tracker.stress, "block", lambda *a, **k: lattices.append(1) or original(*a, **k)
+    )
+    assert tracker.regions(*state, radius) == expected
+    assert len(lattices) == (0 if tolerance == ROWS_TOLERANCE else 1)

@@ -328,10 +328,12 @@ class LineConvolution:
         self._kernels: dict[tuple[int, str, int], dict[str, np.ndarray]] = {}
         self._cache_bytes = 0
         self._evaluated = False  # kernels are kept from the second evaluation on
+        self._dense: tuple[tuple, np.ndarray] | None = None  # evaluate_sets' kernels
 
     @property
     def cache_bytes(self) -> int:
-        return self._cache_bytes
+        dense = 0 if self._dense is None else self._dense[1].nbytes
+        return self._cache_bytes + dense
 
     def kernel_bytes(self, layers: int, loads: int = len(LOADS)) -> int:
         """Bytes of every kernel spectrum of ``layers`` depths and ``loads`` load types: six
@@ -416,6 +418,50 @@ class LineConvolution:
                         self.kernel_spectra(layer, float(depth), load, index)
                         if self._cache_bytes == before:
                             return  # full: the rest is computed when asked for
+
+    def evaluate_sets(self, depths: np.ndarray, sets: list[dict[str, np.ndarray]]) -> list:
+        """``evaluate`` for several sets of tractions at once (e.g. a field and its mirror
+        image), by one matrix product per component and frequency: the line spectra of
+        every layer and set are ``K @ T``, K (layers, loads · rows) the kernel spectra, T
+        (loads · rows, sets) the folded traction spectra. BLAS sums the rows and loads in
+        its own order, so the values equal ``evaluate``'s to rounding only. The kernels of
+        every block, layer and load are kept in that layout from the first call on
+        (``cache_bytes``; the per-block cache of ``evaluate`` is left alone)."""
+        width = self.padded // 2 + 1
+        rows = sum(block.stop - block.start for block in self._blocks)
+        if self._dense is None or self._dense[0] != tuple(depths):
+            dense = np.empty((len(COMPONENTS), width, depths.size, len(LOADS) * rows), complex)
+            for k, depth in enumerate(depths):
+                for j, load in enumerate(LOADS):
+                    first = j * rows
+                    for index, block in enumerate(self._blocks):
+                        kernels = self.kernel_spectra(k, float(depth), load, index, keep=False)
+                        span = slice(first + block.start, first + block.stop)
+                        dense[:, :, k, span] = kernels.transpose(0, 2, 1)
+            self._dense = (tuple(depths), dense)
+        dense = self._dense[1]
+        folded = np.zeros((len(COMPONENTS), width, len(LOADS) * rows, len(sets)), complex)
+        for n, tractions in enumerate(sets):
+            for block in self._blocks:
+                spectra = self.traction_spectra(tractions, block)
+                for j, load in enumerate(LOADS):
+                    if load not in tractions:
+                        continue
+                    span = slice(j * rows + block.start, j * rows + block.stop)
+                    for c, component in enumerate(COMPONENTS):
+                        parity = kernel_parity(load, component)[self._parity_axis]
+                        folded[c, :, span, n] = spectra[(load, parity)].T
+        lines = np.fft.irfft(np.matmul(dense, folded), n=self.padded, axis=1)
+        count = max(self.counts)
+        return [
+            {
+                component: np.ascontiguousarray(lines[c, :count, :, n]).reshape(
+                    *self.counts, depths.size
+                )
+                for c, component in enumerate(COMPONENTS)
+            }
+            for n in range(len(sets))
+        ]
 
     def evaluate(self, depths: np.ndarray, tractions: dict[str, np.ndarray]) -> dict:
         """All layers: dict component -> (m_x, m_y, n_z), MPa; the rows block by block

@@ -31,7 +31,12 @@ mesh, the row y = 0 on an odd one) — at every depth, where the tractions are c
 around each point and the surface value is finite. The real singularities (the square-root
 edge of the intact punch, the step of a worn profile) still show there, at their own
 elements. ``vm_max`` and the other peaks stay those of the plane (as before); their
-location may therefore differ from the region's.
+location may therefore differ from the region's. Beside the x–z plane of an even mesh those
+centres are taken by 1-D transforms along x (:meth:`SubsurfaceStress.rows_beside_axis`,
+half the memory and time of their 2-D lattice), which equal the lattice's values to
+rounding; a region stands only when every centre within twice the rounding bound
+(``ROWS_TOLERANCE``) of the maximum has it, so it is the word of the lattice's own maximum,
+and otherwise the lattice decides: the regions are those of the lattice, bit for bit.
 
 Classification (:func:`classify_peak`), with r the distance of the peak from the punch axis
 and a the current contact radius:
@@ -148,6 +153,43 @@ def _maximum(plane: StressField, mask: np.ndarray) -> _PlaneMaximum:
     )
 
 
+ROWS_TOLERANCE = 1e-8
+"""Bound, relative to the largest stress component of the rows, on the difference between
+the stresses of the rows beside the x–z plane taken by lines and by the 2-D lattice
+(``SubsurfaceStress.rows_beside_axis`` against ``block``): both are exact DC-FFT sums in
+another order, measured to differ by at most 3e-15 of it (cyclic 32² and 64² cases), so the
+bound holds with a margin of over a million."""
+
+_MAX_CANDIDATES = 64  # more points that close to the maximum: the lattice decides
+
+
+def _rounding_bound(field: StressField) -> float:
+    """Bound (MPa) on |σ_VM − σ_VM'| between the rows taken by lines and by the lattice: σ_VM
+    is a seminorm of the stress, and a difference of at most δ in every component moves it
+    by at most √15 δ, δ = ``ROWS_TOLERANCE`` · max |σ_ij| (MPa)."""
+    largest = max(float(np.max(np.abs(values))) for values in field.components.values())
+    return math.sqrt(15.0) * ROWS_TOLERANCE * largest
+
+
+def _certain_word(field: StressField, mask: np.ndarray, radius: float, bound: float):
+    """The region word of the maximum of σ_VM over ``mask`` if every point within 2·``bound``
+    (MPa) of it has the same word (then the maximum of values within ``bound`` of these has
+    it too); None if not, or if there are more than ``_MAX_CANDIDATES`` such points."""
+    values = np.where(mask, field.von_mises, -np.inf)
+    top = float(np.max(values))
+    if not math.isfinite(top):
+        return None
+    candidates = np.flatnonzero(values >= top - 2.0 * bound)
+    if candidates.size > _MAX_CANDIDATES:
+        return None
+    x, y, z = (np.ravel(coordinate)[candidates] for coordinate in (field.x, field.y, field.z))
+    words = {
+        classify_peak(math.hypot(float(a), float(b)), float(c), radius)
+        for a, b, c in zip(x, y, z, strict=True)
+    }
+    return words.pop() if len(words) == 1 else None
+
+
 def _centre_band(grid: Grid, angle: float) -> tuple[tuple[slice, slice], np.ndarray]:
     """The elements whose centres lie within half an element of the vertical plane through
     the axis at ``angle`` (rad): the (rows, columns) window of the grid holding them, and
@@ -175,8 +217,9 @@ class PeakTracker:
     along the plane |s| (the regions: the element centres within half an element of that
     plane); the ``_x`` values stay Cartesian x, and the values gain ``vm_max_y``,
     ``vm_sub_max_y``, ``vm_deep_max_y`` (mm) — only when φ ≠ 0, so the x–z results are
-    unchanged. A second lattice (those element centres, every depth) costs about as much as
-    the plane's (11 ms against 12 ms CPU per cycle at 32², 31 layers).
+    unchanged. The element centres beside an oblique plane are a second 2-D lattice (every
+    depth), which costs about as much as the plane (11 ms against 12 ms CPU per cycle at
+    32², 31 layers); beside the x–z plane they are taken by lines (module docstring).
     """
 
     def __init__(self, stress: SubsurfaceStress, punch_radius: float, angle: float = 0.0):
@@ -198,6 +241,17 @@ class PeakTracker:
         # a line contact's plane (LineSubsurfaceStress, no block) is its row of element
         # centres already: the plane itself decides the regions there
         self._centres = _centre_band(grid, self.angle) if hasattr(stress, "block") else None
+        # the x–z plane of an even grid: its band is the two whole rows y = ±Δy/2, which
+        # the stresses can give by lines (regions)
+        self._rows = (
+            self._centres is not None
+            and self.angle == 0.0
+            and hasattr(stress, "rows_beside_axis")
+            and grid.n_y % 2 == 0
+            and bool(self._centres[1].all())
+            and self._centres[0]
+            == (slice(0, grid.n_x), slice(grid.n_y // 2 - 1, grid.n_y // 2 + 1))
+        )
         self.last_plane: StressField | None = None
 
     def contact_radius(self, pressure: np.ndarray) -> float:
@@ -213,14 +267,35 @@ class PeakTracker:
         """Region words of the largest σ_VM over all depths and at z >= 0.1 a0, both taken
         at the element centres beside the plane (module docstring), for contact radius
         ``radius`` (mm). A line contact's plane (a stress object without ``block``) is its
-        row of element centres: there the last plane decides."""
+        row of element centres: there the last plane decides.
+
+        Beside the x–z plane of an even grid the two rows of centres are first taken by 1-D
+        transforms (``SubsurfaceStress.rows_beside_axis``), equal to the 2-D lattice's
+        values to rounding; a word stands when every point within twice that rounding
+        bound of the maximum (``ROWS_TOLERANCE``) has it, so it is the word of the lattice's
+        own maximum; otherwise the lattice decides, as for every other plane."""
         if self._centres is None:
             centres = self.last_plane
             band = np.ones(centres.z.shape, dtype=bool)
-        else:
-            window, band = self._centres
-            centres = self.stress.block(pressure, traction_x, traction_y, window=window)
-            band = np.broadcast_to(band[..., None], centres.z.shape)
+            return self._words(centres, band, radius)
+        if self._rows:
+            rows = self.stress.rows_beside_axis(pressure, traction_x, traction_y)
+            bound = _rounding_bound(rows)
+            band = np.ones(rows.z.shape, dtype=bool)
+            words = [
+                _certain_word(rows, mask, radius, bound)
+                for mask in (band, rows.z >= self.deep_depth)
+            ]
+            if None not in words:
+                return words[0], words[1]
+        window, band = self._centres
+        centres = self.stress.block(pressure, traction_x, traction_y, window=window)
+        band = np.broadcast_to(band[..., None], centres.z.shape)
+        return self._words(centres, band, radius)
+
+    def _words(self, centres: StressField, band: np.ndarray, radius: float) -> tuple[str, str]:
+        """Region words of the maxima of ``centres`` over ``band`` and over its part at
+        z >= 0.1 a0."""
         words = []
         for mask in (band, band & (centres.z >= self.deep_depth)):
             peak = _maximum(centres, mask)

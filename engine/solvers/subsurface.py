@@ -52,7 +52,7 @@ import numpy as np
 from ..grid import Grid
 from ..kernels.fft import DEFAULT_EFFORT
 from ..kernels.lattice import LatticeConvolution, LineConvolution, line_axis
-from ..kernels.stress import COMPONENTS, LOADS
+from ..kernels.stress import COMPONENTS, LOADS, kernel_parity
 from ..validation import require_poisson, require_positive
 
 DEFAULT_KERNEL_CACHE_LIMIT = 64 * 2**20
@@ -386,6 +386,59 @@ class SubsurfaceStress(PlaneStresses):
         y = origin[1] + grid.dy * np.arange(counts[1])
         X, Y, Z = np.meshgrid(x, y, self.depths, indexing="ij")
         return StressField.from_components(X, Y, Z, components, depths=self.depths.copy())
+
+    def rows_beside_axis(self, pressure, traction_x=None, traction_y=None) -> StressField | None:
+        """Stresses at the element centres of the two rows beside the x–z plane (y = ±Δy/2,
+        every x and depth) of a grid with an even number of rows; None for any other grid.
+
+        The same points as ``block(window=…)`` on those rows, computed another way: a grid
+        shifted by −Δy/2 and padded by one row of zero traction is symmetric about the row
+        y = +Δy/2, which is then a line through its middle (``LineConvolution``, 1-D
+        transforms along x, no 2-D field per layer); the row y = −Δy/2 is its mirror: the
+        same line of the tractions reflected across y = 0 (τ_y changes sign), with σxy and
+        σyz changing sign. The sums are those of the block in another order, equal to
+        rounding (``ROWS_TOLERANCE``), in half the block's kernel memory. Returns a
+        ``StressField`` of shape ``(n_x, 2, n_z)``, rows y = −Δy/2 and +Δy/2.
+        """
+        grid = self.grid
+        if grid.is_line or grid.n_y % 2:
+            return None
+        tractions = self._tractions(pressure, traction_x, traction_y)
+        padded = {}
+        mirrored = {}
+        for load, values in tractions.items():
+            sign = kernel_parity(load, "xx")[1]  # τ_y is odd across y = 0
+            padded[load] = np.zeros((grid.n_x, grid.n_y + 1))
+            padded[load][:, : grid.n_y] = values
+            mirrored[load] = np.zeros((grid.n_x, grid.n_y + 1))
+            mirrored[load][:, : grid.n_y] = sign * values[:, ::-1]
+        above, below = self._rows_line().evaluate_sets(self.depths, [padded, mirrored])
+        components = {}
+        for component in COMPONENTS:
+            sign = kernel_parity("pressure", component)[1]  # σxy, σyz odd across y = 0
+            rows = (sign * below[component][:, 0], above[component][:, 0])
+            components[component] = np.stack(rows, axis=1)
+        # the coordinates of block(window=…) on these rows, to the bit
+        x = grid.x[0] + grid.dx * np.arange(grid.n_x)
+        y = grid.y[grid.n_y // 2 - 1] + grid.dy * np.arange(2)
+        X, Y, Z = np.meshgrid(x, y, self.depths, indexing="ij")
+        return StressField.from_components(X, Y, Z, components, depths=self.depths.copy())
+
+    def _rows_line(self) -> LineConvolution:
+        """The line of ``rows_beside_axis``: y = +Δy/2 through the middle of the grid shifted
+        by −Δy/2 and padded by one row. Its kernels are kept without limit, like the 2-D
+        lattice of those rows (``block``), whose memory they halve."""
+        key = ("rows beside the x–z plane",)
+        if key not in self._lattices:
+            grid = self.grid
+            shifted = Grid(
+                grid.n_x, grid.n_y + 1, grid.half_width_x, grid.half_width_y + grid.dy / 2
+            )
+            options = (self.threads, self.planner_effort, self.cache_kernels)
+            self._lattices[key] = LineConvolution(
+                shifted, self.poisson_ratio, 0, float(grid.x[0]), grid.n_x, *options, None
+            )
+        return self._lattices[key]
 
     def _plane(
         self, pressure, traction_x, traction_y, angle: float, half_length, bulk_stress
