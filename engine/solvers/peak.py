@@ -241,6 +241,9 @@ class PeakTracker:
         # a line contact's plane (LineSubsurfaceStress, no block) is its row of element
         # centres already: the plane itself decides the regions there
         self._centres = _centre_band(grid, self.angle) if hasattr(stress, "block") else None
+        if self._centres is not None and self.angle == 0.0:
+            # evaluated every cycle: the x–z plane keeps its kernels from the first on
+            stress.prepare_plane(0.0)
         # the x–z plane of an even grid: its band is the two whole rows y = ±Δy/2, which
         # the stresses can give by lines (regions)
         self._rows = (
