@@ -491,3 +491,32 @@ def test_a_window_gives_the_same_bits_with_its_components_at_once_or_apart(monke
     apart = SubsurfaceStress(grid, NU, depths).block(*tractions, window=window)
     for component in COMPONENTS:
         assert np.array_equal(together.components[component], apart.components[component])
+
+
+@pytest.mark.parametrize("row_block", [64, 2])
+@pytest.mark.parametrize("axis", [0, 1])
+def test_line_takes_sets_of_tractions_at_once(monkeypatch, row_block, axis):
+    # evaluate_sets: several traction fields (here two, one without τ_y) by one matrix product
+    # per component and frequency, in one block of rows or in blocks of two; BLAS sums in its
+    # own order, so the lines equal evaluate's to rounding (1e-12 of the largest value). The
+    # kernels are kept in that layout only when the line keeps kernels.
+    import engine.kernels.lattice as lattice
+
+    monkeypatch.setattr(lattice, "ROW_BLOCK", row_block)
+    grid = Grid(9, 7, 0.7, 0.45) if axis == 0 else Grid(7, 9, 0.45, 0.7)
+    rng = np.random.default_rng(3)
+    sets = [{load: rng.uniform(-3, 3, grid.shape) for load in LOADS} for _ in range(2)]
+    del sets[1]["traction_y"]
+    depths = np.array([0.004, 0.05, 0.3])
+    origin = (-4 * grid.dx, 0.0) if axis == 0 else (0.0, -4 * grid.dy)
+    for cache in (True, False):
+        options = (1, "FFTW_ESTIMATE", cache)
+        line = LineConvolution(grid, NU, axis, origin[axis], 9, *options)
+        together = line.evaluate_sets(depths, sets)
+        assert (line.cache_bytes > 0) == cache
+        for tractions, values in zip(sets, together, strict=True):
+            alone = line.evaluate(depths, tractions)
+            for c in COMPONENTS:
+                scale = np.abs(alone[c]).max()
+                assert values[c].shape == alone[c].shape
+                np.testing.assert_allclose(values[c], alone[c], rtol=0, atol=1e-12 * scale)

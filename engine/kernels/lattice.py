@@ -425,11 +425,14 @@ class LineConvolution:
         every layer and set are ``K @ T``, K (layers, loads · rows) the kernel spectra, T
         (loads · rows, sets) the folded traction spectra. BLAS sums the rows and loads in
         its own order, so the values equal ``evaluate``'s to rounding only. The kernels of
-        every block, layer and load are kept in that layout from the first call on
-        (``cache_bytes``; the per-block cache of ``evaluate`` is left alone)."""
+        every block, layer and load are kept in that layout from the first call on, unless
+        the line keeps no kernels (``cache``), whatever ``cache_limit`` (``cache_bytes``;
+        the per-block cache of ``evaluate`` is left alone)."""
         width = self.padded // 2 + 1
         rows = sum(block.stop - block.start for block in self._blocks)
-        if self._dense is None or self._dense[0] != tuple(depths):
+        if self._dense is not None and self._dense[0] == tuple(depths):
+            dense = self._dense[1]
+        else:
             dense = np.empty((len(COMPONENTS), width, depths.size, len(LOADS) * rows), complex)
             for k, depth in enumerate(depths):
                 for j, load in enumerate(LOADS):
@@ -438,8 +441,8 @@ class LineConvolution:
                         kernels = self.kernel_spectra(k, float(depth), load, index, keep=False)
                         span = slice(first + block.start, first + block.stop)
                         dense[:, :, k, span] = kernels.transpose(0, 2, 1)
-            self._dense = (tuple(depths), dense)
-        dense = self._dense[1]
+            if self.cache:
+                self._dense = (tuple(depths), dense)
         folded = np.zeros((len(COMPONENTS), width, len(LOADS) * rows, len(sets)), complex)
         for n, tractions in enumerate(sets):
             for block in self._blocks:
