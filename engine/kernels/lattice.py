@@ -233,8 +233,8 @@ class LatticeConvolution(_DepthLayers):
 
 BATCH_LIMIT = 16 * 2**20
 """Bytes of the buffers with which a lattice that is not the block takes the six stress
-components of a layer at once (the element centres beside a plane: 1.4 MB at 64²); a larger
-one takes them one at a time, in less memory, with the same values."""
+components of a layer at once (the element centres beside an oblique plane: 1.4 MB at 64²);
+a larger one takes them one at a time, in less memory, with the same values."""
 
 ROW_BLOCK = 64
 """Rows folded across the line that a ``LineConvolution`` transforms and sums together: the
