@@ -1,25 +1,49 @@
-"""Peak memory of a large frictional static solve, measured within a time limit.
+"""Peak memory of a large frictional static case, the solve alone and the whole command, each
+measured within a time limit.
 
 A frictional static solve at 2048² takes tens of minutes on one core, but its memory is
 settled within the first normal and tangential passes: every kernel spectrum, FFT buffer
-and work array is allocated by then, and later passes reuse them. This script runs the
-solve of ``bench_anchors.py --frictional`` (flat punch, a0 = 1.8 mm, P = 714 N, the coupled
-material, μ = 0.2, tolerance 1e-8, one core) in a child process, samples the child's peak
-resident memory (``VmHWM``) every 0.2 s, and ends it after ``--seconds`` (or when it
-finishes), printing the peak, the time of the last rise of the peak and whether the solve
-finished. A peak that stopped rising long before the limit is the solve's peak.
+and work array is allocated by then, and later passes reuse them. The problem is the one of
+``bench_anchors.py --frictional``'s coupled row: a flat punch, a0 = 1.8 mm, P = 714 N in one
+step, the paper's coupled pair (K = 0.196), Coulomb μ = 0.2, tolerance 1e-8, one core. Two
+things are measured, each in a process of its own, one after the other:
 
-The study's estimate for the whole case (``engine.study.resources``: solver plus the
-subsurface x–z plane of ``--layers`` layers) is printed beside it.
+- **solver**: ``ContactSolver(...).solve_load(P)`` in a child that imports only the solver;
+- **command**: ``python -m engine STUDY.toml --fresh --no-progress-bar`` on a one-case
+  static study of the same problem (``mu1 = [0.2]``, one load step, the default 16 layers of
+  the x–z stress plane), with an empty cache directory, as a user runs it.
 
-    python benchmarks/bench_memory.py --n 2048 --seconds 240      # ~4 minutes
+Each process's peak resident memory (``VmHWM``) is sampled every 0.2 s, and the process is
+ended after ``--seconds`` (or when it finishes); its peak is the larger of the last sample
+and the ``ru_maxrss`` of the ended process (``os.wait4``), which also holds a rise after the
+last sample. Printed per process: the peak (MB = 10⁶ bytes), the time of the last rise of
+the sampled peak, the time it ran and whether it finished within the limit (the solver's
+convergence and iterations, or the command's exit code). A peak that stopped rising long
+before the limit is the solve's peak. A command stopped at the limit has not reached its
+stress plane and output, which come after the solve; the static case lets go of the padded
+transforms (about 48 B per padded element) before its plane, which streams one block of rows
+(about 60 kB per element along the line), so the plane does not raise the solve's peak.
+
+Beside each peak, the study's estimate of the whole case (``engine.study.resources``: the
+solver plus the x–z plane of ``--layers`` layers, what the command checks against the node
+before it starts) and the ratio of the peak to it.
+
+``--update-docs`` writes the figures into the block ``bench-memory`` of
+docs/explanation/memory-and-setup.md, with the date, the machine and the load average
+(memory does not depend on the load; the time of the last rise does).
+
+    python benchmarks/bench_memory.py --n 2048 --seconds 300 --update-docs   # ~10 minutes,
+    # about 3.5 GB of memory
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -27,6 +51,11 @@ from _single_core import single_core_env
 
 REPO = Path(__file__).resolve().parents[1]
 RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION = 1.8, 714.0, 1.05, 1e-8, 0.2
+SAMPLE_S = 0.2  # the interval between two samples of VmHWM
+WHAT = {
+    "solver": "solver alone (`ContactSolver.solve_load`)",
+    "command": "whole `python -m engine`, one-case static study",
+}
 
 CHILD = """
 import sys
@@ -43,12 +72,46 @@ solver = ContactSolver(grid, paper_material(), FlatPunch(float(radius)), law, to
 print("built", flush=True)
 result = solver.solve_load(float(load))
 report = result.report
-print(f"finished converged={report.converged} iterations={report.iterations}", flush=True)
+state = "converged" if report.converged else "did not converge"
+print(f"solve {state} in {report.iterations} iterations", flush=True)
+"""
+
+
+def study_text(n: int, output: Path) -> str:
+    """The one-case frictional static study of the command's measurement (module doc): the
+    paper's pair (E_B = 100 E_A, ν = 0.3), whose coupling ``paper_material`` also has."""
+    return f"""[study]
+name = "memory_{n}"
+output = "{output}"
+
+[material]
+E_A = 200e3
+nu_A = 0.3
+E_B = 200e5
+nu_B = 0.3
+
+[punch]
+radius = {RADIUS}
+
+[mesh]
+n = {n}
+half_width = {HALF_WIDTH_FACTOR * RADIUS!r}
+
+[loading]
+kind = "static"
+load = {LOAD}
+steps = 1
+
+[solver]
+tol = {TOL}
+
+[sweep]
+mu1 = [{FRICTION}]
 """
 
 
 def peak_kb(pid: int) -> int:
-    """The process's peak resident memory (kB), from /proc; 0 once it is gone."""
+    """The process's peak resident memory (kB = 1024 bytes), from /proc; 0 once it is gone."""
     try:
         for line in Path(f"/proc/{pid}/status").read_text().splitlines():
             if line.startswith("VmHWM:"):
@@ -58,54 +121,146 @@ def peak_kb(pid: int) -> int:
     return 0
 
 
-def measure(n: int, seconds: float) -> dict:
-    arguments = [str(v) for v in (n, RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION)]
-    child = subprocess.Popen(
-        [sys.executable, "-c", CHILD, *arguments],
-        env=single_core_env(REPO),
-        stdout=subprocess.PIPE,
-        text=True,
-    )
-    start, peak, last_rise = time.perf_counter(), 0, 0.0
-    while child.poll() is None and time.perf_counter() - start < seconds:
-        current = peak_kb(child.pid)
-        if current > peak:
-            peak, last_rise = current, time.perf_counter() - start
-        time.sleep(0.2)
-    finished = child.poll() is not None
-    if not finished:
-        child.kill()
-    output, _ = child.communicate()
+def sample(command: list[str], env: dict, cwd: Path, seconds: float) -> dict:
+    """Run ``command`` for at most ``seconds``, sampling its peak memory (module doc): the
+    peak (MB), the time of its last rise and the time it ran (s), whether it finished, its
+    exit code and the last line it printed."""
+    with tempfile.TemporaryFile("w+") as log:
+        start = time.perf_counter()
+        child = subprocess.Popen(
+            command, env=env, cwd=cwd, stdout=log, stderr=log, start_new_session=True
+        )
+        pid = child.pid
+        peak, last_rise, finished = 0, 0.0, False
+        while time.perf_counter() - start < seconds:
+            done, status, usage = os.wait4(pid, os.WNOHANG)
+            if done:
+                finished = True
+                break
+            current = peak_kb(pid)
+            if current > peak:
+                peak, last_rise = current, time.perf_counter() - start
+            time.sleep(SAMPLE_S)
+        if not finished:
+            os.killpg(pid, signal.SIGKILL)  # the command and anything it started
+            _, status, usage = os.wait4(pid, 0)
+        child.returncode = os.waitstatus_to_exitcode(status)  # reaped here, not by Popen
+        elapsed = time.perf_counter() - start
+        if usage.ru_maxrss > peak:  # a rise after the last sample
+            peak, last_rise = usage.ru_maxrss, elapsed
+        log.seek(0)
+        lines = log.read().strip().splitlines()
     return {
-        "n": n,
-        "peak_mb": peak / 1024.0,
+        "peak_mb": peak * 1024 / 1e6,
         "last_rise_s": last_rise,
-        "elapsed_s": time.perf_counter() - start,
+        "elapsed_s": elapsed,
         "finished": finished,
-        "output": output.strip().splitlines()[-1] if output.strip() else "",
+        "exit": child.returncode,
+        "output": lines[-1] if lines else "",
     }
+
+
+def measure_solver(n: int, seconds: float, cwd: Path) -> dict:
+    arguments = [str(v) for v in (n, RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION)]
+    command = [sys.executable, "-c", CHILD, *arguments]
+    return sample(command, single_core_env(REPO), cwd, seconds)
+
+
+def measure_command(n: int, seconds: float, folder: Path) -> dict:
+    """``python -m engine`` on ``study_text(n)`` in ``folder``, with an empty cache directory
+    there (the first run on a fresh machine)."""
+    study = folder / f"memory_{n}.toml"
+    study.write_text(study_text(n, folder / f"memory_{n}.h5"))
+    env = single_core_env(REPO)
+    env.pop("ENGINE_FFTW_WISDOM", None)
+    env["XDG_CACHE_HOME"] = str(folder / "cache")
+    command = [sys.executable, "-m", "engine", str(study), "--fresh", "--no-progress-bar"]
+    return sample(command, env, folder, seconds)
+
+
+def outcome(row: dict) -> str:
+    """Whether the process finished within the limit, in words."""
+    if not row["finished"]:
+        return "no: stopped at the limit"
+    if row["exit"] != 0:
+        return f"yes, failed (exit {row['exit']}: {row['output']})"
+    solved = row["output"].startswith("solve ")
+    return f"yes: {row['output'].removeprefix('solve ')}" if solved else "yes: exit 0"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, nargs="+", default=[2048])
-    parser.add_argument("--seconds", type=float, default=240.0)
-    parser.add_argument("--layers", type=int, default=16, help="for the study's estimate")
+    parser.add_argument("--seconds", type=float, default=300.0, help="the time limit of each")
+    parser.add_argument(
+        "--what", nargs="+", choices=tuple(WHAT), default=list(WHAT), help="what to measure"
+    )
+    parser.add_argument(
+        "--update-docs",
+        action="store_true",
+        help="write the figures into docs/explanation/memory-and-setup.md",
+    )
     args = parser.parse_args()
     sys.path.insert(0, str(REPO))
     from engine.study.resources import case_memory_bytes
 
-    for n in args.n:
-        row = measure(n, args.seconds)
-        estimate = case_memory_bytes(n, args.layers) / 1e6
-        print(
-            f"n = {n}: solver peak {row['peak_mb']:.0f} MB (last rise at "
-            f"{row['last_rise_s']:.0f} s of {row['elapsed_s']:.0f} s; "
-            f"{'finished: ' + row['output'] if row['finished'] else 'stopped at the limit'}); "
-            f"the study's estimate of the whole case with {args.layers} layers: "
-            f"{estimate:.0f} MB",
-            flush=True,
+    layers = 16  # the default of [subsurface] layers, the study's
+    load = os.getloadavg()[0]
+    print(f"load average at the start: {load:.1f}", flush=True)
+    rows = []
+    with tempfile.TemporaryDirectory() as name:
+        for n in args.n:
+            estimate = case_memory_bytes(n, layers) / 1e6
+            for what in args.what:
+                if what == "solver":
+                    row = measure_solver(n, args.seconds, Path(name))
+                else:
+                    row = measure_command(n, args.seconds, Path(name))
+                row |= {"n": n, "what": what, "estimate_mb": estimate}
+                rows.append(row)
+                print(
+                    f"n = {n}, {what}: peak {row['peak_mb']:.0f} MB (last rise at "
+                    f"{row['last_rise_s']:.0f} s of {row['elapsed_s']:.0f} s); finished "
+                    f"within {args.seconds:g} s: {outcome(row)}; the study's estimate of the "
+                    f"whole case with {layers} layers: {estimate:.0f} MB (peak / estimate "
+                    f"{row['peak_mb'] / estimate:.2f})",
+                    flush=True,
+                )
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
+    if args.update_docs:
+        write_doc_block(rows, args, load)
+
+
+def write_doc_block(rows: list[dict], args, load: float) -> None:
+    """The block ``bench-memory`` of the manual's memory and set-up page."""
+    from engine.analysis.markdown import markdown_table, measured_on, replace_block
+
+    command = f"python benchmarks/bench_memory.py --n {' '.join(map(str, args.n))}"
+    command += f" --seconds {args.seconds:g}"
+    command += f" --what {' '.join(args.what)}" if args.what != list(WHAT) else ""
+    note = (
+        f"`{command} --update-docs`, one core per process, one process after the other, "
+        f"VmHWM sampled every {SAMPLE_S:g} s; MB = 10⁶ bytes; load average at the start "
+        f"{load:.1f}"
+    )
+    header = (
+        "n", "measured (one process)", "peak (MB)", "last rise of the peak (s)", "ran (s)",
+        f"finished within {args.seconds:g} s", "study's estimate of the case (MB)",
+        "peak / estimate",
+    )  # fmt: skip
+    table = [
+        (
+            f"{row['n']}²", WHAT[row["what"]], f"{row['peak_mb']:.0f}",
+            f"{row['last_rise_s']:.0f}", f"{row['elapsed_s']:.0f}", outcome(row),
+            f"{row['estimate_mb']:.0f}", f"{row['peak_mb'] / row['estimate_mb']:.2f}",
         )
+        for row in rows
+    ]  # fmt: skip
+    document = REPO / "docs" / "explanation" / "memory-and-setup.md"
+    replace_block(
+        document, "bench-memory", measured_on(note) + "\n" + markdown_table(header, table)
+    )
+    print(f"{document}: wrote the block bench-memory")
 
 
 if __name__ == "__main__":
