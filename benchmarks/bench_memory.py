@@ -1,12 +1,11 @@
 """Peak memory of a large frictional static case, the solve alone and the whole command, each
 measured within a time limit.
 
-A frictional static solve at 2048² takes tens of minutes on one core, but its memory is
-settled within the first normal and tangential passes: every kernel spectrum, FFT buffer
-and work array is allocated by then, and later passes reuse them. The problem is the one of
-``bench_anchors.py --frictional``'s coupled row: a flat punch, a0 = 1.8 mm, P = 714 N in one
-step, the paper's coupled pair (K = 0.196), Coulomb μ = 0.2, tolerance 1e-8, one core. Two
-things are measured, each in a process of its own, one after the other:
+A frictional static case at 2048² takes several minutes on one core, more on a loaded
+machine, and some 4 GB. The problem is the one of ``bench_anchors.py --frictional``'s coupled
+row: a flat punch, a0 = 1.8 mm, P = 714 N in one step, the paper's coupled pair (K = 0.196),
+Coulomb μ = 0.2, tolerance 1e-8, one core. Two things are measured, each in a process of its
+own, one after the other:
 
 - **solver**: ``ContactSolver(...).solve_load(P)`` in a child that imports only the solver;
 - **command**: ``python -m engine STUDY.toml --fresh --no-progress-bar`` on a one-case
@@ -14,18 +13,16 @@ things are measured, each in a process of its own, one after the other:
   the x–z stress plane), with an empty cache directory, as a user runs it.
 
 Each process's peak resident memory (``VmHWM``) is sampled every 0.2 s, and the process is
-ended after ``--seconds`` (or when it finishes); its peak is the larger of the last sample
+ended after ``--seconds`` if it has not finished; its peak is the larger of the last sample
 and the ``ru_maxrss`` of the ended process (``os.wait4``), which also holds a rise after the
 last sample. Printed per process: the peak (MB = 10⁶ bytes), the time from which the sampled
 peak stayed within 1 % of it and the time of its last rise, the time the process ran and
 whether it finished within the limit (the solver's convergence and iterations, or the
-command's exit code). The resident memory of a large solve swings as its temporaries come
-and go, so the peak can still creep up by a little late in the run, when two of them
-happen to overlap: a peak within 1 % of its last value from long before the limit has
-settled. A command stopped at the limit has not reached its stress plane and output, which
-come after the solve: the static case lets go of the padded transforms (about 48 B per padded
-element) before its plane, which streams one block of rows (about 60 kB per element along
-the line), so the plane should stay below the solve's peak, but such a row does not show it.
+command's exit code). A process that finished has shown its whole peak; one stopped at the
+limit, only its peak until then: the solver's memory is not all allocated in its first
+passes (the resident memory swings by hundreds of MB as its temporaries come and go, and
+the peak can rise late in the solve), and a command stopped at the limit has not reached
+its stress plane and output.
 
 Beside each peak, the study's estimate of the whole case (``engine.study.resources``: the
 solver plus the x–z plane of the default 16 layers, what the command checks against the node
@@ -35,8 +32,7 @@ before it starts) and the ratio of the peak to it.
 docs/explanation/memory-and-setup.md, with the date, the machine and the load average
 (memory does not depend on the load; the times do).
 
-    python benchmarks/bench_memory.py --n 2048 --seconds 300 --update-docs   # ~10 minutes,
-    # about 4 GB of memory
+    python benchmarks/bench_memory.py --n 2048 --seconds 600 --update-docs   # ~10 minutes
 """
 
 from __future__ import annotations
@@ -196,7 +192,7 @@ def outcome(row: dict) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, nargs="+", default=[2048])
-    parser.add_argument("--seconds", type=float, default=300.0, help="the time limit of each")
+    parser.add_argument("--seconds", type=float, default=600.0, help="the time limit of each")
     parser.add_argument(
         "--what", nargs="+", choices=tuple(WHAT), default=list(WHAT), help="what to measure"
     )

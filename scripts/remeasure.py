@@ -21,7 +21,7 @@ sizes its table shows (64² to 256², not 512²). ``--long`` adds the studies th
 minutes each (``peak_regime*``, ``mesh_convergence``, ``rough_fretting``, ``rounded_punch``,
 ``fouvry_crack_nucleation``), the McColl results, the three benchmarks whose blocks were
 already taken at load 2 or below (``bench-line``, ``bench-scheduler``, ``bench-search-scale``)
-and the peak memory of a 2048² frictional case (``bench-memory``, ten minutes and about 3.5 GB):
+and the peak memory of a 2048² frictional case (``bench-memory``, ten minutes and about 4 GB):
 over two hours more. Left to their own
 commands, because their figures are not times: the Fouvry calibration table
 (``python scripts/fouvry_calibration.py --ranks 2``), the cycle-jump comparison of the peak
@@ -188,10 +188,10 @@ def steps(long: bool = False) -> list[Step]:
                  "docs/explanation/searches.md (bench-search-scale)", 330,
                  "its table: 187 + 95 + 48 s"),
             Step("bench-memory",
-                 _python("benchmarks/bench_memory.py", "--n", "2048", "--seconds", "300",
+                 _python("benchmarks/bench_memory.py", "--n", "2048", "--seconds", "600",
                          "--update-docs"),
-                 "docs/explanation/memory-and-setup.md (bench-memory)", 610,
-                 "its docstring: the solve and the command, 300 s each"),
+                 "docs/explanation/memory-and-setup.md (bench-memory)", 600,
+                 "its block: the solve and the command, about 300 s each"),
             Step("mccoll-results", _python("scripts/mccoll_results.py", "--fresh"),
                  "docs/explanation/results.md (mccoll-2004 blocks)", 560,
                  "its blocks: 197 s + 308 s for the convergence studies, 60 s of single cases"),
