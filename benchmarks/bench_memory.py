@@ -211,7 +211,7 @@ def main() -> None:
     rows = []
     with tempfile.TemporaryDirectory() as name:
         for n in args.n:
-            estimate = case_memory_bytes(n, layers) / 1e6
+            estimate = case_memory_bytes(n, layers, frictional=True) / 1e6
             for what in args.what:
                 if what == "solver":
                     row = measure_solver(n, args.seconds, Path(name))
