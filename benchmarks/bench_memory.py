@@ -246,9 +246,9 @@ def write_doc_block(rows: list[dict], args, load: float) -> None:
         f"{load:.1f}"
     )
     header = (
-        "n", "measured (one process)", "peak (MB)", f"within {SETTLED:.0%} of the peak from (s)",
-        "last rise of the peak (s)", "ran (s)",
-        f"finished within {args.seconds:g} s", "study's estimate of the case (MB)",
+        "n", "measured (one process)", "peak (MB)",
+        f"within {100 * SETTLED:g} % of the peak from (s)", "last rise of the peak (s)",
+        "ran (s)", f"finished within {args.seconds:g} s", "study's estimate of the case (MB)",
         "peak / estimate",
     )  # fmt: skip
     table = [
