@@ -1,40 +1,36 @@
 """Memory a case needs, checked against the machine before anything is created.
 
 Peak resident memory of one case, measured with ``ru_maxrss`` through ``python -m engine``
-(one process, the engine's imports included) for static cases (μ = 0.3) at n = 128, 256,
-512 with 4 to 32 subsurface layers (2026-11-25, after the influence operator stopped keeping
-kernels and duplicate spectra), and cyclic ones at n = 128 and 256::
+(one process, the engine's imports included) on one-case static studies of the paper's
+coupled pair (16 subsurface layers, one load step) at n = 128 … 2048, and cyclic ones at
+n = 128 and 256::
 
     memory ≈ 80 MB + n² · (solver + cycled) + plane bytes
-    solver = 830 frictional, 200 when every case of the plan is frictionless (μ1 = μ2 = 0)
+    solver = 960 frictional, 200 when every case of the plan is frictionless (μ1 = μ2 = 0)
     plane  = kept + 60 kB · n,   kept = 145 · n² · layers if that is <= 64 MiB, else 0
     cycled = 600 + 48 · increments per simulated cycle   (cyclic, fretting; 0 for static)
 
-The 830 B per element are the frictional contact solver: the kernel spectra it needs (the
-real half of an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary
-half of the two odd ones, as much; one to three frictionless and six frictional), one pair of
-padded FFT buffers (~48 B per element and field, up to three fields) and the solver's work
-arrays; the plane term the x–z plane's subsurface kernel spectra kept between calls (six
-components and three loads per layer on the folded line lattice, all of them if they fit
-in the evaluator's ``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB, else none) and one block of
-rows streamed through it (``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner
-functions, coefficients and their spectra, ~60 kB per element along the line); the cycled
-term the histories, records and the warm start, which keeps the pressure and both tractions of every
-increment of two simulated cycles (2 · 3 · 8 B per element and increment; a simulated cycle
-has 2·steps increments when cyclic, 4·steps when fretting). The solver's cost per element grows
-with n (a frictional solve: 700 B at 512², 825 B at 2048², where it peaks at 3.46 GB,
-``benchmarks/bench_memory.py``), so the one figure taken from the largest grid errs high on
-the small ones, by 3–17 % on the measured points (static, μ = 0.3, 2026-11-28, after a
-plane kept its kernels whole or not at all, ``/usr/bin/time`` on the loaded 2-core
-machine): n = 128 with 16 layers, two cases (the second keeps the plane's kernels), 139 MB
-estimated, 119 MB measured (one case, which keeps none: 86 MB); n = 256 with 32 layers
-150 MB, 131 MB; n = 512 with 16 layers 328 MB, 318 MB.
+The solver's share is the frictional contact solver: the kernel spectra it needs (the real
+half of an even kernel's, 8 B per padded frequency, ~16 B per element; the imaginary half of
+the two odd ones, as much; one to three frictionless and six frictional), padded FFT buffers
+(~48 B per element and field, up to three fields), the solver's work arrays and their
+temporaries, which come and go during the solve (at 2048² its resident memory swings by
+about 0.9 GB, and its peak comes late). With μ = 0.2 the command's peak grows by 920–950 B
+per element from 256² to 2048² (``benchmarks/bench_memory.py`` states the 2048² peak beside
+this estimate, in the memory page); the estimate takes 960 so as to stay above it, and
+errs high on small grids, where the imports weigh more. A frictionless solve keeps the normal
+problem's spectra and buffers alone: its peaks grow by 160–180 B per element from 1024² to
+2048², and the estimate takes 200. ``test_the_estimate_bounds_the_measured_peak`` measures
+both at 256².
 
-A frictionless solve keeps the normal problem's spectra and buffers alone: 200 B per
-element, fitted on one-case static studies of the paper's coupled pair with μ = 0 and 16
-layers (the x–z plane streamed), whose peaks grow by 160–180 B per element from 1024² to
-2048²; the estimate errs high on the measured points, and
-``test_the_frictionless_estimate_bounds_the_measured_peak`` measures one.
+The plane term is the x–z plane's subsurface kernel spectra kept between calls (six
+components and three loads per layer on the folded line lattice, all of them if they fit in
+the evaluator's ``DEFAULT_KERNEL_CACHE_LIMIT`` of 64 MiB, else none) and one block of rows
+streamed through it (``engine.kernels.lattice.ROW_BLOCK`` rows × 2n offsets: corner
+functions, coefficients and their spectra, ~60 kB per element along the line); the cycled
+term the histories, records and the warm start, which keeps the pressure and both tractions
+of every increment of two simulated cycles (2 · 3 · 8 B per element and increment; a
+simulated cycle has 2·steps increments when cyclic, 4·steps when fretting).
 
 A line contact (plane strain, ``[punch] shape`` cylinder or pad) has n elements, not n²,
 and its memory grows linearly in n::
@@ -71,7 +67,7 @@ from .plan import Plan
 __all__ = ["case_memory_bytes", "largest_case", "memory_limit_bytes", "check_memory"]
 
 BASE_BYTES = 80e6
-BYTES_PER_ELEMENT = 830.0
+BYTES_PER_ELEMENT = 960.0  # frictional (module docstring)
 BYTES_PER_ELEMENT_FRICTIONLESS = 200.0  # every case μ1 = μ2 = 0: the normal problem alone
 BYTES_PER_ELEMENT_AND_LAYER = 145.0  # kernel spectra of the plane, if all fit the cache
 STREAM_BYTES_PER_COLUMN = 60e3  # one block of the plane's rows, per element along the line
