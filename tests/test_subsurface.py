@@ -520,3 +520,29 @@ def test_line_takes_sets_of_tractions_at_once(monkeypatch, row_block, axis):
                 scale = np.abs(alone[c]).max()
                 assert values[c].shape == alone[c].shape
                 np.testing.assert_allclose(values[c], alone[c], rtol=0, atol=1e-12 * scale)
+
+
+@pytest.mark.parametrize("row_block", [64, 2])
+@pytest.mark.parametrize("axis", [0, 1])
+def test_a_line_gives_the_same_bits_with_and_without_kept_kernels(monkeypatch, axis, row_block):
+    # a line that keeps its kernels takes a layer's six components in one einsum per load; one
+    # that keeps none (a single evaluation, whose memory stays at one block's kernels) takes
+    # them one by one: the same products summed in the same order, so the same bits, on the
+    # first evaluation and on a later one
+    import engine.kernels.lattice as lattice
+
+    monkeypatch.setattr(lattice, "ROW_BLOCK", row_block)
+    grid = Grid(20, 16, 0.7, 0.45) if axis == 0 else Grid(16, 20, 0.45, 0.7)
+    rng = np.random.default_rng(5)
+    tractions = {load: rng.uniform(-3, 3, grid.shape) for load in LOADS}
+    depths = np.array([0.004, 0.05, 0.3, 1.2])
+    origin = (-4 * grid.dx, 0.0) if axis == 0 else (0.0, -4 * grid.dy)
+    values = {}
+    for cache in (True, False):
+        line = LineConvolution(grid, NU, axis, origin[axis], 20, 1, "FFTW_ESTIMATE", cache)
+        values[cache] = [line.evaluate(depths, tractions) for _ in range(2)]
+        assert (line.cache_bytes > 0) == cache
+    for first in values[True]:
+        for second in values[False]:
+            for c in COMPONENTS:
+                assert np.array_equal(first[c], second[c]), c

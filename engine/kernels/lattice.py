@@ -382,11 +382,19 @@ class LineConvolution:
         }
 
     def kernel_spectra(
-        self, layer: int, depth: float, load: str, index: int = 0, keep: bool = True
-    ) -> np.ndarray:
+        self,
+        layer: int,
+        depth: float,
+        load: str,
+        index: int = 0,
+        keep: bool = True,
+        stacked: bool = True,
+    ):
         """Spectra along the line of the element coefficients at one depth, for the rows of
-        block ``index``, the six components stacked in ``COMPONENTS`` order: (6, rows,
-        N/2 + 1); kept for later calls when ``keep`` and the cache has room."""
+        block ``index``, the six components in ``COMPONENTS`` order, each (rows, N/2 + 1):
+        stacked in one (6, rows, N/2 + 1) array when ``stacked`` (or kept), else a list of
+        the six, which a single evaluation takes one by one without the stacked copy; kept
+        for later calls when ``keep`` and the cache has room."""
         key = (layer, load, index)
         if key in self._kernels:
             return self._kernels[key]
@@ -394,15 +402,20 @@ class LineConvolution:
         across = self._across_offsets[self._blocks[index]]
         offsets = (self._along_offsets, across) if self.axis == 0 else (across, self._along_offsets)
         coefficients = element_stress(*offsets, depth, grid.dx, grid.dy, self.poisson_ratio, load)
-        spectra = np.empty((len(COMPONENTS), across.size, self.padded // 2 + 1), dtype=complex)
-        for c, component in enumerate(COMPONENTS):
+        spectra = []
+        for component in COMPONENTS:
             rows = coefficients.pop(component)
             rows = rows.T if self.axis == 0 else rows  # (rows, offsets along the line)
-            spectra[c] = self._transform_kernel(rows)
+            spectra.append(self._transform_kernel(rows))
+            del rows  # the component's coefficients, transformed
+        size = sum(spectrum.nbytes for spectrum in spectra)
         limit = self.cache_limit
-        if keep and self.cache and (limit is None or self._cache_bytes + spectra.nbytes <= limit):
+        if keep and self.cache and (limit is None or self._cache_bytes + size <= limit):
+            spectra = np.stack(spectra)
             self._kernels[key] = spectra
-            self._cache_bytes += spectra.nbytes
+            self._cache_bytes += size
+        elif stacked:
+            spectra = np.stack(spectra)
         return spectra
 
     def prepare(self, depths: np.ndarray, loads=LOADS) -> None:
@@ -470,9 +483,13 @@ class LineConvolution:
         """All layers: dict component -> (m_x, m_y, n_z), MPa; the rows block by block
         (class docstring), each block's products summed into the line spectra of every layer.
 
-        Per block, layer and load, one ``einsum`` takes the six components at once: the same
-        products, each component's rows summed in the same order as one ``einsum`` per
-        component, so the values do not depend on the batching."""
+        Per block, layer and load, one ``einsum`` takes the six components at once from the
+        second evaluation on (when the kernels are kept: an evaluator called again, e.g. by a
+        peak tracker every cycle), on the folded traction spectra stacked per component (6
+        per load); the first evaluation, often the only one (a static case), takes one
+        ``einsum`` per component on the folded spectra as they are, in less memory. The same
+        products, each component's rows summed in the same order either way, so the values do
+        not depend on the batching."""
         loads = sorted(tractions, key=LOADS.index)
         width = self.padded // 2 + 1
         sums = np.zeros((depths.size, len(COMPONENTS), width), dtype=complex)
@@ -483,17 +500,24 @@ class LineConvolution:
         }
         for index, block in enumerate(self._blocks if loads else ()):
             traction = self.traction_spectra({load: tractions[load] for load in loads}, block)
-            # the folded traction spectra each component sees, stacked: (6, rows, N/2 + 1)
+            # the folded traction spectra each component sees: (rows, N/2 + 1) each, stacked
+            # to (6, rows, N/2 + 1) per load when the kernels are kept
             folded = {
-                load: np.stack([traction[(load, parity)] for parity in parities[load]])
-                for load in loads
+                load: [traction[(load, parity)] for parity in parities[load]] for load in loads
             }
+            if keep:
+                folded = {load: np.stack(folded[load]) for load in loads}
             for k, depth in enumerate(depths):
                 kernels = [
-                    self.kernel_spectra(k, float(depth), load, index, keep) for load in loads
+                    self.kernel_spectra(k, float(depth), load, index, keep, stacked=keep)
+                    for load in loads
                 ]
                 for load, kernel in zip(loads, kernels, strict=True):
-                    sums[k] += np.einsum("crk,crk->ck", kernel, folded[load])
+                    if keep:
+                        sums[k] += np.einsum("crk,crk->ck", kernel, folded[load])
+                        continue
+                    for c, spectra in enumerate(folded[load]):
+                        sums[k, c] += np.einsum("rk,rk->k", kernel[c], spectra)
         count = max(self.counts)
         lines = np.empty((len(COMPONENTS), count, depths.size))
         for k in range(depths.size):
