@@ -299,8 +299,8 @@ def test_memory_estimate_refuses_a_mesh_the_machine_cannot_hold():
     small, _ = study()
     check_memory(small, ranks_on_node=2, limit=16 * 2**30)  # n = 32: ~0.1 GB, fine
     # the 2048² frictional case's peak (benchmarks/bench_memory.py, the memory page's block
-    # bench-memory: 4070 MB the solve alone, 4105 MB the command), within 5 % above it
-    assert 4105e6 < case_memory_bytes(2048, 16) < 1.05 * 4105e6
+    # bench-memory: 4070 MB the solve alone, 4115 MB the command), within 5 % above it
+    assert 4115e6 < case_memory_bytes(2048, 16) < 1.05 * 4115e6
     # the largest case of the plan decides: a swept mesh, and the steps of a cyclic study
     swept_n = VALID.replace("[mesh]\nn = 32\n", "[mesh]\n")
     swept, plan = study(swept_n.replace("mu1 = [0.1, 0.4]", 'mu1 = [0.1]\n"mesh.n" = [32, 4000]'))
