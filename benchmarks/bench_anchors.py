@@ -306,10 +306,11 @@ def run_child(code: str, n: int, frictional: bool, python: str, tree: Path = REP
     return json.loads(lines[-1]) | {"script": whole}
 
 
-def study_text(n: int, output: Path) -> str:
-    """The one-case static study of the CLI measurement (module doc)."""
+def study_text(n: int, output: Path, mu: float = 0.0, name: str = "anchor") -> str:
+    """The one-case static study of the CLI measurement (module doc); ``mu``: its friction
+    coefficient (``bench_memory.py`` takes the frictional one), ``name``: its study name."""
     return f"""[study]
-name = "anchor_{n}"
+name = "{name}_{n}"
 output = "{output}"
 
 [material]
@@ -334,7 +335,7 @@ steps = 1
 tol = {TOL}
 
 [sweep]
-mu1 = [0.0]
+mu1 = [{mu!r}]
 """
 
 

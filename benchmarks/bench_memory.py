@@ -47,6 +47,7 @@ import time
 from pathlib import Path
 
 from _single_core import single_core_env
+from bench_anchors import study_text
 
 REPO = Path(__file__).resolve().parents[1]
 RADIUS, LOAD, HALF_WIDTH_FACTOR, TOL, FRICTION = 1.8, 714.0, 1.05, 1e-8, 0.2
@@ -74,39 +75,6 @@ result = solver.solve_load(float(load))
 report = result.report
 state = "converged" if report.converged else "did not converge"
 print(f"solve {state} in {report.iterations} iterations", flush=True)
-"""
-
-
-def study_text(n: int, output: Path) -> str:
-    """The one-case frictional static study of the command's measurement (module doc): the
-    paper's pair (E_B = 100 E_A, ν = 0.3), whose coupling ``paper_material`` also has."""
-    return f"""[study]
-name = "memory_{n}"
-output = "{output}"
-
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-
-[punch]
-radius = {RADIUS}
-
-[mesh]
-n = {n}
-half_width = {HALF_WIDTH_FACTOR * RADIUS!r}
-
-[loading]
-kind = "static"
-load = {LOAD}
-steps = 1
-
-[solver]
-tol = {TOL}
-
-[sweep]
-mu1 = [{FRICTION}]
 """
 
 
@@ -168,10 +136,11 @@ def measure_solver(n: int, seconds: float, cwd: Path) -> dict:
 
 
 def measure_command(n: int, seconds: float, folder: Path) -> dict:
-    """``python -m engine`` on ``study_text(n)`` in ``folder``, with an empty cache directory
+    """``python -m engine`` on the one-case frictional study of ``bench_anchors.study_text``
+    (the paper's pair, μ = ``FRICTION``) in ``folder``, with an empty cache directory
     there (the first run on a fresh machine)."""
     study = folder / f"memory_{n}.toml"
-    study.write_text(study_text(n, folder / f"memory_{n}.h5"))
+    study.write_text(study_text(n, folder / f"memory_{n}.h5", mu=FRICTION, name="memory"))
     env = single_core_env(REPO)
     env.pop("ENGINE_FFTW_WISDOM", None)
     env["XDG_CACHE_HOME"] = str(folder / "cache")

@@ -31,6 +31,7 @@ from engine.output.lock import (
 )
 from engine.output.salvage import apply_existing
 from engine.study.config import StudyConfigError, parse_study
+from engine.study.examples import study_toml
 from engine.study.plan import make_plan
 from engine.study.resources import case_memory_bytes, check_memory
 from tests.test_config import VALID
@@ -327,33 +328,6 @@ def test_a_frictionless_study_the_machine_holds_is_not_refused():
         check_memory(mixed, ranks_on_node=1, limit=24 * 2**30, plan=plan)
 
 
-STATIC_256 = """[study]
-name = "static_256"
-output = "out.h5"
-
-[material]
-E_A = 200e3
-nu_A = 0.3
-E_B = 200e5
-nu_B = 0.3
-
-[punch]
-radius = 1.8
-
-[mesh]
-n = 256
-half_width = 1.89
-
-[loading]
-kind = "static"
-load = 714.0
-steps = 1
-
-[sweep]
-mu1 = [0.0]
-"""
-
-
 LAUNCHER = """
 import os, subprocess, sys
 child = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL)
@@ -375,7 +349,12 @@ def test_the_estimate_bounds_the_measured_peak(tmp_path, mu):
     # as an installed package does (compiling them raises the peak by about 30 MB). A small
     # launcher starts the command and reports its peak: the peak of a process forked from
     # this one would start from this process's own (pytest's, with pandas and h5py loaded).
-    (tmp_path / "s.toml").write_text(STATIC_256.replace("mu1 = [0.0]", f"mu1 = [{mu}]"))
+    study = study_toml(
+        "static_256", "out.h5",
+        mesh={"n": 256, "half_width": 1.89}, subsurface=None, solver=None,
+        loading={"kind": "static", "load": 714.0, "steps": 1}, sweep={"mu1": [mu]},
+    )  # fmt: skip
+    (tmp_path / "s.toml").write_text(study)  # the default 16 layers of the x-z plane
     env = {key: value for key, value in os.environ.items() if not key.startswith("OMPI_")}
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPYCACHEPREFIX"] = str(tmp_path / "bytecode")

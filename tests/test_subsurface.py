@@ -493,6 +493,17 @@ def test_a_window_gives_the_same_bits_with_its_components_at_once_or_apart(monke
         assert np.array_equal(together.components[component], apart.components[component])
 
 
+def _line_case(axis: int, along: int, across: int, sets: int, seed: int):
+    """A grid of ``along`` × ``across`` elements along ``axis``, the origin of a line through
+    it four elements in, and ``sets`` random traction fields (MPa)."""
+    sizes, half_widths = (along, across), (0.7, 0.45)
+    grid = Grid(*sizes[:: 1 - 2 * axis], *half_widths[:: 1 - 2 * axis])
+    origin = (-4 * grid.dx, 0.0) if axis == 0 else (0.0, -4 * grid.dy)
+    rng = np.random.default_rng(seed)
+    fields = [{load: rng.uniform(-3, 3, grid.shape) for load in LOADS} for _ in range(sets)]
+    return grid, origin, fields
+
+
 @pytest.mark.parametrize("row_block", [64, 2])
 @pytest.mark.parametrize("axis", [0, 1])
 def test_line_takes_sets_of_tractions_at_once(monkeypatch, row_block, axis):
@@ -503,12 +514,9 @@ def test_line_takes_sets_of_tractions_at_once(monkeypatch, row_block, axis):
     import engine.kernels.lattice as lattice
 
     monkeypatch.setattr(lattice, "ROW_BLOCK", row_block)
-    grid = Grid(9, 7, 0.7, 0.45) if axis == 0 else Grid(7, 9, 0.45, 0.7)
-    rng = np.random.default_rng(3)
-    sets = [{load: rng.uniform(-3, 3, grid.shape) for load in LOADS} for _ in range(2)]
+    grid, origin, sets = _line_case(axis, 9, 7, sets=2, seed=3)
     del sets[1]["traction_y"]
     depths = np.array([0.004, 0.05, 0.3])
-    origin = (-4 * grid.dx, 0.0) if axis == 0 else (0.0, -4 * grid.dy)
     for cache in (True, False):
         options = (1, "FFTW_ESTIMATE", cache)
         line = LineConvolution(grid, NU, axis, origin[axis], 9, *options)
@@ -525,18 +533,14 @@ def test_line_takes_sets_of_tractions_at_once(monkeypatch, row_block, axis):
 @pytest.mark.parametrize("row_block", [64, 2])
 @pytest.mark.parametrize("axis", [0, 1])
 def test_a_line_gives_the_same_bits_with_and_without_kept_kernels(monkeypatch, axis, row_block):
-    # a line that keeps its kernels takes a layer's six components in one einsum per load; one
-    # that keeps none (a single evaluation, whose memory stays at one block's kernels) takes
-    # them one by one: the same products summed in the same order, so the same bits, on the
-    # first evaluation and on a later one
+    # a line's first evaluation (often its only one: a static case) takes a layer's six
+    # components one by one, in less memory; later ones take them in one einsum per load, on
+    # the kernels kept or not: the same products summed in the same order, so the same bits
     import engine.kernels.lattice as lattice
 
     monkeypatch.setattr(lattice, "ROW_BLOCK", row_block)
-    grid = Grid(20, 16, 0.7, 0.45) if axis == 0 else Grid(16, 20, 0.45, 0.7)
-    rng = np.random.default_rng(5)
-    tractions = {load: rng.uniform(-3, 3, grid.shape) for load in LOADS}
+    grid, origin, (tractions,) = _line_case(axis, 20, 16, sets=1, seed=5)
     depths = np.array([0.004, 0.05, 0.3, 1.2])
-    origin = (-4 * grid.dx, 0.0) if axis == 0 else (0.0, -4 * grid.dy)
     values = {}
     for cache in (True, False):
         line = LineConvolution(grid, NU, axis, origin[axis], 20, 1, "FFTW_ESTIMATE", cache)

@@ -157,6 +157,17 @@ def test_mpio_without_parallel_h5py_is_a_clear_error(tmp_path):
     assert result.returncode == 2 and "build_parallel_h5py.sh" in result.stderr
 
 
+def run_on_two_ranks(code: str, study) -> subprocess.CompletedProcess:
+    """``code`` as a script beside ``study``, run under ``mpiexec -n 2`` with the study's
+    path as its argument, from the study's folder."""
+    script = study.with_suffix(".py")
+    script.write_text(code)
+    return subprocess.run(
+        [MPIEXEC, "-n", "2", PYTHON, str(script), str(study)],
+        cwd=study.parent, env=environment(), capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+
+
 STOP_DURING_CREATION = """
 import sys
 from pathlib import Path
@@ -199,12 +210,7 @@ def test_stop_signal_on_one_rank_stops_collective_creation_on_every_rank(tmp_pat
     "signal" is a should_stop() that turns true on rank 1 at its third check."""
     mu1 = [float(f"{0.001 * k:.3f}") for k in range(1, 201)]  # 200 cases
     study = tiny_study(tmp_path, "stop", mu1=mu1, beta=[0.0])
-    script = tmp_path / "stop.py"
-    script.write_text(STOP_DURING_CREATION)
-    result = subprocess.run(
-        [MPIEXEC, "-n", "2", PYTHON, str(script), str(study)],
-        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+    result = run_on_two_ranks(STOP_DURING_CREATION, study)
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("stopped; file left: False") == 2, result.stdout
 
@@ -247,11 +253,6 @@ def test_a_case_the_disk_cannot_keep_names_all_its_bytes(tmp_path):
     stops as full, and what it says the case needs is the case's whole data (the next run
     computes and writes it again), not the nothing left to write."""
     study = tiny_study(tmp_path, "journal", mu1=[0.1, 0.2], beta=[0.0])
-    script = tmp_path / "journal.py"
-    script.write_text(FULL_AT_THE_JOURNAL)
-    result = subprocess.run(
-        [MPIEXEC, "-n", "2", PYTHON, str(script), str(study)],
-        cwd=tmp_path, env=environment(), capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+    result = run_on_two_ranks(FULL_AT_THE_JOURNAL, study)
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count(": needed ") == 2, result.stdout
