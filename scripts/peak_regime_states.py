@@ -213,15 +213,21 @@ def final(path: str, update_docs: bool) -> None:
     from engine import __version__
 
     block, table = final_table(path)
+    note = (
+        f"`python scripts/peak_regime_states.py final {path} --update-docs`, engine "
+        f"{__version__}: the summary of every case (deterministic results: the load does "
+        "not change them)"
+    )
+    _publish(block, table, note, update_docs)
+
+
+def _publish(block: str, table: str, note: str, update_docs: bool) -> None:
+    """Print ``table``; with ``update_docs``, write it into the block ``block`` of the
+    peak-regime page under ``note`` (how it was obtained)."""
     print(table)
     if update_docs:
         from engine.analysis.markdown import measured_on, replace_block
 
-        note = (
-            f"`python scripts/peak_regime_states.py final {path} --update-docs`, engine "
-            f"{__version__}: the summary of every case (deterministic results: the load does "
-            "not change them)"
-        )
         replace_block(DOCUMENT, block, f"{measured_on(note)}\n{table}")
         print(f"{DOCUMENT}: wrote the block {block}")
 
@@ -316,17 +322,12 @@ def path_block(path: str, update_docs: bool) -> None:
     from engine import __version__
 
     block, table = path_table(path)
-    print(table)
-    if update_docs:
-        from engine.analysis.markdown import measured_on, replace_block
-
-        note = (
-            f"`python scripts/peak_regime_states.py path {path} --update-docs`, engine "
-            f"{__version__}: the peak history of the cases (deterministic results: the load "
-            "does not change them)"
-        )
-        replace_block(DOCUMENT, block, f"{measured_on(note)}\n{table}")
-        print(f"{DOCUMENT}: wrote the block {block}")
+    note = (
+        f"`python scripts/peak_regime_states.py path {path} --update-docs`, engine "
+        f"{__version__}: the peak history of the cases (deterministic results: the load "
+        "does not change them)"
+    )
+    _publish(block, table, note, update_docs)
 
 
 def _run_both(folder: Path) -> tuple[Path, Path]:
@@ -372,12 +373,7 @@ def halving(default: str | None, halved: str | None, update_docs: bool) -> None:
         f"{command}, engine {__version__}: {how}; relative differences halved − default "
         "(deterministic results: the load does not change them)"
     )
-    print(table)
-    if update_docs:
-        from engine.analysis.markdown import measured_on, replace_block
-
-        replace_block(DOCUMENT, BLOCK, f"{measured_on(note)}\n{table}")
-        print(f"{DOCUMENT}: wrote the block {BLOCK}")
+    _publish(BLOCK, table, note, update_docs)
 
 
 def main() -> None:
